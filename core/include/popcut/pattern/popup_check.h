@@ -1,0 +1,39 @@
+// Pop-up check (voxel paper §2.6, polygon paper §3.6): which faces would not stand, which pieces fall out.
+#pragma once
+
+#include <vector>
+
+#include "popcut/pattern/pattern.h"
+
+namespace popcut {
+
+// A VFace that one of the two walks does not reach: it is not both pulled up by the back board
+// and pushed up by the floor, so it would not stand when the card opens.
+struct FaceProblem {
+  int face = -1;
+  bool from_back = false;   // reached by the walk from the back board
+  bool from_floor = false;  // reached by the walk from the floor
+};
+
+// A set of faces joined by folds but cut off from the back board: it would fall out.
+struct LoosePiece {
+  std::vector<int> faces;
+  Rect bounds;
+  double area_mm2 = 0;
+};
+
+struct PopupReport {
+  std::vector<FaceProblem> not_standing;  // faces of loose pieces are reported with the piece only
+  std::vector<LoosePiece> loose_pieces;
+  bool pops_up() const { return not_standing.empty() && loose_pieces.empty(); }
+};
+
+// Walk (a) starts at the back board and crosses folds downward in the pattern (V→H over a valley,
+// H→V over a mountain); walk (b) starts at the floor and crosses them upward. Every VFace must be
+// reached by both.
+PopupReport check_popup(const Pattern& pattern);
+
+// Area of a face: outer ring minus holes.
+double face_area_mm2(const PatternFace& face);
+
+}  // namespace popcut

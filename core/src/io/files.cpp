@@ -1,0 +1,97 @@
+// Bounded whole-file reads and atomic writes (temporary file + rename).
+#include "popcut/io/files.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <system_error>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "popcut/error.h"
+
+namespace popcut {
+namespace fs = std::filesystem;
+
+namespace {
+std::string too_large(std::size_t max_bytes) {
+  return "file is larger than the limit of " + std::to_string(max_bytes >> 20) + " MiB";
+}
+}  // namespace
+
+std::string read_text_file(const std::string& path, std::size_t max_bytes) {
+  if (path == "-") {
+    std::string text;
+    char buf[65536];
+    while (std::cin.read(buf, sizeof buf) || std::cin.gcount() > 0) {
+      text.append(buf, static_cast<std::size_t>(std::cin.gcount()));
+      if (text.size() > max_bytes) throw Error(ErrorCode::limit, "<stdin>", "", too_large(max_bytes));
+    }
+    return text;
+  }
+  std::error_code ec;
+  const auto status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) throw Error(ErrorCode::io, path, "", "cannot read: no such file");
+  if (!fs::is_regular_file(status)) throw Error(ErrorCode::io, path, "", "cannot read: not a regular file");
+  const auto size = fs::file_size(path, ec);
+  if (!ec && size > max_bytes) throw Error(ErrorCode::limit, path, "", too_large(max_bytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorCode::io, path, "", std::string("cannot open: ") + std::strerror(errno));
+  std::string text;
+  text.reserve(static_cast<std::size_t>(ec ? 0 : size));
+  char buf[65536];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    text.append(buf, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_bytes) throw Error(ErrorCode::limit, path, "", too_large(max_bytes));
+  }
+  if (in.bad()) throw Error(ErrorCode::io, path, "", "read failed");
+  return text;
+}
+
+void write_text_file(const std::string& path, const std::string& content) {
+  if (path == "-") {
+    std::cout << content;
+    std::cout.flush();
+    if (!std::cout) throw Error(ErrorCode::io, "<stdout>", "", "write failed");
+    return;
+  }
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error(ErrorCode::io, path, "", "cannot write: directory " + dir.string() + " does not exist");
+  std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
+  const int fd = ::mkstemp(tmp.data());
+  if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
+  std::size_t done = 0;
+  while (done < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = errno;
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  // New files get the usual permissions rather than mkstemp's 0600.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::fchmod(fd, 0666 & ~mask);
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(err));
+  }
+}
+
+}  // namespace popcut

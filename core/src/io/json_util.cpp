@@ -1,0 +1,141 @@
+// Strict JSON parsing and typed getters shared by the model and pattern readers.
+#include "io/json_util.h"
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include "popcut/error.h"
+
+namespace popcut::json_util {
+namespace {
+
+constexpr int kMaxDepth = 64;
+
+std::string position(const std::string& text, std::size_t byte) {
+  // nlohmann reports the 1-based byte where parsing stopped.
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+std::string type_name(const json& j) {
+  if (j.is_number_integer()) return "an integer";
+  if (j.is_number()) return "a number";
+  return std::string("a ") + j.type_name();
+}
+
+}  // namespace
+
+json parse(const std::string& text, const std::string& source) {
+  std::vector<std::set<std::string>> keys;
+  auto check = [&](int depth, json::parse_event_t event, json& parsed) {
+    if (depth > kMaxDepth) {
+      throw Error(ErrorCode::invalid_input, source, "", "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    }
+    switch (event) {
+      case json::parse_event_t::object_start: keys.emplace_back(); break;
+      case json::parse_event_t::object_end: keys.pop_back(); break;
+      case json::parse_event_t::key:
+        if (!keys.back().insert(parsed.get<std::string>()).second) {
+          throw Error(ErrorCode::invalid_input, source, "", "duplicate key \"" + parsed.get<std::string>() + "\" in one object");
+        }
+        break;
+      default: break;
+    }
+    return true;
+  };
+  try {
+    return json::parse(text, check);
+  } catch (const json::parse_error& e) {
+    std::string what = e.what();
+    // Keep nlohmann's explanation, drop its "[json.exception.parse_error.101] parse error at line 1, column 2:" prefix.
+    const auto colon = what.find(": ", what.find("parse error"));
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    throw Error(ErrorCode::invalid_input, source, position(text, e.byte), "malformed JSON: " + what);
+  }
+}
+
+void Reader::fail(const std::string& field, const std::string& message) const {
+  throw Error(ErrorCode::invalid_input, source_, field, message);
+}
+
+const json& Reader::require(const json& object, const char* key, const std::string& path) const {
+  auto it = object.find(key);
+  if (it == object.end()) fail(key_path(path, key), "is missing");
+  return *it;
+}
+
+void Reader::require_object(const json& j, const std::string& path) const {
+  if (!j.is_object()) fail(path, "expected an object, got " + type_name(j));
+}
+
+void Reader::require_array(const json& j, const std::string& path) const {
+  if (!j.is_array()) fail(path, "expected an array, got " + type_name(j));
+}
+
+void Reader::only_keys(const json& object, std::initializer_list<const char*> allowed, const std::string& path) const {
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    bool known = false;
+    for (const char* a : allowed) known = known || it.key() == a;
+    if (known) continue;
+    std::string list;
+    for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+    fail(key_path(path, it.key().c_str()), "unknown field (expected one of: " + list + ")");
+  }
+}
+
+int Reader::integer(const json& j, const std::string& path, long long min, long long max) const {
+  const std::string expected = "expected a whole number from " + std::to_string(min) + " to " + std::to_string(max);
+  long long value = 0;
+  if (j.is_number_integer()) {
+    if (j.is_number_unsigned()) {
+      const auto u = j.get<unsigned long long>();
+      if (u > static_cast<unsigned long long>(max)) fail(path, expected + ", got " + std::to_string(u));
+      value = static_cast<long long>(u);
+    } else {
+      value = j.get<long long>();
+    }
+  } else if (j.is_number_float()) {
+    const double d = j.get<double>();
+    if (!std::isfinite(d) || d != std::floor(d) || d < static_cast<double>(min) || d > static_cast<double>(max)) {
+      fail(path, expected + ", got " + j.dump());
+    }
+    value = static_cast<long long>(d);
+  } else {
+    fail(path, expected + ", got " + type_name(j));
+  }
+  if (value < min || value > max) fail(path, expected + ", got " + std::to_string(value));
+  return static_cast<int>(value);
+}
+
+double Reader::number(const json& j, const std::string& path, double min, double max) const {
+  if (!j.is_number()) fail(path, "expected a number from " + number_text(min) + " to " + number_text(max) + ", got " + type_name(j));
+  const double d = j.get<double>();
+  if (!std::isfinite(d) || d < min || d > max) {
+    fail(path, "expected a number from " + number_text(min) + " to " + number_text(max) + ", got " + j.dump());
+  }
+  return d;
+}
+
+std::string Reader::string(const json& j, const std::string& path, std::size_t max_length) const {
+  if (!j.is_string()) fail(path, "expected a string, got " + type_name(j));
+  const auto& s = j.get_ref<const std::string&>();
+  if (s.size() > max_length) fail(path, "is longer than " + std::to_string(max_length) + " bytes");
+  return s;
+}
+
+std::string index_path(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
+
+std::string key_path(const std::string& base, const char* key) { return base.empty() ? key : base + "." + key; }
+
+std::string number_text(double value) { return json(value).dump(); }
+
+}  // namespace popcut::json_util

@@ -1,0 +1,45 @@
+// Strict JSON reading for popcut's file formats: positions for syntax errors, typed field getters.
+#pragma once
+
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace popcut::json_util {
+
+using nlohmann::json;
+
+// Parses text; syntax errors, duplicate keys and nesting deeper than 64 throw popcut::Error
+// naming `source` and the line and column.
+json parse(const std::string& text, const std::string& source);
+
+// Field access that names the field path in every error.
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message) const;
+
+  const json& require(const json& object, const char* key, const std::string& path) const;
+  void require_object(const json& j, const std::string& path) const;
+  void require_array(const json& j, const std::string& path) const;
+  // Rejects keys not in `allowed`, naming the first unknown one and listing the allowed ones.
+  void only_keys(const json& object, std::initializer_list<const char*> allowed, const std::string& path) const;
+  // A whole number in [min, max]; integral floats such as 3.0 are accepted, 3.5 is not.
+  int integer(const json& j, const std::string& path, long long min, long long max) const;
+  double number(const json& j, const std::string& path, double min, double max) const;
+  std::string string(const json& j, const std::string& path, std::size_t max_length = 4096) const;
+
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+};
+
+std::string index_path(const std::string& base, std::size_t i);
+std::string key_path(const std::string& base, const char* key);
+
+// Shortest text that reads back as the same double.
+std::string number_text(double value);
+
+}  // namespace popcut::json_util

@@ -1,0 +1,45 @@
+// The one seam between popcut and a cutter: a byte transport with timeouts and honest byte counts.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace popcut::drivers {
+
+// Error classes a user can act on; os_error keeps errno (or the library's code) for the log.
+enum class TransportError { none, bad_argument, not_found, permission, timeout, disconnected, unsupported, io };
+const char* to_string(TransportError error);
+
+struct TransportStatus {
+  TransportError error = TransportError::none;
+  int os_error = 0;
+  std::string message;
+  bool ok() const { return error == TransportError::none; }
+  static TransportStatus success() { return {}; }
+};
+
+// Byte counts are reported apart from status: a write may move some bytes and then fail.
+struct IoResult {
+  std::size_t bytes = 0;
+  TransportStatus status;
+};
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual TransportStatus open() = 0;
+  virtual IoResult write(std::span<const std::uint8_t> data, std::chrono::milliseconds timeout) = 0;
+  virtual IoResult read(std::span<std::uint8_t> buffer, std::chrono::milliseconds timeout) = 0;
+  // Blocks until everything written has left popcut's side (for a file: reached the disk).
+  virtual TransportStatus drain(std::chrono::milliseconds timeout) = 0;
+  virtual void close() = 0;
+  virtual std::string describe() const = 0;
+};
+
+// Builds a status from an errno value, classifying it.
+TransportStatus status_from_errno(int err, const std::string& what);
+
+}  // namespace popcut::drivers

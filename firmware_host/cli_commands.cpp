@@ -1,0 +1,248 @@
+// popcut subcommands: pattern, validate, repair — load a model, run core, write files and reports.
+#include "cli_commands.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+#include "popcut/io/pattern_io.h"
+#include "popcut/io/voxel_json.h"
+#include "popcut/model/repair.h"
+#include "popcut/pattern/popup_check.h"
+#include "popcut/pattern/voxel_pattern.h"
+
+namespace popcut::cli {
+namespace {
+
+using nlohmann::json;
+
+json point(Point2 p) { return json::array({p.x_mm, p.v_mm}); }
+json rect(const Rect& r) { return {{"min", point(r.min)}, {"max", point(r.max)}}; }
+
+std::string mm(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+std::string range(double a, double b) { return a == b ? mm(a) : mm(a) + "–" + mm(b); }
+
+// Where a face stands at 90°, as a 3D box: the numbers a designer measures on the card.
+struct Box3 {
+  Point3 min, max;
+};
+Box3 card_box(const PatternFace& f) {
+  Box3 b{to_card(f.kind, f.t_mm, f.outer.front()), to_card(f.kind, f.t_mm, f.outer.front())};
+  for (const Point2& p : f.outer) {
+    const Point3 q = to_card(f.kind, f.t_mm, p);
+    b.min = {std::min(b.min.x_mm, q.x_mm), std::min(b.min.y_mm, q.y_mm), std::min(b.min.z_mm, q.z_mm)};
+    b.max = {std::max(b.max.x_mm, q.x_mm), std::max(b.max.y_mm, q.y_mm), std::max(b.max.z_mm, q.z_mm)};
+  }
+  return b;
+}
+
+std::string describe_face(const Pattern& p, int index) {
+  const PatternFace& f = p.faces[static_cast<std::size_t>(index)];
+  const Rect r = bounds(f.outer);
+  const Box3 b = card_box(f);
+  std::ostringstream o;
+  o << "face " << index << " (" << (f.kind == FaceKind::vertical ? "VFace at depth y = " : "HFace at height z = ")
+    << mm(f.t_mm) << " mm): pattern x " << range(r.min.x_mm, r.max.x_mm) << ", v " << range(r.min.v_mm, r.max.v_mm)
+    << " mm; on the open card x " << range(b.min.x_mm, b.max.x_mm) << ", y " << range(b.min.y_mm, b.max.y_mm) << ", z "
+    << range(b.min.z_mm, b.max.z_mm) << " mm";
+  return o.str();
+}
+
+json report_json(const std::string& source, const Pattern& p, const PopupReport& r) {
+  const LineCounts c = count_lines(p);
+  json j = {{"format", "popcut.validation.v1"},
+            {"source", source},
+            {"pops_up", r.pops_up()},
+            {"faces", p.faces.size()},
+            {"lines", {{"cut", c.cut}, {"mountain", c.mountain}, {"valley", c.valley}}},
+            {"line_mm", {{"cut", c.cut_mm}, {"mountain", c.mountain_mm}, {"valley", c.valley_mm}}},
+            {"sheet", rect(p.sheet)},
+            {"not_standing", json::array()},
+            {"loose_pieces", json::array()}};
+  for (const FaceProblem& fp : r.not_standing) {
+    const PatternFace& f = p.faces[static_cast<std::size_t>(fp.face)];
+    const Box3 b = card_box(f);
+    j["not_standing"].push_back({{"face", fp.face},
+                                 {"kind", to_string(f.kind)},
+                                 {"t", f.t_mm},
+                                 {"reached_from_back", fp.from_back},
+                                 {"reached_from_floor", fp.from_floor},
+                                 {"bounds", rect(bounds(f.outer))},
+                                 {"label", point(f.label)},
+                                 {"card_bounds",
+                                  {{"min", {b.min.x_mm, b.min.y_mm, b.min.z_mm}}, {"max", {b.max.x_mm, b.max.y_mm, b.max.z_mm}}}}});
+  }
+  for (const LoosePiece& lp : r.loose_pieces) {
+    j["loose_pieces"].push_back({{"faces", lp.faces}, {"bounds", rect(lp.bounds)}, {"area_mm2", lp.area_mm2}});
+  }
+  return j;
+}
+
+void print_report(std::ostream& out, const std::string& source, const Pattern& p, const PopupReport& r) {
+  const LineCounts c = count_lines(p);
+  out << source << ": " << (r.pops_up() ? "pops up" : "does NOT pop up") << " (" << p.faces.size() << " faces; "
+      << c.cut << " cut, " << c.mountain << " mountain, " << c.valley << " valley lines)\n";
+  for (const FaceProblem& fp : r.not_standing) {
+    out << "  would not stand: " << describe_face(p, fp.face) << "; not reached "
+        << (!fp.from_back && !fp.from_floor ? "from the back board or the floor"
+                                            : (!fp.from_back ? "from the back board" : "from the floor"))
+        << "\n";
+  }
+  for (const LoosePiece& lp : r.loose_pieces) {
+    out << "  cut free, would fall out: " << lp.faces.size() << (lp.faces.size() == 1 ? " face" : " faces")
+        << " at pattern x " << range(lp.bounds.min.x_mm, lp.bounds.max.x_mm) << ", v "
+        << range(lp.bounds.min.v_mm, lp.bounds.max.v_mm) << " mm (" << mm(lp.area_mm2) << " mm²)\n";
+  }
+}
+
+// Reads a model file, choosing the reader by its "format" tag.
+VoxelModel load_model(const std::string& path) {
+  const std::string text = read_text_file(path);
+  return parse_voxel_model(text, path);
+}
+
+std::string extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return e;
+}
+
+// Runs a command body, turning popcut errors into messages and exit codes.
+template <typename Body>
+int guarded(bool json_errors, Body body) {
+  try {
+    return body();
+  } catch (const Error& e) {
+    std::cerr << "popcut: error: " << e.what() << "\n";
+    if (json_errors) {
+      std::cout << json{{"error", {{"code", to_string(e.code())}, {"source", e.source()}, {"location", e.location()},
+                                   {"message", e.message()}}}}
+                       .dump(2)
+                << "\n";
+    }
+    if (e.code() == ErrorCode::internal) return kInternal;
+    return e.code() == ErrorCode::io && e.location() == "output" ? kCannotWrite : kBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "popcut: error: out of memory\n";
+    return kBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "popcut: internal error: " << e.what() << "\n";
+    return kInternal;
+  }
+}
+
+// Marks write failures (location "output") so they map to kCannotWrite, not kBadInput.
+void write_output(const std::string& path, const std::string& content) {
+  try {
+    write_text_file(path, content);
+  } catch (const Error& e) {
+    throw Error(ErrorCode::io, e.source(), "output", e.message());
+  }
+}
+
+}  // namespace
+
+int run(int argc, char** argv) {
+  CLI::App app{"popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
+               "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output, 4 internal error."};
+  app.set_version_flag("--version", std::string("popcut ") + "0.1.0");
+  app.require_subcommand(1);
+  app.failure_message(CLI::FailureMessage::help);
+
+  std::string model_path, out_path;
+  bool json_out = false, shade = false, windows = false;
+
+  CLI::App* pattern = app.add_subcommand("pattern", "Write the unfolded pattern of a model as JSON or SVG (by the -o extension).");
+  pattern->add_option("MODEL", model_path, "Model file (popcut.voxel.v1 JSON), or - for standard input")->required();
+  pattern->add_option("-o,--output", out_path, "Output: OUT.json, OUT.svg, or - for JSON on standard output")->required();
+  pattern->add_flag("--shade", shade, "SVG: shade VFaces and HFaces so the design reads at a glance");
+  pattern->add_flag("--json", json_out, "Print a machine-readable summary (and errors) as JSON on standard output");
+
+  CLI::App* validate = app.add_subcommand("validate", "Check that a model makes a card that pops up; exit 1 if not.");
+  validate->add_option("MODEL", model_path, "Model file, or - for standard input")->required();
+  validate->add_flag("--json", json_out, "Print the report as JSON (popcut.validation.v1) on standard output");
+
+  CLI::App* repair_cmd = app.add_subcommand("repair", "Fill a model to satisfy the staircase constraint (eq. 7).");
+  repair_cmd->add_option("MODEL", model_path, "Model file that may break the staircase constraint, or -")->required();
+  repair_cmd->add_option("-o,--output", out_path, "Where to write the repaired popcut.voxel.v1 model")->required();
+  repair_cmd->add_flag("--windows", windows, "Turn filled rows into windows where the card still pops up");
+  repair_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kOk : kBadInput;
+  }
+
+  if (*pattern) {
+    return guarded(json_out, [&] {
+      const std::string ext = extension(out_path);
+      if (out_path != "-" && ext != ".json" && ext != ".svg") {
+        throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown output type '" + ext + "': use .json or .svg");
+      }
+      if (out_path == "-" && json_out) {
+        throw Error(ErrorCode::invalid_input, "", "--json", "cannot print a summary when the pattern itself goes to standard output");
+      }
+      const Pattern p = make_pattern(load_model(model_path), model_path);
+      const PopupReport report = check_popup(p);
+      write_output(out_path, ext == ".svg" ? to_pattern_svg(p, {shade}) : to_pattern_json(p));
+      if (json_out) {
+        json j = report_json(model_path, p, report);
+        j["output"] = out_path;
+        std::cout << j.dump(2) << "\n";
+      } else if (!report.pops_up()) {
+        std::cerr << "popcut: warning: the pattern was written, but the card will not pop up:\n";
+        print_report(std::cerr, model_path, p, report);
+      }
+      return kOk;
+    });
+  }
+  if (*validate) {
+    return guarded(json_out, [&] {
+      const Pattern p = make_pattern(load_model(model_path), model_path);
+      const PopupReport report = check_popup(p);
+      if (json_out) std::cout << report_json(model_path, p, report).dump(2) << "\n";
+      else print_report(std::cout, model_path, p, report);
+      return report.pops_up() ? kOk : kDoesNotPopUp;
+    });
+  }
+  if (*repair_cmd) {
+    return guarded(json_out, [&] {
+      const VoxelFile file = parse_voxel_file(read_text_file(model_path), model_path);
+      const RepairResult r = repair(file, {windows});
+      require_valid(r.model, model_path);
+      const Pattern p = make_pattern(r.model, model_path);
+      const PopupReport report = check_popup(p);
+      write_output(out_path, to_voxel_json(r.model));
+      if (json_out) {
+        json j = report_json(out_path, p, report);
+        j["cells_filled"] = r.cells_filled;
+        j["windows_added"] = r.windows_added;
+        j["windows_rejected"] = r.windows_rejected;
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::cout << model_path << ": filled " << r.cells_filled << " cells";
+        if (windows) std::cout << "; windows: " << r.windows_added << " added, " << r.windows_rejected << " rejected";
+        std::cout << "; wrote " << out_path << "\n";
+        print_report(std::cout, out_path, p, report);
+      }
+      return report.pops_up() ? kOk : kDoesNotPopUp;
+    });
+  }
+  return kBadInput;
+}
+
+}  // namespace popcut::cli
