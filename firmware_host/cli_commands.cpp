@@ -71,19 +71,21 @@ json report_json(const std::string& source, const Pattern& p, const PopupReport&
             {"sheet", rect(p.sheet)},
             {"not_standing", json::array()},
             {"loose_pieces", json::array()}};
-  for (const FaceProblem& fp : r.not_standing) {
+  const auto problem_json = [&](const FaceProblem& fp) {
     const PatternFace& f = p.faces[static_cast<std::size_t>(fp.face)];
     const Box3 b = card_box(f);
-    j["not_standing"].push_back({{"face", fp.face},
-                                 {"kind", to_string(f.kind)},
-                                 {"t", f.t_mm},
-                                 {"reached_from_back", fp.from_back},
-                                 {"reached_from_floor", fp.from_floor},
-                                 {"bounds", rect(bounds(f.outer))},
-                                 {"label", point(f.label)},
-                                 {"card_bounds",
-                                  {{"min", {b.min.x_mm, b.min.y_mm, b.min.z_mm}}, {"max", {b.max.x_mm, b.max.y_mm, b.max.z_mm}}}}});
-  }
+    return json{{"face", fp.face},
+                {"kind", to_string(f.kind)},
+                {"t", f.t_mm},
+                {"reached_from_back", fp.from_back},
+                {"reached_from_floor", fp.from_floor},
+                {"bounds", rect(bounds(f.outer))},
+                {"label", point(f.label)},
+                {"card_bounds", {{"min", {b.min.x_mm, b.min.y_mm, b.min.z_mm}}, {"max", {b.max.x_mm, b.max.y_mm, b.max.z_mm}}}}};
+  };
+  j["flaps"] = json::array();
+  for (const FaceProblem& fp : r.not_standing) j["not_standing"].push_back(problem_json(fp));
+  for (const FaceProblem& fp : r.flaps) j["flaps"].push_back(problem_json(fp));
   for (const LoosePiece& lp : r.loose_pieces) {
     j["loose_pieces"].push_back({{"faces", lp.faces}, {"bounds", rect(lp.bounds)}, {"area_mm2", lp.area_mm2}});
   }
@@ -99,6 +101,10 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
         << (!fp.from_back && !fp.from_floor ? "from the back board or the floor"
                                             : (!fp.from_back ? "from the back board" : "from the floor"))
         << "\n";
+  }
+  for (const FaceProblem& fp : r.flaps) {
+    out << "  note: " << describe_face(p, fp.face) << " is held from the "
+        << (fp.from_back ? "back board" : (fp.from_floor ? "floor" : "neither side")) << " only; it will hang or tilt\n";
   }
   for (const LoosePiece& lp : r.loose_pieces) {
     out << "  cut free, would fall out: " << lp.faces.size() << (lp.faces.size() == 1 ? " face" : " faces")

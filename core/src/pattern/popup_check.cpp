@@ -101,9 +101,9 @@ PopupReport check_popup(const Pattern& p) {
   const std::vector<char> from_back = walk(p, p.back_face, /*downward=*/true);
   const std::vector<char> from_floor = walk(p, p.floor_face, /*downward=*/false);
   for (std::size_t f = 0; f < n; ++f) {
-    if (p.faces[f].kind != FaceKind::vertical || piece[f] != card) continue;
-    if (from_back[f] && from_floor[f]) continue;
-    report.not_standing.push_back({static_cast<int>(f), from_back[f] != 0, from_floor[f] != 0});
+    if (piece[f] != card || (from_back[f] && from_floor[f])) continue;
+    const FaceProblem problem{static_cast<int>(f), from_back[f] != 0, from_floor[f] != 0};
+    (p.faces[f].kind == FaceKind::vertical ? report.not_standing : report.flaps).push_back(problem);
   }
   return report;
 }

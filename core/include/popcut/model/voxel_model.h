@@ -23,6 +23,7 @@ struct SheetSpec {
   std::optional<int> back;   // height of the back half above the centre fold
   std::optional<int> floor;  // depth of the front half in front of the centre fold
   std::optional<int> side;   // empty columns added on each side
+  friend bool operator==(const SheetSpec&, const SheetSpec&) = default;
 };
 
 // The sheet actually used for a pattern, every field decided.

@@ -25,6 +25,10 @@ struct LoosePiece {
 struct PopupReport {
   std::vector<FaceProblem> not_standing;  // faces of loose pieces are reported with the piece only
   std::vector<LoosePiece> loose_pieces;
+  // HFaces not reached by both walks: held from one side only, they hang or tilt instead of
+  // holding their angle (a window ledge, a roof left without its front). A warning: the paper's
+  // condition judges VFaces only, so these do not stop a card from popping up.
+  std::vector<FaceProblem> flaps;
   bool pops_up() const { return not_standing.empty() && loose_pieces.empty(); }
 };
 

@@ -1,0 +1,105 @@
+// Pattern generation speed: the voxel paper's size (80 × 40 × 40) up to ten times it per axis.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "popcut/pattern/popup_check.h"
+#include "popcut/pattern/voxel_pattern.h"
+#include "random_models.h"
+
+namespace {
+
+// Width × depth × height; the paper's model is 80 wide, 40 deep, 40 high (§4).
+struct Size {
+  int width, depth, height;
+};
+
+popcut::VoxelModel model_of(int scale) {
+  std::mt19937_64 rng(42);
+  popcut::VoxelModel m = popcut::testing::random_staircase(rng, 8 * scale, 4 * scale, 4 * scale, 1.0);
+  // Windows on a tenth of the rows, as a designed card might have.
+  for (int x = 0; x < m.width; ++x)
+    for (int z = 0; z < m.h(x, 0); ++z) m.set_window(x, z, rng() % 10 == 0);
+  return m;
+}
+
+std::int64_t cells_of(const popcut::VoxelModel& m) {
+  const popcut::SheetVoxels s = popcut::resolve_sheet(m, "");
+  return std::int64_t{m.width + 2 * s.side} * (s.back + s.floor);
+}
+
+void BM_Pattern(benchmark::State& state) {
+  const popcut::VoxelModel m = model_of(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(popcut::make_pattern(m));
+  state.counters["cells"] = static_cast<double>(cells_of(m));
+}
+
+void BM_PatternAndCheck(benchmark::State& state) {
+  const popcut::VoxelModel m = model_of(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    const popcut::Pattern p = popcut::make_pattern(m);
+    benchmark::DoNotOptimize(popcut::check_popup(p));
+  }
+  state.counters["cells"] = static_cast<double>(cells_of(m));
+}
+
+BENCHMARK(BM_Pattern)->Arg(10)->Arg(20)->Arg(40)->Arg(60)->Arg(100)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PatternAndCheck)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond);
+
+// Collects runs so a comparison table can follow the usual report.
+class TableReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      if (r.run_type != Run::RT_Iteration || r.error_occurred) continue;
+      const auto c = r.counters.find("cells");
+      rows_.push_back({r.benchmark_name(), r.GetAdjustedRealTime(), c == r.counters.end() ? 0.0 : double(c->second)});
+    }
+  }
+  void print_table() const {
+    std::printf("\n%-28s %12s %12s %10s %12s  %s\n", "benchmark", "pattern cells", "time (ms)", "ns/cell", "target", "met");
+    for (const Row& row : rows_) {
+      const bool paper = row.name.find("/10") == row.name.size() - 3;
+      const bool big = row.name.find("/100") != std::string::npos;
+      const char* target = paper ? "< 5 ms" : (big ? "linear" : "");
+      const double ns_per_cell = row.ms * 1e6 / row.cells;
+      std::string met = paper ? (row.ms < 5 ? "yes" : "NO") : "";
+      if (big) {
+        // Linear growth: ns per cell at 10× per axis within 2× of the paper size's.
+        for (const Row& base : rows_) {
+          if (base.name.substr(0, base.name.find('/')) == row.name.substr(0, row.name.find('/')) &&
+              base.name.find("/10") == base.name.size() - 3) {
+            met = ns_per_cell <= 2 * base.ms * 1e6 / base.cells ? "yes" : "NO";
+          }
+        }
+      }
+      std::printf("%-28s %12.0f %12.3f %10.1f %12s  %s\n", row.name.c_str(), row.cells, row.ms, ns_per_cell, target, met.c_str());
+    }
+    std::printf("(scale 10 = the voxel paper's 80 x 40 x 40 model; scale 100 = 800 x 400 x 400)\n");
+  }
+
+ private:
+  struct Row {
+    std::string name;
+    double ms;
+    double cells;
+  };
+  std::vector<Row> rows_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  TableReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.print_table();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,155 @@
+// The popcut binary end to end: subcommands, files, exit codes and messages, run as a user would.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <unistd.h>
+
+#include "popcut/io/pattern_io.h"
+#include "popcut/io/voxel_json.h"
+#include "popcut/pattern/popup_check.h"
+
+namespace {
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string out;
+  std::string err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("popcut-cli-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string file(const std::string& name, const std::string& content) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << content;
+    return p.string();
+  }
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  Result run(const std::string& args, const std::string& stdin_file = "/dev/null") {
+    const std::string cmd = std::string(POPCUT_CLI) + " " + args + " <" + stdin_file + " >" + (dir_ / "out").string() +
+                            " 2>" + (dir_ / "err").string();
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
+  }
+  fs::path dir_;
+};
+
+const char* kBox = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3, 3], [3, 3], [3, 3]]})";
+const char* kSplit = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3]], "windows": [[0, 1]]})";
+
+TEST_F(Cli, HelpEverywhere) {
+  for (const char* sub : {"", "pattern ", "validate ", "repair "}) {
+    const Result r = run(std::string(sub) + "--help");
+    EXPECT_EQ(r.code, 0) << "'" << sub << "--help' exits 0";
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
+  }
+  EXPECT_NE(run("--help").out.find("Exit codes"), std::string::npos) << "top-level help documents exit codes";
+  EXPECT_EQ(run("--version").out, "popcut 0.1.0\n") << "--version";
+}
+
+TEST_F(Cli, UsageErrorsExit2) {
+  EXPECT_EQ(run("").code, 2) << "no subcommand";
+  EXPECT_EQ(run("frobnicate").code, 2) << "unknown subcommand";
+  EXPECT_EQ(run("validate").code, 2) << "missing MODEL";
+  EXPECT_EQ(run("pattern " + file("m.json", kBox)).code, 2) << "pattern without -o";
+  EXPECT_EQ(run("validate --bogus x").code, 2) << "unknown flag";
+}
+
+TEST_F(Cli, ValidateReportsAndExitCodes) {
+  Result ok = run("validate " + file("box.json", kBox));
+  EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("pops up"), std::string::npos) << ok.out;
+
+  Result bad = run("validate " + file("split.json", kSplit));
+  EXPECT_EQ(bad.code, 1) << "a card that does not pop up exits 1: " << bad.out;
+  EXPECT_NE(bad.out.find("would not stand: face"), std::string::npos) << "names the failing faces: " << bad.out;
+  EXPECT_NE(bad.out.find("not reached from the floor"), std::string::npos) << "says which walk misses it: " << bad.out;
+
+  Result js = run("validate --json " + file("split2.json", kSplit));
+  EXPECT_EQ(js.code, 1) << js.err;
+  const auto j = nlohmann::json::parse(js.out);
+  EXPECT_EQ(j["format"], "popcut.validation.v1") << js.out;
+  EXPECT_FALSE(j["pops_up"].get<bool>()) << js.out;
+  EXPECT_EQ(j["not_standing"].size(), 2u) << "both halves of the split front face: " << js.out;
+
+  Result piped = run("validate -", file("stdin.json", kBox));
+  EXPECT_EQ(piped.code, 0) << "a model on standard input: " << piped.err;
+}
+
+TEST_F(Cli, BadInputExit2WithFileAndPosition) {
+  Result r = run("validate " + file("broken.json", "{\"format\": \"popcut.voxel.v1\",\n  \"voxel_mm\": 2,\n  \"heights\": [[3, 3], [2, 4]]}"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("broken.json: heights[1][1]"), std::string::npos) << "file and field: " << r.err;
+  Result m = run("validate " + file("trunc.json", "{\"format\": \"popcut.voxel.v1\",\n  \"voxel_mm\": 2,\n  \"heights\": [[3, "));
+  EXPECT_EQ(m.code, 2) << m.err;
+  EXPECT_NE(m.err.find("trunc.json: line 3"), std::string::npos) << "file and line: " << m.err;
+  Result missing = run("validate " + (dir_ / "nope.json").string());
+  EXPECT_EQ(missing.code, 2) << missing.err;
+  EXPECT_NE(missing.err.find("no such file"), std::string::npos) << missing.err;
+  Result js = run("validate --json " + file("b2.json", "[]"));
+  EXPECT_EQ(js.code, 2) << js.err;
+  EXPECT_EQ(nlohmann::json::parse(js.out)["error"]["code"], "invalid_input") << "JSON error object: " << js.out;
+}
+
+TEST_F(Cli, PatternWritesSvgAndJson) {
+  const std::string model = file("box.json", kBox);
+  const fs::path svg = dir_ / "p.svg", js = dir_ / "p.json";
+  ASSERT_EQ(run("pattern " + model + " -o " + svg.string()).code, 0);
+  EXPECT_EQ(slurp(svg).rfind("<?xml", 0), 0u) << "an SVG document";
+  ASSERT_EQ(run("pattern " + model + " -o " + js.string()).code, 0);
+  const popcut::Pattern p = popcut::parse_pattern(slurp(js), js.string());
+  EXPECT_TRUE(popcut::check_popup(p).pops_up()) << "the written pattern carries enough to re-check it";
+  Result summary = run("pattern " + model + " -o " + (dir_ / "q.svg").string() + " --json");
+  EXPECT_EQ(nlohmann::json::parse(summary.out)["output"], (dir_ / "q.svg").string()) << summary.out;
+  EXPECT_EQ(run("pattern " + model + " -o " + (dir_ / "p.txt").string()).code, 2) << "unknown extension";
+  EXPECT_FALSE(fs::exists(dir_ / "p.txt")) << "nothing written on error";
+  Result nodir = run("pattern " + model + " -o " + (dir_ / "missing" / "p.svg").string());
+  EXPECT_EQ(nodir.code, 3) << "an unwritable output exits 3: " << nodir.err;
+  Result warn = run("pattern " + file("split.json", kSplit) + " -o " + (dir_ / "s.svg").string());
+  EXPECT_EQ(warn.code, 0) << "the pattern is still written";
+  EXPECT_NE(warn.err.find("will not pop up"), std::string::npos) << "with a warning: " << warn.err;
+}
+
+TEST_F(Cli, RepairMakesAValidModel) {
+  const std::string model = file("tower.json", R"({"format": "popcut.voxel.v1", "voxel_mm": 2,
+    "heights": [[1, 4, 2], [2, 2, 3], [0, 0, 1]]})");
+  EXPECT_EQ(run("validate " + model).code, 2) << "the input breaks the staircase";
+  const fs::path fixed = dir_ / "fixed.json";
+  Result r = run("repair " + model + " -o " + fixed.string() + " --windows --json");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["cells_filled"].get<int>(), 0) << r.out;
+  EXPECT_TRUE(j["pops_up"].get<bool>()) << "repair --windows keeps only windows that pop up: " << r.out;
+  EXPECT_EQ(run("validate " + fixed.string()).code, 0) << "the repaired file validates";
+}
+
+TEST_F(Cli, ShippedExamplesValidate) {
+  int seen = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(POPCUT_SOURCE_DIR) / "examples" / "voxel")) {
+    if (e.path().extension() != ".json") continue;
+    ++seen;
+    Result r = run("validate " + e.path().string());
+    EXPECT_EQ(r.code, 0) << e.path() << " must pop up: " << r.out << r.err;
+    EXPECT_EQ(run("pattern " + e.path().string() + " -o " + (dir_ / "x.svg").string()).code, 0) << e.path();
+  }
+  EXPECT_GE(seen, 3) << "examples/voxel holds at least three models";
+}
+
+}  // namespace
