@@ -140,6 +140,17 @@ TEST_F(Cli, RepairMakesAValidModel) {
   EXPECT_EQ(run("validate " + fixed.string()).code, 0) << "the repaired file validates";
 }
 
+TEST_F(Cli, PaperFailureFixtures) {
+  const fs::path data = fs::path(POPCUT_SOURCE_DIR) / "tests" / "data";
+  Result floating = run("validate " + (data / "fig8a_floating.json").string());
+  EXPECT_EQ(floating.code, 1) << floating.out;
+  EXPECT_NE(floating.out.find("cut free, would fall out: 2 faces"), std::string::npos) << floating.out;
+  Result split = run("validate " + (data / "fig8b_split.json").string());
+  EXPECT_EQ(split.code, 1) << split.out;
+  EXPECT_NE(split.out.find("not reached from the back board"), std::string::npos) << "lower part: " << split.out;
+  EXPECT_NE(split.out.find("not reached from the floor"), std::string::npos) << "upper part: " << split.out;
+}
+
 TEST_F(Cli, ShippedExamplesValidate) {
   int seen = 0;
   for (const auto& e : fs::directory_iterator(fs::path(POPCUT_SOURCE_DIR) / "examples" / "voxel")) {
