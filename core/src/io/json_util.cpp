@@ -132,6 +132,14 @@ std::string Reader::string(const json& j, const std::string& path, std::size_t m
   return s;
 }
 
+void Reader::require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const {
+  require_object(root, "document");
+  // The tag first: a file of another format is named as such, not as a list of unknown fields.
+  const std::string format = string(require(root, "format", ""), "format");
+  if (format != expected) fail("format", "expected \"" + std::string(expected) + "\", got \"" + format + "\"");
+  only_keys(root, allowed, "");
+}
+
 std::string index_path(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
 
 std::string key_path(const std::string& base, const char* key) { return base.empty() ? key : base + "." + key; }

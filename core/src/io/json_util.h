@@ -29,6 +29,8 @@ class Reader {
   int integer(const json& j, const std::string& path, long long min, long long max) const;
   double number(const json& j, const std::string& path, double min, double max) const;
   std::string string(const json& j, const std::string& path, std::size_t max_length = 4096) const;
+  // The document must be an object with only `allowed` keys and "format" equal to `expected`.
+  void require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const;
 
   const std::string& source() const { return source_; }
 

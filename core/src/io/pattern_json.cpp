@@ -93,10 +93,7 @@ std::string to_pattern_json(const Pattern& p) {
 Pattern parse_pattern(const std::string& text, const std::string& source) {
   const json root = json_util::parse(text, source);
   const json_util::Reader in(source);
-  in.require_object(root, "document");
-  in.only_keys(root, {"format", "units", "sheet", "lines", "faces", "folds", "back_face", "floor_face"}, "");
-  const std::string format = in.string(in.require(root, "format", ""), "format");
-  if (format != kPatternFormat) in.fail("format", "expected \"" + std::string(kPatternFormat) + "\", got \"" + format + "\"");
+  in.require_document(root, kPatternFormat, {"format", "units", "sheet", "lines", "faces", "folds", "back_face", "floor_face"});
   if (in.string(in.require(root, "units", ""), "units") != "mm") in.fail("units", "expected \"mm\"");
 
   Pattern p;

@@ -91,13 +91,7 @@ void read_voxels(const json_util::Reader& in, const json& voxels, std::vector<Ce
 VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
   const json root = json_util::parse(text, source);
   const json_util::Reader in(source);
-  in.require_object(root, "document");
-  in.only_keys(root, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "sheet"}, "");
-  const std::string format = in.string(in.require(root, "format", ""), "format");
-  if (format != kVoxelFormat) {
-    in.fail("format", "expected \"" + std::string(kVoxelFormat) + "\", got \"" + format + "\"");
-  }
-
+  in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "sheet"});
   VoxelFile file;
   VoxelModel& m = file.model;
   const double voxel_mm = in.number(in.require(root, "voxel_mm", ""), "voxel_mm", kMinVoxelMm, kMaxVoxelMm);

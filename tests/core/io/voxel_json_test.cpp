@@ -70,6 +70,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"not an object", "[1, 2]", "document", "expected an object"},
         BadCase{"wrong format", R"({"format": "popcut.faces.v1", "voxel_mm": 1, "heights": [[1]]})", "format",
                 "expected \"popcut.voxel.v1\""},
+        BadCase{"other format with other fields", R"({"format": "popcut.faces.v1", "faces": []})", "format",
+                "got \"popcut.faces.v1\""},
         BadCase{"missing format", R"({"voxel_mm": 1, "heights": [[1]]})", "format", "is missing"},
         BadCase{"unknown field", "{" HEAD R"("heights": [[1]], "colour": "red"})", "colour", "unknown field"},
         BadCase{"duplicate key", "{" HEAD R"("heights": [[1]], "heights": [[2]]})", "", "duplicate key \"heights\""},
