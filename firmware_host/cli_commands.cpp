@@ -113,11 +113,11 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
   }
 }
 
-// Reads a model file, choosing the reader by its "format" tag.
-VoxelModel load_model(const std::string& path) {
-  const std::string text = read_text_file(path);
-  return parse_voxel_model(text, path);
-}
+// The name a file goes by in messages: "-" is standard input.
+std::string shown(const std::string& path) { return path == "-" ? "<stdin>" : path; }
+
+// Reads a model file (or "-"), naming it in every error.
+VoxelModel load_model(const std::string& path) { return parse_voxel_model(read_text_file(path), shown(path)); }
 
 std::string extension(const std::string& path) {
   std::string e = std::filesystem::path(path).extension().string();
@@ -135,7 +135,7 @@ int guarded(bool json_errors, Body body) {
     if (json_errors) {
       std::cout << json{{"error", {{"code", to_string(e.code())}, {"source", e.source()}, {"location", e.location()},
                                    {"message", e.message()}}}}
-                       .dump(2)
+                       .dump()
                 << "\n";
     }
     if (e.code() == ErrorCode::internal) return kInternal;
@@ -165,7 +165,6 @@ int run(int argc, char** argv) {
                "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output, 4 internal error."};
   app.set_version_flag("--version", std::string("popcut ") + "0.1.0");
   app.require_subcommand(1);
-  app.failure_message(CLI::FailureMessage::help);
 
   std::string model_path, out_path;
   bool json_out = false, shade = false, windows = false;
@@ -180,17 +179,31 @@ int run(int argc, char** argv) {
   validate->add_option("MODEL", model_path, "Model file, or - for standard input")->required();
   validate->add_flag("--json", json_out, "Print the report as JSON (popcut.validation.v1) on standard output");
 
-  CLI::App* repair_cmd = app.add_subcommand("repair", "Fill a model to satisfy the staircase constraint (eq. 7).");
-  repair_cmd->add_option("MODEL", model_path, "Model file that may break the staircase constraint, or -")->required();
+  CLI::App* repair_cmd = app.add_subcommand("repair", "Fill a model so no column is taller than the one behind it (the staircase rule), as the voxel paper's eq. 7 does.");
+  repair_cmd->add_option("MODEL", model_path, "Model file that may break the staircase rule (popcut.voxel.v1, heights or voxels), or -")->required();
   repair_cmd->add_option("-o,--output", out_path, "Where to write the repaired popcut.voxel.v1 model")->required();
   repair_cmd->add_flag("--windows", windows, "Turn filled rows into windows where the card still pops up");
   repair_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
+  // A first word that is no subcommand is named as such, not reported as "subcommand required".
+  if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate or repair)\n"
+              << "Run 'popcut --help' for usage.\n";
+    return kBadInput;
+  }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? kOk : kBadInput;
+    const auto used = app.get_subcommands();
+    std::cerr << "popcut: error: " << e.what() << "\nRun 'popcut " << (used.empty() ? "" : used.front()->get_name() + " ")
+              << "--help' for usage.\n";
+    return kBadInput;
   }
 
   if (*pattern) {
@@ -199,38 +212,47 @@ int run(int argc, char** argv) {
       if (out_path != "-" && ext != ".json" && ext != ".svg") {
         throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown output type '" + ext + "': use .json or .svg");
       }
+      if (shade && ext != ".svg") {
+        throw Error(ErrorCode::invalid_input, "", "--shade", "shading applies to SVG output only");
+      }
       if (out_path == "-" && json_out) {
         throw Error(ErrorCode::invalid_input, "", "--json", "cannot print a summary when the pattern itself goes to standard output");
       }
-      const Pattern p = make_pattern(load_model(model_path), model_path);
+      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
       const PopupReport report = check_popup(p);
       write_output(out_path, ext == ".svg" ? to_pattern_svg(p, {shade}) : to_pattern_json(p));
       if (json_out) {
-        json j = report_json(model_path, p, report);
+        json j = report_json(shown(model_path), p, report);
         j["output"] = out_path;
-        std::cout << j.dump(2) << "\n";
+        std::cout << j.dump() << "\n";
       } else if (!report.pops_up()) {
         std::cerr << "popcut: warning: the pattern was written, but the card will not pop up:\n";
-        print_report(std::cerr, model_path, p, report);
+        print_report(std::cerr, shown(model_path), p, report);
+      }
+      if (!json_out && out_path != "-") {
+        const LineCounts c = count_lines(p);
+        std::cerr << "wrote " << out_path << " (" << p.faces.size() << " faces; " << c.cut << " cut, " << c.mountain
+                  << " mountain, " << c.valley << " valley lines; sheet " << mm(p.sheet.max.x_mm - p.sheet.min.x_mm) << " x "
+                  << mm(p.sheet.max.v_mm - p.sheet.min.v_mm) << " mm)\n";
       }
       return kOk;
     });
   }
   if (*validate) {
     return guarded(json_out, [&] {
-      const Pattern p = make_pattern(load_model(model_path), model_path);
+      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
       const PopupReport report = check_popup(p);
-      if (json_out) std::cout << report_json(model_path, p, report).dump(2) << "\n";
-      else print_report(std::cout, model_path, p, report);
+      if (json_out) std::cout << report_json(shown(model_path), p, report).dump() << "\n";
+      else print_report(std::cout, shown(model_path), p, report);
       return report.pops_up() ? kOk : kDoesNotPopUp;
     });
   }
   if (*repair_cmd) {
     return guarded(json_out, [&] {
-      const VoxelFile file = parse_voxel_file(read_text_file(model_path), model_path);
+      const VoxelFile file = parse_voxel_file(read_text_file(model_path), shown(model_path));
       const RepairResult r = repair(file, {windows});
-      require_valid(r.model, model_path);
-      const Pattern p = make_pattern(r.model, model_path);
+      require_valid(r.model, shown(model_path));
+      const Pattern p = make_pattern(r.model, shown(model_path));
       const PopupReport report = check_popup(p);
       write_output(out_path, to_voxel_json(r.model));
       if (json_out) {
@@ -238,9 +260,9 @@ int run(int argc, char** argv) {
         j["cells_filled"] = r.cells_filled;
         j["windows_added"] = r.windows_added;
         j["windows_rejected"] = r.windows_rejected;
-        std::cout << j.dump(2) << "\n";
+        std::cout << j.dump() << "\n";
       } else {
-        std::cout << model_path << ": filled " << r.cells_filled << " cells";
+        std::cout << shown(model_path) << ": filled " << r.cells_filled << " cells";
         if (windows) std::cout << "; windows: " << r.windows_added << " added, " << r.windows_rejected << " rejected";
         std::cout << "; wrote " << out_path << "\n";
         print_report(std::cout, out_path, p, report);

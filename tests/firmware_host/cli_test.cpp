@@ -70,6 +70,12 @@ TEST_F(Cli, UsageErrorsExit2) {
   EXPECT_EQ(run("validate").code, 2) << "missing MODEL";
   EXPECT_EQ(run("pattern " + file("m.json", kBox)).code, 2) << "pattern without -o";
   EXPECT_EQ(run("validate --bogus x").code, 2) << "unknown flag";
+  const Result typo = run("valdate x.json");
+  EXPECT_EQ(typo.code, 2) << "a misspelt command";
+  EXPECT_NE(typo.err.find("unknown command 'valdate'"), std::string::npos) << "is named: " << typo.err;
+  const Result flag = run("validate --jsn x.json");
+  EXPECT_EQ(flag.err.rfind("popcut: error: ", 0), 0u) << "usage errors read like every other error: " << flag.err;
+  EXPECT_NE(flag.err.find("popcut validate --help"), std::string::npos) << "and point at the right help: " << flag.err;
 }
 
 TEST_F(Cli, ValidateReportsAndExitCodes) {
@@ -91,6 +97,8 @@ TEST_F(Cli, ValidateReportsAndExitCodes) {
 
   Result piped = run("validate -", file("stdin.json", kBox));
   EXPECT_EQ(piped.code, 0) << "a model on standard input: " << piped.err;
+  Result piped_bad = run("validate -", file("stdin-bad.json", "{"));
+  EXPECT_EQ(piped_bad.err.rfind("popcut: error: <stdin>: line 1", 0), 0u) << "standard input is named: " << piped_bad.err;
 }
 
 TEST_F(Cli, BadInputExit2WithFileAndPosition) {
@@ -119,6 +127,9 @@ TEST_F(Cli, PatternWritesSvgAndJson) {
   Result summary = run("pattern " + model + " -o " + (dir_ / "q.svg").string() + " --json");
   EXPECT_EQ(nlohmann::json::parse(summary.out)["output"], (dir_ / "q.svg").string()) << summary.out;
   EXPECT_EQ(run("pattern " + model + " -o " + (dir_ / "p.txt").string()).code, 2) << "unknown extension";
+  EXPECT_EQ(run("pattern " + model + " --shade -o " + (dir_ / "s.json").string()).code, 2) << "--shade is for SVG only";
+  const Result said = run("pattern " + model + " -o " + svg.string());
+  EXPECT_NE(said.err.find("wrote " + svg.string()), std::string::npos) << "pattern says what it wrote: " << said.err;
   EXPECT_FALSE(fs::exists(dir_ / "p.txt")) << "nothing written on error";
   Result nodir = run("pattern " + model + " -o " + (dir_ / "missing" / "p.svg").string());
   EXPECT_EQ(nodir.code, 3) << "an unwritable output exits 3: " << nodir.err;

@@ -67,11 +67,13 @@ std::string to_pattern_svg(const Pattern& p, const SvgOptions& options) {
   o << "  <g id=\"outline\" inkscape:label=\"outline\" inkscape:groupmode=\"layer\" fill=\"none\" stroke=\"#999999\" "
        "stroke-width=\"0.1\">\n"
     << "    <rect x=\"0\" y=\"0\" width=\"" << w << "\" height=\"" << h << "\"/>\n  </g>\n";
+  // Dash periods stay under 3 mm so a fold one small voxel long (2–3 mm) still shows its
+  // pattern, and a printed mountain never passes for a cut.
   const char* common = "fill=\"none\" stroke-width=\"0.25\" stroke-linecap=\"round\"";
   line_group(o, f, p, LineKind::valley,
-             (std::string(common) + " stroke=\"#1f5fd6\" stroke-dasharray=\"2 1\"").c_str());
+             (std::string(common) + " stroke=\"#1f5fd6\" stroke-dasharray=\"1.5 0.75\"").c_str());
   line_group(o, f, p, LineKind::mountain,
-             (std::string(common) + " stroke=\"#d62728\" stroke-dasharray=\"3 1 0.5 1\"").c_str());
+             (std::string(common) + " stroke=\"#d62728\" stroke-dasharray=\"2 0.5 0.4 0.5\"").c_str());
   line_group(o, f, p, LineKind::cut, (std::string(common) + " stroke=\"#000000\"").c_str());
   o << "</svg>\n";
   return o.str();

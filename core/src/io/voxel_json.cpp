@@ -149,7 +149,7 @@ VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
       const int x = in.integer(w[i][0], index_path(p, 0), 0, kMaxVoxelAxis);
       const int z = in.integer(w[i][1], index_path(p, 1), 0, kMaxVoxelAxis);
       if (x >= size.width || z >= size.height) {
-        in.fail(p, "= [" + std::to_string(x) + ", " + std::to_string(z) + "] is outside the grid (x from 0 to " +
+        in.fail(p, "[" + std::to_string(x) + ", " + std::to_string(z) + "] is outside the grid (x from 0 to " +
                        std::to_string(size.width - 1) + ", z from 0 to " + std::to_string(size.height - 1) + ")");
       }
       if (m.is_window(x, z)) in.fail(p, "repeats an earlier window [" + std::to_string(x) + ", " + std::to_string(z) + "]");

@@ -2,12 +2,23 @@
 #include "popcut/model/voxel_model.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "popcut/error.h"
 
 namespace popcut {
 namespace {
+
+// Millimetres as a person writes them: 12, 12.5, 0.25.
+std::string format_mm(double mm) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", mm);
+  std::string s = buf;
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
 
 std::string cell_name(int x, int y) {
   return "heights[" + std::to_string(x) + "][" + std::to_string(y) + "]";
@@ -46,8 +57,8 @@ int VoxelModel::window_count() const {
 
 std::optional<ModelViolation> find_violation(const VoxelModel& m) {
   if (!(m.voxel_mm >= kMinVoxelMm && m.voxel_mm <= kMaxVoxelMm)) {
-    return ModelViolation{"voxel_mm", "must be a number from " + std::to_string(kMinVoxelMm) + " to " +
-                                          std::to_string(kMaxVoxelMm) + " (millimetres per voxel)"};
+    return ModelViolation{"voxel_mm", "must be a number from " + format_mm(kMinVoxelMm) + " to " +
+                                          format_mm(kMaxVoxelMm) + " (millimetres per voxel)"};
   }
   for (int x = 0; x < m.width; ++x) {
     for (int y = 0; y < m.depth; ++y) {
@@ -57,10 +68,10 @@ std::optional<ModelViolation> find_violation(const VoxelModel& m) {
       }
       if (y > 0 && hy > m.h(x, y - 1)) {
         return ModelViolation{cell_name(x, y),
-                              "= " + std::to_string(hy) + " is higher than " + cell_name(x, y - 1) + " = " +
+                              std::to_string(hy) + " is higher than " + cell_name(x, y - 1) + " = " +
                                   std::to_string(m.h(x, y - 1)) +
-                                  ": column heights must not rise towards the front (staircase constraint, eq. 4); "
-                                  "'popcut repair' fills the model to satisfy it"};
+                                  ": a column may not be taller than the one behind it (the staircase rule, voxel paper "
+                                  "eq. 4), or the card could not fold flat; 'popcut repair' fills the model to satisfy it"};
       }
     }
     for (int z = 0; z < m.height; ++z) {
@@ -100,13 +111,13 @@ SheetVoxels resolve_sheet(const VoxelModel& m, const std::string& source) {
   auto check_half = [&](const char* field, int value) {
     if (value < 1 || value > kMaxSheetVoxels) {
       throw Error(ErrorCode::invalid_input, source, field,
-                  "= " + std::to_string(value) + " is out of range: expected 1 to " + std::to_string(kMaxSheetVoxels) +
+                  std::to_string(value) + " is out of range: expected 1 to " + std::to_string(kMaxSheetVoxels) +
                       " voxels");
     }
     if (value < need) {
       throw Error(ErrorCode::invalid_input, source, field,
-                  "= " + std::to_string(value) + " voxels is too small for this model: the card must be at least " +
-                      std::to_string(need) + " voxels (" + std::to_string(need * m.voxel_mm) +
+                  std::to_string(value) + " voxels is too small for this model: the card must be at least " +
+                      std::to_string(need) + " voxels (" + format_mm(need * m.voxel_mm) +
                       " mm) to enclose it when closed (the largest y + height + 1 over the columns)");
     }
   };
@@ -114,7 +125,7 @@ SheetVoxels resolve_sheet(const VoxelModel& m, const std::string& source) {
   check_half("sheet.floor", s.floor);
   if (s.side < 0 || s.side > kMaxVoxelAxis) {
     throw Error(ErrorCode::invalid_input, source, "sheet.side",
-                "= " + std::to_string(s.side) + " is out of range: expected 0 to " + std::to_string(kMaxVoxelAxis));
+                std::to_string(s.side) + " is out of range: expected 0 to " + std::to_string(kMaxVoxelAxis));
   }
   const std::int64_t cells = (std::int64_t{m.width} + 2 * std::int64_t{s.side}) * (std::int64_t{s.back} + s.floor);
   if (cells > kMaxPatternCells) {

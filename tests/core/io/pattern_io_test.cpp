@@ -45,8 +45,8 @@ TEST(PatternSvg, MillimetreUnitsAndOneGroupPerKind) {
   EXPECT_NE(svg.find(dims), std::string::npos) << "real millimetres and a matching viewBox: " << dims;
   EXPECT_NE(svg.find("id=\"cut\""), std::string::npos) << "cut group";
   EXPECT_NE(svg.find("stroke=\"#000000\""), std::string::npos) << "cut is solid black";
-  EXPECT_NE(svg.find("stroke=\"#d62728\" stroke-dasharray=\"3 1 0.5 1\""), std::string::npos) << "mountain red dash-dot";
-  EXPECT_NE(svg.find("stroke=\"#1f5fd6\" stroke-dasharray=\"2 1\""), std::string::npos) << "valley blue dashed";
+  EXPECT_NE(svg.find("stroke=\"#d62728\" stroke-dasharray=\"2 0.5 0.4 0.5\""), std::string::npos) << "mountain red dash-dot";
+  EXPECT_NE(svg.find("stroke=\"#1f5fd6\" stroke-dasharray=\"1.5 0.75\""), std::string::npos) << "valley blue dashed";
   EXPECT_NE(svg.find("id=\"outline\""), std::string::npos) << "sheet outline group";
   std::size_t count = 0;
   for (std::size_t at = svg.find("<line "); at != std::string::npos; at = svg.find("<line ", at + 1)) ++count;
