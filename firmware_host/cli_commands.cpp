@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -22,6 +23,9 @@ namespace popcut::cli {
 namespace {
 
 using nlohmann::json;
+
+// One line of JSON on stdout; file names from the command line may not be UTF-8, so replace.
+void print_json(const json& j) { std::cout << j.dump(-1, ' ', false, json::error_handler_t::replace) << "\n"; }
 
 json point(Point2 p) { return json::array({p.x_mm, p.v_mm}); }
 json rect(const Rect& r) { return {{"min", point(r.min)}, {"max", point(r.max)}}; }
@@ -65,6 +69,7 @@ json report_json(const std::string& source, const Pattern& p, const PopupReport&
   json j = {{"format", "popcut.validation.v1"},
             {"source", source},
             {"pops_up", r.pops_up()},
+            {"sheet_split", r.sheet_split},
             {"faces", p.faces.size()},
             {"lines", {{"cut", c.cut}, {"mountain", c.mountain}, {"valley", c.valley}}},
             {"line_mm", {{"cut", c.cut_mm}, {"mountain", c.mountain_mm}, {"valley", c.valley_mm}}},
@@ -96,6 +101,9 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
   const LineCounts c = count_lines(p);
   out << source << ": " << (r.pops_up() ? "pops up" : "does NOT pop up") << " (" << p.faces.size() << " faces; "
       << c.cut << " cut, " << c.mountain << " mountain, " << c.valley << " valley lines)\n";
+  if (r.sheet_split) {
+    out << "  the sheet falls in two: no fold joins the floor to the back board (is the centre fold cut all along?)\n";
+  }
   for (const FaceProblem& fp : r.not_standing) {
     out << "  would not stand: " << describe_face(p, fp.face) << "; not reached "
         << (!fp.from_back && !fp.from_floor ? "from the back board or the floor"
@@ -116,7 +124,7 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
 // The name a file goes by in messages: "-" is standard input.
 std::string shown(const std::string& path) { return path == "-" ? "<stdin>" : path; }
 
-// Reads a model file (or "-"), naming it in every error.
+// Reads a voxel model file (or "-"), naming it in every error.
 VoxelModel load_model(const std::string& path) { return parse_voxel_model(read_text_file(path), shown(path)); }
 
 std::string extension(const std::string& path) {
@@ -133,10 +141,8 @@ int guarded(bool json_errors, Body body) {
   } catch (const Error& e) {
     std::cerr << "popcut: error: " << e.what() << "\n";
     if (json_errors) {
-      std::cout << json{{"error", {{"code", to_string(e.code())}, {"source", e.source()}, {"location", e.location()},
-                                   {"message", e.message()}}}}
-                       .dump()
-                << "\n";
+      print_json({{"error", {{"code", to_string(e.code())}, {"source", e.source()}, {"location", e.location()},
+                             {"message", e.message()}}}});
     }
     if (e.code() == ErrorCode::internal) return kInternal;
     return e.code() == ErrorCode::io && e.location() == "output" ? kCannotWrite : kBadInput;
@@ -150,7 +156,7 @@ int guarded(bool json_errors, Body body) {
 }
 
 // Marks write failures (location "output") so they map to kCannotWrite, not kBadInput.
-void write_output(const std::string& path, const std::string& content) {
+void write_output(const std::string& path, const std::function<void(std::ostream&)>& content) {
   try {
     write_text_file(path, content);
   } catch (const Error& e) {
@@ -220,11 +226,14 @@ int run(int argc, char** argv) {
       }
       const Pattern p = make_pattern(load_model(model_path), shown(model_path));
       const PopupReport report = check_popup(p);
-      write_output(out_path, ext == ".svg" ? to_pattern_svg(p, {shade}) : to_pattern_json(p));
+      write_output(out_path, [&](std::ostream& out) {
+        if (ext == ".svg") write_pattern_svg(out, p, {shade});
+        else write_pattern_json(out, p);
+      });
       if (json_out) {
         json j = report_json(shown(model_path), p, report);
         j["output"] = out_path;
-        std::cout << j.dump() << "\n";
+        print_json(j);
       } else if (!report.pops_up()) {
         std::cerr << "popcut: warning: the pattern was written, but the card will not pop up:\n";
         print_report(std::cerr, shown(model_path), p, report);
@@ -242,7 +251,7 @@ int run(int argc, char** argv) {
     return guarded(json_out, [&] {
       const Pattern p = make_pattern(load_model(model_path), shown(model_path));
       const PopupReport report = check_popup(p);
-      if (json_out) std::cout << report_json(shown(model_path), p, report).dump() << "\n";
+      if (json_out) print_json(report_json(shown(model_path), p, report));
       else print_report(std::cout, shown(model_path), p, report);
       return report.pops_up() ? kOk : kDoesNotPopUp;
     });
@@ -250,17 +259,18 @@ int run(int argc, char** argv) {
   if (*repair_cmd) {
     return guarded(json_out, [&] {
       const VoxelFile file = parse_voxel_file(read_text_file(model_path), shown(model_path));
-      const RepairResult r = repair(file, {windows});
+      const RepairResult r = repair(file, {windows}, shown(model_path));
       require_valid(r.model, shown(model_path));
       const Pattern p = make_pattern(r.model, shown(model_path));
       const PopupReport report = check_popup(p);
-      write_output(out_path, to_voxel_json(r.model));
+      const std::string text = to_voxel_json(r.model);
+      write_output(out_path, [&](std::ostream& out) { out << text; });
       if (json_out) {
         json j = report_json(out_path, p, report);
         j["cells_filled"] = r.cells_filled;
         j["windows_added"] = r.windows_added;
         j["windows_rejected"] = r.windows_rejected;
-        std::cout << j.dump() << "\n";
+        print_json(j);
       } else {
         std::cout << shown(model_path) << ": filled " << r.cells_filled << " cells";
         if (windows) std::cout << "; windows: " << r.windows_added << " added, " << r.windows_rejected << " rejected";

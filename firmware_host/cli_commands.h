@@ -3,7 +3,7 @@
 
 namespace popcut::cli {
 
-// Exit codes (README, docs/cli.md): stable for scripts and CI.
+// Exit codes (README.md): stable for scripts and CI.
 enum ExitCode : int {
   kOk = 0,
   kDoesNotPopUp = 1,   // validate/repair: the card would not stand or has loose pieces

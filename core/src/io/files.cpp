@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <streambuf>
 #include <system_error>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -52,9 +53,54 @@ std::string read_text_file(const std::string& path, std::size_t max_bytes) {
   return text;
 }
 
+namespace {
+
+// Buffered output to a file descriptor that remembers the first write error.
+class FdBuf : public std::streambuf {
+ public:
+  explicit FdBuf(int fd) : fd_(fd) { setp(buf_, buf_ + sizeof buf_); }
+  int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (!flush_buffer()) return traits_type::eof();
+    if (!traits_type::eq_int_type(ch, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(ch);
+      pbump(1);
+    }
+    return traits_type::not_eof(ch);
+  }
+  int sync() override { return flush_buffer() ? 0 : -1; }
+
+ private:
+  bool flush_buffer() {
+    const char* p = pbase();
+    while (p < pptr()) {
+      const ssize_t n = ::write(fd_, p, static_cast<std::size_t>(pptr() - p));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        if (!error_) error_ = n < 0 ? errno : EIO;
+        return false;
+      }
+      p += n;
+    }
+    setp(buf_, buf_ + sizeof buf_);
+    return true;
+  }
+  int fd_;
+  int error_ = 0;
+  char buf_[1 << 16];
+};
+
+}  // namespace
+
 void write_text_file(const std::string& path, const std::string& content) {
+  write_text_file(path, [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); });
+}
+
+void write_text_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
   if (path == "-") {
-    std::cout << content;
+    write(std::cout);
     std::cout.flush();
     if (!std::cout) throw Error(ErrorCode::io, "<stdout>", "", "write failed");
     return;
@@ -66,23 +112,28 @@ void write_text_file(const std::string& path, const std::string& content) {
   std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
   const int fd = ::mkstemp(tmp.data());
   if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
-  std::size_t done = 0;
-  while (done < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int err = errno;
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
-    }
-    done += static_cast<std::size_t>(n);
+  const auto fail = [&](int err, const char* what) {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw Error(ErrorCode::io, path, "", std::string(what) + std::strerror(err));
+  };
+  FdBuf buf(fd);
+  std::ostream out(&buf);
+  try {
+    write(out);
+  } catch (...) {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw;
   }
+  out.flush();
+  if (buf.error() || !out) fail(buf.error() ? buf.error() : EIO, "write failed: ");
   // New files get the usual permissions rather than mkstemp's 0600.
   const mode_t mask = ::umask(0);
   ::umask(mask);
   ::fchmod(fd, 0666 & ~mask);
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+  if (::fsync(fd) != 0) fail(errno, "write failed: ");
+  if (::close(fd) != 0) {
     const int err = errno;
     ::unlink(tmp.c_str());
     throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));

@@ -1,6 +1,7 @@
 // Strict JSON parsing and typed getters shared by the model and pattern readers.
 #include "io/json_util.h"
 
+#include <charconv>
 #include <cmath>
 #include <set>
 #include <vector>
@@ -29,7 +30,8 @@ std::string position(const std::string& text, std::size_t byte) {
 std::string type_name(const json& j) {
   if (j.is_number_integer()) return "an integer";
   if (j.is_number()) return "a number";
-  return std::string("a ") + j.type_name();
+  const std::string name = j.type_name();
+  return (name == "array" || name == "object" ? "an " : "a ") + name;
 }
 
 }  // namespace
@@ -60,6 +62,12 @@ json parse(const std::string& text, const std::string& source) {
     const auto colon = what.find(": ", what.find("parse error"));
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw Error(ErrorCode::invalid_input, source, position(text, e.byte), "malformed JSON: " + what);
+  } catch (const json::exception& e) {
+    // Anything else the parser rejects (a number like 1e400 that overflows a double) is still bad input.
+    std::string what = e.what();
+    const auto bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw Error(ErrorCode::invalid_input, source, "", "malformed JSON: " + what);
   }
 }
 
@@ -144,6 +152,10 @@ std::string index_path(const std::string& base, std::size_t i) { return base + "
 
 std::string key_path(const std::string& base, const char* key) { return base.empty() ? key : base + "." + key; }
 
-std::string number_text(double value) { return json(value).dump(); }
+std::string number_text(double value) {
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, value).ptr;
+  return std::string(buf, end);
+}
 
 }  // namespace popcut::json_util

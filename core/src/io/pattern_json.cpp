@@ -12,9 +12,9 @@ using json_util::number_text;
 
 namespace {
 
-void put_point(std::ostringstream& o, Point2 p) { o << "[" << number_text(p.x_mm) << ", " << number_text(p.v_mm) << "]"; }
+void put_point(std::ostream& o, Point2 p) { o << "[" << number_text(p.x_mm) << ", " << number_text(p.v_mm) << "]"; }
 
-void put_ring(std::ostringstream& o, const Ring& ring) {
+void put_ring(std::ostream& o, const Ring& ring) {
   o << "[";
   for (std::size_t i = 0; i < ring.size(); ++i) {
     if (i) o << ", ";
@@ -51,6 +51,11 @@ LineKind get_line_kind(const json_util::Reader& in, const json& j, const std::st
 
 std::string to_pattern_json(const Pattern& p) {
   std::ostringstream o;
+  write_pattern_json(o, p);
+  return o.str();
+}
+
+void write_pattern_json(std::ostream& o, const Pattern& p) {
   o << "{\n  \"format\": \"" << kPatternFormat << "\",\n  \"units\": \"mm\",\n";
   o << "  \"sheet\": {\"min\": ";
   put_point(o, p.sheet.min);
@@ -87,7 +92,6 @@ std::string to_pattern_json(const Pattern& p) {
       << to_string(f.kind) << "\", \"length\": " << number_text(f.length_mm) << "}";
   }
   o << "\n  ],\n  \"back_face\": " << p.back_face << ",\n  \"floor_face\": " << p.floor_face << "\n}\n";
-  return o.str();
 }
 
 Pattern parse_pattern(const std::string& text, const std::string& source) {

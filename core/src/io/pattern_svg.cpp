@@ -24,12 +24,12 @@ struct Frame {
   std::string y(double v_mm) const { return num(sheet.max.v_mm - v_mm); }  // v up, SVG y down
 };
 
-void ring_path(std::ostringstream& o, const Frame& f, const Ring& ring) {
+void ring_path(std::ostream& o, const Frame& f, const Ring& ring) {
   for (std::size_t i = 0; i < ring.size(); ++i) o << (i ? " L" : "M") << f.x(ring[i].x_mm) << " " << f.y(ring[i].v_mm);
   o << " Z";
 }
 
-void line_group(std::ostringstream& o, const Frame& f, const Pattern& p, LineKind kind, const char* attrs) {
+void line_group(std::ostream& o, const Frame& f, const Pattern& p, LineKind kind, const char* attrs) {
   o << "  <g id=\"" << to_string(kind) << "\" inkscape:label=\"" << to_string(kind) << "\" inkscape:groupmode=\"layer\" "
     << attrs << ">\n";
   for (const Segment& s : p.lines) {
@@ -43,10 +43,15 @@ void line_group(std::ostringstream& o, const Frame& f, const Pattern& p, LineKin
 }  // namespace
 
 std::string to_pattern_svg(const Pattern& p, const SvgOptions& options) {
+  std::ostringstream o;
+  write_pattern_svg(o, p, options);
+  return o.str();
+}
+
+void write_pattern_svg(std::ostream& o, const Pattern& p, const SvgOptions& options) {
   const Frame f{p.sheet};
   const std::string w = num(p.sheet.max.x_mm - p.sheet.min.x_mm);
   const std::string h = num(p.sheet.max.v_mm - p.sheet.min.v_mm);
-  std::ostringstream o;
   o << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" "
     << "width=\"" << w << "mm\" height=\"" << h << "mm\" viewBox=\"0 0 " << w << " " << h << "\">\n"
@@ -76,7 +81,6 @@ std::string to_pattern_svg(const Pattern& p, const SvgOptions& options) {
              (std::string(common) + " stroke=\"#d62728\" stroke-dasharray=\"2 0.5 0.4 0.5\"").c_str());
   line_group(o, f, p, LineKind::cut, (std::string(common) + " stroke=\"#000000\"").c_str());
   o << "</svg>\n";
-  return o.str();
 }
 
 }  // namespace popcut

@@ -4,15 +4,12 @@
 #include <algorithm>
 #include <vector>
 
+#include "popcut/error.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
 
 namespace popcut {
-namespace {
-bool pops_up(const VoxelModel& m) { return check_popup(make_pattern(m)).pops_up(); }
-}  // namespace
-
-RepairResult repair(const VoxelFile& file, const RepairOptions& options) {
+RepairResult repair(const VoxelFile& file, const RepairOptions& options, const std::string& source) {
   RepairResult out;
   out.model = file.model;
   VoxelModel& m = out.model;
@@ -32,6 +29,18 @@ RepairResult repair(const VoxelFile& file, const RepairOptions& options) {
     }
   }
   if (!options.windows || out.cells_filled == 0) return out;
+
+  const auto pops_up = [&](const VoxelModel& model) { return check_popup(make_pattern(model, source)).pops_up(); };
+  std::int64_t candidates = 0;
+  for (std::uint8_t f : filled_rows) candidates += f;
+  const SheetVoxels sheet = resolve_sheet(m, source);
+  const std::int64_t cells = (std::int64_t{m.width} + 2 * sheet.side) * (sheet.back + sheet.floor);
+  if (candidates * cells > kMaxRepairWindowChecks) {
+    throw Error(ErrorCode::limit, source, "--windows",
+                "marking windows would re-check a card of " + std::to_string(cells) + " cells for each of " +
+                    std::to_string(candidates) + " filled rows, over the limit of " + std::to_string(kMaxRepairWindowChecks) +
+                    " cell checks; repair without --windows, or use fewer, larger voxels");
+  }
 
   // Only a card that pops up before a window can judge the window; a card whose own windows
   // already fail is left as it is and reported by the caller's check.

@@ -103,7 +103,10 @@ int min_sheet_half_voxels(const VoxelModel& m) {
 
 SheetVoxels resolve_sheet(const VoxelModel& m, const std::string& source) {
   const int need = min_sheet_half_voxels(m);
-  const int fallback = std::max(need, 1) + kDefaultSheetMarginVoxels;
+  // y + h + 1 is at most (kMaxVoxelAxis - 1) + kMaxVoxelAxis + 1, so every model fits a sheet half.
+  static_assert(kMaxSheetVoxels >= 2 * kMaxVoxelAxis);
+  // The margin never pushes a default past the limit the model itself fits in.
+  const int fallback = std::min(std::max(need, 1) + kDefaultSheetMarginVoxels, kMaxSheetVoxels);
   SheetVoxels s;
   s.back = m.sheet.back.value_or(fallback);
   s.floor = m.sheet.floor.value_or(fallback);

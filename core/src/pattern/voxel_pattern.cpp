@@ -65,7 +65,8 @@ class RegionMap {
 
 // Traces every region boundary into rings: outer rings counter-clockwise, holes clockwise.
 // Where a region touches itself only at a corner the walk turns left, so diagonal cells stay
-// apart (4-connected regions, 8-connected holes) and every ring is simple.
+// apart (4-connected regions, 8-connected holes): rings never cross, but such a ring passes that
+// corner twice (weakly simple), and a hole may touch the outer ring at one vertex.
 void trace_rings(const CellGrid& g, const RegionMap& regions, std::vector<PatternFace>& faces) {
   const double mm = g.voxel_mm;
   const auto vertex = [&](int c, int r) { return Point2{c * mm, (r - g.sheet.floor) * mm}; };
@@ -216,14 +217,9 @@ Pattern make_pattern(const CellGrid& g) {
       const std::uint32_t up = g.at(c, r);
       const std::uint32_t lo = g.at(c, r - 1);
       if (up == lo) return 0;
-      const FaceKind uk = CellGrid::kind_of(up);
-      const FaceKind lk = CellGrid::kind_of(lo);
+      // Face offsets are whole voxels, so the comparison in voxel units is exact.
       LineKind kind = LineKind::cut;
-      if (uk != lk) {
-        const int tv = CellGrid::t_of(uk == FaceKind::vertical ? up : lo);
-        const int th = CellGrid::t_of(uk == FaceKind::horizontal ? up : lo);
-        if (th - tv == v) kind = uk == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
-      }
+      classify_x_edge(CellGrid::kind_of(up), CellGrid::t_of(up), CellGrid::kind_of(lo), CellGrid::t_of(lo), v, 0.0, kind);
       if (kind != LineKind::cut) {
         const int a = regions.at(c, r), b = regions.at(c, r - 1);
         const std::uint64_t key = (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);

@@ -87,6 +87,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"sheet too small", "{" HEAD R"("heights": [[3, 3]], "sheet": {"floor": 4}})", "sheet.floor", "at least 5 voxels"},
         BadCase{"sheet unknown key", "{" HEAD R"("heights": [[3]], "sheet": {"top": 4}})", "sheet.top", "unknown field"},
         BadCase{"sheet negative side", "{" HEAD R"("heights": [[3]], "sheet": {"side": -1}})", "sheet.side", "from 0"},
+        BadCase{"number overflow", R"({"format": "popcut.voxel.v1", "voxel_mm": 1e400, "heights": [[1]]})", "", "overflow"},
         BadCase{"voxel_mm zero", R"({"format": "popcut.voxel.v1", "voxel_mm": 0, "heights": [[1]]})", "voxel_mm", "from 0.01"},
         BadCase{"voxel_mm string", R"({"format": "popcut.voxel.v1", "voxel_mm": "2", "heights": [[1]]})", "voxel_mm", "got a string"},
         BadCase{"no columns", "{" HEAD R"("heights": []})", "heights", "at least one column"},
@@ -95,8 +96,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"voxel repeated", "{" HEAD R"("voxels": [[0,0,0],[0,0,0]]})", "voxels[1]", "repeats voxels[0]"},
         BadCase{"grid too small", "{" HEAD R"("heights": [[3]], "grid": {"width": 1, "depth": 1, "height": 2}})", "grid",
                 "needs at least"},
-        BadCase{"too many columns", "{" HEAD R"("heights": [)" "[0],[0],[0],[0],[0],[0],[0],[0],[0],[0],[0],[0],[0],[0],[0],[0]"
-                R"(], "grid": {"width": 5000, "depth": 1, "height": 1}})", "grid.width", "4096"},
+        BadCase{"grid too wide", "{" HEAD R"("heights": [[0]], "grid": {"width": 5000, "depth": 1, "height": 1}})", "grid.width",
+                "4096"},
         BadCase{"deep nesting", "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
                 "", "nested deeper"},
         BadCase{"bad utf8", "{\"format\": \"popcut.voxel.v1\xff\"}", "line 1, column 28", "malformed JSON"}),
@@ -106,6 +107,27 @@ INSTANTIATE_TEST_SUITE_P(
       return n;
     });
 #undef HEAD
+
+TEST(VoxelJson, TooManyColumns) {
+  std::string text = R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [)";
+  for (int x = 0; x < 4097; ++x) text += x ? ",[]" : "[]";
+  try {
+    parse_voxel_model(text + "]}", "wide.json");
+    FAIL() << "4097 columns is over the documented limit";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location(), "heights") << e.what();
+    EXPECT_NE(e.message().find("limit is 4096"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VoxelJson, LargestColumnGetsACappedDefaultSheet) {
+  // y + h + 1 reaches 4095 + 4096 + 1 = 8192, the sheet limit: the default margin must not push
+  // the sheet past it and then blame a field the user never wrote.
+  std::string text = R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[)";
+  for (int y = 0; y < 4096; ++y) text += y ? ",4096" : "4096";
+  const VoxelModel m = parse_voxel_model(text + "]]}", "deep.json");
+  EXPECT_EQ(resolve_sheet(m, "deep.json").back, kMaxSheetVoxels) << "the default is capped at the limit";
+}
 
 // Truncations and random mutations of a valid file must fail cleanly or parse: never crash or hang.
 TEST(VoxelJson, FuzzedInputNeverCrashes) {
@@ -119,6 +141,8 @@ TEST(VoxelJson, FuzzedInputNeverCrashes) {
     } catch (const Error& e) {
       EXPECT_NE(e.code(), ErrorCode::internal) << "fuzzed input is the user's error, never a bug: " << e.what();
       ++rejected;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "only popcut::Error may escape the reader, got: " << e.what() << "\ninput: " << text;
     }
   };
   for (std::size_t n = 0; n < good.size(); ++n) attempt(good.substr(0, n));

@@ -96,6 +96,20 @@ TEST(VoxelPattern, TallWindowInsideABoxLeavesAPieceOnTheWall) {
   EXPECT_TRUE(r.not_standing[0].from_floor) << "but pushed from the floor through the ledge";
 }
 
+TEST(VoxelPattern, WindowsOnADeeperFrontFollowThePaperFormula) {
+  // A 2-deep, 4-high box: the front face belongs to voxel column j = 1. Window rows 1..3 move to
+  // the tops of cell[x][j - (k - h) + 1][h] with h = 0: y' = 1, 0, then past the back wall.
+  VoxelModel m = box(3, 2, 4);
+  for (int z = 1; z <= 3; ++z) m.set_window(1, z, true);
+  const CellGrid g = make_cell_grid(m);
+  const auto f = [&](int v) { return g.at(2, v + 6); };  // model column 1
+  EXPECT_EQ(f(-1), CellGrid::pack(FaceKind::horizontal, 1)) << "row 1 (v in [-1,0]) → ledge at height 1, depth cell 1";
+  EXPECT_EQ(f(0), CellGrid::pack(FaceKind::horizontal, 1)) << "row 2 (v in [0,1]) → ledge at height 1, depth cell 0";
+  EXPECT_EQ(f(1), CellGrid::pack(FaceKind::vertical, 0)) << "row 3 (v in [1,2]) → past the back wall, onto it";
+  EXPECT_EQ(f(-2), CellGrid::pack(FaceKind::vertical, 2)) << "row 0 stays on the front face";
+  EXPECT_EQ(to_card(FaceKind::horizontal, 1, {0, -0.5}).y_mm, 1.5) << "the row-1 cell lies 1-2 deep at height 1";
+}
+
 TEST(VoxelPattern, Fig8aFloatingPartIsCutFree) {
   // One column, windows on rows 0 and 2: the middle front cell and its ledge lose every fold to
   // the rest of the sheet.

@@ -1,6 +1,7 @@
 // popcut.pattern.v1 JSON (read and write) and SVG for people and cutter software (docs/formats.md).
 #pragma once
 
+#include <iosfwd>
 #include <string>
 
 #include "popcut/pattern/pattern.h"
@@ -9,6 +10,8 @@ namespace popcut {
 
 inline constexpr const char* kPatternFormat = "popcut.pattern.v1";
 
+// Writers stream, so a pattern of millions of faces never exists twice in memory.
+void write_pattern_json(std::ostream& out, const Pattern& pattern);
 std::string to_pattern_json(const Pattern& pattern);
 Pattern parse_pattern(const std::string& text, const std::string& source);
 
@@ -18,6 +21,7 @@ struct SvgOptions {
 
 // Millimetre-sized SVG (width/height in mm, viewBox in mm, y pointing down the sheet): one group
 // per kind: cut solid black, mountain red dash-dot, valley blue dashed, sheet outline thin grey.
+void write_pattern_svg(std::ostream& out, const Pattern& pattern, const SvgOptions& options = {});
 std::string to_pattern_svg(const Pattern& pattern, const SvgOptions& options = {});
 
 }  // namespace popcut

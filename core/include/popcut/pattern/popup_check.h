@@ -23,13 +23,16 @@ struct LoosePiece {
 };
 
 struct PopupReport {
+  // No fold path joins the floor to the back board: the sheet falls in two. Then the walks
+  // mean nothing and only this, and any other loose pieces, are reported.
+  bool sheet_split = false;
   std::vector<FaceProblem> not_standing;  // faces of loose pieces are reported with the piece only
-  std::vector<LoosePiece> loose_pieces;
+  std::vector<LoosePiece> loose_pieces;  // besides the floor's piece when the sheet is split
   // HFaces not reached by both walks: held from one side only, they hang or tilt instead of
   // holding their angle (a window ledge, a roof left without its front). A warning: the paper's
   // condition judges VFaces only, so these do not stop a card from popping up.
   std::vector<FaceProblem> flaps;
-  bool pops_up() const { return not_standing.empty() && loose_pieces.empty(); }
+  bool pops_up() const { return !sheet_split && not_standing.empty() && loose_pieces.empty(); }
 };
 
 // Walk (a) starts at the back board and crosses folds downward in the pattern (V→H over a valley,
