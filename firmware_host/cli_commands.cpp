@@ -13,6 +13,7 @@
 
 #include "popcut/error.h"
 #include "popcut/io/files.h"
+#include "popcut/io/model_io.h"
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
 #include "popcut/model/repair.h"
@@ -124,8 +125,7 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
 // The name a file goes by in messages: "-" is standard input.
 std::string shown(const std::string& path) { return path == "-" ? "<stdin>" : path; }
 
-// Reads a voxel model file (or "-"), naming it in every error.
-VoxelModel load_model(const std::string& path) { return parse_voxel_model(read_text_file(path), shown(path)); }
+
 
 std::string extension(const std::string& path) {
   std::string e = std::filesystem::path(path).extension().string();
@@ -176,7 +176,7 @@ int run(int argc, char** argv) {
   bool json_out = false, shade = false, windows = false;
 
   CLI::App* pattern = app.add_subcommand("pattern", "Write the unfolded pattern of a model as JSON or SVG (by the -o extension).");
-  pattern->add_option("MODEL", model_path, "Model file (popcut.voxel.v1 JSON), or - for standard input")->required();
+  pattern->add_option("MODEL", model_path, "Model file (popcut.voxel.v1 or popcut.faces.v1 JSON), or - for standard input")->required();
   pattern->add_option("-o,--output", out_path, "Output: OUT.json, OUT.svg, or - for JSON on standard output")->required();
   pattern->add_flag("--shade", shade, "SVG: shade VFaces and HFaces so the design reads at a glance");
   pattern->add_flag("--json", json_out, "Print a machine-readable summary (and errors) as JSON on standard output");
@@ -258,6 +258,7 @@ int run(int argc, char** argv) {
   }
   if (*repair_cmd) {
     return guarded(json_out, [&] {
+      // Voxel models only: a face model keeps the single-sheet rule by construction.
       const VoxelFile file = parse_voxel_file(read_text_file(model_path), shown(model_path));
       const RepairResult r = repair(file, {windows}, shown(model_path));
       require_valid(r.model, shown(model_path));

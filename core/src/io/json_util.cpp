@@ -153,6 +153,7 @@ std::string index_path(const std::string& base, std::size_t i) { return base + "
 std::string key_path(const std::string& base, const char* key) { return base.empty() ? key : base + "." + key; }
 
 std::string number_text(double value) {
+  if (value == 0) value = 0;  // no "-0" in files
   char buf[32];
   const auto end = std::to_chars(buf, buf + sizeof buf, value).ptr;
   return std::string(buf, end);

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "io/json_util.h"
+#include "io/readers.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 
@@ -89,7 +90,10 @@ void read_voxels(const json_util::Reader& in, const json& voxels, std::vector<Ce
 }  // namespace
 
 VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
-  const json root = json_util::parse(text, source);
+  return voxel_file_from_json(json_util::parse(text, source), source);
+}
+
+VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
   const json_util::Reader in(source);
   in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "sheet"});
   VoxelFile file;
@@ -162,7 +166,11 @@ VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
 }
 
 VoxelModel parse_voxel_model(const std::string& text, const std::string& source) {
-  VoxelFile file = parse_voxel_file(text, source);
+  return voxel_model_from_json(json_util::parse(text, source), source);
+}
+
+VoxelModel voxel_model_from_json(const json& root, const std::string& source) {
+  VoxelFile file = voxel_file_from_json(root, source);
   if (file.first_gap) {
     const auto& g = *file.first_gap;
     throw Error(ErrorCode::invalid_input, source, "voxels",

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace popcut {
 
@@ -45,6 +46,29 @@ double signed_area_mm2(const Ring& ring) {
     twice += p.x_mm * q.v_mm - q.x_mm * p.v_mm;
   }
   return twice / 2;
+}
+
+namespace {
+void split_into(const Ring& ring, std::vector<Ring>& out) {
+  std::map<std::pair<double, double>, std::size_t> seen;
+  for (std::size_t j = 0; j < ring.size(); ++j) {
+    auto [it, fresh] = seen.emplace(std::make_pair(ring[j].x_mm, ring[j].v_mm), j);
+    if (fresh) continue;
+    const std::size_t i = it->second;
+    split_into(Ring(ring.begin() + static_cast<std::ptrdiff_t>(i), ring.begin() + static_cast<std::ptrdiff_t>(j)), out);
+    Ring rest(ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(i));
+    rest.insert(rest.end(), ring.begin() + static_cast<std::ptrdiff_t>(j), ring.end());
+    split_into(rest, out);
+    return;
+  }
+  out.push_back(ring);
+}
+}  // namespace
+
+std::vector<Ring> split_at_repeated_vertices(const Ring& ring) {
+  std::vector<Ring> out;
+  split_into(ring, out);
+  return out;
 }
 
 Rect bounds(const Ring& ring) {

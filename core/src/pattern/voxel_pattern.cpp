@@ -65,8 +65,8 @@ class RegionMap {
 
 // Traces every region boundary into rings: outer rings counter-clockwise, holes clockwise.
 // Where a region touches itself only at a corner the walk turns left, so diagonal cells stay
-// apart (4-connected regions, 8-connected holes): rings never cross, but such a ring passes that
-// corner twice (weakly simple), and a hole may touch the outer ring at one vertex.
+// apart (4-connected regions, 8-connected holes). A walk may still pass such a corner twice;
+// it is split there, so every ring is simple and a hole may touch the outer ring at a vertex.
 void trace_rings(const CellGrid& g, const RegionMap& regions, std::vector<PatternFace>& faces) {
   const double mm = g.voxel_mm;
   const auto vertex = [&](int c, int r) { return Point2{c * mm, (r - g.sheet.floor) * mm}; };
@@ -106,13 +106,15 @@ void trace_rings(const CellGrid& g, const RegionMap& regions, std::vector<Patter
           if (walk[i].second != prev) ring.push_back(walk[i].first);
         }
         PatternFace& face = faces[static_cast<std::size_t>(reg)];
-        if (signed_area_mm2(ring) > 0) {
-          if (!face.outer.empty()) {
-            throw Error(ErrorCode::internal, "", "pattern", "region " + std::to_string(reg) + " has two outer rings");
+        for (Ring& loop : split_at_repeated_vertices(ring)) {
+          if (signed_area_mm2(loop) > 0) {
+            if (!face.outer.empty()) {
+              throw Error(ErrorCode::internal, "", "pattern", "region " + std::to_string(reg) + " has two outer rings");
+            }
+            face.outer = std::move(loop);
+          } else {
+            face.holes.push_back(std::move(loop));
           }
-          face.outer = std::move(ring);
-        } else {
-          face.holes.push_back(std::move(ring));
         }
       }
     }

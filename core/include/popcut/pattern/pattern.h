@@ -84,6 +84,10 @@ bool classify_x_edge(FaceKind upper_kind, double upper_t, FaceKind lower_kind, d
                      double tolerance, LineKind& out);
 
 double signed_area_mm2(const Ring& ring);
+
+// Splits a ring that passes a vertex more than once (weakly simple: a region touching itself at
+// a corner) into simple loops at each repeated vertex, so every ring handed on is simple.
+std::vector<Ring> split_at_repeated_vertices(const Ring& ring);
 Rect bounds(const Ring& ring);
 
 struct LineCounts {

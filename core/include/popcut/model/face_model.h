@@ -1,0 +1,84 @@
+// Planar-face OA model (polygon paper §2–3): VFaces and HFaces partitioning the sheet, edited with exact Booleans.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "popcut/pattern/pattern.h"
+
+namespace popcut {
+
+// Documented limits: coordinates (100 m), faces in a model, points in one outline, edits.
+inline constexpr double kMaxFaceCoordinateMm = 1e5;
+inline constexpr std::size_t kMaxFaces = 100000;
+inline constexpr std::size_t kMaxOutlinePoints = 10000;
+inline constexpr std::size_t kMaxEdits = 100000;
+
+// A polygon in pattern coordinates (x, v), mm: outer ring counter-clockwise, holes clockwise.
+struct PolygonWithHoles {
+  Ring outer;
+  std::vector<Ring> holes;
+  friend bool operator==(const PolygonWithHoles&, const PolygonWithHoles&) = default;
+};
+
+// One face: a connected region of the sheet and the plane it becomes (Fig. 5 of the paper).
+struct OAFace {
+  FaceKind kind = FaceKind::vertical;
+  double t_mm = 0;  // VFace: depth y of its plane; HFace: height z of its plane
+  PolygonWithHoles polygon;
+};
+
+enum class EditOp { add_vface, add_hface, add_vhole, add_hhole };
+const char* to_string(EditOp op);
+
+// A polygon drawn in one plane of the open card (polygon paper §3.1): for add_vface and
+// add_vhole, points (x, z) in the plane y = t_mm; for add_hface and add_hhole, points (x, y) in
+// the plane z = t_mm. A hole becomes the equivalent face of the other kind (eq. 6).
+struct FaceEdit {
+  EditOp op = EditOp::add_vface;
+  double t_mm = 0;
+  std::vector<std::array<double, 2>> outline;
+  friend bool operator==(const FaceEdit&, const FaceEdit&) = default;
+};
+
+namespace detail {
+struct FaceModelState;  // exact (CGAL) faces; defined in core/src only
+}
+
+// The faces always partition the sheet (eq. 4): every edit subtracts its polygon from the
+// faces already there (eq. 5) with exact regularized Booleans. Coordinates are exact inside;
+// faces() rounds them to double for output.
+class FaceModel {
+ public:
+  // The initial card: the back board (VFace, t = 0) over v ≥ 0 and the floor (HFace, t = 0) over
+  // v ≤ 0, on the sheet x in [0, width], v in [-floor, back] (mm).
+  FaceModel(double width_mm, double back_mm, double floor_mm);
+  // A model given by its final faces; throws popcut::Error naming faces[i] when a polygon is
+  // malformed, leaves the sheet, or the faces overlap or leave a gap.
+  static FaceModel from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
+                              const std::string& source = "");
+
+  // Applies an edit; on error (popcut::Error naming `where`, e.g. "edits[3]") nothing changes.
+  void apply(const FaceEdit& edit, const std::string& source = "", const std::string& where = "edit");
+  bool undo();  // false when there is nothing to undo
+  bool redo();
+  const std::vector<FaceEdit>& edits() const { return edits_; }  // the edits that made this state
+  bool has_edit_history() const { return from_edits_; }           // false for a model read as faces
+
+  Rect sheet() const;
+  std::vector<OAFace> faces() const;
+  std::size_t face_count() const;
+  const detail::FaceModelState& state() const { return *state_; }
+
+ private:
+  explicit FaceModel(std::shared_ptr<const detail::FaceModelState> state);
+  std::shared_ptr<const detail::FaceModelState> state_;
+  std::vector<std::shared_ptr<const detail::FaceModelState>> undo_, redo_;
+  std::vector<FaceEdit> edits_, undone_;
+  bool from_edits_ = true;
+};
+
+}  // namespace popcut

@@ -1,0 +1,168 @@
+// popcut.faces.v1 reader and writer, and dispatch between model formats by their tag.
+#include "popcut/io/model_io.h"
+
+#include <sstream>
+
+#include "io/json_util.h"
+#include "io/readers.h"
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+#include "popcut/pattern/face_pattern.h"
+#include "popcut/pattern/voxel_pattern.h"
+
+namespace popcut {
+using json_util::index_path;
+using json_util::json;
+using json_util::number_text;
+
+namespace {
+
+Ring read_ring(const json_util::Reader& in, const json& j, const std::string& path) {
+  in.require_array(j, path);
+  if (j.size() > kMaxOutlinePoints) in.fail(path, "has more than " + std::to_string(kMaxOutlinePoints) + " points");
+  Ring ring;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string p = index_path(path, i);
+    if (!j[i].is_array() || j[i].size() != 2) in.fail(p, "expected a point: two numbers in mm");
+    ring.push_back({in.number(j[i][0], index_path(p, 0), -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm),
+                    in.number(j[i][1], index_path(p, 1), -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm)});
+  }
+  return ring;
+}
+
+EditOp read_op(const json_util::Reader& in, const json& j, const std::string& path) {
+  const std::string op = in.string(j, path);
+  for (EditOp e : {EditOp::add_vface, EditOp::add_hface, EditOp::add_vhole, EditOp::add_hhole}) {
+    if (op == to_string(e)) return e;
+  }
+  in.fail(path, "expected \"add_vface\", \"add_hface\", \"add_vhole\" or \"add_hhole\", got \"" + op + "\"");
+}
+
+void put_ring(std::ostringstream& o, const Ring& ring) {
+  o << "[";
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    o << (i ? ", " : "") << "[" << number_text(ring[i].x_mm) << ", " << number_text(ring[i].v_mm) << "]";
+  }
+  o << "]";
+}
+
+}  // namespace
+
+FaceModel face_model_from_json(const json& root, const std::string& source) {
+  const json_util::Reader in(source);
+  in.require_document(root, kFacesFormat, {"format", "name", "sheet", "edits", "faces"});
+  const json& sheet = in.require(root, "sheet", "");
+  in.require_object(sheet, "sheet");
+  in.only_keys(sheet, {"width", "back", "floor"}, "sheet");
+  const auto size = [&](const char* key) {
+    return in.number(in.require(sheet, key, "sheet"), std::string("sheet.") + key, 1e-3, kMaxFaceCoordinateMm);
+  };
+  const double width = size("width"), back = size("back"), floor = size("floor");
+  if (root.contains("name")) in.string(root["name"], "name", 256);
+  const bool has_edits = root.contains("edits"), has_faces = root.contains("faces");
+  if (has_edits == has_faces) in.fail("edits", "give exactly one of \"edits\" (replayed in order) or \"faces\"");
+
+  if (has_faces) {
+    const json& faces = root["faces"];
+    in.require_array(faces, "faces");
+    if (faces.size() > kMaxFaces) in.fail("faces", "has more than " + std::to_string(kMaxFaces) + " faces");
+    std::vector<OAFace> out;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const std::string path = index_path("faces", i);
+      const json& f = faces[i];
+      in.require_object(f, path);
+      in.only_keys(f, {"kind", "t", "outer", "holes", "label"}, path);
+      OAFace face;
+      const std::string kind = in.string(in.require(f, "kind", path), path + ".kind");
+      if (kind != "V" && kind != "H") in.fail(path + ".kind", "expected \"V\" or \"H\", got \"" + kind + "\"");
+      face.kind = kind == "V" ? FaceKind::vertical : FaceKind::horizontal;
+      face.t_mm = in.number(in.require(f, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
+      face.polygon.outer = read_ring(in, in.require(f, "outer", path), path + ".outer");
+      if (f.contains("holes")) {
+        in.require_array(f["holes"], path + ".holes");
+        for (std::size_t h = 0; h < f["holes"].size(); ++h) {
+          face.polygon.holes.push_back(read_ring(in, f["holes"][h], index_path(path + ".holes", h)));
+        }
+      }
+      out.push_back(std::move(face));
+    }
+    return FaceModel::from_faces(width, back, floor, out, source);
+  }
+
+  const json& edits = root["edits"];
+  in.require_array(edits, "edits");
+  if (edits.size() > kMaxEdits) in.fail("edits", "has more than " + std::to_string(kMaxEdits) + " edits");
+  FaceModel model(width, back, floor);
+  for (std::size_t i = 0; i < edits.size(); ++i) {
+    const std::string path = index_path("edits", i);
+    const json& e = edits[i];
+    in.require_object(e, path);
+    in.only_keys(e, {"op", "t", "outline"}, path);
+    FaceEdit edit;
+    edit.op = read_op(in, in.require(e, "op", path), path + ".op");
+    edit.t_mm = in.number(in.require(e, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
+    for (const Point2& p : read_ring(in, in.require(e, "outline", path), path + ".outline")) edit.outline.push_back({p.x_mm, p.v_mm});
+    model.apply(edit, source, path);
+  }
+  return model;
+}
+
+FaceModel parse_face_model(const std::string& text, const std::string& source) {
+  return face_model_from_json(json_util::parse(text, source), source);
+}
+
+AnyModel parse_model(const std::string& text, const std::string& source) {
+  const json root = json_util::parse(text, source);
+  const json_util::Reader in(source);
+  in.require_object(root, "document");
+  const std::string format = in.string(in.require(root, "format", ""), "format");
+  if (format == kVoxelFormat) return voxel_model_from_json(root, source);
+  if (format == kFacesFormat) return face_model_from_json(root, source);
+  in.fail("format", "expected \"" + std::string(kVoxelFormat) + "\" or \"" + kFacesFormat + "\", got \"" + format + "\"");
+}
+
+AnyModel load_model(const std::string& path) { return parse_model(read_text_file(path), path == "-" ? "<stdin>" : path); }
+
+std::string to_face_json(const FaceModel& model, const std::string& name) {
+  std::ostringstream o;
+  const Rect s = model.sheet();
+  o << "{\n  \"format\": \"" << kFacesFormat << "\",\n";
+  if (!name.empty()) o << "  \"name\": " << json(name).dump() << ",\n";
+  o << "  \"sheet\": {\"width\": " << number_text(s.max.x_mm - s.min.x_mm) << ", \"back\": " << number_text(s.max.v_mm)
+    << ", \"floor\": " << number_text(-s.min.v_mm) << "},\n";
+  if (model.has_edit_history()) {
+    o << "  \"edits\": [";
+    const auto& edits = model.edits();
+    for (std::size_t i = 0; i < edits.size(); ++i) {
+      Ring outline;
+      for (const auto& [a, b] : edits[i].outline) outline.push_back({a, b});
+      o << (i ? ",\n    " : "\n    ") << "{\"op\": \"" << to_string(edits[i].op) << "\", \"t\": " << number_text(edits[i].t_mm)
+        << ", \"outline\": ";
+      put_ring(o, outline);
+      o << "}";
+    }
+    o << "\n  ]\n}\n";
+    return o.str();
+  }
+  o << "  \"faces\": [";
+  const auto faces = model.faces();
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    o << (i ? ",\n    " : "\n    ") << "{\"kind\": \"" << to_string(faces[i].kind) << "\", \"t\": " << number_text(faces[i].t_mm)
+      << ", \"outer\": ";
+    put_ring(o, faces[i].polygon.outer);
+    o << ", \"holes\": [";
+    for (std::size_t h = 0; h < faces[i].polygon.holes.size(); ++h) {
+      if (h) o << ", ";
+      put_ring(o, faces[i].polygon.holes[h]);
+    }
+    o << "]}";
+  }
+  o << "\n  ]\n}\n";
+  return o.str();
+}
+
+Pattern make_pattern(const AnyModel& model, const std::string& source) {
+  return std::visit([&](const auto& m) { return make_pattern(m, source); }, model);
+}
+
+}  // namespace popcut

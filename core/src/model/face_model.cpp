@@ -1,0 +1,294 @@
+// Face model edits (polygon paper eq. 4–6) with CGAL's exact regularized Booleans, and input checks.
+#include "popcut/model/face_model.h"
+
+#include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/Polygon_set_2.h>
+
+#include <cmath>
+
+#include "model/face_model_state.h"
+#include "popcut/error.h"
+
+namespace popcut {
+using namespace detail;
+
+namespace {
+
+using PolygonSet = CGAL::Polygon_set_2<Kernel>;
+
+std::string point_text(double x, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "(%g, %g)", x, v);
+  return buf;
+}
+
+[[noreturn]] void fail(const std::string& source, const std::string& where, const std::string& message) {
+  throw Error(ErrorCode::invalid_input, source, where, message);
+}
+
+// An exact, simple, counter-clockwise polygon from pattern points, or an error naming `where`.
+ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where) {
+  if (ring.size() > kMaxOutlinePoints) {
+    fail(source, where, "has " + std::to_string(ring.size()) + " points; the limit is " + std::to_string(kMaxOutlinePoints));
+  }
+  std::vector<ExactPoint> pts;
+  for (const Point2& p : ring) {
+    if (!std::isfinite(p.x_mm) || !std::isfinite(p.v_mm) || std::abs(p.x_mm) > kMaxFaceCoordinateMm ||
+        std::abs(p.v_mm) > kMaxFaceCoordinateMm) {
+      fail(source, where, "point " + point_text(p.x_mm, p.v_mm) + " is not a finite coordinate within ±100000 mm");
+    }
+    const ExactPoint q(p.x_mm, p.v_mm);
+    if (pts.empty() || pts.back() != q) pts.push_back(q);
+  }
+  while (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
+  if (pts.size() < 3) fail(source, where, "needs at least 3 distinct points");
+  ExactPolygon poly(pts.begin(), pts.end());
+  if (!poly.is_simple()) fail(source, where, "crosses or touches itself: an outline must be a simple polygon");
+  if (CGAL::is_zero(poly.area())) fail(source, where, "has zero area");
+  if (poly.is_clockwise_oriented()) poly.reverse_orientation();
+  return poly;
+}
+
+
+std::string mm_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s) {
+  for (const ExactPoint& p : poly.vertices()) {
+    if (p.x() < s.min_x || p.x() > s.max_x || p.y() < s.min_v || p.y() > s.max_v) return false;
+  }
+  return true;
+}
+
+ExactFace make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon) {
+  ExactFace f{kind, t, std::move(polygon), {}};
+  f.bbox = f.polygon.outer_boundary().bbox();
+  return f;
+}
+
+ExactPolygon rectangle(const FT& x0, const FT& v0, const FT& x1, const FT& v1) {
+  const ExactPoint pts[] = {{x0, v0}, {x1, v0}, {x1, v1}, {x0, v1}};
+  return ExactPolygon(std::begin(pts), std::end(pts));
+}
+
+double checked_size(double value, const char* what) {
+  if (!std::isfinite(value) || value <= 0 || value > kMaxFaceCoordinateMm) {
+    fail("", std::string("sheet.") + what, "must be a length in mm from 0 (exclusive) to 100000");
+  }
+  return value;
+}
+
+std::shared_ptr<FaceModelState> initial_state(double width_mm, double back_mm, double floor_mm) {
+  auto s = std::make_shared<FaceModelState>();
+  s->min_x = 0;
+  s->max_x = checked_size(width_mm, "width");
+  s->max_v = checked_size(back_mm, "back");
+  s->min_v = -checked_size(floor_mm, "floor");
+  return s;
+}
+
+// Runs CGAL work, turning any CGAL failure into an internal error: none may reach the user raw.
+template <typename Body>
+auto guarded(const std::string& source, const std::string& where, Body body) {
+  try {
+    return body();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(ErrorCode::internal, source, where, std::string("geometry kernel failure: ") + e.what());
+  }
+}
+
+}  // namespace
+
+const char* to_string(EditOp op) {
+  switch (op) {
+    case EditOp::add_vface: return "add_vface";
+    case EditOp::add_hface: return "add_hface";
+    case EditOp::add_vhole: return "add_vhole";
+    case EditOp::add_hhole: return "add_hhole";
+  }
+  return "add_vface";
+}
+
+FaceModel::FaceModel(std::shared_ptr<const FaceModelState> state) : state_(std::move(state)) {}
+
+FaceModel::FaceModel(double width_mm, double back_mm, double floor_mm) {
+  auto s = initial_state(width_mm, back_mm, floor_mm);
+  s->faces.push_back(make_face(FaceKind::vertical, 0, ExactPolygonWithHoles(rectangle(s->min_x, 0, s->max_x, s->max_v))));
+  s->faces.push_back(make_face(FaceKind::horizontal, 0, ExactPolygonWithHoles(rectangle(s->min_x, s->min_v, s->max_x, 0))));
+  state_ = std::move(s);
+}
+
+FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
+                                const std::string& source) {
+  auto s = initial_state(width_mm, back_mm, floor_mm);
+  if (faces.size() > kMaxFaces) fail(source, "faces", "has " + std::to_string(faces.size()) + " faces; the limit is " + std::to_string(kMaxFaces));
+  guarded(source, "faces", [&] {
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const std::string where = "faces[" + std::to_string(i) + "]";
+      const OAFace& f = faces[i];
+      if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm) fail(source, where + ".t", "must be from 0 to 100000 mm");
+      // A region may touch itself at a corner: its rings then split into one counter-clockwise
+      // outer loop and clockwise holes that touch it there.
+      // Rings written the other way round (outer clockwise) are read as the writer meant them.
+      const bool flipped = signed_area_mm2(f.polygon.outer) < 0;
+      const auto oriented = [&](const Ring& r) { return flipped ? Ring(r.rbegin(), r.rend()) : r; };
+      std::vector<Ring> loops = split_at_repeated_vertices(oriented(f.polygon.outer));
+      for (const Ring& h : f.polygon.holes) {
+        for (Ring& loop : split_at_repeated_vertices(oriented(h))) loops.push_back(std::move(loop));
+      }
+      std::vector<ExactPolygon> outers, holes;
+      for (std::size_t k = 0; k < loops.size(); ++k) {
+        const bool ccw = signed_area_mm2(loops[k]) > 0;
+        ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? ".outer" : ".holes"));
+        if (ccw) outers.push_back(std::move(poly));
+        else holes.push_back(std::move(poly));
+      }
+      if (outers.size() != 1) {
+        fail(source, where + ".outer", "must enclose one connected region: give the outer ring counter-clockwise and holes clockwise");
+      }
+      ExactPolygonWithHoles pwh(outers.front());
+      if (!inside_sheet(pwh.outer_boundary(), *s)) fail(source, where + ".outer", "leaves the sheet");
+      for (ExactPolygon& hole : holes) {
+        hole.reverse_orientation();  // holes run clockwise
+        pwh.add_hole(std::move(hole));
+      }
+      if (!CGAL::is_valid_polygon_with_holes(pwh, CGAL::Gps_segment_traits_2<Kernel>())) {
+        fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
+      }
+      s->faces.push_back(make_face(f.kind, FT(f.t_mm), std::move(pwh)));
+    }
+    // Eq. 4: no two faces overlap, and together they cover the sheet exactly.
+    FT area = 0;
+    for (std::size_t i = 0; i < s->faces.size(); ++i) {
+      const ExactFace& a = s->faces[i];
+      area += a.polygon.outer_boundary().area();
+      for (const ExactPolygon& h : a.polygon.holes()) area += h.area();
+      for (std::size_t j = i + 1; j < s->faces.size(); ++j) {
+        const ExactFace& b = s->faces[j];
+        if (CGAL::do_overlap(a.bbox, b.bbox) && CGAL::do_intersect(a.polygon, b.polygon)) {
+          fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
+        }
+      }
+    }
+    const FT sheet_area = (s->max_x - s->min_x) * (s->max_v - s->min_v);
+    if (area != sheet_area) {
+      fail(source, "faces", "cover " + std::to_string(CGAL::to_double(area)) + " mm² of a " +
+                                std::to_string(CGAL::to_double(sheet_area)) + " mm² sheet: faces must cover it exactly (eq. 4)");
+    }
+    return 0;
+  });
+  FaceModel m{std::shared_ptr<const FaceModelState>(std::move(s))};
+  m.from_edits_ = false;
+  return m;
+}
+
+void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std::string& where) {
+  if (edits_.size() >= kMaxEdits) fail(source, where, "a model may have at most " + std::to_string(kMaxEdits) + " edits");
+  if (!std::isfinite(edit.t_mm) || edit.t_mm < 0 || edit.t_mm > kMaxFaceCoordinateMm) {
+    fail(source, where + ".t", "must be from 0 to 100000 mm (a depth in front of the back wall or a height above the floor)");
+  }
+  const bool vertical_plane = edit.op == EditOp::add_vface || edit.op == EditOp::add_vhole;
+  // Pattern coordinates (eq. 1): in the plane y = t, (x, z) → (x, z - t); in z = t, (x, y) → (x, t - y).
+  Ring ring;
+  double min_second = 0;
+  for (std::size_t i = 0; i < edit.outline.size(); ++i) {
+    const auto& [x, second] = edit.outline[i];
+    if (std::isfinite(second) && second < 0) {
+      fail(source, where + ".outline[" + std::to_string(i) + "]",
+           vertical_plane ? "z is below the floor (z must be ≥ 0)" : "y is behind the back wall (y must be ≥ 0)");
+    }
+    ring.push_back({x, vertical_plane ? second - edit.t_mm : edit.t_mm - second});
+    min_second = i == 0 ? second : std::min(min_second, second);
+  }
+  guarded(source, where, [&] {
+    const ExactPolygon q = exact_polygon(ring, source, where + ".outline");
+    auto next = std::make_shared<FaceModelState>(*state_);
+    if (!inside_sheet(q, *next)) fail(source, where + ".outline", "leaves the sheet");
+
+    FaceKind kind = vertical_plane ? FaceKind::vertical : FaceKind::horizontal;
+    FT t(edit.t_mm);
+    if (edit.op == EditOp::add_vhole || edit.op == EditOp::add_hhole) {
+      // Eq. 6: a hole must lie in faces of its plane; it becomes the face of the other kind
+      // at the hole's lowest z (in a VFace) or nearest y (in an HFace), with the same pattern polygon.
+      PolygonSet rest(q);
+      for (const ExactFace& f : next->faces) {
+        if (f.kind == kind && f.t == t) rest.difference(f.polygon);
+      }
+      if (!rest.is_empty()) {
+        fail(source, where + ".outline",
+             std::string("the hole is not inside ") + (vertical_plane ? "a VFace at depth y = " : "an HFace at height z = ") +
+                 mm_text(edit.t_mm) + " mm");
+      }
+      kind = vertical_plane ? FaceKind::horizontal : FaceKind::vertical;
+      t = FT(min_second);
+    }
+
+    // Eq. 5: subtract the new polygon from every face it may touch; pieces stay faces.
+    std::vector<ExactFace> faces;
+    faces.reserve(next->faces.size() + 1);
+    const CGAL::Bbox_2 qbox = q.bbox();
+    for (ExactFace& f : next->faces) {
+      if (!CGAL::do_overlap(qbox, f.bbox)) {
+        faces.push_back(std::move(f));
+        continue;
+      }
+      std::vector<ExactPolygonWithHoles> pieces;
+      CGAL::difference(f.polygon, q, std::back_inserter(pieces));
+      for (ExactPolygonWithHoles& piece : pieces) faces.push_back(make_face(f.kind, f.t, std::move(piece)));
+    }
+    faces.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
+    if (faces.size() > kMaxFaces) fail(source, where, "the model would have more than " + std::to_string(kMaxFaces) + " faces");
+    next->faces = std::move(faces);
+    undo_.push_back(state_);
+    state_ = std::move(next);
+    return 0;
+  });
+  edits_.push_back(edit);
+  redo_.clear();
+  undone_.clear();
+}
+
+bool FaceModel::undo() {
+  if (undo_.empty()) return false;
+  redo_.push_back(state_);
+  undone_.push_back(edits_.back());
+  edits_.pop_back();
+  state_ = undo_.back();
+  undo_.pop_back();
+  return true;
+}
+
+bool FaceModel::redo() {
+  if (redo_.empty()) return false;
+  undo_.push_back(state_);
+  edits_.push_back(undone_.back());
+  undone_.pop_back();
+  state_ = redo_.back();
+  redo_.pop_back();
+  return true;
+}
+
+Rect FaceModel::sheet() const {
+  return {{CGAL::to_double(state_->min_x), CGAL::to_double(state_->min_v)},
+          {CGAL::to_double(state_->max_x), CGAL::to_double(state_->max_v)}};
+}
+
+std::size_t FaceModel::face_count() const { return state_->faces.size(); }
+
+std::vector<OAFace> FaceModel::faces() const {
+  std::vector<OAFace> out;
+  out.reserve(state_->faces.size());
+  for (const ExactFace& f : state_->faces) {
+    OAFace o{f.kind, CGAL::to_double(f.t), {to_ring(f.polygon.outer_boundary()), {}}};
+    for (const ExactPolygon& h : f.polygon.holes()) o.polygon.holes.push_back(to_ring(h));
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+}  // namespace popcut

@@ -1,0 +1,282 @@
+// Face model → typed lines and fold links through a CGAL arrangement with exact arithmetic.
+#include "popcut/pattern/face_pattern.h"
+
+#include <CGAL/Arr_consolidated_curve_data_traits_2.h>
+#include <CGAL/Arr_segment_traits_2.h>
+#include <CGAL/Arrangement_2.h>
+#include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/Polygon_set_2.h>
+
+#include <algorithm>
+#include <map>
+#include <unordered_map>
+
+#include "model/face_model_state.h"
+#include "popcut/error.h"
+#include "popcut/pattern/voxel_pattern.h"
+
+namespace popcut {
+using namespace detail;
+
+namespace {
+
+using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
+// Each input edge carries 2·face + side: side 0 when its face lies left of the edge walked
+// from its lexicographically smaller end, 1 when right. Overlapping edges pool their data.
+using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, int>;
+using Arrangement = CGAL::Arrangement_2<Traits>;
+using PolygonSet = CGAL::Polygon_set_2<Kernel>;
+
+// Union-find over faces: coplanar faces that share an edge are one piece of paper.
+struct Groups {
+  std::vector<int> parent;
+  explicit Groups(std::size_t n) : parent(n) {
+    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<int>(i);
+  }
+  int find(int f) {
+    while (parent[static_cast<std::size_t>(f)] != f) f = parent[static_cast<std::size_t>(f)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(f)])];
+    return f;
+  }
+  void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
+};
+
+// A point inside a polygon with holes: the middle of the widest inside stretch of a horizontal
+// line halfway between the two lowest distinct vertex heights (never through a vertex).
+Point2 interior_point(const PatternFace& f) {
+  std::vector<double> heights;
+  const auto add = [&](const Ring& r) {
+    for (const Point2& p : r) heights.push_back(p.v_mm);
+  };
+  add(f.outer);
+  for (const Ring& h : f.holes) add(h);
+  std::sort(heights.begin(), heights.end());
+  heights.erase(std::unique(heights.begin(), heights.end()), heights.end());
+  const double v = heights.size() > 1 ? (heights[0] + heights[1]) / 2 : heights[0];
+  std::vector<double> xs;
+  const auto cross = [&](const Ring& r) {
+    for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
+      const Point2& a = r[i];
+      const Point2& b = r[j];
+      if ((a.v_mm > v) != (b.v_mm > v)) xs.push_back(a.x_mm + (v - a.v_mm) * (b.x_mm - a.x_mm) / (b.v_mm - a.v_mm));
+    }
+  };
+  cross(f.outer);
+  for (const Ring& h : f.holes) cross(h);
+  std::sort(xs.begin(), xs.end());
+  Point2 best = f.outer.front();
+  double width = -1;
+  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) {
+    if (xs[i + 1] - xs[i] > width) {
+      width = xs[i + 1] - xs[i];
+      best = {(xs[i] + xs[i + 1]) / 2, v};
+    }
+  }
+  return best;
+}
+
+struct EdgeInfo {
+  int left = -1;   // face left of the edge walked left-to-right (above a horizontal edge)
+  int right = -1;  // face on the other side
+  int kind = -1;   // -1: outline (one side is outside the sheet); else LineKind
+};
+
+}  // namespace
+
+Pattern make_pattern(const FaceModel& model, const std::string& source) {
+  const FaceModelState& s = model.state();
+  try {
+    const std::vector<ExactFace>& input = s.faces;
+    std::vector<Traits::Curve_2> curves;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+      const auto add_ring = [&](const ExactPolygon& ring) {
+        for (auto e = ring.edges_begin(); e != ring.edges_end(); ++e) {
+          const bool forward = CGAL::compare_xy(e->source(), e->target()) == CGAL::SMALLER;
+          // Rings run with their face on the left (outer CCW, holes CW).
+          curves.emplace_back(SegmentTraits::Curve_2(e->source(), e->target()), static_cast<int>(2 * i + (forward ? 0 : 1)));
+        }
+      };
+      add_ring(input[i].polygon.outer_boundary());
+      for (const ExactPolygon& h : input[i].polygon.holes()) add_ring(h);
+    }
+    Arrangement arr;
+    CGAL::insert(arr, curves.begin(), curves.end());
+
+    // The faces on each side of every edge; coplanar faces across an edge (not just a corner)
+    // are one piece of paper, so they are merged into one face with no line between.
+    std::unordered_map<const void*, EdgeInfo> info;
+    Groups groups(input.size());
+    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
+      EdgeInfo ei;
+      for (int d : e->curve().data()) {
+        int& slot = d % 2 == 0 ? ei.left : ei.right;
+        if (slot >= 0 && slot != d / 2) {
+          throw Error(ErrorCode::invalid_input, source, "faces",
+                      "faces " + std::to_string(slot) + " and " + std::to_string(d / 2) + " overlap (eq. 4)");
+        }
+        slot = d / 2;
+      }
+      if (ei.left >= 0 && ei.right >= 0) {
+        const ExactFace& l = input[static_cast<std::size_t>(ei.left)];
+        const ExactFace& r = input[static_cast<std::size_t>(ei.right)];
+        if (l.kind == r.kind && l.t == r.t) groups.join(ei.left, ei.right);
+      }
+      info[&*e] = ei;
+    }
+    std::vector<int> group_index(input.size(), -1);
+    std::vector<std::vector<int>> members;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+      const int root = groups.find(static_cast<int>(i));
+      if (group_index[static_cast<std::size_t>(root)] < 0) {
+        group_index[static_cast<std::size_t>(root)] = static_cast<int>(members.size());
+        members.emplace_back();
+      }
+      members[static_cast<std::size_t>(group_index[static_cast<std::size_t>(root)])].push_back(static_cast<int>(i));
+    }
+    const auto face_of = [&](int input_face) { return group_index[static_cast<std::size_t>(groups.find(input_face))]; };
+    std::vector<ExactFace> faces;
+    for (const std::vector<int>& group : members) {
+      const ExactFace& first = input[static_cast<std::size_t>(group.front())];
+      if (group.size() == 1) {
+        faces.push_back(first);
+        continue;
+      }
+      PolygonSet set;
+      for (int f : group) set.join(input[static_cast<std::size_t>(f)].polygon);
+      std::vector<ExactPolygonWithHoles> joined;
+      set.polygons_with_holes(std::back_inserter(joined));
+      if (joined.size() != 1) throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
+      faces.push_back({first.kind, first.t, std::move(joined.front()), {}});
+    }
+    Pattern p;
+    p.sheet = model.sheet();
+    for (const ExactFace& f : faces) {
+      PatternFace pf{f.kind, CGAL::to_double(f.t), to_ring(f.polygon.outer_boundary()), {}, {}};
+      for (const ExactPolygon& h : f.polygon.holes()) pf.holes.push_back(to_ring(h));
+      pf.label = interior_point(pf);
+      p.faces.push_back(std::move(pf));
+    }
+
+    // Type every edge by where its two faces meet in 3D.
+    std::map<std::pair<int, int>, std::size_t> link_index;
+    std::map<int, FT> top_length, bottom_length;
+    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
+      EdgeInfo& ei = info[&*e];
+      if (ei.left >= 0) ei.left = face_of(ei.left);
+      if (ei.right >= 0) ei.right = face_of(ei.right);
+      const ExactPoint& a = e->curve().left();
+      const ExactPoint& b = e->curve().right();
+      const bool horizontal = a.y() == b.y();
+      if (ei.left < 0 || ei.right < 0) {
+        const bool on_outline = (horizontal && (a.y() == s.max_v || a.y() == s.min_v)) ||
+                                (a.x() == b.x() && (a.x() == s.min_x || a.x() == s.max_x));
+        if (!on_outline) {
+          throw Error(ErrorCode::invalid_input, source, "faces",
+                      "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
+                          std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
+        }
+        if (horizontal && a.y() == s.max_v && ei.right >= 0) top_length[ei.right] += b.x() - a.x();
+        if (horizontal && a.y() == s.min_v && ei.left >= 0) bottom_length[ei.left] += b.x() - a.x();
+        continue;
+      }
+      if (ei.left == ei.right) continue;  // inside one merged face: no line
+      ei.kind = static_cast<int>(LineKind::cut);
+      const ExactFace& up = faces[static_cast<std::size_t>(ei.left)];
+      const ExactFace& lo = faces[static_cast<std::size_t>(ei.right)];
+      if (horizontal && up.kind != lo.kind) {
+        // The faces meet in 3D exactly when t_h - t_v = v (DESIGN.md): a fold, typed by which is above.
+        const FT& tv = up.kind == FaceKind::vertical ? up.t : lo.t;
+        const FT& th = up.kind == FaceKind::horizontal ? up.t : lo.t;
+        if (th - tv == a.y()) {
+          const LineKind kind = up.kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
+          ei.kind = static_cast<int>(kind);
+          auto [it, fresh] = link_index.emplace(std::make_pair(ei.left, ei.right), p.folds.size());
+          if (fresh) p.folds.push_back({ei.left, ei.right, kind, 0});
+          p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
+        }
+      }
+    }
+
+    // Maximal lines: chain edges of one kind through vertices where they continue straight on.
+    std::unordered_map<const void*, bool> done;
+    const auto edge_key = [&](Arrangement::Halfedge_const_handle h) -> const void* {
+      // info is keyed by the halfedge the edge iterator yields; find it from either twin.
+      return info.count(&*h) ? static_cast<const void*>(&*h) : static_cast<const void*>(&*h->twin());
+    };
+    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
+      const EdgeInfo& ei = info[&*e];
+      if (ei.kind < 0 || done[&*e]) continue;
+      done[&*e] = true;
+      ExactPoint lo = e->curve().left(), hi = e->curve().right();
+      // Extend from one end while a collinear edge of the same kind leaves it the other way.
+      const auto extend = [&](Arrangement::Vertex_const_handle v, ExactPoint& end, const ExactPoint& other) {
+        for (;;) {
+          bool moved = false;
+          auto circ = v->incident_halfedges();
+          if (circ == Arrangement::Halfedge_around_vertex_const_circulator()) return;
+          auto first = circ;
+          do {
+            Arrangement::Halfedge_const_handle h = circ;  // points into v
+            const void* key = edge_key(h);
+            const EdgeInfo& hi_info = info[key];
+            const ExactPoint& far = h->source()->point();
+            if (!done[key] && hi_info.kind == ei.kind && CGAL::collinear(other, end, far) &&
+                CGAL::collinear_are_ordered_along_line(other, end, far)) {
+              done[key] = true;
+              end = far;
+              v = h->source();
+              moved = true;
+              break;
+            }
+          } while (++circ != first);
+          if (!moved) return;
+        }
+      };
+      const ExactPoint lo0 = lo, hi0 = hi;
+      Arrangement::Vertex_const_handle vl = e->source()->point() == lo0 ? e->source() : e->target();
+      Arrangement::Vertex_const_handle vr = e->source()->point() == lo0 ? e->target() : e->source();
+      extend(vl, lo, hi0);
+      extend(vr, hi, lo);
+      p.lines.push_back({static_cast<LineKind>(ei.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
+                         {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
+    }
+    std::sort(p.lines.begin(), p.lines.end(), [](const Segment& a, const Segment& b) {
+      const bool ha = a.a.v_mm == a.b.v_mm, hb = b.a.v_mm == b.b.v_mm;
+      if (ha != hb) return ha;
+      return ha ? std::tie(a.a.v_mm, a.a.x_mm) < std::tie(b.a.v_mm, b.a.x_mm)
+                : std::tie(a.a.x_mm, a.a.v_mm, a.b.x_mm) < std::tie(b.a.x_mm, b.a.v_mm, b.b.x_mm);
+    });
+    std::sort(p.folds.begin(), p.folds.end(), [](const FoldLink& a, const FoldLink& b) {
+      return a.upper != b.upper ? a.upper < b.upper : a.lower < b.lower;
+    });
+
+    // The back board and floor: the faces holding most of the sheet's top and bottom edges.
+    const auto longest = [](const std::map<int, FT>& m) {
+      int best = -1;
+      FT best_len = -1;
+      for (const auto& [f, len] : m) {
+        if (len > best_len) {
+          best = f;
+          best_len = len;
+        }
+      }
+      return best;
+    };
+    p.back_face = longest(top_length);
+    p.floor_face = longest(bottom_length);
+    return p;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(ErrorCode::internal, source, "pattern", std::string("geometry kernel failure: ") + e.what());
+  }
+}
+
+FaceModel to_face_model(const VoxelModel& model, const std::string& source) {
+  const Pattern p = make_pattern(model, source);
+  std::vector<OAFace> faces;
+  faces.reserve(p.faces.size());
+  for (const PatternFace& f : p.faces) faces.push_back({f.kind, f.t_mm, {f.outer, f.holes}});
+  return FaceModel::from_faces(p.sheet.max.x_mm - p.sheet.min.x_mm, p.sheet.max.v_mm, -p.sheet.min.v_mm, faces, source);
+}
+
+}  // namespace popcut
