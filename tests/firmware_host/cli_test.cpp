@@ -163,15 +163,35 @@ TEST_F(Cli, PaperFailureFixtures) {
 }
 
 TEST_F(Cli, ShippedExamplesValidate) {
-  int seen = 0;
-  for (const auto& e : fs::directory_iterator(fs::path(POPCUT_SOURCE_DIR) / "examples" / "voxel")) {
-    if (e.path().extension() != ".json") continue;
-    ++seen;
-    Result r = run("validate " + e.path().string());
-    EXPECT_EQ(r.code, 0) << e.path() << " must pop up: " << r.out << r.err;
-    EXPECT_EQ(run("pattern " + e.path().string() + " -o " + (dir_ / "x.svg").string()).code, 0) << e.path();
+  for (const char* kind : {"voxel", "faces"}) {
+    int seen = 0;
+    for (const auto& e : fs::directory_iterator(fs::path(POPCUT_SOURCE_DIR) / "examples" / kind)) {
+      if (e.path().extension() != ".json") continue;
+      ++seen;
+      Result r = run("validate " + e.path().string());
+      EXPECT_EQ(r.code, 0) << e.path() << " must pop up: " << r.out << r.err;
+      EXPECT_EQ(run("pattern " + e.path().string() + " -o " + (dir_ / "x.svg").string()).code, 0) << e.path();
+    }
+    EXPECT_GE(seen, 3) << "examples/" << kind << " holds at least three models";
   }
-  EXPECT_GE(seen, 3) << "examples/voxel holds at least three models";
+}
+
+TEST_F(Cli, FaceModels) {
+  const std::string box = file("box-faces.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
+    "edits": [{"op": "add_vface", "t": 20, "outline": [[10, 0], [50, 0], [50, 30], [10, 30]]},
+              {"op": "add_hface", "t": 30, "outline": [[10, 0], [50, 0], [50, 20], [10, 20]]}]})");
+  Result ok = run("validate --json " + box);
+  EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
+  EXPECT_TRUE(nlohmann::json::parse(ok.out)["pops_up"].get<bool>()) << ok.out;
+  const std::string bowtie = file("bowtie.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
+    "edits": [{"op": "add_vface", "t": 20, "outline": [[10, 0], [50, 0], [50, 30], [10, 30]]},
+              {"op": "add_vface", "t": 5, "outline": [[0, 0], [10, 10], [10, 0], [0, 10]]}]})");
+  Result bad = run("validate " + bowtie);
+  EXPECT_EQ(bad.code, 2) << "a self-intersecting outline is bad input: " << bad.err;
+  EXPECT_NE(bad.err.find("bowtie.json: edits[1].outline: crosses"), std::string::npos) << "names the edit: " << bad.err;
+  Result repair = run("repair " + box + " -o " + (dir_ / "r.json").string());
+  EXPECT_EQ(repair.code, 2) << "repair is for voxel models";
+  EXPECT_NE(repair.err.find("expected \"popcut.voxel.v1\", got \"popcut.faces.v1\""), std::string::npos) << repair.err;
 }
 
 }  // namespace
