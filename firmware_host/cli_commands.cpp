@@ -12,7 +12,9 @@
 #include <string>
 
 #include "popcut/error.h"
+#include "popcut/fold/fold.h"
 #include "popcut/io/files.h"
+#include "popcut/io/mesh_io.h"
 #include "popcut/io/model_io.h"
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
@@ -191,9 +193,15 @@ int run(int argc, char** argv) {
   repair_cmd->add_flag("--windows", windows, "Turn filled rows into windows where the card still pops up");
   repair_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
+  double angle_deg = 90;
+  CLI::App* fold = app.add_subcommand("fold", "Write the card folded to an angle as a 3D model (OBJ + MTL, or glTF).");
+  fold->add_option("MODEL", model_path, "Model file (voxel or face model), or - for standard input")->required();
+  fold->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->capture_default_str();
+  fold->add_option("-o,--output", out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
+
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate or repair)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair or fold)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -254,6 +262,27 @@ int run(int argc, char** argv) {
       if (json_out) print_json(report_json(shown(model_path), p, report));
       else print_report(std::cout, shown(model_path), p, report);
       return report.pops_up() ? kOk : kDoesNotPopUp;
+    });
+  }
+  if (*fold) {
+    return guarded(false, [&] {
+      const std::string ext = extension(out_path);
+      if (ext != ".obj" && ext != ".gltf") {
+        throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown 3D format '" + ext + "': use .obj or .gltf");
+      }
+      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
+      const CardMesh mesh = fold_card(p, angle_deg);
+      if (ext == ".gltf") {
+        write_output(out_path, [&](std::ostream& out) { write_gltf(out, mesh); });
+        std::cerr << "wrote " << out_path;
+      } else {
+        const std::filesystem::path mtl = std::filesystem::path(out_path).replace_extension(".mtl");
+        write_output(out_path, [&](std::ostream& out) { write_obj(out, mesh, mtl.filename().string()); });
+        write_output(mtl.string(), [&](std::ostream& out) { write_mtl(out); });
+        std::cerr << "wrote " << out_path << " and " << mtl.string();
+      }
+      std::cerr << " (" << mesh.triangles.size() << " triangles per side, folded to " << angle_deg << "°)\n";
+      return kOk;
     });
   }
   if (*repair_cmd) {

@@ -55,7 +55,7 @@ const char* kBox = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[
 const char* kSplit = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3]], "windows": [[0, 1]]})";
 
 TEST_F(Cli, HelpEverywhere) {
-  for (const char* sub : {"", "pattern ", "validate ", "repair "}) {
+  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold "}) {
     const Result r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.code, 0) << "'" << sub << "--help' exits 0";
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
@@ -174,6 +174,20 @@ TEST_F(Cli, ShippedExamplesValidate) {
     }
     EXPECT_GE(seen, 3) << "examples/" << kind << " holds at least three models";
   }
+}
+
+TEST_F(Cli, FoldWritesObjAndGltf) {
+  const std::string model = file("box.json", kBox);
+  Result obj = run("fold " + model + " --angle 45 -o " + (dir_ / "card.obj").string());
+  EXPECT_EQ(obj.code, 0) << obj.err;
+  EXPECT_TRUE(fs::exists(dir_ / "card.mtl")) << "the OBJ's materials are written beside it";
+  EXPECT_NE(slurp(dir_ / "card.obj").find("mtllib card.mtl"), std::string::npos) << "and named relative to it";
+  Result gltf = run("fold " + model + " -o " + (dir_ / "card.gltf").string());
+  EXPECT_EQ(gltf.code, 0) << gltf.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "card.gltf"))["asset"]["version"], "2.0") << "a glTF 2.0 document";
+  EXPECT_EQ(run("fold " + model + " --angle 181 -o " + (dir_ / "c.gltf").string()).code, 2) << "angle out of range";
+  EXPECT_EQ(run("fold " + model + " --angle abc -o " + (dir_ / "c.gltf").string()).code, 2) << "angle not a number";
+  EXPECT_EQ(run("fold " + model + " -o " + (dir_ / "c.stl").string()).code, 2) << "unknown 3D format";
 }
 
 TEST_F(Cli, FaceModels) {
