@@ -13,6 +13,7 @@
 
 #include "popcut/error.h"
 #include "popcut/fold/fold.h"
+#include "popcut/fold/render.h"
 #include "popcut/io/files.h"
 #include "popcut/io/mesh_io.h"
 #include "popcut/io/model_io.h"
@@ -199,9 +200,17 @@ int run(int argc, char** argv) {
   fold->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->capture_default_str();
   fold->add_option("-o,--output", out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
 
+  int frames = 1, width_px = 800;
+  CLI::App* render = app.add_subcommand("render", "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
+  render->add_option("MODEL", model_path, "Model file (voxel or face model), or - for standard input")->required();
+  render->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->capture_default_str();
+  render->add_option("-o,--output", out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")->required();
+  render->add_option("--frames", frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
+  render->add_option("--width", width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
+
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair or fold)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold or render)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -282,6 +291,43 @@ int run(int argc, char** argv) {
         std::cerr << "wrote " << out_path << " and " << mtl.string();
       }
       std::cerr << " (" << mesh.triangles.size() << " triangles per side, folded to " << angle_deg << "°)\n";
+      return kOk;
+    });
+  }
+  if (*render) {
+    return guarded(false, [&] {
+      const std::string ext = extension(out_path);
+      if (ext != ".svg" && ext != ".png") {
+        throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown picture format '" + ext + "': use .svg or .png");
+      }
+      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
+      std::vector<double> angles;
+      for (int i = 0; i < frames; ++i) angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
+      std::vector<CardMesh> meshes;
+      for (double a : angles) meshes.push_back(fold_card(p, a));
+      const ViewBox box = view_box(meshes);  // one frame for every picture, so the animation holds still
+      const std::filesystem::path out(out_path);
+      for (std::size_t i = 0; i < meshes.size(); ++i) {
+        std::string path = out_path;
+        if (frames > 1) {
+          char suffix[16];
+          std::snprintf(suffix, sizeof suffix, "-%03zu", i);
+          path = (out.parent_path() / (out.stem().string() + suffix + ext)).string();
+        }
+        if (ext == ".svg") {
+          const double px_per_mm = width_px / (box.max_x - box.min_x);
+          write_output(path, [&](std::ostream& o) { write_render_svg(o, meshes[i], box, px_per_mm); });
+        } else {
+          if (!std::filesystem::is_directory(out.parent_path().empty() ? "." : out.parent_path())) {
+            throw Error(ErrorCode::io, path, "output", "cannot write: the directory does not exist");
+          }
+          write_render_png(path, meshes[i], box, width_px);
+        }
+        if (frames > 1) std::cerr << "\r" << (i + 1) << "/" << frames << " frames" << std::flush;
+      }
+      if (frames > 1) std::cerr << "\n";
+      std::cerr << "wrote " << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : out_path)
+                << " (folded to " << angle_deg << "°)\n";
       return kOk;
     });
   }

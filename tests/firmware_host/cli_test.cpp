@@ -55,7 +55,7 @@ const char* kBox = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[
 const char* kSplit = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3]], "windows": [[0, 1]]})";
 
 TEST_F(Cli, HelpEverywhere) {
-  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold "}) {
+  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold ", "render "}) {
     const Result r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.code, 0) << "'" << sub << "--help' exits 0";
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
@@ -188,6 +188,29 @@ TEST_F(Cli, FoldWritesObjAndGltf) {
   EXPECT_EQ(run("fold " + model + " --angle 181 -o " + (dir_ / "c.gltf").string()).code, 2) << "angle out of range";
   EXPECT_EQ(run("fold " + model + " --angle abc -o " + (dir_ / "c.gltf").string()).code, 2) << "angle not a number";
   EXPECT_EQ(run("fold " + model + " -o " + (dir_ / "c.stl").string()).code, 2) << "unknown 3D format";
+}
+
+TEST_F(Cli, RenderPicturesAndFrames) {
+  const std::string model = file("box.json", kBox);
+  Result svg = run("render " + model + " --angle 70 -o " + (dir_ / "card.svg").string());
+  ASSERT_EQ(svg.code, 0) << svg.err;
+  EXPECT_NE(slurp(dir_ / "card.svg").find("<polygon"), std::string::npos) << "an SVG of shaded triangles";
+  Result png = run("render " + model + " -o " + (dir_ / "card.png").string() + " --width 120");
+  ASSERT_EQ(png.code, 0) << png.err;
+  EXPECT_EQ(slurp(dir_ / "card.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << "a PNG file";
+  Result anim = run("render " + model + " --frames 4 -o " + (dir_ / "open.svg").string());
+  ASSERT_EQ(anim.code, 0) << anim.err;
+  for (const char* f : {"open-000.svg", "open-001.svg", "open-002.svg", "open-003.svg"}) {
+    EXPECT_TRUE(fs::exists(dir_ / f)) << "frame " << f;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "open-004.svg")) << "exactly four frames";
+  EXPECT_NE(slurp(dir_ / "open-000.svg").substr(0, 300).find("viewBox"), std::string::npos);
+  // Every frame shares one view box, so the animation holds still.
+  const auto box = [&](const char* f) { const std::string t = slurp(dir_ / f); return t.substr(t.find("viewBox"), 40); };
+  EXPECT_EQ(box("open-000.svg"), box("open-003.svg")) << "frames share their view";
+  EXPECT_EQ(run("render " + model + " --frames 0 -o " + (dir_ / "x.svg").string()).code, 2) << "frames out of range";
+  EXPECT_EQ(run("render " + model + " -o " + (dir_ / "x.gif").string()).code, 2) << "unknown picture format";
+  EXPECT_EQ(run("render " + model + " -o " + (dir_ / "nodir" / "x.png").string()).code, 3) << "unwritable PNG";
 }
 
 TEST_F(Cli, FaceModels) {
