@@ -9,6 +9,7 @@
 
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
+#include "bench_table.h"
 #include "random_models.h"
 
 namespace {
@@ -50,56 +51,33 @@ void BM_PatternAndCheck(benchmark::State& state) {
 BENCHMARK(BM_Pattern)->Arg(10)->Arg(20)->Arg(40)->Arg(60)->Arg(100)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PatternAndCheck)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond);
 
-// Collects runs so a comparison table can follow the usual report.
-class TableReporter : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) {
-      if (r.run_type != Run::RT_Iteration || r.error_occurred) continue;
-      const auto c = r.counters.find("cells");
-      rows_.push_back({r.benchmark_name(), r.GetAdjustedRealTime(), c == r.counters.end() ? 0.0 : double(c->second)});
+void print_table(const popcut::bench::CollectingReporter& reporter) {
+  std::printf("\n%-28s %12s %12s %10s %12s  %s\n", "benchmark", "pattern cells", "time (ms)", "ns/cell", "target", "met");
+  for (const auto& row : reporter.rows()) {
+    const double cells = row.counters.at("cells");
+    const bool paper = row.name.size() >= 3 && row.name.compare(row.name.size() - 3, 3, "/10") == 0;
+    const bool big = row.name.find("/100") != std::string::npos;
+    const double ns_per_cell = row.ms * 1e6 / cells;
+    std::string met = paper ? (row.ms < 5 ? "yes" : "NO") : "";
+    if (big) {
+      // Linear growth: ns per cell at 10x per axis within 2x of the paper size's.
+      const auto* base = reporter.find(row.name.substr(0, row.name.find('/')) + "/10");
+      if (base) met = ns_per_cell <= 2 * base->ms * 1e6 / base->counters.at("cells") ? "yes" : "NO";
     }
+    std::printf("%-28s %12.0f %12.3f %10.1f %12s  %s\n", row.name.c_str(), cells, row.ms, ns_per_cell,
+                paper ? "< 5 ms" : (big ? "linear" : ""), met.c_str());
   }
-  void print_table() const {
-    std::printf("\n%-28s %12s %12s %10s %12s  %s\n", "benchmark", "pattern cells", "time (ms)", "ns/cell", "target", "met");
-    for (const Row& row : rows_) {
-      const bool paper = row.name.find("/10") == row.name.size() - 3;
-      const bool big = row.name.find("/100") != std::string::npos;
-      const char* target = paper ? "< 5 ms" : (big ? "linear" : "");
-      const double ns_per_cell = row.ms * 1e6 / row.cells;
-      std::string met = paper ? (row.ms < 5 ? "yes" : "NO") : "";
-      if (big) {
-        // Linear growth: ns per cell at 10× per axis within 2× of the paper size's.
-        for (const Row& base : rows_) {
-          if (base.name.substr(0, base.name.find('/')) == row.name.substr(0, row.name.find('/')) &&
-              base.name.find("/10") == base.name.size() - 3) {
-            met = ns_per_cell <= 2 * base.ms * 1e6 / base.cells ? "yes" : "NO";
-          }
-        }
-      }
-      std::printf("%-28s %12.0f %12.3f %10.1f %12s  %s\n", row.name.c_str(), row.cells, row.ms, ns_per_cell, target, met.c_str());
-    }
-    std::printf("(scale 10 = the voxel paper's 80 x 40 x 40 model; scale 100 = 800 x 400 x 400)\n");
-  }
-
- private:
-  struct Row {
-    std::string name;
-    double ms;
-    double cells;
-  };
-  std::vector<Row> rows_;
-};
+  std::printf("(scale 10 = the voxel paper's 80 x 40 x 40 model; scale 100 = 800 x 400 x 400)\n");
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  TableReporter reporter;
+  popcut::bench::CollectingReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
-  reporter.print_table();
+  print_table(reporter);
   benchmark::Shutdown();
   return 0;
 }

@@ -1,0 +1,41 @@
+// A console reporter that also keeps each run, so a benchmark can end with its comparison table.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace popcut::bench {
+
+struct Row {
+  std::string name;
+  double ms = 0;
+  std::map<std::string, double> counters;
+};
+
+class CollectingReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      if (r.run_type != Run::RT_Iteration || r.error_occurred) continue;
+      Row row{r.benchmark_name(), r.GetAdjustedRealTime(), {}};
+      for (const auto& [k, v] : r.counters) row.counters[k] = v;
+      rows_.push_back(row);
+    }
+  }
+  const std::vector<Row>& rows() const { return rows_; }
+  const Row* find(const std::string& name) const {
+    for (const Row& r : rows_) {
+      if (r.name == name) return &r;
+    }
+    return nullptr;
+  }
+
+ private:
+  std::vector<Row> rows_;
+};
+
+}  // namespace popcut::bench
