@@ -38,4 +38,16 @@ class CollectingReporter : public benchmark::ConsoleReporter {
   std::vector<Row> rows_;
 };
 
+// The usual benchmark main, then `table(reporter)`.
+template <typename Table>
+int run_with_table(int argc, char** argv, Table table) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  CollectingReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  table(reporter);
+  benchmark::Shutdown();
+  return 0;
+}
+
 }  // namespace popcut::bench

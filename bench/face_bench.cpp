@@ -68,13 +68,7 @@ BENCHMARK(BM_FaceCheck)->Arg(500)->Arg(2000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PaperVoxelPath)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PaperFacePath)->Unit(benchmark::kMillisecond);
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  popcut::bench::CollectingReporter reporter;
-  benchmark::RunSpecifiedBenchmarks(&reporter);
+void print_table(const popcut::bench::CollectingReporter& reporter) {
   std::printf("\n%-24s %8s %12s %14s\n", "benchmark", "faces", "time (ms)", "ms per face");
   for (const auto& row : reporter.rows()) {
     const auto f = row.counters.find("faces");
@@ -89,5 +83,8 @@ int main(int argc, char** argv) {
     std::printf("face path / voxel path on the paper's 80 x 40 x 40 model: %.1fx (target within 10x: %s)\n", ratio,
                 ratio <= 10 ? "yes" : "NO");
   }
-  return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return popcut::bench::run_with_table(argc, argv, print_table); }

@@ -136,6 +136,17 @@ std::string extension(const std::string& path) {
   return e;
 }
 
+// The output's extension, lower-case, when it is one of `allowed`; else a bad-input error.
+std::string require_extension(const std::string& path, std::initializer_list<const char*> allowed, const char* what) {
+  const std::string ext = extension(path);
+  std::string list;
+  for (const char* a : allowed) {
+    if (ext == a) return ext;
+    list += std::string(list.empty() ? "" : " or ") + a;
+  }
+  throw Error(ErrorCode::invalid_input, path, "-o", std::string("unknown ") + what + " '" + ext + "': use " + list);
+}
+
 // Runs a command body, turning popcut errors into messages and exit codes.
 template <typename Body>
 int guarded(bool json_errors, Body body) {
@@ -231,10 +242,7 @@ int run(int argc, char** argv) {
 
   if (*pattern) {
     return guarded(json_out, [&] {
-      const std::string ext = extension(out_path);
-      if (out_path != "-" && ext != ".json" && ext != ".svg") {
-        throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown output type '" + ext + "': use .json or .svg");
-      }
+      const std::string ext = out_path == "-" ? ".json" : require_extension(out_path, {".json", ".svg"}, "output type");
       if (shade && ext != ".svg") {
         throw Error(ErrorCode::invalid_input, "", "--shade", "shading applies to SVG output only");
       }
@@ -275,10 +283,7 @@ int run(int argc, char** argv) {
   }
   if (*fold) {
     return guarded(false, [&] {
-      const std::string ext = extension(out_path);
-      if (ext != ".obj" && ext != ".gltf") {
-        throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown 3D format '" + ext + "': use .obj or .gltf");
-      }
+      const std::string ext = require_extension(out_path, {".obj", ".gltf"}, "3D format");
       const Pattern p = make_pattern(load_model(model_path), shown(model_path));
       const CardMesh mesh = fold_card(p, angle_deg);
       if (ext == ".gltf") {
@@ -296,10 +301,7 @@ int run(int argc, char** argv) {
   }
   if (*render) {
     return guarded(false, [&] {
-      const std::string ext = extension(out_path);
-      if (ext != ".svg" && ext != ".png") {
-        throw Error(ErrorCode::invalid_input, out_path, "-o", "unknown picture format '" + ext + "': use .svg or .png");
-      }
+      const std::string ext = require_extension(out_path, {".svg", ".png"}, "picture format");
       const Pattern p = make_pattern(load_model(model_path), shown(model_path));
       std::vector<double> angles;
       for (int i = 0; i < frames; ++i) angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));

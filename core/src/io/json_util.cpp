@@ -140,6 +140,21 @@ std::string Reader::string(const json& j, const std::string& path, std::size_t m
   return s;
 }
 
+std::vector<std::array<double, 2>> Reader::points(const json& j, const std::string& path, double limit, std::size_t min_points,
+                                                  std::size_t max_points) const {
+  require_array(j, path);
+  if (j.size() < min_points) fail(path, "needs at least " + std::to_string(min_points) + " points");
+  if (j.size() > max_points) fail(path, "has more than " + std::to_string(max_points) + " points");
+  std::vector<std::array<double, 2>> out;
+  out.reserve(j.size());
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string p = index_path(path, i);
+    if (!j[i].is_array() || j[i].size() != 2) fail(p, "expected a point: two numbers in mm");
+    out.push_back({number(j[i][0], index_path(p, 0), -limit, limit), number(j[i][1], index_path(p, 1), -limit, limit)});
+  }
+  return out;
+}
+
 void Reader::require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const {
   require_object(root, "document");
   // The tag first: a file of another format is named as such, not as a list of unknown fields.

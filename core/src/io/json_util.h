@@ -1,7 +1,9 @@
 // Strict JSON reading for popcut's file formats: positions for syntax errors, typed field getters.
 #pragma once
 
+#include <array>
 #include <initializer_list>
+#include <vector>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -29,6 +31,9 @@ class Reader {
   int integer(const json& j, const std::string& path, long long min, long long max) const;
   double number(const json& j, const std::string& path, double min, double max) const;
   std::string string(const json& j, const std::string& path, std::size_t max_length = 4096) const;
+  // A list of points, each two numbers within ±limit (mm), at most max_points long.
+  std::vector<std::array<double, 2>> points(const json& j, const std::string& path, double limit, std::size_t min_points,
+                                            std::size_t max_points) const;
   // The document must be an object with only `allowed` keys and "format" equal to `expected`.
   void require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const;
 

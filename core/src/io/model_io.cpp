@@ -17,19 +17,6 @@ using json_util::number_text;
 
 namespace {
 
-Ring read_ring(const json_util::Reader& in, const json& j, const std::string& path) {
-  in.require_array(j, path);
-  if (j.size() > kMaxOutlinePoints) in.fail(path, "has more than " + std::to_string(kMaxOutlinePoints) + " points");
-  Ring ring;
-  for (std::size_t i = 0; i < j.size(); ++i) {
-    const std::string p = index_path(path, i);
-    if (!j[i].is_array() || j[i].size() != 2) in.fail(p, "expected a point: two numbers in mm");
-    ring.push_back({in.number(j[i][0], index_path(p, 0), -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm),
-                    in.number(j[i][1], index_path(p, 1), -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm)});
-  }
-  return ring;
-}
-
 EditOp read_op(const json_util::Reader& in, const json& j, const std::string& path) {
   const std::string op = in.string(j, path);
   for (EditOp e : {EditOp::add_vface, EditOp::add_hface, EditOp::add_vhole, EditOp::add_hhole}) {
@@ -68,23 +55,8 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     if (faces.size() > kMaxFaces) in.fail("faces", "has more than " + std::to_string(kMaxFaces) + " faces");
     std::vector<OAFace> out;
     for (std::size_t i = 0; i < faces.size(); ++i) {
-      const std::string path = index_path("faces", i);
-      const json& f = faces[i];
-      in.require_object(f, path);
-      in.only_keys(f, {"kind", "t", "outer", "holes", "label"}, path);
-      OAFace face;
-      const std::string kind = in.string(in.require(f, "kind", path), path + ".kind");
-      if (kind != "V" && kind != "H") in.fail(path + ".kind", "expected \"V\" or \"H\", got \"" + kind + "\"");
-      face.kind = kind == "V" ? FaceKind::vertical : FaceKind::horizontal;
-      face.t_mm = in.number(in.require(f, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
-      face.polygon.outer = read_ring(in, in.require(f, "outer", path), path + ".outer");
-      if (f.contains("holes")) {
-        in.require_array(f["holes"], path + ".holes");
-        for (std::size_t h = 0; h < f["holes"].size(); ++h) {
-          face.polygon.holes.push_back(read_ring(in, f["holes"][h], index_path(path + ".holes", h)));
-        }
-      }
-      out.push_back(std::move(face));
+      PatternFace f = read_face(in, faces[i], index_path("faces", i), kMaxFaceCoordinateMm);
+      out.push_back({f.kind, f.t_mm, {std::move(f.outer), std::move(f.holes)}});
     }
     return FaceModel::from_faces(width, back, floor, out, source);
   }
@@ -101,7 +73,7 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     FaceEdit edit;
     edit.op = read_op(in, in.require(e, "op", path), path + ".op");
     edit.t_mm = in.number(in.require(e, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
-    for (const Point2& p : read_ring(in, in.require(e, "outline", path), path + ".outline")) edit.outline.push_back({p.x_mm, p.v_mm});
+    edit.outline = in.points(in.require(e, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 0, kMaxOutlinePoints);
     model.apply(edit, source, path);
   }
   return model;

@@ -2,6 +2,7 @@
 #include <sstream>
 
 #include "io/json_util.h"
+#include "io/readers.h"
 #include "popcut/error.h"
 #include "popcut/io/pattern_io.h"
 
@@ -31,14 +32,6 @@ Point2 get_point(const json_util::Reader& in, const json& j, const std::string& 
           in.number(j[1], index_path(path, 1), -kMaxCoordinateMm, kMaxCoordinateMm)};
 }
 
-Ring get_ring(const json_util::Reader& in, const json& j, const std::string& path) {
-  in.require_array(j, path);
-  if (j.size() < 3) in.fail(path, "a ring needs at least 3 points");
-  Ring ring;
-  for (std::size_t i = 0; i < j.size(); ++i) ring.push_back(get_point(in, j[i], index_path(path, i)));
-  return ring;
-}
-
 LineKind get_line_kind(const json_util::Reader& in, const json& j, const std::string& path) {
   const std::string s = in.string(j, path);
   if (s == "cut") return LineKind::cut;
@@ -48,6 +41,28 @@ LineKind get_line_kind(const json_util::Reader& in, const json& j, const std::st
 }
 
 }  // namespace
+
+PatternFace read_face(const json_util::Reader& in, const json& f, const std::string& path, double limit_mm) {
+  in.require_object(f, path);
+  in.only_keys(f, {"kind", "t", "label", "outer", "holes"}, path);
+  PatternFace face;
+  const std::string kind = in.string(in.require(f, "kind", path), path + ".kind");
+  if (kind != "V" && kind != "H") in.fail(path + ".kind", "expected \"V\" or \"H\", got \"" + kind + "\"");
+  face.kind = kind == "V" ? FaceKind::vertical : FaceKind::horizontal;
+  face.t_mm = in.number(in.require(f, "t", path), path + ".t", 0, limit_mm);
+  const auto ring = [&](const json& j, const std::string& where) {
+    Ring r;
+    for (const auto& [x, v] : in.points(j, where, limit_mm, 3, std::size_t{1} << 24)) r.push_back({x, v});
+    return r;
+  };
+  face.outer = ring(in.require(f, "outer", path), path + ".outer");
+  if (f.contains("label")) face.label = get_point(in, f["label"], path + ".label");
+  if (f.contains("holes")) {
+    in.require_array(f["holes"], path + ".holes");
+    for (std::size_t h = 0; h < f["holes"].size(); ++h) face.holes.push_back(ring(f["holes"][h], index_path(path + ".holes", h)));
+  }
+  return face;
+}
 
 std::string to_pattern_json(const Pattern& p) {
   std::ostringstream o;
@@ -123,26 +138,7 @@ Pattern parse_pattern(const std::string& text, const std::string& source) {
 
   const json& faces = in.require(root, "faces", "");
   in.require_array(faces, "faces");
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    const std::string path = index_path("faces", i);
-    const json& f = faces[i];
-    in.require_object(f, path);
-    in.only_keys(f, {"kind", "t", "label", "outer", "holes"}, path);
-    PatternFace face;
-    const std::string kind = in.string(in.require(f, "kind", path), path + ".kind");
-    if (kind != "V" && kind != "H") in.fail(path + ".kind", "expected \"V\" or \"H\", got \"" + kind + "\"");
-    face.kind = kind == "V" ? FaceKind::vertical : FaceKind::horizontal;
-    face.t_mm = in.number(in.require(f, "t", path), path + ".t", 0, kMaxCoordinateMm);
-    face.outer = get_ring(in, in.require(f, "outer", path), path + ".outer");
-    if (f.contains("label")) face.label = get_point(in, f["label"], path + ".label");
-    if (f.contains("holes")) {
-      in.require_array(f["holes"], path + ".holes");
-      for (std::size_t h = 0; h < f["holes"].size(); ++h) {
-        face.holes.push_back(get_ring(in, f["holes"][h], index_path(path + ".holes", h)));
-      }
-    }
-    p.faces.push_back(std::move(face));
-  }
+  for (std::size_t i = 0; i < faces.size(); ++i) p.faces.push_back(read_face(in, faces[i], index_path("faces", i), kMaxCoordinateMm));
 
   const long long face_count = static_cast<long long>(p.faces.size());
   if (root.contains("folds")) {

@@ -4,19 +4,13 @@
 #include <string>
 
 #include "popcut/io/pattern_io.h"
+#include "popcut/text.h"
 
 namespace popcut {
 namespace {
 
 // Four decimals (0.1 µm) is finer than any cutter, and keeps files small and diffable.
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4f", v);
-  std::string s = buf;
-  while (!s.empty() && s.back() == '0') s.pop_back();
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s == "-0" ? "0" : s;
-}
+std::string num(double v) { return format_decimal(v, 4); }
 
 struct Frame {
   Rect sheet;

@@ -6,11 +6,18 @@
 
 #include "popcut/io/voxel_json.h"
 #include "popcut/model/face_model.h"
+#include "popcut/pattern/pattern.h"
 
 namespace popcut {
 
 VoxelFile voxel_file_from_json(const nlohmann::json& root, const std::string& source);
 VoxelModel voxel_model_from_json(const nlohmann::json& root, const std::string& source);
 FaceModel face_model_from_json(const nlohmann::json& root, const std::string& source);
+
+namespace json_util {
+class Reader;
+}
+// One face object {"kind": "V"|"H", "t", "outer", "holes", "label"}, coordinates within ±limit_mm.
+PatternFace read_face(const json_util::Reader& in, const nlohmann::json& face, const std::string& path, double limit_mm);
 
 }  // namespace popcut

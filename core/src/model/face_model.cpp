@@ -8,6 +8,7 @@
 
 #include "model/face_model_state.h"
 #include "popcut/error.h"
+#include "popcut/text.h"
 
 namespace popcut {
 using namespace detail;
@@ -50,11 +51,6 @@ ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const st
 }
 
 
-std::string mm_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s) {
   for (const ExactPoint& p : poly.vertices()) {
@@ -222,7 +218,7 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
       if (!rest.is_empty()) {
         fail(source, where + ".outline",
              std::string("the hole is not inside ") + (vertical_plane ? "a VFace at depth y = " : "an HFace at height z = ") +
-                 mm_text(edit.t_mm) + " mm");
+                 format_decimal(edit.t_mm, 3) + " mm");
       }
       kind = vertical_plane ? FaceKind::horizontal : FaceKind::vertical;
       t = FT(min_second);

@@ -6,19 +6,12 @@
 #include <string>
 
 #include "popcut/error.h"
+#include "popcut/text.h"
 
 namespace popcut {
 namespace {
 
-// Millimetres as a person writes them: 12, 12.5, 0.25.
-std::string format_mm(double mm) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", mm);
-  std::string s = buf;
-  while (s.back() == '0') s.pop_back();
-  if (s.back() == '.') s.pop_back();
-  return s;
-}
+std::string format_mm(double mm) { return format_decimal(mm, 3); }
 
 std::string cell_name(int x, int y) {
   return "heights[" + std::to_string(x) + "][" + std::to_string(y) + "]";
