@@ -2,6 +2,7 @@
 #include "popcut/model/face_model.h"
 
 #include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/Polygon_set_2.h>
 
 #include <cmath>
@@ -158,19 +159,23 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
       }
       s->faces.push_back(make_face(f.kind, FT(f.t_mm), std::move(pwh)));
     }
-    // Eq. 4: no two faces overlap, and together they cover the sheet exactly.
+    // Eq. 4: no two faces overlap, and together they cover the sheet exactly. Only faces whose
+    // boxes meet can overlap; CGAL's box sweep finds those pairs in O(n log n + pairs).
     FT area = 0;
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
+    std::vector<Box> boxes;
     for (std::size_t i = 0; i < s->faces.size(); ++i) {
       const ExactFace& a = s->faces[i];
       area += a.polygon.outer_boundary().area();
       for (const ExactPolygon& h : a.polygon.holes()) area += h.area();
-      for (std::size_t j = i + 1; j < s->faces.size(); ++j) {
-        const ExactFace& b = s->faces[j];
-        if (CGAL::do_overlap(a.bbox, b.bbox) && CGAL::do_intersect(a.polygon, b.polygon)) {
-          fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
-        }
-      }
+      boxes.emplace_back(a.bbox, i);
     }
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      const std::size_t i = std::min(a.info(), b.info()), j = std::max(a.info(), b.info());
+      if (CGAL::do_intersect(s->faces[i].polygon, s->faces[j].polygon)) {
+        fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
+      }
+    });
     const FT sheet_area = (s->max_x - s->min_x) * (s->max_v - s->min_v);
     if (area != sheet_area) {
       fail(source, "faces", "cover " + std::to_string(CGAL::to_double(area)) + " mm² of a " +

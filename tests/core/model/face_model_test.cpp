@@ -112,6 +112,17 @@ TEST(FaceModel, SubtractionSplitsFacesIntoPieces) {
   EXPECT_TRUE(problems.empty()) << "the pieces and the wall still tile the sheet: " << (problems.empty() ? "" : problems[0]);
 }
 
+TEST(FaceModel, CoveredFacesDisappear) {
+  FaceModel m(60, 50, 50);
+  m.apply(edit(EditOp::add_vface, 20, {{20, 0}, {30, 0}, {30, 10}, {20, 10}}));
+  ASSERT_EQ(m.face_count(), 3u) << "board, floor, the small face";
+  // A larger face in another plane covering the first one's whole pattern polygon replaces it.
+  m.apply(edit(EditOp::add_vface, 25, {{10, 0}, {40, 0}, {40, 20}, {10, 20}}));
+  const auto faces = m.faces();
+  EXPECT_EQ(faces.size(), 3u) << "the covered face is gone, not left empty";
+  EXPECT_TRUE(std::none_of(faces.begin(), faces.end(), [](const OAFace& f) { return f.t_mm == 20; })) << "no face at depth 20";
+}
+
 TEST(FaceModel, UndoRedo) {
   FaceModel m = box_card();
   const Pattern before = make_pattern(m);
