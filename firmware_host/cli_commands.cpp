@@ -74,6 +74,8 @@ json report_json(const std::string& source, const Pattern& p, const PopupReport&
             {"source", source},
             {"pops_up", r.pops_up()},
             {"sheet_split", r.sheet_split},
+            {"no_back_board", r.no_back_board},
+            {"no_floor", r.no_floor},
             {"faces", p.faces.size()},
             {"lines", {{"cut", c.cut}, {"mountain", c.mountain}, {"valley", c.valley}}},
             {"line_mm", {{"cut", c.cut_mm}, {"mountain", c.mountain_mm}, {"valley", c.valley_mm}}},
@@ -105,6 +107,8 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
   const LineCounts c = count_lines(p);
   out << source << ": " << (r.pops_up() ? "pops up" : "does NOT pop up") << " (" << p.faces.size() << " faces; "
       << c.cut << " cut, " << c.mountain << " mountain, " << c.valley << " valley lines)\n";
+  if (r.no_back_board) out << "  no back board: no vertical face at depth 0 reaches the sheet's top edge\n";
+  if (r.no_floor) out << "  no floor: no horizontal face at height 0 reaches the sheet's bottom edge\n";
   if (r.sheet_split) {
     out << "  the sheet falls in two: no fold joins the floor to the back board (is the centre fold cut all along?)\n";
   }

@@ -5,7 +5,9 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/Polygon_set_2.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "model/face_model_state.h"
 #include "popcut/error.h"
@@ -29,24 +31,28 @@ std::string point_text(double x, double v) {
 }
 
 // An exact, simple, counter-clockwise polygon from pattern points, or an error naming `where`.
-ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where) {
+// `exact` holds the same points exactly; when empty they are read from `ring` as decimals.
+ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where,
+                           std::vector<ExactPoint> exact = {}) {
   if (ring.size() > kMaxOutlinePoints) {
     fail(source, where, "has " + std::to_string(ring.size()) + " points; the limit is " + std::to_string(kMaxOutlinePoints));
   }
   std::vector<ExactPoint> pts;
-  for (const Point2& p : ring) {
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Point2& p = ring[i];
     if (!std::isfinite(p.x_mm) || !std::isfinite(p.v_mm) || std::abs(p.x_mm) > kMaxFaceCoordinateMm ||
         std::abs(p.v_mm) > kMaxFaceCoordinateMm) {
       fail(source, where, "point " + point_text(p.x_mm, p.v_mm) + " is not a finite coordinate within ±100000 mm");
     }
-    const ExactPoint q(p.x_mm, p.v_mm);
+    const ExactPoint q = exact.empty() ? ExactPoint(exact_decimal(p.x_mm), exact_decimal(p.v_mm)) : exact[i];
     if (pts.empty() || pts.back() != q) pts.push_back(q);
   }
   while (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
   if (pts.size() < 3) fail(source, where, "needs at least 3 distinct points");
   ExactPolygon poly(pts.begin(), pts.end());
+  const bool collinear = std::all_of(pts.begin() + 2, pts.end(), [&](const ExactPoint& p) { return CGAL::collinear(pts[0], pts[1], p); });
+  if (collinear) fail(source, where, "has zero area: all its points lie on one line");
   if (!poly.is_simple()) fail(source, where, "crosses or touches itself: an outline must be a simple polygon");
-  if (CGAL::is_zero(poly.area())) fail(source, where, "has zero area");
   if (poly.is_clockwise_oriented()) poly.reverse_orientation();
   return poly;
 }
@@ -58,6 +64,47 @@ bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s) {
     if (p.x() < s.min_x || p.x() > s.max_x || p.y() < s.min_v || p.y() > s.max_v) return false;
   }
   return true;
+}
+
+// A Boolean result whose outer ring pinches at a vertex holds lobes that touch only at a point:
+// separate pieces of paper, so separate faces (as the voxel path's 4-connected regions are).
+// Clockwise loops split off the outer ring are holes touching it; each hole goes to its lobe.
+std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh) {
+  const auto& v = pwh.outer_boundary().container();
+  std::map<ExactPoint, int> visits;
+  for (const ExactPoint& p : v) ++visits[p];
+  if (std::all_of(visits.begin(), visits.end(), [](const auto& kv) { return kv.second == 1; })) return {pwh};
+  std::vector<std::vector<ExactPoint>> loops;
+  // Walk the ring; each time a vertex repeats, the stretch since its first visit closes a loop.
+  std::vector<ExactPoint> stack;
+  for (const ExactPoint& p : v) {
+    const auto at = std::find(stack.begin(), stack.end(), p);
+    if (at != stack.end()) {
+      loops.emplace_back(at, stack.end());
+      stack.erase(at + 1, stack.end());
+    } else {
+      stack.push_back(p);
+    }
+  }
+  loops.push_back(stack);
+  std::vector<ExactPolygonWithHoles> lobes;
+  std::vector<ExactPolygon> holes(pwh.holes_begin(), pwh.holes_end());
+  for (auto& loop : loops) {
+    if (loop.size() < 3) continue;
+    ExactPolygon poly(loop.begin(), loop.end());
+    if (poly.is_counterclockwise_oriented()) lobes.emplace_back(poly);
+    else holes.push_back(poly);
+  }
+  for (ExactPolygon& h : holes) {
+    for (ExactPolygonWithHoles& lobe : lobes) {
+      const auto inside = [&](const ExactPoint& p) { return lobe.outer_boundary().bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE; };
+      if (std::all_of(h.vertices_begin(), h.vertices_end(), inside)) {
+        lobe.add_hole(h);
+        break;
+      }
+    }
+  }
+  return lobes;
 }
 
 ExactFace make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon) {
@@ -81,9 +128,9 @@ double checked_size(double value, const char* what) {
 std::shared_ptr<FaceModelState> initial_state(double width_mm, double back_mm, double floor_mm) {
   auto s = std::make_shared<FaceModelState>();
   s->min_x = 0;
-  s->max_x = checked_size(width_mm, "width");
-  s->max_v = checked_size(back_mm, "back");
-  s->min_v = -checked_size(floor_mm, "floor");
+  s->max_x = exact_decimal(checked_size(width_mm, "width"));
+  s->max_v = exact_decimal(checked_size(back_mm, "back"));
+  s->min_v = -exact_decimal(checked_size(floor_mm, "floor"));
   return s;
 }
 
@@ -157,7 +204,7 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
       if (!CGAL::is_valid_polygon_with_holes(pwh, CGAL::Gps_segment_traits_2<Kernel>())) {
         fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
       }
-      s->faces.push_back(make_face(f.kind, FT(f.t_mm), std::move(pwh)));
+      s->faces.push_back(make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh)));
     }
     // Eq. 4: no two faces overlap, and together they cover the sheet exactly. Only faces whose
     // boxes meet can overlap; CGAL's box sweep finds those pairs in O(n log n + pairs).
@@ -196,6 +243,8 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
   const bool vertical_plane = edit.op == EditOp::add_vface || edit.op == EditOp::add_vhole;
   // Pattern coordinates (eq. 1): in the plane y = t, (x, z) → (x, z - t); in z = t, (x, y) → (x, t - y).
   Ring ring;
+  std::vector<ExactPoint> exact;
+  const FT t_exact = exact_decimal(edit.t_mm);
   double min_second = 0;
   for (std::size_t i = 0; i < edit.outline.size(); ++i) {
     const auto& [x, second] = edit.outline[i];
@@ -204,15 +253,20 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
            vertical_plane ? "z is below the floor (z must be ≥ 0)" : "y is behind the back wall (y must be ≥ 0)");
     }
     ring.push_back({x, vertical_plane ? second - edit.t_mm : edit.t_mm - second});
+    if (std::isfinite(x) && std::isfinite(second) && std::abs(x) <= kMaxFaceCoordinateMm && std::abs(second) <= kMaxFaceCoordinateMm) {
+      const FT s2 = exact_decimal(second);
+      exact.emplace_back(exact_decimal(x), vertical_plane ? s2 - t_exact : t_exact - s2);
+    }
     min_second = i == 0 ? second : std::min(min_second, second);
   }
   guarded(source, where, [&] {
-    const ExactPolygon q = exact_polygon(ring, source, where + ".outline");
+    // Exact points only when every input was finite and in range; else exact_polygon reports it.
+    const ExactPolygon q = exact_polygon(ring, source, where + ".outline", exact.size() == ring.size() ? exact : std::vector<ExactPoint>{});
     auto next = std::make_shared<FaceModelState>(*state_);
     if (!inside_sheet(q, *next)) fail(source, where + ".outline", "leaves the sheet");
 
     FaceKind kind = vertical_plane ? FaceKind::vertical : FaceKind::horizontal;
-    FT t(edit.t_mm);
+    FT t = t_exact;
     if (edit.op == EditOp::add_vhole || edit.op == EditOp::add_hhole) {
       // Eq. 6: a hole must lie in faces of its plane; it becomes the face of the other kind
       // at the hole's lowest z (in a VFace) or nearest y (in an HFace), with the same pattern polygon.
@@ -226,7 +280,7 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
                  format_decimal(edit.t_mm, 3) + " mm");
       }
       kind = vertical_plane ? FaceKind::horizontal : FaceKind::vertical;
-      t = FT(min_second);
+      t = exact_decimal(min_second);
     }
 
     // Eq. 5: subtract the new polygon from every face it may touch; pieces stay faces.
@@ -240,7 +294,9 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
       }
       std::vector<ExactPolygonWithHoles> pieces;
       CGAL::difference(f.polygon, q, std::back_inserter(pieces));
-      for (ExactPolygonWithHoles& piece : pieces) faces.push_back(make_face(f.kind, f.t, std::move(piece)));
+      for (ExactPolygonWithHoles& piece : pieces) {
+        for (ExactPolygonWithHoles& lobe : split_lobes(piece)) faces.push_back(make_face(f.kind, f.t, std::move(lobe)));
+      }
     }
     faces.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
     if (faces.size() > kMaxFaces) fail(source, where, "the model would have more than " + std::to_string(kMaxFaces) + " faces");

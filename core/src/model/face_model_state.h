@@ -5,6 +5,9 @@
 #include <CGAL/Polygon_2.h>
 #include <CGAL/Polygon_with_holes_2.h>
 
+#include <cmath>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "popcut/model/face_model.h"
@@ -16,6 +19,16 @@ using FT = Kernel::FT;
 using ExactPoint = Kernel::Point_2;
 using ExactPolygon = CGAL::Polygon_2<Kernel>;
 using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
+
+// Input lengths snap to a 1 nm grid and become exact rationals there, so the decimals people
+// write (0.1, 1.1) and products like 3 × 0.3 = 0.8999999999999999 compare as intended
+// (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found). 1 nm is far below any cutter's step;
+// 100 m in nanometres fits easily in 64 bits.
+inline FT exact_decimal(double value_mm) {
+  using ET = FT::ET;
+  const long long nm = std::llround(value_mm * 1e9);
+  return FT(ET(ET(std::to_string(nm)) / ET(std::string("1000000000"))));
+}
 
 struct ExactFace {
   FaceKind kind = FaceKind::vertical;
@@ -30,14 +43,17 @@ struct FaceModelState {
 };
 
 // A ring in doubles for output, without the vertices where an exact Boolean left three
-// points collinear (they carry no shape, only the history of other faces' edges).
+// points collinear (they carry no shape, only the history of other faces' edges). A point the
+// ring passes twice (a pinch) stays, or an edge would run through it.
 inline Ring to_ring(const ExactPolygon& poly) {
   const auto& v = poly.container();
   const std::size_t n = v.size();
+  std::map<ExactPoint, int> visits;
+  for (const ExactPoint& p : v) ++visits[p];
   Ring r;
   r.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (n > 3 && CGAL::collinear(v[(i + n - 1) % n], v[i], v[(i + 1) % n])) continue;
+    if (n > 3 && visits[v[i]] == 1 && CGAL::collinear(v[(i + n - 1) % n], v[i], v[(i + 1) % n])) continue;
     r.push_back({CGAL::to_double(v[i].x()), CGAL::to_double(v[i].y())});
   }
   return r;

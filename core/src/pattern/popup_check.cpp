@@ -10,11 +10,13 @@ namespace {
 
 using Adjacency = std::vector<std::vector<int>>;
 
-// Marks every face reachable from `start` along `next`.
-std::vector<char> reach(const Adjacency& next, int start) {
-  std::vector<char> seen(next.size(), 0);
-  std::vector<int> stack{start};
-  seen[static_cast<std::size_t>(start)] = 1;
+// Marks every face reachable along `next` from the faces marked in `start`.
+std::vector<char> reach(const Adjacency& next, const std::vector<char>& start) {
+  std::vector<char> seen = start;
+  std::vector<int> stack;
+  for (std::size_t f = 0; f < start.size(); ++f) {
+    if (start[f]) stack.push_back(static_cast<int>(f));
+  }
   while (!stack.empty()) {
     const int f = stack.back();
     stack.pop_back();
@@ -54,9 +56,6 @@ std::vector<int> components(const Adjacency& adj) {
 
 void require_consistent(const Pattern& p) {
   const auto bad = [&](int f) { return f < 0 || static_cast<std::size_t>(f) >= p.faces.size(); };
-  if (bad(p.back_face) || bad(p.floor_face)) {
-    throw Error(ErrorCode::invalid_input, "", "pattern", "the pattern names no back board or floor face");
-  }
   for (const FoldLink& f : p.folds) {
     if (bad(f.upper) || bad(f.lower)) throw Error(ErrorCode::invalid_input, "", "folds", "a fold names a face that does not exist");
   }
@@ -84,20 +83,37 @@ PopupReport check_popup(const Pattern& p) {
   }
   PopupReport report;
 
-  // Pieces: faces joined by folds; the one holding the back board is the card.
+  // The boards the card is held by, found from the geometry (see PopupReport).
+  std::vector<char> is_back(n, 0), is_floor(n, 0);
+  for (std::size_t f = 0; f < n; ++f) {
+    const PatternFace& face = p.faces[f];
+    if (face.t_mm != 0 || face.outer.empty()) continue;
+    const Rect b = bounds(face.outer);
+    if (face.kind == FaceKind::vertical && b.max.v_mm == p.sheet.max.v_mm) is_back[f] = 1;
+    if (face.kind == FaceKind::horizontal && b.min.v_mm == p.sheet.min.v_mm) is_floor[f] = 1;
+  }
+  report.no_back_board = std::count(is_back.begin(), is_back.end(), 1) == 0;
+  report.no_floor = std::count(is_floor.begin(), is_floor.end(), 1) == 0;
+  if (report.no_back_board || report.no_floor) return report;
+
+  // Pieces: faces joined by folds. A piece with a back board part but no floor part (or the
+  // reverse) means the sheet falls apart; one with neither falls out.
   const std::vector<int> piece = components(either);
-  const int card = piece[static_cast<std::size_t>(p.back_face)];
-  const int floor_piece = piece[static_cast<std::size_t>(p.floor_face)];
-  report.sheet_split = floor_piece != card;
+  std::vector<char> piece_back(n, 0), piece_floor(n, 0);
+  for (std::size_t f = 0; f < n; ++f) {
+    piece_back[static_cast<std::size_t>(piece[f])] |= is_back[f];
+    piece_floor[static_cast<std::size_t>(piece[f])] |= is_floor[f];
+  }
   std::vector<int> slot(n, -1);  // piece label → index in loose_pieces
   for (std::size_t f = 0; f < n; ++f) {
-    const int k = piece[f];
-    if (k == card || k == floor_piece) continue;
-    if (slot[static_cast<std::size_t>(k)] < 0) {
-      slot[static_cast<std::size_t>(k)] = static_cast<int>(report.loose_pieces.size());
+    const std::size_t k = static_cast<std::size_t>(piece[f]);
+    if (piece_back[k] != piece_floor[k]) report.sheet_split = true;
+    if (piece_back[k] || piece_floor[k]) continue;
+    if (slot[k] < 0) {
+      slot[k] = static_cast<int>(report.loose_pieces.size());
       report.loose_pieces.push_back({{}, bounds(p.faces[f].outer), 0});
     }
-    LoosePiece& lp = report.loose_pieces[static_cast<std::size_t>(slot[static_cast<std::size_t>(k)])];
+    LoosePiece& lp = report.loose_pieces[static_cast<std::size_t>(slot[k])];
     const Rect b = bounds(p.faces[f].outer);
     lp.bounds.min.x_mm = std::min(lp.bounds.min.x_mm, b.min.x_mm);
     lp.bounds.min.v_mm = std::min(lp.bounds.min.v_mm, b.min.v_mm);
@@ -108,10 +124,12 @@ PopupReport check_popup(const Pattern& p) {
   }
   if (report.sheet_split) return report;
 
-  const std::vector<char> from_back = reach(down, p.back_face);
-  const std::vector<char> from_floor = reach(up, p.floor_face);
+  const std::vector<char> from_back = reach(down, is_back);
+  const std::vector<char> from_floor = reach(up, is_floor);
   for (std::size_t f = 0; f < n; ++f) {
-    if (piece[f] != card || (from_back[f] && from_floor[f])) continue;
+    const std::size_t k = static_cast<std::size_t>(piece[f]);
+    if (!piece_back[k] && !piece_floor[k]) continue;  // reported with its loose piece
+    if (is_back[f] || is_floor[f] || (from_back[f] && from_floor[f])) continue;
     const FaceProblem problem{static_cast<int>(f), from_back[f] != 0, from_floor[f] != 0};
     (p.faces[f].kind == FaceKind::vertical ? report.not_standing : report.flaps).push_back(problem);
   }

@@ -123,6 +123,42 @@ TEST(FaceModel, CoveredFacesDisappear) {
   EXPECT_TRUE(std::none_of(faces.begin(), faces.end(), [](const OAFace& f) { return f.t_mm == 20; })) << "no face at depth 20";
 }
 
+TEST(FaceModel, DecimalCoordinatesAreExact) {
+  // t_h - t_v = 1.1 - 0.1 must equal v = 1 exactly, or the fold would be typed as a cut.
+  FaceModel m(10, 5, 5);
+  m.apply(edit(EditOp::add_vface, 0.1, {{2, 0}, {8, 0}, {8, 1.1}, {2, 1.1}}));
+  m.apply(edit(EditOp::add_hface, 1.1, {{2, 0}, {8, 0}, {8, 0.1}, {2, 0.1}}));
+  const Pattern p = make_pattern(m);
+  EXPECT_TRUE(has_line(p, LineKind::mountain, {2, 1}, {8, 1})) << "the roof folds into the front at v = 1";
+  EXPECT_TRUE(check_popup(p).pops_up()) << "the decimal box pops up";
+}
+
+TEST(FaceModel, PatternFacesReadBackAsFaces) {
+  // A notch whose tip touches the back board's edge pinches it; the ring keeps that vertex, so
+  // the pattern's faces are simple and load again as a faces model.
+  FaceModel m(10, 5, 5);
+  m.apply(edit(EditOp::add_vface, 1, {{2, 1}, {4, 1}, {4.5, 2}, {5, 1}, {5, 4}, {2, 4}}));
+  const Pattern p = make_pattern(m);
+  std::vector<OAFace> faces;
+  for (const PatternFace& f : p.faces) faces.push_back({f.kind, f.t_mm, {f.outer, f.holes}});
+  EXPECT_NO_THROW(FaceModel::from_faces(10, 5, 5, faces, "again.json")) << "every ring of the pattern is simple";
+}
+
+TEST(FaceModel, BoardsComeFromTheGeometry) {
+  FaceModel roof_only(10, 10, 10);
+  roof_only.apply(edit(EditOp::add_hface, 10, {{0, 0}, {10, 0}, {10, 20}, {0, 20}}));
+  const PopupReport r = check_popup(make_pattern(roof_only));
+  EXPECT_TRUE(r.no_back_board) << "one HFace over the whole sheet leaves no back board";
+  EXPECT_FALSE(r.pops_up()) << "so it is no card";
+  FaceModel split(60, 50, 50);
+  split.apply(edit(EditOp::add_vface, 10, {{20, 0}, {40, 0}, {40, 60}, {20, 60}}));
+  const Pattern p = make_pattern(split);
+  for (const FaceProblem& f : check_popup(p).not_standing) {
+    const PatternFace& face = p.faces[static_cast<std::size_t>(f.face)];
+    EXPECT_FALSE(face.kind == FaceKind::vertical && face.t_mm == 0) << "a piece of the back board is never 'not standing'";
+  }
+}
+
 TEST(FaceModel, UndoRedo) {
   FaceModel m = box_card();
   const Pattern before = make_pattern(m);

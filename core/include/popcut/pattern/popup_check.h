@@ -23,6 +23,10 @@ struct LoosePiece {
 };
 
 struct PopupReport {
+  // The back board is every VFace at depth 0 reaching the sheet's top edge; the floor every
+  // HFace at height 0 reaching its bottom edge. A sheet without one of them cannot be a card.
+  bool no_back_board = false;
+  bool no_floor = false;
   // No fold path joins the floor to the back board: the sheet falls in two. Then the walks
   // mean nothing and only this, and any other loose pieces, are reported.
   bool sheet_split = false;
@@ -32,12 +36,14 @@ struct PopupReport {
   // holding their angle (a window ledge, a roof left without its front). A warning: the paper's
   // condition judges VFaces only, so these do not stop a card from popping up.
   std::vector<FaceProblem> flaps;
-  bool pops_up() const { return !sheet_split && not_standing.empty() && loose_pieces.empty(); }
+  bool pops_up() const {
+    return !no_back_board && !no_floor && !sheet_split && not_standing.empty() && loose_pieces.empty();
+  }
 };
 
 // Walk (a) starts at the back board and crosses folds downward in the pattern (V→H over a valley,
-// H→V over a mountain); walk (b) starts at the floor and crosses them upward. Every VFace must be
-// reached by both.
+// H→V over a mountain); walk (b) starts at the floor and crosses them upward. Every VFace other
+// than the back board must be reached by both.
 PopupReport check_popup(const Pattern& pattern);
 
 // Area of a face: outer ring minus holes.
