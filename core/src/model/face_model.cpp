@@ -107,9 +107,9 @@ std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh)
   return lobes;
 }
 
-ExactFace make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon) {
-  ExactFace f{kind, t, std::move(polygon), {}};
-  f.bbox = f.polygon.outer_boundary().bbox();
+std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon) {
+  auto f = std::make_shared<ExactFace>(ExactFace{kind, t, std::move(polygon), {}});
+  f->bbox = f->polygon.outer_boundary().bbox();
   return f;
 }
 
@@ -206,23 +206,37 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
       }
       s->faces.push_back(make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh)));
     }
-    // Eq. 4: no two faces overlap, and together they cover the sheet exactly. Only faces whose
-    // boxes meet can overlap; CGAL's box sweep finds those pairs in O(n log n + pairs).
+    // Eq. 4: no two faces overlap, and together they cover the sheet exactly. One aggregated
+    // union (a sweep, O(n log n)) proves both: its area equals the sum of the faces' areas only
+    // when nothing overlaps. Only on failure are pairs searched, to name the two faces.
     FT area = 0;
-    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
-    std::vector<Box> boxes;
-    for (std::size_t i = 0; i < s->faces.size(); ++i) {
-      const ExactFace& a = s->faces[i];
-      area += a.polygon.outer_boundary().area();
-      for (const ExactPolygon& h : a.polygon.holes()) area += h.area();
-      boxes.emplace_back(a.bbox, i);
+    std::vector<ExactPolygonWithHoles> polygons;
+    for (const auto& fp : s->faces) {
+      area += fp->polygon.outer_boundary().area();
+      for (const ExactPolygon& h : fp->polygon.holes()) area += h.area();
+      polygons.push_back(fp->polygon);
     }
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-      const std::size_t i = std::min(a.info(), b.info()), j = std::max(a.info(), b.info());
-      if (CGAL::do_intersect(s->faces[i].polygon, s->faces[j].polygon)) {
-        fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
-      }
-    });
+    CGAL::Polygon_set_2<Kernel> all;
+    all.join(polygons.begin(), polygons.end());
+    std::vector<ExactPolygonWithHoles> united;
+    all.polygons_with_holes(std::back_inserter(united));
+    FT union_area = 0;
+    for (const ExactPolygonWithHoles& u : united) {
+      union_area += u.outer_boundary().area();
+      for (const ExactPolygon& h : u.holes()) union_area += h.area();
+    }
+    if (union_area != area) {
+      using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
+      std::vector<Box> boxes;
+      for (std::size_t i = 0; i < s->faces.size(); ++i) boxes.emplace_back(s->faces[i]->bbox, i);
+      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+        const std::size_t i = std::min(a.info(), b.info()), j = std::max(a.info(), b.info());
+        if (CGAL::do_intersect(s->faces[i]->polygon, s->faces[j]->polygon)) {
+          fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
+        }
+      });
+      fail(source, "faces", "overlap: faces must not overlap (eq. 4)");
+    }
     const FT sheet_area = (s->max_x - s->min_x) * (s->max_v - s->min_v);
     if (area != sheet_area) {
       fail(source, "faces", "cover " + std::to_string(CGAL::to_double(area)) + " mm² of a " +
@@ -271,8 +285,8 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
       // Eq. 6: a hole must lie in faces of its plane; it becomes the face of the other kind
       // at the hole's lowest z (in a VFace) or nearest y (in an HFace), with the same pattern polygon.
       PolygonSet rest(q);
-      for (const ExactFace& f : next->faces) {
-        if (f.kind == kind && f.t == t) rest.difference(f.polygon);
+      for (const auto& f : next->faces) {
+        if (f->kind == kind && f->t == t) rest.difference(f->polygon);
       }
       if (!rest.is_empty()) {
         fail(source, where + ".outline",
@@ -284,18 +298,18 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
     }
 
     // Eq. 5: subtract the new polygon from every face it may touch; pieces stay faces.
-    std::vector<ExactFace> faces;
+    std::vector<std::shared_ptr<const ExactFace>> faces;
     faces.reserve(next->faces.size() + 1);
     const CGAL::Bbox_2 qbox = q.bbox();
-    for (ExactFace& f : next->faces) {
-      if (!CGAL::do_overlap(qbox, f.bbox)) {
-        faces.push_back(std::move(f));
+    for (const auto& f : next->faces) {
+      if (!CGAL::do_overlap(qbox, f->bbox)) {
+        faces.push_back(f);
         continue;
       }
       std::vector<ExactPolygonWithHoles> pieces;
-      CGAL::difference(f.polygon, q, std::back_inserter(pieces));
+      CGAL::difference(f->polygon, q, std::back_inserter(pieces));
       for (ExactPolygonWithHoles& piece : pieces) {
-        for (ExactPolygonWithHoles& lobe : split_lobes(piece)) faces.push_back(make_face(f.kind, f.t, std::move(lobe)));
+        for (ExactPolygonWithHoles& lobe : split_lobes(piece)) faces.push_back(make_face(f->kind, f->t, std::move(lobe)));
       }
     }
     faces.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
@@ -340,9 +354,9 @@ std::size_t FaceModel::face_count() const { return state_->faces.size(); }
 std::vector<OAFace> FaceModel::faces() const {
   std::vector<OAFace> out;
   out.reserve(state_->faces.size());
-  for (const ExactFace& f : state_->faces) {
-    OAFace o{f.kind, CGAL::to_double(f.t), {to_ring(f.polygon.outer_boundary()), {}}};
-    for (const ExactPolygon& h : f.polygon.holes()) o.polygon.holes.push_back(to_ring(h));
+  for (const auto& f : state_->faces) {
+    OAFace o{f->kind, CGAL::to_double(f->t), {to_ring(f->polygon.outer_boundary()), {}}};
+    for (const ExactPolygon& h : f->polygon.holes()) o.polygon.holes.push_back(to_ring(h));
     out.push_back(std::move(o));
   }
   return out;

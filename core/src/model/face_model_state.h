@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,9 +38,11 @@ struct ExactFace {
   CGAL::Bbox_2 bbox;  // for skipping Booleans that cannot touch
 };
 
+// Faces are shared between states: an edit copies pointers and replaces only the faces it
+// touches, so undo history costs what the edits changed, not a copy of the card per edit.
 struct FaceModelState {
   FT min_x, max_x, min_v, max_v;  // the sheet
-  std::vector<ExactFace> faces;
+  std::vector<std::shared_ptr<const ExactFace>> faces;
 };
 
 // A ring in doubles for output, without the vertices where an exact Boolean left three

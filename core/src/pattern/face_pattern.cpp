@@ -85,7 +85,9 @@ struct EdgeInfo {
 Pattern make_pattern(const FaceModel& model, const std::string& source) {
   const FaceModelState& s = model.state();
   try {
-    const std::vector<ExactFace>& input = s.faces;
+    std::vector<ExactFace> input;
+    input.reserve(s.faces.size());
+    for (const auto& f : s.faces) input.push_back(*f);
     std::vector<Traits::Curve_2> curves;
     for (std::size_t i = 0; i < input.size(); ++i) {
       const auto add_ring = [&](const ExactPolygon& ring) {
@@ -140,8 +142,11 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
         faces.push_back(first);
         continue;
       }
+      // One aggregated join per plane (a sweep), not one Boolean per member.
+      std::vector<ExactPolygonWithHoles> parts;
+      for (int f : group) parts.push_back(input[static_cast<std::size_t>(f)].polygon);
       PolygonSet set;
-      for (int f : group) set.join(input[static_cast<std::size_t>(f)].polygon);
+      set.join(parts.begin(), parts.end());
       std::vector<ExactPolygonWithHoles> joined;
       set.polygons_with_holes(std::back_inserter(joined));
       if (joined.size() != 1) throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
