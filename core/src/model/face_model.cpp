@@ -312,7 +312,30 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
         for (ExactPolygonWithHoles& lobe : split_lobes(piece)) faces.push_back(make_face(f->kind, f->t, std::move(lobe)));
       }
     }
-    faces.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
+    // A face made from a hole may reach past the back wall (an HFace with y < 0, i.e. v > t) or
+    // below the floor (a VFace with z < 0, i.e. v < -t). As with windows in the voxel paper (§2.3)
+    // that part lies on the back wall or the floor instead, with the same pattern polygon.
+    const bool from_hole = edit.op == EditOp::add_vhole || edit.op == EditOp::add_hhole;
+    const FT limit = kind == FaceKind::horizontal ? t : -t;
+    const bool spills = from_hole && std::any_of(q.vertices_begin(), q.vertices_end(), [&](const ExactPoint& p) {
+      return kind == FaceKind::horizontal ? p.y() > limit : p.y() < limit;
+    });
+    if (!spills) {
+      faces.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
+    } else {
+      const ExactPolygon stays = kind == FaceKind::horizontal ? rectangle(next->min_x, next->min_v, next->max_x, limit)
+                                                              : rectangle(next->min_x, limit, next->max_x, next->max_v);
+      std::vector<ExactPolygonWithHoles> kept, moved;
+      CGAL::intersection(q, stays, std::back_inserter(kept));
+      CGAL::difference(q, stays, std::back_inserter(moved));
+      const FaceKind board = kind == FaceKind::horizontal ? FaceKind::vertical : FaceKind::horizontal;
+      for (auto& piece : kept) {
+        for (auto& lobe : split_lobes(piece)) faces.push_back(make_face(kind, t, std::move(lobe)));
+      }
+      for (auto& piece : moved) {
+        for (auto& lobe : split_lobes(piece)) faces.push_back(make_face(board, 0, std::move(lobe)));
+      }
+    }
     if (faces.size() > kMaxFaces) fail(source, where, "the model would have more than " + std::to_string(kMaxFaces) + " faces");
     next->faces = std::move(faces);
     undo_.push_back(state_);

@@ -100,6 +100,27 @@ TEST(FaceModel, HoleInAnHFaceBecomesAVFace) {
   EXPECT_EQ(bounds(wall->outer), (Rect{{20, 15}, {30, 25}})) << "pattern v = 30 - y for y in [5, 15]";
 }
 
+TEST(FaceModel, TallWindowContinuesOnTheBackWall) {
+  // A window in a 20-deep front from z = 5 to z = 30: its ledge (HFace at z = 5) would need
+  // 25 mm of depth; the last 5 mm lie on the back wall instead, as windows do in the voxel paper.
+  FaceModel m(60, 50, 50);
+  m.apply(edit(EditOp::add_vface, 20, {{10, 0}, {50, 0}, {50, 40}, {10, 40}}));
+  m.apply(edit(EditOp::add_hface, 40, {{10, 0}, {50, 0}, {50, 20}, {10, 20}}));
+  m.apply(edit(EditOp::add_vhole, 20, {{25, 5}, {35, 5}, {35, 30}, {25, 30}}));
+  const Pattern p = make_pattern(m);
+  for (const PatternFace& f : p.faces) {
+    for (const Point2& q : f.outer) {
+      const Point3 c = to_card(f.kind, f.t_mm, q);
+      EXPECT_GE(c.y_mm, -1e-9) << "no paper behind the back wall";
+      EXPECT_GE(c.z_mm, -1e-9) << "no paper below the floor";
+    }
+  }
+  const auto ledge = std::find_if(p.faces.begin(), p.faces.end(), [](const PatternFace& f) { return f.kind == FaceKind::horizontal && f.t_mm == 5; });
+  ASSERT_NE(ledge, p.faces.end()) << "the ledge at z = 5";
+  EXPECT_EQ(bounds(ledge->outer), (Rect{{25, -15}, {35, 5}})) << "20 mm deep, from the front to the back wall";
+  EXPECT_TRUE(has_line(p, LineKind::valley, {25, 5}, {35, 5})) << "the ledge folds up onto the back wall";
+}
+
 TEST(FaceModel, SubtractionSplitsFacesIntoPieces) {
   FaceModel m(60, 50, 50);
   // A wall from the floor to past the sheet top cuts the back board into a left and a right piece.
