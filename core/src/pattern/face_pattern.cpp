@@ -78,6 +78,7 @@ struct EdgeInfo {
   int left = -1;   // face left of the edge walked left-to-right (above a horizontal edge)
   int right = -1;  // face on the other side
   int kind = -1;   // -1: outline (one side is outside the sheet); else LineKind
+  bool chained = false;  // already part of an emitted maximal line
 };
 
 }  // namespace
@@ -85,9 +86,7 @@ struct EdgeInfo {
 Pattern make_pattern(const FaceModel& model, const std::string& source) {
   const FaceModelState& s = model.state();
   try {
-    std::vector<ExactFace> input;
-    input.reserve(s.faces.size());
-    for (const auto& f : s.faces) input.push_back(*f);
+    const auto& input = s.faces;  // shared with the model, read in place
     std::vector<Traits::Curve_2> curves;
     for (std::size_t i = 0; i < input.size(); ++i) {
       const auto add_ring = [&](const ExactPolygon& ring) {
@@ -97,8 +96,8 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
           curves.emplace_back(SegmentTraits::Curve_2(e->source(), e->target()), static_cast<int>(2 * i + (forward ? 0 : 1)));
         }
       };
-      add_ring(input[i].polygon.outer_boundary());
-      for (const ExactPolygon& h : input[i].polygon.holes()) add_ring(h);
+      add_ring(input[i]->polygon.outer_boundary());
+      for (const ExactPolygon& h : input[i]->polygon.holes()) add_ring(h);
     }
     Arrangement arr;
     CGAL::insert(arr, curves.begin(), curves.end());
@@ -118,8 +117,8 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
         slot = d / 2;
       }
       if (ei.left >= 0 && ei.right >= 0) {
-        const ExactFace& l = input[static_cast<std::size_t>(ei.left)];
-        const ExactFace& r = input[static_cast<std::size_t>(ei.right)];
+        const ExactFace& l = *input[static_cast<std::size_t>(ei.left)];
+        const ExactFace& r = *input[static_cast<std::size_t>(ei.right)];
         if (l.kind == r.kind && l.t == r.t) groups.join(ei.left, ei.right);
       }
       info[&*e] = ei;
@@ -137,14 +136,14 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
     const auto face_of = [&](int input_face) { return group_index[static_cast<std::size_t>(groups.find(input_face))]; };
     std::vector<ExactFace> faces;
     for (const std::vector<int>& group : members) {
-      const ExactFace& first = input[static_cast<std::size_t>(group.front())];
+      const ExactFace& first = *input[static_cast<std::size_t>(group.front())];
       if (group.size() == 1) {
         faces.push_back(first);
         continue;
       }
       // One aggregated join per plane (a sweep), not one Boolean per member.
       std::vector<ExactPolygonWithHoles> parts;
-      for (int f : group) parts.push_back(input[static_cast<std::size_t>(f)].polygon);
+      for (int f : group) parts.push_back(input[static_cast<std::size_t>(f)]->polygon);
       PolygonSet set;
       set.join(parts.begin(), parts.end());
       std::vector<ExactPolygonWithHoles> joined;
@@ -202,15 +201,14 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
     }
 
     // Maximal lines: chain edges of one kind through vertices where they continue straight on.
-    std::unordered_map<const void*, bool> done;
     const auto edge_key = [&](Arrangement::Halfedge_const_handle h) -> const void* {
       // info is keyed by the halfedge the edge iterator yields; find it from either twin.
       return info.count(&*h) ? static_cast<const void*>(&*h) : static_cast<const void*>(&*h->twin());
     };
     for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
-      const EdgeInfo& ei = info[&*e];
-      if (ei.kind < 0 || done[&*e]) continue;
-      done[&*e] = true;
+      EdgeInfo& ei = info[&*e];
+      if (ei.kind < 0 || ei.chained) continue;
+      ei.chained = true;
       ExactPoint lo = e->curve().left(), hi = e->curve().right();
       // Extend from one end while a collinear edge of the same kind leaves it the other way.
       const auto extend = [&](Arrangement::Vertex_const_handle v, ExactPoint& end, const ExactPoint& other) {
@@ -221,12 +219,11 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
           auto first = circ;
           do {
             Arrangement::Halfedge_const_handle h = circ;  // points into v
-            const void* key = edge_key(h);
-            const EdgeInfo& hi_info = info[key];
+            EdgeInfo& next = info[edge_key(h)];
             const ExactPoint& far = h->source()->point();
-            if (!done[key] && hi_info.kind == ei.kind && CGAL::collinear(other, end, far) &&
+            if (!next.chained && next.kind == ei.kind && CGAL::collinear(other, end, far) &&
                 CGAL::collinear_are_ordered_along_line(other, end, far)) {
-              done[key] = true;
+              next.chained = true;
               end = far;
               v = h->source();
               moved = true;
