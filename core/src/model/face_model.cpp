@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 
 #include "model/face_model_state.h"
 #include "popcut/error.h"
@@ -146,6 +147,68 @@ auto guarded(const std::string& source, const std::string& where, Body body) {
   }
 }
 
+FT polygon_area(const ExactPolygonWithHoles& p) {
+  FT area = p.outer_boundary().area();
+  for (const ExactPolygon& h : p.holes()) area += h.area();  // holes run clockwise: negative
+  return area;
+}
+
+// Calls visit(i, j), i < j, for every pair of faces whose bounding boxes meet (CGAL's box sweep).
+template <typename Visit>
+void for_overlapping_boxes(const std::vector<std::shared_ptr<const ExactFace>>& faces, Visit visit) {
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
+  std::vector<Box> boxes;
+  boxes.reserve(faces.size());
+  for (std::size_t i = 0; i < faces.size(); ++i) boxes.emplace_back(faces[i]->bbox, i);
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    visit(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
+  });
+}
+
+// Eq. 5 for the whole history at once: face i is drawn polygon i minus the union of the
+// polygons drawn after it that come near it (one aggregated union each). A polygon nothing
+// covers is shared as it is; pieces that touch only at a corner become separate faces.
+std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet,
+                                                     const std::vector<std::shared_ptr<const ExactFace>>& drawn,
+                                                     std::size_t given) {
+  return guarded("", "faces", [&] {
+    std::vector<std::vector<std::size_t>> above(drawn.size());
+    for_overlapping_boxes(drawn, [&](std::size_t i, std::size_t j) {
+      if (j >= given) above[i].push_back(j);  // faces given as final are disjoint already
+    });
+    auto s = std::make_shared<FaceModelState>();
+    s->min_x = sheet.min_x;
+    s->max_x = sheet.max_x;
+    s->min_v = sheet.min_v;
+    s->max_v = sheet.max_v;
+    for (std::size_t i = 0; i < drawn.size(); ++i) {
+      const ExactFace& d = *drawn[i];
+      if (above[i].empty()) {
+        s->faces.push_back(drawn[i]);
+        continue;
+      }
+      std::vector<ExactPolygonWithHoles> cover;
+      cover.reserve(above[i].size());
+      for (std::size_t j : above[i]) cover.push_back(drawn[j]->polygon);
+      PolygonSet rest(d.polygon);
+      if (cover.size() == 1) {
+        rest.difference(cover.front());
+      } else {
+        PolygonSet covered;
+        covered.join(cover.begin(), cover.end());
+        rest.difference(covered);
+      }
+      std::vector<ExactPolygonWithHoles> pieces;
+      rest.polygons_with_holes(std::back_inserter(pieces));
+      for (const ExactPolygonWithHoles& piece : pieces) {
+        for (ExactPolygonWithHoles& lobe : split_lobes(piece)) s->faces.push_back(make_face(d.kind, d.t, std::move(lobe)));
+      }
+      if (s->faces.size() > kMaxFaces) fail("", "edits", "the model would have more than " + std::to_string(kMaxFaces) + " faces");
+    }
+    return std::shared_ptr<const FaceModelState>(std::move(s));
+  });
+}
+
 }  // namespace
 
 const char* to_string(EditOp op) {
@@ -158,19 +221,20 @@ const char* to_string(EditOp op) {
   return "add_vface";
 }
 
-FaceModel::FaceModel(std::shared_ptr<const FaceModelState> state) : state_(std::move(state)) {}
-
 FaceModel::FaceModel(double width_mm, double back_mm, double floor_mm) {
   auto s = initial_state(width_mm, back_mm, floor_mm);
-  s->faces.push_back(make_face(FaceKind::vertical, 0, ExactPolygonWithHoles(rectangle(s->min_x, 0, s->max_x, s->max_v))));
-  s->faces.push_back(make_face(FaceKind::horizontal, 0, ExactPolygonWithHoles(rectangle(s->min_x, s->min_v, s->max_x, 0))));
-  state_ = std::move(s);
+  drawn_.push_back(make_face(FaceKind::vertical, 0, ExactPolygonWithHoles(rectangle(s->min_x, 0, s->max_x, s->max_v))));
+  drawn_.push_back(make_face(FaceKind::horizontal, 0, ExactPolygonWithHoles(rectangle(s->min_x, s->min_v, s->max_x, 0))));
+  given_ = drawn_.size();  // the boards do not overlap
+  sheet_ = std::move(s);
+  changed();
 }
 
 FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                                 const std::string& source) {
   auto s = initial_state(width_mm, back_mm, floor_mm);
   if (faces.size() > kMaxFaces) fail(source, "faces", "has " + std::to_string(faces.size()) + " faces; the limit is " + std::to_string(kMaxFaces));
+  Drawn given;
   guarded(source, "faces", [&] {
     for (std::size_t i = 0; i < faces.size(); ++i) {
       const std::string where = "faces[" + std::to_string(i) + "]";
@@ -204,34 +268,26 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
       if (!CGAL::is_valid_polygon_with_holes(pwh, CGAL::Gps_segment_traits_2<Kernel>())) {
         fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
       }
-      s->faces.push_back(make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh)));
+      given.push_back(make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh)));
     }
     // Eq. 4: no two faces overlap, and together they cover the sheet exactly. One aggregated
     // union (a sweep, O(n log n)) proves both: its area equals the sum of the faces' areas only
     // when nothing overlaps. Only on failure are pairs searched, to name the two faces.
     FT area = 0;
     std::vector<ExactPolygonWithHoles> polygons;
-    for (const auto& fp : s->faces) {
-      area += fp->polygon.outer_boundary().area();
-      for (const ExactPolygon& h : fp->polygon.holes()) area += h.area();
+    for (const auto& fp : given) {
+      area += polygon_area(fp->polygon);
       polygons.push_back(fp->polygon);
     }
-    CGAL::Polygon_set_2<Kernel> all;
+    PolygonSet all;
     all.join(polygons.begin(), polygons.end());
     std::vector<ExactPolygonWithHoles> united;
     all.polygons_with_holes(std::back_inserter(united));
     FT union_area = 0;
-    for (const ExactPolygonWithHoles& u : united) {
-      union_area += u.outer_boundary().area();
-      for (const ExactPolygon& h : u.holes()) union_area += h.area();
-    }
+    for (const ExactPolygonWithHoles& u : united) union_area += polygon_area(u);
     if (union_area != area) {
-      using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
-      std::vector<Box> boxes;
-      for (std::size_t i = 0; i < s->faces.size(); ++i) boxes.emplace_back(s->faces[i]->bbox, i);
-      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-        const std::size_t i = std::min(a.info(), b.info()), j = std::max(a.info(), b.info());
-        if (CGAL::do_intersect(s->faces[i]->polygon, s->faces[j]->polygon)) {
+      for_overlapping_boxes(given, [&](std::size_t i, std::size_t j) {
+        if (CGAL::do_intersect(given[i]->polygon, given[j]->polygon)) {
           fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
         }
       });
@@ -244,8 +300,12 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
     }
     return 0;
   });
-  FaceModel m{std::shared_ptr<const FaceModelState>(std::move(s))};
+  FaceModel m;
+  m.sheet_ = std::move(s);
+  m.drawn_ = std::move(given);
+  m.given_ = m.drawn_.size();
   m.from_edits_ = false;
+  m.changed();
   return m;
 }
 
@@ -273,111 +333,120 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
     }
     min_second = i == 0 ? second : std::min(min_second, second);
   }
+  Drawn added;
   guarded(source, where, [&] {
     // Exact points only when every input was finite and in range; else exact_polygon reports it.
     const ExactPolygon q = exact_polygon(ring, source, where + ".outline", exact.size() == ring.size() ? exact : std::vector<ExactPoint>{});
-    auto next = std::make_shared<FaceModelState>(*state_);
-    if (!inside_sheet(q, *next)) fail(source, where + ".outline", "leaves the sheet");
+    const FaceModelState& sheet = *sheet_;
+    if (!inside_sheet(q, sheet)) fail(source, where + ".outline", "leaves the sheet");
 
     FaceKind kind = vertical_plane ? FaceKind::vertical : FaceKind::horizontal;
     FT t = t_exact;
-    if (edit.op == EditOp::add_vhole || edit.op == EditOp::add_hhole) {
+    const bool from_hole = edit.op == EditOp::add_vhole || edit.op == EditOp::add_hhole;
+    if (from_hole) {
       // Eq. 6: a hole must lie in faces of its plane; it becomes the face of the other kind
       // at the hole's lowest z (in a VFace) or nearest y (in an HFace), with the same pattern polygon.
+      // What shows at a point is the last polygon drawn over it, so walk down from the top
+      // through the polygons near the hole until all of it is accounted for.
       PolygonSet rest(q);
-      for (const auto& f : next->faces) {
-        if (f->kind == kind && f->t == t) rest.difference(f->polygon);
-      }
-      if (!rest.is_empty()) {
-        fail(source, where + ".outline",
-             std::string("the hole is not inside ") + (vertical_plane ? "a VFace at depth y = " : "an HFace at height z = ") +
-                 format_decimal(edit.t_mm, 3) + " mm");
+      const CGAL::Bbox_2 qbox = q.bbox();
+      for (std::size_t j = drawn_.size(); j-- > 0 && !rest.is_empty();) {
+        const ExactFace& d = *drawn_[j];
+        if (!CGAL::do_overlap(qbox, d.bbox)) continue;
+        if (d.kind != kind || d.t != t) {
+          PolygonSet shown = rest;
+          shown.intersection(d.polygon);
+          if (!shown.is_empty()) {
+            fail(source, where + ".outline",
+                 std::string("the hole is not inside ") + (vertical_plane ? "a VFace at depth y = " : "an HFace at height z = ") +
+                     format_decimal(edit.t_mm, 3) + " mm");
+          }
+        }
+        rest.difference(d.polygon);
       }
       kind = vertical_plane ? FaceKind::horizontal : FaceKind::vertical;
       t = exact_decimal(min_second);
     }
 
-    // Eq. 5: subtract the new polygon from every face it may touch; pieces stay faces.
-    std::vector<std::shared_ptr<const ExactFace>> faces;
-    faces.reserve(next->faces.size() + 1);
-    const CGAL::Bbox_2 qbox = q.bbox();
-    for (const auto& f : next->faces) {
-      if (!CGAL::do_overlap(qbox, f->bbox)) {
-        faces.push_back(f);
-        continue;
-      }
-      std::vector<ExactPolygonWithHoles> pieces;
-      CGAL::difference(f->polygon, q, std::back_inserter(pieces));
-      for (ExactPolygonWithHoles& piece : pieces) {
-        for (ExactPolygonWithHoles& lobe : split_lobes(piece)) faces.push_back(make_face(f->kind, f->t, std::move(lobe)));
-      }
-    }
     // A face made from a hole may reach past the back wall (an HFace with y < 0, i.e. v > t) or
     // below the floor (a VFace with z < 0, i.e. v < -t). As with windows in the voxel paper (§2.3)
     // that part lies on the back wall or the floor instead, with the same pattern polygon.
-    const bool from_hole = edit.op == EditOp::add_vhole || edit.op == EditOp::add_hhole;
     const FT limit = kind == FaceKind::horizontal ? t : -t;
     const bool spills = from_hole && std::any_of(q.vertices_begin(), q.vertices_end(), [&](const ExactPoint& p) {
       return kind == FaceKind::horizontal ? p.y() > limit : p.y() < limit;
     });
     if (!spills) {
-      faces.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
+      added.push_back(make_face(kind, t, ExactPolygonWithHoles(q)));
     } else {
-      const ExactPolygon stays = kind == FaceKind::horizontal ? rectangle(next->min_x, next->min_v, next->max_x, limit)
-                                                              : rectangle(next->min_x, limit, next->max_x, next->max_v);
+      const ExactPolygon stays = kind == FaceKind::horizontal ? rectangle(sheet.min_x, sheet.min_v, sheet.max_x, limit)
+                                                              : rectangle(sheet.min_x, limit, sheet.max_x, sheet.max_v);
       std::vector<ExactPolygonWithHoles> kept, moved;
       CGAL::intersection(q, stays, std::back_inserter(kept));
       CGAL::difference(q, stays, std::back_inserter(moved));
       const FaceKind board = kind == FaceKind::horizontal ? FaceKind::vertical : FaceKind::horizontal;
-      for (auto& piece : kept) {
-        for (auto& lobe : split_lobes(piece)) faces.push_back(make_face(kind, t, std::move(lobe)));
-      }
-      for (auto& piece : moved) {
-        for (auto& lobe : split_lobes(piece)) faces.push_back(make_face(board, 0, std::move(lobe)));
-      }
+      for (auto& piece : kept) added.push_back(make_face(kind, t, std::move(piece)));
+      for (auto& piece : moved) added.push_back(make_face(board, 0, std::move(piece)));
     }
-    if (faces.size() > kMaxFaces) fail(source, where, "the model would have more than " + std::to_string(kMaxFaces) + " faces");
-    next->faces = std::move(faces);
-    undo_.push_back(state_);
-    state_ = std::move(next);
     return 0;
   });
+  if (!undone_.empty()) {
+    undone_.clear();
+    redo_drawn_.clear();
+  }
+  for (auto& d : added) drawn_.push_back(std::move(d));
   edits_.push_back(edit);
-  redo_.clear();
-  undone_.clear();
+  edit_end_.push_back(drawn_.size());
+  changed();
 }
 
 bool FaceModel::undo() {
-  if (undo_.empty()) return false;
-  redo_.push_back(state_);
+  if (edits_.empty()) return false;
+  const std::size_t begin = edits_.size() > 1 ? edit_end_[edits_.size() - 2] : given_;
+  redo_drawn_.emplace_back(std::make_move_iterator(drawn_.begin() + static_cast<std::ptrdiff_t>(begin)),
+                           std::make_move_iterator(drawn_.end()));
+  drawn_.resize(begin);
   undone_.push_back(edits_.back());
   edits_.pop_back();
-  state_ = undo_.back();
-  undo_.pop_back();
+  edit_end_.pop_back();
+  changed();
   return true;
 }
 
 bool FaceModel::redo() {
-  if (redo_.empty()) return false;
-  undo_.push_back(state_);
+  if (undone_.empty()) return false;
+  for (auto& d : redo_drawn_.back()) drawn_.push_back(std::move(d));
+  redo_drawn_.pop_back();
   edits_.push_back(undone_.back());
   undone_.pop_back();
-  state_ = redo_.back();
-  redo_.pop_back();
+  edit_end_.push_back(drawn_.size());
+  changed();
   return true;
 }
 
-Rect FaceModel::sheet() const {
-  return {{CGAL::to_double(state_->min_x), CGAL::to_double(state_->min_v)},
-          {CGAL::to_double(state_->max_x), CGAL::to_double(state_->max_v)}};
+// Faces are worked out at most once per state; copies of a model share the result.
+struct detail::FaceCache {
+  std::once_flag once;
+  std::shared_ptr<const FaceModelState> state;
+};
+
+void FaceModel::changed() { cache_ = std::make_shared<FaceCache>(); }
+
+const FaceModelState& FaceModel::state() const {
+  std::call_once(cache_->once, [&] { cache_->state = work_out_faces(*sheet_, drawn_, given_); });
+  return *cache_->state;
 }
 
-std::size_t FaceModel::face_count() const { return state_->faces.size(); }
+Rect FaceModel::sheet() const {
+  return {{CGAL::to_double(sheet_->min_x), CGAL::to_double(sheet_->min_v)},
+          {CGAL::to_double(sheet_->max_x), CGAL::to_double(sheet_->max_v)}};
+}
+
+std::size_t FaceModel::face_count() const { return state().faces.size(); }
 
 std::vector<OAFace> FaceModel::faces() const {
   std::vector<OAFace> out;
-  out.reserve(state_->faces.size());
-  for (const auto& f : state_->faces) {
+  out.reserve(state().faces.size());
+  for (const auto& f : state().faces) {
     OAFace o{f->kind, CGAL::to_double(f->t), {to_ring(f->polygon.outer_boundary()), {}}};
     for (const ExactPolygon& h : f->polygon.holes()) o.polygon.holes.push_back(to_ring(h));
     out.push_back(std::move(o));

@@ -46,11 +46,20 @@ struct FaceEdit {
 
 namespace detail {
 struct FaceModelState;  // exact (CGAL) faces; defined in core/src only
+struct ExactFace;
+struct FaceCache;
 }
 
 // The faces always partition the sheet (eq. 4): every edit subtracts its polygon from the
 // faces already there (eq. 5) with exact regularized Booleans. Coordinates are exact inside;
 // faces() rounds them to double for output.
+//
+// The subtraction is deferred: the model keeps the polygons in the order they were drawn, and
+// face i is drawn polygon i minus the union of everything drawn after it. An edit is then local
+// (a hole is checked against the polygons near it only), and the faces are worked out once, when
+// first asked for, with one aggregated union per drawn polygon. Done eagerly, every edit would
+// re-cut the back board and floor, whose outlines grow with every face: quadratic in the edits.
+// A FaceModel may be read from several threads; editing needs exclusive access.
 class FaceModel {
  public:
   // The initial card: the back board (VFace, t = 0) over v ≥ 0 and the floor (HFace, t = 0) over
@@ -69,15 +78,24 @@ class FaceModel {
   bool has_edit_history() const { return from_edits_; }           // false for a model read as faces
 
   Rect sheet() const;
+  // The faces; the first call after an edit works them out (throws popcut::Error when the
+  // model would exceed kMaxFaces).
   std::vector<OAFace> faces() const;
   std::size_t face_count() const;
-  const detail::FaceModelState& state() const { return *state_; }
+  const detail::FaceModelState& state() const;
 
  private:
-  explicit FaceModel(std::shared_ptr<const detail::FaceModelState> state);
-  std::shared_ptr<const detail::FaceModelState> state_;
-  std::vector<std::shared_ptr<const detail::FaceModelState>> undo_, redo_;
+  using Drawn = std::vector<std::shared_ptr<const detail::ExactFace>>;
+  FaceModel() = default;
+  void changed();
+
+  std::shared_ptr<const detail::FaceModelState> sheet_;  // the sheet's bounds; no faces
+  Drawn drawn_;                // bottom to top: each polygon covers those drawn before it (eq. 5)
+  std::size_t given_ = 0;      // leading polygons read as final faces: disjoint, nothing to subtract
+  std::vector<std::size_t> edit_end_;  // drawn_.size() after each edit in edits_
   std::vector<FaceEdit> edits_, undone_;
+  std::vector<Drawn> redo_drawn_;      // the polygons of each undone edit, for redo
+  mutable std::shared_ptr<detail::FaceCache> cache_;  // the faces of this state, once worked out
   bool from_edits_ = true;
 };
 
