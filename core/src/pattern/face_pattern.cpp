@@ -1,15 +1,11 @@
-// Face model → typed lines and fold links through a CGAL arrangement with exact arithmetic.
+// Face model → typed lines and fold links from the exact map of face boundaries (polygon paper Fig. 10).
 #include "popcut/pattern/face_pattern.h"
 
-#include <CGAL/Arr_consolidated_curve_data_traits_2.h>
-#include <CGAL/Arr_segment_traits_2.h>
-#include <CGAL/Arrangement_2.h>
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Polygon_set_2.h>
 
 #include <algorithm>
 #include <map>
-#include <unordered_map>
 
 #include "model/face_model_state.h"
 #include "popcut/error.h"
@@ -20,11 +16,6 @@ using namespace detail;
 
 namespace {
 
-using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
-// Each input edge carries 2·face + side: side 0 when its face lies left of the edge walked
-// from its lexicographically smaller end, 1 when right. Overlapping edges pool their data.
-using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, int>;
-using Arrangement = CGAL::Arrangement_2<Traits>;
 using PolygonSet = CGAL::Polygon_set_2<Kernel>;
 
 // Union-find over faces: coplanar faces that share an edge are one piece of paper.
@@ -74,12 +65,94 @@ Point2 interior_point(const PatternFace& f) {
   return best;
 }
 
-struct EdgeInfo {
-  int left = -1;   // face left of the edge walked left-to-right (above a horizontal edge)
-  int right = -1;  // face on the other side
-  int kind = -1;   // -1: outline (one side is outside the sheet); else LineKind
-  bool chained = false;  // already part of an emitted maximal line
+// One stretch of boundary between consecutive vertices on a line, with the face on each side.
+struct Piece {
+  ExactPoint a, b;       // a before b in (x, v) order
+  int left = -1;         // face left of a→b (above a horizontal piece); -1: outside the sheet
+  int right = -1;        // face on the other side
+  int kind = -1;         // LineKind once typed; -1: no line (outline, or inside one face)
+  std::size_t line = 0;  // which supporting line: pieces of one line are consecutive, in order
 };
+
+// Polygon paper Fig. 10: a boundary edge that another face's edge shares only in part is split
+// at that edge's endpoints. Faces that partition the sheet never cross (eq. 4), so every vertex
+// of the map lies on a line through collinear edges; splitting each supporting line at all the
+// endpoints on it gives exactly the edges of the arrangement of all face boundaries, each with
+// its two faces (the half-edge pair of ../shared/seeds/003 §3), without a general intersection sweep.
+std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces, const std::string& source) {
+  struct Edge {
+    ExactPoint lo, hi;
+    int face;
+    bool face_left;  // face lies left of lo→hi
+    int dir;         // 0: v constant, 1: x constant, 2: slanted
+    FT key, key2;    // v, x, or slope and intercept
+  };
+  std::vector<Edge> edges;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const auto add_ring = [&](const ExactPolygon& ring) {
+      for (auto e = ring.edges_begin(); e != ring.edges_end(); ++e) {
+        const bool forward = CGAL::compare_xy(e->source(), e->target()) == CGAL::SMALLER;
+        Edge edge{forward ? e->source() : e->target(), forward ? e->target() : e->source(), static_cast<int>(i), forward, 0, 0, 0};
+        if (edge.lo.y() == edge.hi.y()) {
+          edge.key = edge.lo.y();
+        } else if (edge.lo.x() == edge.hi.x()) {
+          edge.dir = 1;
+          edge.key = edge.lo.x();
+        } else {
+          edge.dir = 2;
+          edge.key = (edge.hi.y() - edge.lo.y()) / (edge.hi.x() - edge.lo.x());
+          edge.key2 = edge.lo.y() - edge.key * edge.lo.x();
+        }
+        edges.push_back(std::move(edge));  // rings run with their face on the left (outer CCW, holes CW)
+      }
+    };
+    add_ring(faces[i]->polygon.outer_boundary());
+    for (const ExactPolygon& h : faces[i]->polygon.holes()) add_ring(h);
+  }
+  const auto same_line = [](const Edge& a, const Edge& b) { return a.dir == b.dir && a.key == b.key && a.key2 == b.key2; };
+  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
+    if (a.dir != b.dir) return a.dir < b.dir;
+    if (a.key != b.key) return a.key < b.key;
+    return a.key2 < b.key2;
+  });
+  std::vector<Piece> pieces;
+  std::vector<ExactPoint> stops;
+  const auto before = [](const ExactPoint& p, const ExactPoint& q) { return CGAL::compare_xy(p, q) == CGAL::SMALLER; };
+  std::size_t line = 0;
+  for (std::size_t g = 0; g < edges.size(); ++line) {
+    std::size_t end = g + 1;
+    while (end < edges.size() && same_line(edges[g], edges[end])) ++end;
+    stops.clear();
+    for (std::size_t k = g; k < end; ++k) {
+      stops.push_back(edges[k].lo);
+      stops.push_back(edges[k].hi);
+    }
+    std::sort(stops.begin(), stops.end(), before);
+    stops.erase(std::unique(stops.begin(), stops.end()), stops.end());
+    const std::size_t first = pieces.size();
+    for (std::size_t k = 0; k + 1 < stops.size(); ++k) pieces.push_back({stops[k], stops[k + 1], -1, -1, -1, line});
+    for (std::size_t k = g; k < end; ++k) {
+      const Edge& e = edges[k];
+      const auto from = std::lower_bound(stops.begin(), stops.end(), e.lo, before) - stops.begin();
+      const auto to = std::lower_bound(stops.begin(), stops.end(), e.hi, before) - stops.begin();
+      for (auto at = from; at < to; ++at) {
+        Piece& piece = pieces[first + static_cast<std::size_t>(at)];
+        int& slot = e.face_left ? piece.left : piece.right;
+        if (slot >= 0 && slot != e.face) {
+          throw Error(ErrorCode::invalid_input, source, "faces",
+                      "faces " + std::to_string(slot) + " and " + std::to_string(e.face) + " overlap (eq. 4)");
+        }
+        slot = e.face;
+      }
+    }
+    // Stretches between edges that no face borders are not part of the map.
+    pieces.erase(std::remove_if(pieces.begin() + static_cast<std::ptrdiff_t>(first), pieces.end(),
+                                [](const Piece& p) { return p.left < 0 && p.right < 0; }),
+                 pieces.end());
+    g = end;
+  }
+  return pieces;
+}
 
 }  // namespace
 
@@ -87,41 +160,17 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
   const FaceModelState& s = model.state();
   try {
     const auto& input = s.faces;  // shared with the model, read in place
-    std::vector<Traits::Curve_2> curves;
-    for (std::size_t i = 0; i < input.size(); ++i) {
-      const auto add_ring = [&](const ExactPolygon& ring) {
-        for (auto e = ring.edges_begin(); e != ring.edges_end(); ++e) {
-          const bool forward = CGAL::compare_xy(e->source(), e->target()) == CGAL::SMALLER;
-          // Rings run with their face on the left (outer CCW, holes CW).
-          curves.emplace_back(SegmentTraits::Curve_2(e->source(), e->target()), static_cast<int>(2 * i + (forward ? 0 : 1)));
-        }
-      };
-      add_ring(input[i]->polygon.outer_boundary());
-      for (const ExactPolygon& h : input[i]->polygon.holes()) add_ring(h);
-    }
-    Arrangement arr;
-    CGAL::insert(arr, curves.begin(), curves.end());
+    std::vector<Piece> pieces = split_shared_edges(input, source);
 
-    // The faces on each side of every edge; coplanar faces across an edge (not just a corner)
-    // are one piece of paper, so they are merged into one face with no line between.
-    std::unordered_map<const void*, EdgeInfo> info;
+    // Coplanar faces across an edge (not just a corner) are one piece of paper, so they are
+    // merged into one face with no line between.
     Groups groups(input.size());
-    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
-      EdgeInfo ei;
-      for (int d : e->curve().data()) {
-        int& slot = d % 2 == 0 ? ei.left : ei.right;
-        if (slot >= 0 && slot != d / 2) {
-          throw Error(ErrorCode::invalid_input, source, "faces",
-                      "faces " + std::to_string(slot) + " and " + std::to_string(d / 2) + " overlap (eq. 4)");
-        }
-        slot = d / 2;
+    for (const Piece& pc : pieces) {
+      if (pc.left >= 0 && pc.right >= 0) {
+        const ExactFace& l = *input[static_cast<std::size_t>(pc.left)];
+        const ExactFace& r = *input[static_cast<std::size_t>(pc.right)];
+        if (l.kind == r.kind && l.t == r.t) groups.join(pc.left, pc.right);
       }
-      if (ei.left >= 0 && ei.right >= 0) {
-        const ExactFace& l = *input[static_cast<std::size_t>(ei.left)];
-        const ExactFace& r = *input[static_cast<std::size_t>(ei.right)];
-        if (l.kind == r.kind && l.t == r.t) groups.join(ei.left, ei.right);
-      }
-      info[&*e] = ei;
     }
     std::vector<int> group_index(input.size(), -1);
     std::vector<std::vector<int>> members;
@@ -134,11 +183,11 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       members[static_cast<std::size_t>(group_index[static_cast<std::size_t>(root)])].push_back(static_cast<int>(i));
     }
     const auto face_of = [&](int input_face) { return group_index[static_cast<std::size_t>(groups.find(input_face))]; };
-    std::vector<ExactFace> faces;
+    std::vector<std::shared_ptr<const ExactFace>> faces;
     for (const std::vector<int>& group : members) {
       const ExactFace& first = *input[static_cast<std::size_t>(group.front())];
       if (group.size() == 1) {
-        faces.push_back(first);
+        faces.push_back(input[static_cast<std::size_t>(group.front())]);
         continue;
       }
       // One aggregated join per plane (a sweep), not one Boolean per member.
@@ -149,28 +198,28 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       std::vector<ExactPolygonWithHoles> joined;
       set.polygons_with_holes(std::back_inserter(joined));
       if (joined.size() != 1) throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
-      faces.push_back({first.kind, first.t, std::move(joined.front()), {}});
+      faces.push_back(std::make_shared<const ExactFace>(ExactFace{first.kind, first.t, std::move(joined.front()), {}}));
     }
     Pattern p;
     p.sheet = model.sheet();
-    for (const ExactFace& f : faces) {
+    for (const auto& fp : faces) {
+      const ExactFace& f = *fp;
       PatternFace pf{f.kind, CGAL::to_double(f.t), to_ring(f.polygon.outer_boundary()), {}, {}};
       for (const ExactPolygon& h : f.polygon.holes()) pf.holes.push_back(to_ring(h));
       pf.label = interior_point(pf);
       p.faces.push_back(std::move(pf));
     }
 
-    // Type every edge by where its two faces meet in 3D.
+    // Type every piece by where its two faces meet in 3D.
     std::map<std::pair<int, int>, std::size_t> link_index;
     std::map<int, FT> top_length, bottom_length;
-    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
-      EdgeInfo& ei = info[&*e];
-      if (ei.left >= 0) ei.left = face_of(ei.left);
-      if (ei.right >= 0) ei.right = face_of(ei.right);
-      const ExactPoint& a = e->curve().left();
-      const ExactPoint& b = e->curve().right();
+    for (Piece& pc : pieces) {
+      if (pc.left >= 0) pc.left = face_of(pc.left);
+      if (pc.right >= 0) pc.right = face_of(pc.right);
+      const ExactPoint& a = pc.a;
+      const ExactPoint& b = pc.b;
       const bool horizontal = a.y() == b.y();
-      if (ei.left < 0 || ei.right < 0) {
+      if (pc.left < 0 || pc.right < 0) {
         const bool on_outline = (horizontal && (a.y() == s.max_v || a.y() == s.min_v)) ||
                                 (a.x() == b.x() && (a.x() == s.min_x || a.x() == s.max_x));
         if (!on_outline) {
@@ -178,68 +227,43 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
                       "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
                           std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
         }
-        if (horizontal && a.y() == s.max_v && ei.right >= 0) top_length[ei.right] += b.x() - a.x();
-        if (horizontal && a.y() == s.min_v && ei.left >= 0) bottom_length[ei.left] += b.x() - a.x();
+        if (horizontal && a.y() == s.max_v && pc.right >= 0) top_length[pc.right] += b.x() - a.x();
+        if (horizontal && a.y() == s.min_v && pc.left >= 0) bottom_length[pc.left] += b.x() - a.x();
         continue;
       }
-      if (ei.left == ei.right) continue;  // inside one merged face: no line
-      ei.kind = static_cast<int>(LineKind::cut);
-      const ExactFace& up = faces[static_cast<std::size_t>(ei.left)];
-      const ExactFace& lo = faces[static_cast<std::size_t>(ei.right)];
+      if (pc.left == pc.right) continue;  // inside one merged face: no line
+      pc.kind = static_cast<int>(LineKind::cut);
+      const ExactFace& up = *faces[static_cast<std::size_t>(pc.left)];
+      const ExactFace& lo = *faces[static_cast<std::size_t>(pc.right)];
       if (horizontal && up.kind != lo.kind) {
         // The faces meet in 3D exactly when t_h - t_v = v (DESIGN.md): a fold, typed by which is above.
         const FT& tv = up.kind == FaceKind::vertical ? up.t : lo.t;
         const FT& th = up.kind == FaceKind::horizontal ? up.t : lo.t;
         if (th - tv == a.y()) {
           const LineKind kind = up.kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
-          ei.kind = static_cast<int>(kind);
-          auto [it, fresh] = link_index.emplace(std::make_pair(ei.left, ei.right), p.folds.size());
-          if (fresh) p.folds.push_back({ei.left, ei.right, kind, 0});
+          pc.kind = static_cast<int>(kind);
+          auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
+          if (fresh) p.folds.push_back({pc.left, pc.right, kind, 0});
           p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
         }
       }
     }
 
-    // Maximal lines: chain edges of one kind through vertices where they continue straight on.
-    const auto edge_key = [&](Arrangement::Halfedge_const_handle h) -> const void* {
-      // info is keyed by the halfedge the edge iterator yields; find it from either twin.
-      return info.count(&*h) ? static_cast<const void*>(&*h) : static_cast<const void*>(&*h->twin());
-    };
-    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
-      EdgeInfo& ei = info[&*e];
-      if (ei.kind < 0 || ei.chained) continue;
-      ei.chained = true;
-      ExactPoint lo = e->curve().left(), hi = e->curve().right();
-      // Extend from one end while a collinear edge of the same kind leaves it the other way.
-      const auto extend = [&](Arrangement::Vertex_const_handle v, ExactPoint& end, const ExactPoint& other) {
-        for (;;) {
-          bool moved = false;
-          auto circ = v->incident_halfedges();
-          if (circ == Arrangement::Halfedge_around_vertex_const_circulator()) return;
-          auto first = circ;
-          do {
-            Arrangement::Halfedge_const_handle h = circ;  // points into v
-            EdgeInfo& next = info[edge_key(h)];
-            const ExactPoint& far = h->source()->point();
-            if (!next.chained && next.kind == ei.kind && CGAL::collinear(other, end, far) &&
-                CGAL::collinear_are_ordered_along_line(other, end, far)) {
-              next.chained = true;
-              end = far;
-              v = h->source();
-              moved = true;
-              break;
-            }
-          } while (++circ != first);
-          if (!moved) return;
+    // Maximal lines: runs of touching pieces of one kind along one supporting line.
+    for (std::size_t k = 0; k < pieces.size();) {
+      const Piece& start = pieces[k];
+      std::size_t end = k + 1;
+      if (start.kind >= 0) {
+        while (end < pieces.size() && pieces[end].line == start.line && pieces[end].kind == start.kind &&
+               pieces[end].a == pieces[end - 1].b) {
+          ++end;
         }
-      };
-      const ExactPoint lo0 = lo, hi0 = hi;
-      Arrangement::Vertex_const_handle vl = e->source()->point() == lo0 ? e->source() : e->target();
-      Arrangement::Vertex_const_handle vr = e->source()->point() == lo0 ? e->target() : e->source();
-      extend(vl, lo, hi0);
-      extend(vr, hi, lo);
-      p.lines.push_back({static_cast<LineKind>(ei.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
-                         {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
+        const ExactPoint& lo = start.a;
+        const ExactPoint& hi = pieces[end - 1].b;
+        p.lines.push_back({static_cast<LineKind>(start.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
+                           {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
+      }
+      k = end;
     }
     std::sort(p.lines.begin(), p.lines.end(), [](const Segment& a, const Segment& b) {
       const bool ha = a.a.v_mm == a.b.v_mm, hb = b.a.v_mm == b.b.v_mm;
