@@ -20,6 +20,7 @@
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
 #include "popcut/model/repair.h"
+#include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
 
@@ -131,6 +132,16 @@ void print_report(std::ostream& out, const std::string& source, const Pattern& p
 
 // The name a file goes by in messages: "-" is standard input.
 std::string shown(const std::string& path) { return path == "-" ? "<stdin>" : path; }
+
+// The pattern of a model file. A face model that leaves a piece cut free of the sheet is bad
+// input (exit 2, naming the edit that drew it): its edits were meant to build one sheet. A voxel
+// model's loose pieces (windows that float, voxel paper Fig. 8) are what validation reports.
+Pattern load_pattern(const std::string& model_path) {
+  const AnyModel model = load_model(model_path);
+  Pattern p = make_pattern(model, shown(model_path));
+  if (const FaceModel* faces = std::get_if<FaceModel>(&model)) require_attached(*faces, p, check_popup(p), shown(model_path));
+  return p;
+}
 
 
 
@@ -253,7 +264,7 @@ int run(int argc, char** argv) {
       if (out_path == "-" && json_out) {
         throw Error(ErrorCode::invalid_input, "", "--json", "cannot print a summary when the pattern itself goes to standard output");
       }
-      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
+      const Pattern p = load_pattern(model_path);
       const PopupReport report = check_popup(p);
       write_output(out_path, [&](std::ostream& out) {
         if (ext == ".svg") write_pattern_svg(out, p, {shade});
@@ -278,7 +289,7 @@ int run(int argc, char** argv) {
   }
   if (*validate) {
     return guarded(json_out, [&] {
-      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
+      const Pattern p = load_pattern(model_path);
       const PopupReport report = check_popup(p);
       if (json_out) print_json(report_json(shown(model_path), p, report));
       else print_report(std::cout, shown(model_path), p, report);
@@ -288,7 +299,7 @@ int run(int argc, char** argv) {
   if (*fold) {
     return guarded(false, [&] {
       const std::string ext = require_extension(out_path, {".obj", ".gltf"}, "3D format");
-      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
+      const Pattern p = load_pattern(model_path);
       const CardMesh mesh = fold_card(p, angle_deg);
       if (ext == ".gltf") {
         write_output(out_path, [&](std::ostream& out) { write_gltf(out, mesh); });
@@ -306,7 +317,7 @@ int run(int argc, char** argv) {
   if (*render) {
     return guarded(false, [&] {
       const std::string ext = require_extension(out_path, {".svg", ".png"}, "picture format");
-      const Pattern p = make_pattern(load_model(model_path), shown(model_path));
+      const Pattern p = load_pattern(model_path);
       std::vector<double> angles;
       for (int i = 0; i < frames; ++i) angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
       std::vector<CardMesh> meshes;

@@ -231,4 +231,27 @@ TEST_F(Cli, FaceModels) {
   EXPECT_NE(repair.err.find("expected \"popcut.voxel.v1\", got \"popcut.faces.v1\""), std::string::npos) << repair.err;
 }
 
+TEST_F(Cli, FaceModelWithAPieceCutFreeIsBadInput) {
+  // A wall at y = 5 that reaches neither the floor nor a roof: cut on every side, it would fall out.
+  const std::string floating = file("floating.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
+    "edits": [{"op": "add_vface", "t": 20, "outline": [[10, 0], [50, 0], [50, 30], [10, 30]]},
+              {"op": "add_vface", "t": 5, "outline": [[20, 10], [30, 10], [30, 25], [20, 25]]}]})");
+  for (const std::string command : {"validate", "pattern", "render"}) {
+    const std::string out = command == "validate" ? "" : " -o " + (dir_ / (command == "render" ? "x.svg" : "x.json")).string();
+    const Result r = run(command + " " + floating + out);
+    EXPECT_EQ(r.code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("floating.json: edits[1]: leaves a piece cut free of the sheet (1 face, x 20 to 30 mm, v 5 to 20 mm, 150 mm²)"),
+              std::string::npos)
+        << command << " names the edit that drew the loose face and where it is: " << r.err;
+  }
+  // Given as final faces, the same piece is named by its face index.
+  const std::string given = file("given.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 20, "back": 10, "floor": 10},
+    "faces": [{"kind": "V", "t": 0, "outer": [[0, 0], [20, 0], [20, 10], [0, 10]]},
+              {"kind": "H", "t": 0, "outer": [[0, -10], [20, -10], [20, 0], [0, 0]], "holes": [[[5, -8], [5, -2], [15, -2], [15, -8]]]},
+              {"kind": "V", "t": 3, "outer": [[5, -8], [15, -8], [15, -2], [5, -2]]}]})");
+  const Result r = run("validate " + given);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("given.json: faces[2]: leaves a piece cut free"), std::string::npos) << r.err;
+}
+
 }  // namespace

@@ -436,6 +436,26 @@ const FaceModelState& FaceModel::state() const {
   return *cache_->state;
 }
 
+std::string FaceModel::drawn_by(Point2 p) const {
+  const ExactPoint q(p.x_mm, p.v_mm);  // doubles convert exactly
+  for (std::size_t j = drawn_.size(); j-- > 0;) {
+    const ExactFace& d = *drawn_[j];
+    if (p.x_mm < d.bbox.xmin() || p.x_mm > d.bbox.xmax() || p.v_mm < d.bbox.ymin() || p.v_mm > d.bbox.ymax()) continue;
+    if (d.polygon.outer_boundary().bounded_side(q) == CGAL::ON_UNBOUNDED_SIDE) continue;
+    if (std::any_of(d.polygon.holes_begin(), d.polygon.holes_end(),
+                    [&](const ExactPolygon& h) { return h.bounded_side(q) != CGAL::ON_UNBOUNDED_SIDE; })) {
+      continue;
+    }
+    if (j >= given_) {
+      const auto k = std::upper_bound(edit_end_.begin(), edit_end_.end(), j) - edit_end_.begin();
+      return "edits[" + std::to_string(k) + "]";
+    }
+    if (!from_edits_) return "faces[" + std::to_string(j) + "]";
+    return j == 0 ? "the back board" : "the floor";
+  }
+  return "the sheet";
+}
+
 Rect FaceModel::sheet() const {
   return {{CGAL::to_double(sheet_->min_x), CGAL::to_double(sheet_->min_v)},
           {CGAL::to_double(sheet_->max_x), CGAL::to_double(sheet_->max_v)}};

@@ -9,6 +9,7 @@
 
 #include "model/face_model_state.h"
 #include "popcut/error.h"
+#include "popcut/text.h"
 #include "popcut/pattern/voxel_pattern.h"
 
 namespace popcut {
@@ -295,6 +296,20 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
   } catch (const std::exception& e) {
     throw Error(ErrorCode::internal, source, "pattern", std::string("geometry kernel failure: ") + e.what());
   }
+}
+
+void require_attached(const FaceModel& model, const Pattern& pattern, const PopupReport& report, const std::string& source) {
+  if (report.loose_pieces.empty()) return;
+  const LoosePiece& piece = report.loose_pieces.front();
+  const PatternFace& face = pattern.faces.at(static_cast<std::size_t>(piece.faces.front()));
+  const auto mm = [](double v) { return format_decimal(v, 2); };
+  std::string message = "leaves a piece cut free of the sheet (" + std::to_string(piece.faces.size()) +
+                        (piece.faces.size() == 1 ? " face" : " faces") + ", x " + mm(piece.bounds.min.x_mm) + " to " +
+                        mm(piece.bounds.max.x_mm) + " mm, v " + mm(piece.bounds.min.v_mm) + " to " + mm(piece.bounds.max.v_mm) +
+                        " mm, " + mm(piece.area_mm2) + " mm²): no fold joins it to the back board or the floor, so it "
+                        "would fall out; give it a face that meets the card along a fold";
+  if (report.loose_pieces.size() > 1) message += " (" + std::to_string(report.loose_pieces.size() - 1) + " more loose pieces)";
+  throw Error(ErrorCode::invalid_input, source, model.drawn_by(face.label), message);
 }
 
 FaceModel to_face_model(const VoxelModel& model, const std::string& source) {

@@ -84,6 +84,10 @@ class FaceModel {
   std::size_t face_count() const;
   const detail::FaceModelState& state() const;
 
+  // What drew the face at pattern point p: "edits[k]", "faces[i]" for a model read as faces,
+  // or "the back board" / "the floor" of the blank card. For error messages.
+  std::string drawn_by(Point2 p) const;
+
  private:
   using Drawn = std::vector<std::shared_ptr<const detail::ExactFace>>;
   FaceModel() = default;
