@@ -1,6 +1,7 @@
 // Strict JSON parsing and typed getters shared by the model and pattern readers.
 #include "io/json_util.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <set>
@@ -67,7 +68,22 @@ json parse(const std::string& text, const std::string& source) {
     std::string what = e.what();
     const auto bracket = what.find("] ");
     if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    throw Error(ErrorCode::invalid_input, source, "", "malformed JSON: " + what);
+    // The parser names the token ("number overflow parsing '1e999'") but not where it is: find
+    // the first place it stands as a whole token (not inside a longer number or a word).
+    std::string where;
+    const auto open = what.find('\''), close = what.rfind('\'');
+    if (open != std::string::npos && close > open + 1) {
+      const std::string token = what.substr(open + 1, close - open - 1);
+      const auto is_token_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+'; };
+      for (auto at = text.find(token); at != std::string::npos; at = text.find(token, at + 1)) {
+        const std::size_t end = at + token.size();
+        if ((at == 0 || !is_token_char(text[at - 1])) && (end == text.size() || !is_token_char(text[end]))) {
+          where = position(text, at + 1);
+          break;
+        }
+      }
+    }
+    throw Error(ErrorCode::invalid_input, source, where, "malformed JSON: " + what);
   }
 }
 

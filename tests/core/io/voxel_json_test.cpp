@@ -87,7 +87,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"sheet too small", "{" HEAD R"("heights": [[3, 3]], "sheet": {"floor": 4}})", "sheet.floor", "at least 5 voxels"},
         BadCase{"sheet unknown key", "{" HEAD R"("heights": [[3]], "sheet": {"top": 4}})", "sheet.top", "unknown field"},
         BadCase{"sheet negative side", "{" HEAD R"("heights": [[3]], "sheet": {"side": -1}})", "sheet.side", "from 0"},
-        BadCase{"number overflow", R"({"format": "popcut.voxel.v1", "voxel_mm": 1e400, "heights": [[1]]})", "", "overflow"},
+        BadCase{"number overflow", R"({"format": "popcut.voxel.v1", "voxel_mm": 1e400, "heights": [[1]]})", "line 1, column 43", "overflow"},
         BadCase{"voxel_mm zero", R"({"format": "popcut.voxel.v1", "voxel_mm": 0, "heights": [[1]]})", "voxel_mm", "from 0.01"},
         BadCase{"voxel_mm string", R"({"format": "popcut.voxel.v1", "voxel_mm": "2", "heights": [[1]]})", "voxel_mm", "got a string"},
         BadCase{"no columns", "{" HEAD R"("heights": []})", "heights", "at least one column"},
