@@ -73,6 +73,8 @@ struct Piece {
   int right = -1;        // face on the other side
   int kind = -1;         // LineKind once typed; -1: no line (outline, or inside one face)
   std::size_t line = 0;  // which supporting line: pieces of one line are consecutive, in order
+  int dir = 0;           // the line: 0 v constant (= key), 1 x constant (= key), 2 slanted
+  FT key;
 };
 
 // Polygon paper Fig. 10: a boundary edge that another face's edge shares only in part is split
@@ -89,16 +91,21 @@ std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const Ex
     FT key, key2;    // v, x, or slope and intercept
   };
   std::vector<Edge> edges;
+  // Vertices are read in place and coordinates taken once per edge: with lazy exact numbers,
+  // every constructed segment or coordinate is an allocation.
   for (std::size_t i = 0; i < faces.size(); ++i) {
     const auto add_ring = [&](const ExactPolygon& ring) {
-      for (auto e = ring.edges_begin(); e != ring.edges_end(); ++e) {
-        const bool forward = CGAL::compare_xy(e->source(), e->target()) == CGAL::SMALLER;
-        Edge edge{forward ? e->source() : e->target(), forward ? e->target() : e->source(), static_cast<int>(i), forward, 0, 0, 0};
-        if (edge.lo.y() == edge.hi.y()) {
-          edge.key = edge.lo.y();
-        } else if (edge.lo.x() == edge.hi.x()) {
+      const auto& v = ring.container();
+      for (std::size_t k = 0; k < v.size(); ++k) {
+        const ExactPoint& from = v[k];
+        const ExactPoint& to = v[k + 1 == v.size() ? 0 : k + 1];
+        const bool forward = CGAL::compare_xy(from, to) == CGAL::SMALLER;
+        Edge edge{forward ? from : to, forward ? to : from, static_cast<int>(i), forward, 0, 0, 0};
+        if (CGAL::compare_y(from, to) == CGAL::EQUAL) {
+          edge.key = from.y();
+        } else if (CGAL::compare_x(from, to) == CGAL::EQUAL) {
           edge.dir = 1;
-          edge.key = edge.lo.x();
+          edge.key = from.x();
         } else {
           edge.dir = 2;
           edge.key = (edge.hi.y() - edge.lo.y()) / (edge.hi.x() - edge.lo.x());
@@ -131,7 +138,9 @@ std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const Ex
     std::sort(stops.begin(), stops.end(), before);
     stops.erase(std::unique(stops.begin(), stops.end()), stops.end());
     const std::size_t first = pieces.size();
-    for (std::size_t k = 0; k + 1 < stops.size(); ++k) pieces.push_back({stops[k], stops[k + 1], -1, -1, -1, line});
+    for (std::size_t k = 0; k + 1 < stops.size(); ++k) {
+      pieces.push_back({stops[k], stops[k + 1], -1, -1, -1, line, edges[g].dir, edges[g].key});
+    }
     for (std::size_t k = g; k < end; ++k) {
       const Edge& e = edges[k];
       const auto from = std::lower_bound(stops.begin(), stops.end(), e.lo, before) - stops.begin();
@@ -219,17 +228,17 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       if (pc.right >= 0) pc.right = face_of(pc.right);
       const ExactPoint& a = pc.a;
       const ExactPoint& b = pc.b;
-      const bool horizontal = a.y() == b.y();
+      const bool horizontal = pc.dir == 0;
       if (pc.left < 0 || pc.right < 0) {
-        const bool on_outline = (horizontal && (a.y() == s.max_v || a.y() == s.min_v)) ||
-                                (a.x() == b.x() && (a.x() == s.min_x || a.x() == s.max_x));
+        const bool on_outline = (horizontal && (pc.key == s.max_v || pc.key == s.min_v)) ||
+                                (pc.dir == 1 && (pc.key == s.min_x || pc.key == s.max_x));
         if (!on_outline) {
           throw Error(ErrorCode::invalid_input, source, "faces",
                       "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
                           std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
         }
-        if (horizontal && a.y() == s.max_v && pc.right >= 0) top_length[pc.right] += b.x() - a.x();
-        if (horizontal && a.y() == s.min_v && pc.left >= 0) bottom_length[pc.left] += b.x() - a.x();
+        if (horizontal && pc.key == s.max_v && pc.right >= 0) top_length[pc.right] += b.x() - a.x();
+        if (horizontal && pc.key == s.min_v && pc.left >= 0) bottom_length[pc.left] += b.x() - a.x();
         continue;
       }
       if (pc.left == pc.right) continue;  // inside one merged face: no line
@@ -240,7 +249,7 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
         // The faces meet in 3D exactly when t_h - t_v = v (DESIGN.md): a fold, typed by which is above.
         const FT& tv = up.kind == FaceKind::vertical ? up.t : lo.t;
         const FT& th = up.kind == FaceKind::horizontal ? up.t : lo.t;
-        if (th - tv == a.y()) {
+        if (th - tv == pc.key) {
           const LineKind kind = up.kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
           pc.kind = static_cast<int>(kind);
           auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
