@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "model/face_model_state.h"
+#include "pattern/face_map.h"
 #include "popcut/error.h"
 
 namespace popcut::testing {
@@ -22,19 +23,6 @@ using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
 // from its lexicographically smaller end, 1 when right. Overlapping edges pool their data.
 using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, int>;
 using Arrangement = CGAL::Arrangement_2<Traits>;
-
-// Union-find over faces: coplanar faces that share an edge are one piece of paper.
-struct Groups {
-  std::vector<int> parent;
-  explicit Groups(std::size_t n) : parent(n) {
-    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<int>(i);
-  }
-  int find(int f) {
-    while (parent[static_cast<std::size_t>(f)] != f) f = parent[static_cast<std::size_t>(f)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(f)])];
-    return f;
-  }
-  void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
-};
 
 struct EdgeInfo {
   int left = -1;   // face left of the edge walked left-to-right (above a horizontal edge)
@@ -68,7 +56,7 @@ Pattern arrangement_lines(const FaceModel& model) {
     // The faces on each side of every edge; coplanar faces across an edge (not just a corner)
     // are one piece of paper, so they are merged into one face with no line between.
     std::unordered_map<const void*, EdgeInfo> info;
-    Groups groups(input.size());
+    CoplanarGroups groups(input);
     for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
       EdgeInfo ei;
       for (int d : e->curve().data()) {
@@ -79,24 +67,11 @@ Pattern arrangement_lines(const FaceModel& model) {
         }
         slot = d / 2;
       }
-      if (ei.left >= 0 && ei.right >= 0) {
-        const ExactFace& l = *input[static_cast<std::size_t>(ei.left)];
-        const ExactFace& r = *input[static_cast<std::size_t>(ei.right)];
-        if (l.kind == r.kind && l.t == r.t) groups.join(ei.left, ei.right);
-      }
+      if (ei.left >= 0 && ei.right >= 0) groups.meet(ei.left, ei.right);
       info[&*e] = ei;
     }
-    std::vector<int> group_index(input.size(), -1);
-    std::vector<std::vector<int>> members;
-    for (std::size_t i = 0; i < input.size(); ++i) {
-      const int root = groups.find(static_cast<int>(i));
-      if (group_index[static_cast<std::size_t>(root)] < 0) {
-        group_index[static_cast<std::size_t>(root)] = static_cast<int>(members.size());
-        members.emplace_back();
-      }
-      members[static_cast<std::size_t>(group_index[static_cast<std::size_t>(root)])].push_back(static_cast<int>(i));
-    }
-    const auto face_of = [&](int input_face) { return group_index[static_cast<std::size_t>(groups.find(input_face))]; };
+    const std::vector<std::vector<int>> members = groups.members();
+    const auto face_of = [&](int input_face) { return groups.group_of(input_face); };
     // Each merged face's plane is its first member's.
     std::vector<const ExactFace*> faces;
     for (const std::vector<int>& group : members) faces.push_back(input[static_cast<std::size_t>(group.front())].get());
@@ -121,20 +96,12 @@ Pattern arrangement_lines(const FaceModel& model) {
         continue;
       }
       if (ei.left == ei.right) continue;  // inside one merged face: no line
-      ei.kind = static_cast<int>(LineKind::cut);
-      const ExactFace& up = *faces[static_cast<std::size_t>(ei.left)];
-      const ExactFace& lo = *faces[static_cast<std::size_t>(ei.right)];
-      if (horizontal && up.kind != lo.kind) {
-        // The faces meet in 3D exactly when t_h - t_v = v (DESIGN.md): a fold, typed by which is above.
-        const FT& tv = up.kind == FaceKind::vertical ? up.t : lo.t;
-        const FT& th = up.kind == FaceKind::horizontal ? up.t : lo.t;
-        if (th - tv == a.y()) {
-          const LineKind kind = up.kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
-          ei.kind = static_cast<int>(kind);
-          auto [it, fresh] = link_index.emplace(std::make_pair(ei.left, ei.right), p.folds.size());
-          if (fresh) p.folds.push_back({ei.left, ei.right, kind, 0});
-          p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
-        }
+      const LineKind kind = line_between(*faces[static_cast<std::size_t>(ei.left)], *faces[static_cast<std::size_t>(ei.right)], horizontal, a.y());
+      ei.kind = static_cast<int>(kind);
+      if (kind != LineKind::cut) {
+        auto [it, fresh] = link_index.emplace(std::make_pair(ei.left, ei.right), p.folds.size());
+        if (fresh) p.folds.push_back({ei.left, ei.right, kind, 0});
+        p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
       }
     }
 
@@ -179,15 +146,7 @@ Pattern arrangement_lines(const FaceModel& model) {
       p.lines.push_back({static_cast<LineKind>(ei.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
                          {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
     }
-    std::sort(p.lines.begin(), p.lines.end(), [](const Segment& a, const Segment& b) {
-      const bool ha = a.a.v_mm == a.b.v_mm, hb = b.a.v_mm == b.b.v_mm;
-      if (ha != hb) return ha;
-      return ha ? std::tie(a.a.v_mm, a.a.x_mm) < std::tie(b.a.v_mm, b.a.x_mm)
-                : std::tie(a.a.x_mm, a.a.v_mm, a.b.x_mm) < std::tie(b.a.x_mm, b.a.v_mm, b.b.x_mm);
-    });
-    std::sort(p.folds.begin(), p.folds.end(), [](const FoldLink& a, const FoldLink& b) {
-      return a.upper != b.upper ? a.upper < b.upper : a.lower < b.lower;
-    });
+    sort_lines_and_folds(p);
 
     return p;
   }

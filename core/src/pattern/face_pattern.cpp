@@ -8,6 +8,7 @@
 #include <map>
 
 #include "model/face_model_state.h"
+#include "pattern/face_map.h"
 #include "popcut/error.h"
 #include "popcut/text.h"
 #include "popcut/pattern/voxel_pattern.h"
@@ -18,19 +19,6 @@ using namespace detail;
 namespace {
 
 using PolygonSet = CGAL::Polygon_set_2<Kernel>;
-
-// Union-find over faces: coplanar faces that share an edge are one piece of paper.
-struct Groups {
-  std::vector<int> parent;
-  explicit Groups(std::size_t n) : parent(n) {
-    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<int>(i);
-  }
-  int find(int f) {
-    while (parent[static_cast<std::size_t>(f)] != f) f = parent[static_cast<std::size_t>(f)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(f)])];
-    return f;
-  }
-  void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
-};
 
 // A point inside a polygon with holes: the middle of the widest inside stretch of a horizontal
 // line halfway between the two lowest distinct vertex heights (never through a vertex).
@@ -174,25 +162,12 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
 
     // Coplanar faces across an edge (not just a corner) are one piece of paper, so they are
     // merged into one face with no line between.
-    Groups groups(input.size());
+    CoplanarGroups groups(input);
     for (const Piece& pc : pieces) {
-      if (pc.left >= 0 && pc.right >= 0) {
-        const ExactFace& l = *input[static_cast<std::size_t>(pc.left)];
-        const ExactFace& r = *input[static_cast<std::size_t>(pc.right)];
-        if (l.kind == r.kind && l.t == r.t) groups.join(pc.left, pc.right);
-      }
+      if (pc.left >= 0 && pc.right >= 0) groups.meet(pc.left, pc.right);
     }
-    std::vector<int> group_index(input.size(), -1);
-    std::vector<std::vector<int>> members;
-    for (std::size_t i = 0; i < input.size(); ++i) {
-      const int root = groups.find(static_cast<int>(i));
-      if (group_index[static_cast<std::size_t>(root)] < 0) {
-        group_index[static_cast<std::size_t>(root)] = static_cast<int>(members.size());
-        members.emplace_back();
-      }
-      members[static_cast<std::size_t>(group_index[static_cast<std::size_t>(root)])].push_back(static_cast<int>(i));
-    }
-    const auto face_of = [&](int input_face) { return group_index[static_cast<std::size_t>(groups.find(input_face))]; };
+    const std::vector<std::vector<int>> members = groups.members();
+    const auto face_of = [&](int input_face) { return groups.group_of(input_face); };
     std::vector<std::shared_ptr<const ExactFace>> faces;
     for (const std::vector<int>& group : members) {
       const ExactFace& first = *input[static_cast<std::size_t>(group.front())];
@@ -242,20 +217,12 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
         continue;
       }
       if (pc.left == pc.right) continue;  // inside one merged face: no line
-      pc.kind = static_cast<int>(LineKind::cut);
-      const ExactFace& up = *faces[static_cast<std::size_t>(pc.left)];
-      const ExactFace& lo = *faces[static_cast<std::size_t>(pc.right)];
-      if (horizontal && up.kind != lo.kind) {
-        // The faces meet in 3D exactly when t_h - t_v = v (DESIGN.md): a fold, typed by which is above.
-        const FT& tv = up.kind == FaceKind::vertical ? up.t : lo.t;
-        const FT& th = up.kind == FaceKind::horizontal ? up.t : lo.t;
-        if (th - tv == pc.key) {
-          const LineKind kind = up.kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
-          pc.kind = static_cast<int>(kind);
-          auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
-          if (fresh) p.folds.push_back({pc.left, pc.right, kind, 0});
-          p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
-        }
+      const LineKind kind = line_between(*faces[static_cast<std::size_t>(pc.left)], *faces[static_cast<std::size_t>(pc.right)], horizontal, pc.key);
+      pc.kind = static_cast<int>(kind);
+      if (kind != LineKind::cut) {
+        auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
+        if (fresh) p.folds.push_back({pc.left, pc.right, kind, 0});
+        p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
       }
     }
 
@@ -275,15 +242,7 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       }
       k = end;
     }
-    std::sort(p.lines.begin(), p.lines.end(), [](const Segment& a, const Segment& b) {
-      const bool ha = a.a.v_mm == a.b.v_mm, hb = b.a.v_mm == b.b.v_mm;
-      if (ha != hb) return ha;
-      return ha ? std::tie(a.a.v_mm, a.a.x_mm) < std::tie(b.a.v_mm, b.a.x_mm)
-                : std::tie(a.a.x_mm, a.a.v_mm, a.b.x_mm) < std::tie(b.a.x_mm, b.a.v_mm, b.b.x_mm);
-    });
-    std::sort(p.folds.begin(), p.folds.end(), [](const FoldLink& a, const FoldLink& b) {
-      return a.upper != b.upper ? a.upper < b.upper : a.lower < b.lower;
-    });
+    sort_lines_and_folds(p);
 
     // The back board and floor: the faces holding most of the sheet's top and bottom edges.
     const auto longest = [](const std::map<int, FT>& m) {
