@@ -392,11 +392,30 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
   if (!undone_.empty()) {
     undone_.clear();
     redo_drawn_.clear();
+    redo_cache_.clear();
   }
   for (auto& d : added) drawn_.push_back(std::move(d));
   edits_.push_back(edit);
   edit_end_.push_back(drawn_.size());
+  keep(undo_cache_, std::move(cache_));
   changed();
+}
+
+// The faces of the last few states stay at hand, so stepping back and forth in an editor does
+// not work them out again; older states recompute on demand.
+void FaceModel::keep(std::vector<std::shared_ptr<FaceCache>>& stack, std::shared_ptr<FaceCache> cache) {
+  constexpr std::size_t kKeptStates = 16;
+  if (stack.size() == kKeptStates) stack.erase(stack.begin());
+  stack.push_back(std::move(cache));
+}
+
+void FaceModel::restore(std::vector<std::shared_ptr<FaceCache>>& stack) {
+  if (stack.empty()) {
+    changed();
+  } else {
+    cache_ = std::move(stack.back());
+    stack.pop_back();
+  }
 }
 
 bool FaceModel::undo() {
@@ -408,7 +427,8 @@ bool FaceModel::undo() {
   undone_.push_back(edits_.back());
   edits_.pop_back();
   edit_end_.pop_back();
-  changed();
+  keep(redo_cache_, std::move(cache_));
+  restore(undo_cache_);
   return true;
 }
 
@@ -419,7 +439,8 @@ bool FaceModel::redo() {
   edits_.push_back(undone_.back());
   undone_.pop_back();
   edit_end_.push_back(drawn_.size());
-  changed();
+  keep(undo_cache_, std::move(cache_));
+  restore(redo_cache_);
   return true;
 }
 

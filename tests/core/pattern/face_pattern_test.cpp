@@ -153,9 +153,18 @@ TEST(FaceModel, RandomEditsUndoAndRedoExactly) {
   for (std::size_t i = 0; i < models.size(); ++i) {
     FaceModel& m = models[i];
     const Pattern full = make_pattern(m);
-    const std::size_t edits = m.edits().size();
-    while (m.undo()) {
+    const std::vector<FaceEdit> history = m.edits();
+    const std::size_t edits = history.size();
+    // Step back one edit at a time, asking for the pattern each time (as an editor would): each
+    // state must equal the same edits replayed on a blank card.
+    for (std::size_t k = edits; k-- > 0;) {
+      ASSERT_TRUE(m.undo()) << "model " << i;
+      const Rect sheet = m.sheet();
+      FaceModel replay(sheet.max.x_mm - sheet.min.x_mm, sheet.max.v_mm, -sheet.min.v_mm);
+      for (std::size_t e = 0; e < k; ++e) replay.apply(history[e]);
+      ASSERT_EQ(make_pattern(m), make_pattern(replay)) << "model " << i << ": state after undo to " << k << " edits";
     }
+    ASSERT_FALSE(m.undo()) << "model " << i << ": nothing more to undo";
     ASSERT_EQ(m.face_count(), 2u) << "model " << i << ": undoing every edit leaves the blank card";
     for (std::size_t k = 0; k < edits; ++k) ASSERT_TRUE(m.redo()) << "model " << i;
     ASSERT_FALSE(m.redo()) << "model " << i << ": nothing more to redo";

@@ -92,6 +92,8 @@ class FaceModel {
   using Drawn = std::vector<std::shared_ptr<const detail::ExactFace>>;
   FaceModel() = default;
   void changed();
+  static void keep(std::vector<std::shared_ptr<detail::FaceCache>>& stack, std::shared_ptr<detail::FaceCache> cache);
+  void restore(std::vector<std::shared_ptr<detail::FaceCache>>& stack);
 
   std::shared_ptr<const detail::FaceModelState> sheet_;  // the sheet's bounds; no faces
   Drawn drawn_;                // bottom to top: each polygon covers those drawn before it (eq. 5)
@@ -100,6 +102,7 @@ class FaceModel {
   std::vector<FaceEdit> edits_, undone_;
   std::vector<Drawn> redo_drawn_;      // the polygons of each undone edit, for redo
   mutable std::shared_ptr<detail::FaceCache> cache_;  // the faces of this state, once worked out
+  std::vector<std::shared_ptr<detail::FaceCache>> undo_cache_, redo_cache_;  // of the states nearest in history
   bool from_edits_ = true;
 };
 
