@@ -15,3 +15,23 @@ enum ExitCode : int {
 int run(int argc, char** argv);
 
 }  // namespace popcut::cli
+
+// Shared by the command files (cli_commands.cpp, cli_cut.cpp).
+#include <functional>
+#include <iosfwd>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "popcut/pattern/pattern.h"
+
+namespace popcut::cli {
+
+// Runs a command body, turning popcut errors into messages (and JSON with --json) and exit codes.
+int run_guarded(bool json_errors, const std::function<int()>& body);
+// The pattern of a model file, as every command loads it ("-" is standard input).
+Pattern load_cli_pattern(const std::string& model_path);
+// Writes an output file atomically; failures exit with kCannotWrite.
+void write_cli_output(const std::string& path, const std::function<void(std::ostream&)>& content);
+void print_json_line(const nlohmann::json& j);
+
+}  // namespace popcut::cli
