@@ -283,16 +283,27 @@ std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fo
     return out;
   }
   const LineKind want = kind == PlanKind::cut ? LineKind::cut : (kind == PlanKind::valley ? LineKind::valley : LineKind::mountain);
-  std::vector<const Segment*> cuts;
+  // Cut lines in a grid, so each fold end looks only at the cuts near it.
+  std::vector<std::pair<Point2, Point2>> cuts;
   for (const Segment& l : pattern.lines) {
-    if (l.kind == LineKind::cut) cuts.push_back(&l);
+    if (l.kind == LineKind::cut) cuts.emplace_back(l.a, l.b);
+  }
+  Grid grid(s, cuts.size());
+  for (std::size_t i = 0; i < cuts.size(); ++i) {
+    const auto& [a, b] = cuts[i];
+    grid.insert(static_cast<int>(i), {std::min(a.x_mm, b.x_mm) - kEps, std::min(a.v_mm, b.v_mm) - kEps},
+                {std::max(a.x_mm, b.x_mm) + kEps, std::max(a.v_mm, b.v_mm) + kEps});
   }
   const auto touches_cut = [&](Point2 p) {
     if (std::abs(p.x_mm - s.min.x_mm) <= kEps || std::abs(p.x_mm - s.max.x_mm) <= kEps ||
         std::abs(p.v_mm - s.min.v_mm) <= kEps || std::abs(p.v_mm - s.max.v_mm) <= kEps) {
       return true;  // the outline is cut too
     }
-    return std::any_of(cuts.begin(), cuts.end(), [&](const Segment* c) { return on_segment(p, c->a, c->b); });
+    const std::vector<int>& near = grid.cell(grid.cx(p.x_mm), grid.cv(p.v_mm));
+    return std::any_of(near.begin(), near.end(), [&](int i) {
+      const auto& c = cuts[static_cast<std::size_t>(i)];
+      return on_segment(p, c.first, c.second);
+    });
   };
   for (const Segment& l : pattern.lines) {
     if (l.kind != want) continue;
