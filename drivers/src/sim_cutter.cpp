@@ -90,13 +90,18 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
       n = std::min(n, cap - buffer_used());
     }
     advance_to(now_s_ + byte_s * static_cast<double>(n));
-    std::size_t keep = n;
-    if (!held && buffer_used() + n > cap) {
-      keep = cap > buffer_used() ? cap - buffer_used() : 0;
-      report_.overflow_bytes += n - keep;
-    }
     std::vector<HpglCommand> cmds;
-    reader_.feed(std::string_view(reinterpret_cast<const char*>(data) + r.bytes, keep), cmds);
+    const std::string_view slice(reinterpret_cast<const char*>(data) + r.bytes, n);
+    if (held || buffer_used() + n <= cap) {
+      reader_.feed(slice, cmds);
+    } else {
+      // Paced by XON/XOFF or ESC.B and the host overran the buffer: HP-GL bytes that find it
+      // full are lost, but device-control sequences never enter the buffer and still arrive.
+      for (char c : slice) {
+        if (c == '\x1b' || reader_.in_device_control() || buffer_used() < cap) reader_.feed(std::string_view(&c, 1), cmds);
+        else ++report_.overflow_bytes;
+      }
+    }
     r.bytes += n;
     report_.bytes_received += n;
     for (HpglCommand& c : cmds) {

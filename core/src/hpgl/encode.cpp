@@ -64,10 +64,12 @@ PlotterPath rounded(const Stroke& s, const Rect& sheet, const Placement& placeme
 }  // namespace
 
 std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const HpglDialect& d) {
-  const Placement placement = place_sheet(plan.sheet, d);
+  // The frame placed is the sheet and everything the knife's axis visits (drag-knife arcs).
+  const Rect frame = plan.extent();
+  const Placement placement = place_sheet(frame, d);
   std::vector<PlotterPath> out;
   for (const Stroke& s : plan.strokes) {
-    PlotterPath p = rounded(s, plan.sheet, placement, d);
+    PlotterPath p = rounded(s, frame, placement, d);
     if (p.size() >= 2) out.push_back(std::move(p));
   }
   return out;
@@ -98,7 +100,8 @@ std::array<std::int64_t, 2> to_plotter(Point2 pt, const Rect& sheet, const Place
 }
 
 std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std::array<ToolSetting, 4>& tools) {
-  const Placement placement = place_sheet(plan.sheet, d);
+  const Rect frame = plan.extent();
+  const Placement placement = place_sheet(frame, d);
   Writer w(d);
   w.raw(d.init);
   const bool relative = d.coords == CoordMode::relative;
@@ -152,7 +155,7 @@ std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std:
 
   for (const Stroke& s : plan.strokes) {
     // The same rounding as plan_in_plotter_units: a stroke that rounds to one point is not sent.
-    const PlotterPath pts = rounded(s, plan.sheet, placement, d);
+    const PlotterPath pts = rounded(s, frame, placement, d);
     if (pts.size() < 2) continue;
     const std::size_t k = index_of(s.kind);
     if (k != kind) {

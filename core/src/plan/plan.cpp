@@ -258,6 +258,63 @@ KindStats StrokePlan::total() const {
   return t;
 }
 
+Rect StrokePlan::extent() const {
+  Rect r = sheet;
+  for (const Stroke& s : strokes) {
+    for (Point2 p : s.points) {
+      r.min = {std::min(r.min.x_mm, p.x_mm), std::min(r.min.v_mm, p.v_mm)};
+      r.max = {std::max(r.max.x_mm, p.x_mm), std::max(r.max.v_mm, p.v_mm)};
+    }
+  }
+  return r;
+}
+
+std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm) {
+  if (overcut_mm <= 0 || !is_closed(path)) return path;
+  std::vector<Point2> out = path;
+  double left = overcut_mm;
+  for (std::size_t i = 1; i < path.size() && left > 0; ++i) {
+    const double l = dist(path[i - 1], path[i]);
+    if (l >= left) {
+      out.push_back(lerp(path[i - 1], path[i], left / l));
+      break;
+    }
+    out.push_back(path[i]);
+    left -= l;
+  }
+  return out;
+}
+
+std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip, double offset_mm, double swivel_step_deg) {
+  std::vector<Point2> pts;
+  for (Point2 p : tip) {
+    if (pts.empty() || !same(pts.back(), p)) pts.push_back(p);
+  }
+  if (offset_mm <= 0 || pts.size() < 2) return pts;
+  const auto unit = [](Point2 a, Point2 b) {
+    const double l = dist(a, b);
+    return Point2{(b.x_mm - a.x_mm) / l, (b.v_mm - a.v_mm) / l};
+  };
+  const auto ahead = [&](Point2 p, Point2 d) { return Point2{p.x_mm + offset_mm * d.x_mm, p.v_mm + offset_mm * d.v_mm}; };
+  const double step = std::max(1.0, swivel_step_deg) * kPi / 180;
+  std::vector<Point2> out{ahead(pts[0], unit(pts[0], pts[1]))};
+  for (std::size_t i = 1; i + 1 < pts.size(); ++i) {
+    const Point2 d0 = unit(pts[i - 1], pts[i]), d1 = unit(pts[i], pts[i + 1]);
+    out.push_back(ahead(pts[i], d0));
+    // Swivel: the axis circles the tip (which stays at the corner) from the old heading to the
+    // new, the short way round, so the blade turns in place.
+    const double a0 = std::atan2(d0.v_mm, d0.x_mm);
+    const double turn = std::atan2(d0.x_mm * d1.v_mm - d0.v_mm * d1.x_mm, d0.x_mm * d1.x_mm + d0.v_mm * d1.v_mm);
+    const int n = static_cast<int>(std::ceil(std::abs(turn) / step));
+    for (int k = 1; k <= n; ++k) {
+      const double a = a0 + turn * k / n;
+      out.push_back({pts[i].x_mm + offset_mm * std::cos(a), pts[i].v_mm + offset_mm * std::sin(a)});
+    }
+  }
+  out.push_back(ahead(pts.back(), unit(pts[pts.size() - 2], pts.back())));
+  return out;
+}
+
 double path_length_mm(const std::vector<Point2>& path) {
   double l = 0;
   for (std::size_t i = 1; i < path.size(); ++i) l += dist(path[i - 1], path[i]);
@@ -576,15 +633,15 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
     paths = order_paths(std::move(paths), at, options.optimise_budget);
     stats.travel_mm = travel_mm(paths, at);
     for (auto& p : paths) {
-      at = p.back();
-      Stroke s{kind, with_passes(p, kp.passes)};
+      // Overcut closes a loop; the blade offset applies to every pass, turns included.
+      const std::vector<Point2> tip = with_passes(with_overcut(p, options.overcut_mm), kp.passes);
+      at = tip.back();  // the next kind is ordered from where the blade tip stands
+      Stroke s{kind, blade_offset_path(tip, options.blade_offset_mm, options.swivel_step_deg)};
       stats.cut_mm += path_length_mm(s.points);
       ++stats.strokes;
       ++stats.pen_lifts;
       plan.strokes.push_back(std::move(s));
     }
-    // Passes come back to where the stroke started when even: the next travel leaves from there.
-    if (!plan.strokes.empty() && !paths.empty()) at = plan.strokes.back().points.back();
   }
   return plan;
 }

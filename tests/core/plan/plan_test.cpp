@@ -157,6 +157,55 @@ TEST(Order, ClosedLoopStartsWhereTravelIsShortest) {
   EXPECT_EQ(out[0].back(), out[0].front()) << "still closed";
 }
 
+TEST(DragKnife, AxisRunsAheadAndSwivelsRoundCorners) {
+  const std::vector<Point2> tip = {{0, 0}, {10, 0}, {10, 10}};
+  const auto axis = blade_offset_path(tip, 0.5, 15);
+  ASSERT_EQ(axis.size(), 2u + 1u + 6u) << "start, corner, 90° in 15° steps, end";
+  EXPECT_EQ(axis.front(), (Point2{0.5, 0})) << "the axis leads the tip along the first segment";
+  EXPECT_EQ(axis[1], (Point2{10.5, 0})) << "and reaches past the corner by the offset";
+  for (std::size_t i = 2; i + 1 < axis.size(); ++i) {
+    EXPECT_NEAR(dist(axis[i], {10, 0}), 0.5, 1e-12) << "swivel arc point " << i << " circles the corner";
+    EXPECT_GE(axis[i].v_mm, -1e-12) << "a left turn swivels the short way (through +v)";
+  }
+  EXPECT_NEAR(axis.back().x_mm, 10, 1e-12);
+  EXPECT_NEAR(axis.back().v_mm, 10.5, 1e-12) << "ends the offset past the last point";
+  const auto back = blade_offset_path({{0, 0}, {10, 0}, {0, 0}}, 0.5, 15);
+  EXPECT_EQ(back.size(), 2u + 12u + 1u) << "a second pass swivels 180°";
+  EXPECT_EQ(blade_offset_path(tip, 0, 15), tip) << "no offset: the tip path itself";
+}
+
+TEST(DragKnife, OvercutContinuesClosedLoopsOnly) {
+  const std::vector<Point2> square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}};
+  const auto over = with_overcut(square, 12);
+  EXPECT_NEAR(path_length_mm(over), 52, 1e-12) << "40 mm round plus 12 mm again";
+  EXPECT_EQ(over.back(), (Point2{10, 2})) << "the overcut follows the loop past its first corner";
+  const std::vector<Point2> open = {{0, 0}, {10, 0}};
+  EXPECT_EQ(with_overcut(open, 5), open) << "open strokes are not extended";
+}
+
+TEST(DragKnife, PlannedAxisStaysWithinTheOffsetOfTheLines) {
+  std::mt19937_64 rng(23);
+  for (int n = 0; n < 30; ++n) {
+    const Pattern p = make_pattern(testing::random_model(rng, {}));
+    PlanOptions tip_only, drag;
+    tip_only.optimise_budget = drag.optimise_budget = std::chrono::milliseconds(0);
+    drag.blade_offset_mm = 0.3;
+    const StrokePlan a = plan_strokes(p, tip_only), b = plan_strokes(p, drag);
+    ASSERT_EQ(a.strokes.size(), b.strokes.size()) << "model " << n << ": the offset adds no strokes";
+    for (std::size_t i = 0; i < a.strokes.size(); ++i) {
+      for (Point2 q : b.strokes[i].points) {
+        double d = 1e9;
+        for (std::size_t k = 1; k < a.strokes[i].points.size(); ++k) {
+          d = std::min(d, dist_to_segment(q, a.strokes[i].points[k - 1], a.strokes[i].points[k]));
+        }
+        EXPECT_LE(d, 0.3 + 1e-9) << "model " << n << " stroke " << i << ": the axis stays within the blade offset";
+      }
+    }
+    const Rect e = b.extent();
+    EXPECT_LE(p.sheet.min.x_mm - e.min.x_mm, 0.3 + 1e-9) << "the outline's corners swing at most the offset past the sheet";
+  }
+}
+
 TEST(Time, TrapezoidProfile) {
   EXPECT_NEAR(move_time_s(100, 100, 1000), 1.1, 1e-12) << "cruise 1 s plus the ramps' lost 0.1 s";
   EXPECT_NEAR(move_time_s(4, 100, 1000), 2 * std::sqrt(4.0 / 1000), 1e-12) << "too short to reach full speed";

@@ -49,8 +49,9 @@ struct Placement {
   std::int64_t width_pu = 0, height_pu = 0;  // the sheet's extent on the plotter axes
 };
 
-// Puts the sheet at the usable area's origin corner; throws popcut::Error (invalid_input) when
-// the sheet does not fit, naming both sizes in mm.
+// Puts `sheet` (the encoder passes StrokePlan::extent(): the sheet and any drag-knife arcs past
+// its edge) at the usable area's origin corner; throws popcut::Error (invalid_input) when it does
+// not fit, naming both sizes in mm.
 Placement place_sheet(const Rect& sheet, const HpglDialect& dialect);
 
 // Absolute plotter coordinates of a pattern point, rounded once (every move derives from these).

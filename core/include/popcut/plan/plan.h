@@ -36,6 +36,11 @@ struct PlanOptions {
   std::array<KindPlan, 4> kinds{};          // indexed by index_of(PlanKind)
   std::chrono::milliseconds optimise_budget{50};  // 2-opt time per kind; 0 = greedy only
   std::optional<Point2> home;               // where the knife starts; default the sheet's min corner
+  // Drag knife: the blade tip trails the tool axis by this much; the axis path is offset ahead
+  // along each segment with swivel arcs at the corners. 0: a tangential knife (or a pen).
+  double blade_offset_mm = 0;
+  double swivel_step_deg = 15;              // chord step of the swivel arcs
+  double overcut_mm = 0;                    // closed loops: cut on past the start so they close cleanly
 };
 
 // One knife-down path: the knife lowers at points.front() and lifts at points.back().
@@ -60,6 +65,8 @@ struct StrokePlan {
   std::vector<Stroke> strokes;  // in cutting order
   std::array<KindStats, 4> kinds{};
   KindStats total() const;
+  // The sheet and every stroke point: a drag knife's axis path may pass the sheet's edge.
+  Rect extent() const;
 };
 
 // The whole plan: fold gaps, chaining, perforation, passes, ordering. Deterministic.
@@ -85,6 +92,11 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
 // 2-opt within the budget; picks each open path's direction and each closed loop's start.
 std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
                                              std::chrono::milliseconds budget);
+
+// The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
+std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
+// A closed loop continued past its start by `overcut_mm` along itself; open paths unchanged.
+std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm);
 
 // Knife-up distance to walk `paths` in order from `start`.
 double travel_mm(const std::vector<std::vector<Point2>>& paths, Point2 start);

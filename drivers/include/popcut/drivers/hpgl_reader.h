@@ -29,6 +29,8 @@ class HpglReader {
   void feed(std::string_view bytes, std::vector<HpglCommand>& out);
   // End of input: the last command may lack its terminator.
   void finish(std::vector<HpglCommand>& out);
+  // Whether the next byte continues a device-control sequence (those bypass the buffer).
+  bool in_device_control() const { return !esc_.empty(); }
   // Bytes held for a command not yet complete.
   std::size_t pending() const { return pending_.size() - synthetic_ + esc_.size(); }
 
