@@ -15,6 +15,7 @@
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "random_models.h"
+#include "shipped_profiles.h"
 
 namespace popcut::drivers {
 namespace {
@@ -58,10 +59,10 @@ TEST(Hp2xx, ReadsEveryProfilesJobAndDrawsThePlannedLines) {
   spec.window_probability = 0.2;
   std::vector<Pattern> patterns = {make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json"))};
   for (int i = 0; i < 3; ++i) patterns.push_back(make_pattern(testing::random_model(rng, spec)));
-  for (const auto& e : fs::directory_iterator(std::string(POPCUT_SOURCE_DIR) + "/configs/devices")) {
-    const DeviceProfile prof = load_profile(e.path().string());
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile prof = load_profile(file);
     for (std::size_t n = 0; n < patterns.size(); ++n) {
-      const std::string what = e.path().filename().string() + " model " + std::to_string(n);
+      const std::string what = fs::path(file).filename().string() + " model " + std::to_string(n);
       PlanOptions o = prof.plan;
       o.optimise_budget = std::chrono::milliseconds(1);
       const StrokePlan plan = plan_strokes(patterns[n], o);

@@ -5,21 +5,15 @@
 
 #include "popcut/drivers/profile.h"
 #include "popcut/error.h"
+#include "shipped_profiles.h"
 
 namespace popcut::drivers {
 namespace {
 
-std::vector<std::string> shipped() {
-  std::vector<std::string> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(POPCUT_SOURCE_DIR) + "/configs/devices")) {
-    if (e.path().extension() == ".toml") files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
+using testing::shipped_profiles;
 
 TEST(Profiles, EveryShippedProfileLoads) {
-  const auto files = shipped();
+  const auto files = shipped_profiles();
   EXPECT_GE(files.size(), 6u) << "generic, Roland, Graphtec, US Cutter, Secabo and sim";
   for (const std::string& f : files) {
     try {

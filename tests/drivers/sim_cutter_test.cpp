@@ -11,20 +11,14 @@
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "random_models.h"
+#include "shipped_profiles.h"
 
 namespace popcut::drivers {
 namespace {
 
 std::string config(const std::string& name) { return std::string(POPCUT_SOURCE_DIR) + "/configs/devices/" + name; }
 
-std::vector<std::string> shipped() {
-  std::vector<std::string> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(POPCUT_SOURCE_DIR) + "/configs/devices")) {
-    if (e.path().extension() == ".toml") files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
+using testing::shipped_profiles;
 
 TEST(HpglReader, CommandsParamsAndSeparators) {
   const auto c = parse_hpgl("IN;SP1;PU100,200;PD 300 400,500,600\nPA;!FS80;VS10,1;ZZ3;PR-5,+7");
@@ -173,7 +167,7 @@ TEST(SimCutter, RecoversThePlannedStrokesForEveryProfile) {
   std::vector<Pattern> patterns;
   for (int i = 0; i < 12; ++i) patterns.push_back(make_pattern(testing::random_model(rng, spec)));
   for (int i = 0; i < 4; ++i) patterns.push_back(make_pattern(AnyModel(testing::random_face_model(rng, {}))));
-  for (const std::string& file : shipped()) {
+  for (const std::string& file : shipped_profiles()) {
     const DeviceProfile prof = load_profile(file);
     for (std::size_t n = 0; n < patterns.size(); ++n) {
       PlanOptions opts = prof.plan;
