@@ -2,6 +2,7 @@
 #include "popcut/drivers/hpgl_reader.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 
 namespace popcut::drivers {
@@ -24,7 +25,7 @@ void parse_params(std::string_view text, HpglCommand& cmd) {
     const std::string token(text.substr(i, j - i));
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0') cmd.malformed = true;
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) cmd.malformed = true;
     else cmd.params.push_back(v);
     i = j;
   }

@@ -222,7 +222,9 @@ void SimCutter::execute(const HpglCommand& c) {
   const auto moves = [&] {
     if (c.params.size() % 2 != 0) report_.errors.push_back({c.offset, n, "odd number of coordinates"});
     for (std::size_t i = 0; i + 1 < c.params.size(); i += 2) {
-      const std::array<std::int64_t, 2> v{std::llround(c.params[i]), std::llround(c.params[i + 1])};
+      // Far beyond any plotter, but small enough that position arithmetic cannot overflow.
+      const auto coord = [](double x) { return std::llround(std::clamp(x, -1e12, 1e12)); };
+      const std::array<std::int64_t, 2> v{coord(c.params[i]), coord(c.params[i + 1])};
       move_to(relative_ ? std::array<std::int64_t, 2>{pos_[0] + v[0], pos_[1] + v[1]} : v);
     }
   };

@@ -81,6 +81,23 @@ TEST(SimCutter, RecordsStrokesWithToolForceAndSpeedAndReportsUnknownCommands) {
   EXPECT_GT(cutter->report().motion_time_s, 0);
 }
 
+TEST(SimCutter, HostileNumbersAreReportedNotFatal) {
+  auto cutter = std::make_shared<SimCutter>(sim_profile());
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  // HP-GL has no exponents (a letter starts a command): huge numbers are long digit strings.
+  const std::string job = "IN;PR" + std::string(30, '9') + ",1;PR-" + std::string(30, '9') + ",1;PA1" + std::string(400, '0') +
+                          ",5;PD1,2,3;";
+  t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(100));
+  ASSERT_TRUE(cutter->run_to_end());
+  EXPECT_TRUE(cutter->report().outside_area) << "moves far off the table are flagged";
+  const auto& errors = cutter->report().errors;
+  ASSERT_EQ(errors.size(), 3u) << "PA: a number beyond double (malformed, leaving an odd count); PD: three numbers";
+  EXPECT_EQ(errors[0].command + " " + errors[0].message, "PA malformed parameters");
+  EXPECT_EQ(errors[1].command + " " + errors[1].message, "PA odd number of coordinates");
+  EXPECT_EQ(errors[2].command + " " + errors[2].message, "PD odd number of coordinates");
+}
+
 TEST(SimCutter, AnswersBufferAndStatusQueries) {
   auto cutter = std::make_shared<SimCutter>(sim_profile());
   SimTransport t(cutter);

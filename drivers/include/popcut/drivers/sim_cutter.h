@@ -77,12 +77,8 @@ class SimCutter {
   void write_svg(std::ostream& out) const;
 
  private:
-  struct Queued {
-    HpglCommand cmd;
-  };
   void advance_to(double t_s);
   void execute(const HpglCommand& c);
-  double command_time_s(const HpglCommand& c) const;
   void answer(const HpglCommand& c);
   void move_to(std::array<std::int64_t, 2> p);
   void end_stroke();
