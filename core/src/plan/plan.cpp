@@ -588,6 +588,55 @@ std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> pa
       }
     }
   }
+  // Or-opt: move a run of one to three paths elsewhere, either way round, when that shortens
+  // the links (2-opt cannot move a stroke without reversing everything in between).
+  const auto entry_of = [&](std::size_t k) { return tour[k].front(); };
+  const auto exit_of = [&](std::size_t k) { return tour[k].back(); };
+  improved = true;
+  while (improved && std::chrono::steady_clock::now() < deadline) {
+    improved = false;
+    for (std::size_t len = 1; len <= 3; ++len) {
+      for (std::size_t i = 0; i + len <= n && std::chrono::steady_clock::now() < deadline; ++i) {
+        const std::size_t last = i + len - 1;
+        const Point2 before = i == 0 ? start : exit_of(i - 1);
+        const bool has_after = last + 1 < n;
+        const double removed = dist(before, entry_of(i)) + (has_after ? dist(exit_of(last), entry_of(last + 1)) - dist(before, entry_of(last + 1)) : 0);
+        double best_gain = 1e-9;
+        const std::size_t none = n + 1;
+        std::size_t best_j = none;
+        bool best_rev = false;
+        // Insert after tour[j] (j == n means: before the first path).
+        for (std::size_t j = 0; j <= n; ++j) {
+          if (j + 1 >= i && j <= last) continue;  // inside or right before the run: no move
+          if (j == n && i == 0) continue;         // already first
+          const Point2 from = j == n ? start : exit_of(j);
+          const std::size_t next = j == n ? 0 : j + 1;
+          const bool has_next = next < n && !(next >= i && next <= last);
+          const double link = has_next ? dist(from, entry_of(next)) : 0;
+          for (bool rev : {false, true}) {
+            const Point2 in = rev ? exit_of(last) : entry_of(i), out = rev ? entry_of(i) : exit_of(last);
+            const double added = dist(from, in) + (has_next ? dist(out, entry_of(next)) : 0) - link;
+            if (removed - added > best_gain) {
+              best_gain = removed - added;
+              best_j = j;
+              best_rev = rev;
+            }
+          }
+        }
+        if (best_j == none) continue;
+        std::vector<std::vector<Point2>> run(std::make_move_iterator(tour.begin() + static_cast<long>(i)),
+                                             std::make_move_iterator(tour.begin() + static_cast<long>(last) + 1));
+        if (best_rev) {
+          std::reverse(run.begin(), run.end());
+          for (auto& p : run) std::reverse(p.begin(), p.end());
+        }
+        tour.erase(tour.begin() + static_cast<long>(i), tour.begin() + static_cast<long>(last) + 1);
+        const std::size_t at_pos = best_j == n ? 0 : (best_j > last ? best_j - len + 1 : best_j + 1);
+        tour.insert(tour.begin() + static_cast<long>(at_pos), std::make_move_iterator(run.begin()), std::make_move_iterator(run.end()));
+        improved = true;
+      }
+    }
+  }
   // Closed loops may start anywhere: pick the vertex closest to both neighbours' links.
   Point2 prev = start;
   for (std::size_t i = 0; i < n; ++i) {
