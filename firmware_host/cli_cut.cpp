@@ -105,6 +105,9 @@ class Progress {
 int run_plan(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
     if (s.profile_path.empty()) throw Error(ErrorCode::invalid_input, "", "--profile", "plan needs a device profile (configs/devices/*.toml)");
+    if (s.out_path == "-" && (s.json_out || s.report_path == "-")) {
+      throw Error(ErrorCode::invalid_input, "", "--json", "the job goes to standard output: write the report to a file instead");
+    }
     const Job j = make_job(s.model_path, s.profile_path);
     write_cli_output(s.out_path, [&](std::ostream& o) { o << j.hpgl; });
     const json report = plan_json(j, s.model_path, s.profile_path);
@@ -228,7 +231,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan = app.add_subcommand("plan", "Plan the knife's strokes for a device and write the HP-GL job (and a report).");
   s.plan->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
   s.plan->add_option("--profile", s.profile_path, "Device profile, e.g. configs/devices/generic-hpgl.toml")->required();
-  s.plan->add_option("-o,--output", s.out_path, "Where to write the HP-GL job")->required();
+  s.plan->add_option("-o,--output", s.out_path, "Where to write the HP-GL job, or - for standard output")->required();
   s.plan->add_option("--report", s.report_path, "Also write the plan's figures as JSON (popcut.plan.v1)");
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
 

@@ -298,6 +298,10 @@ TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
   const Result js = run("plan --json " + model + " --profile " + bad + " -o " + (dir_ / "j.hpgl").string());
   EXPECT_EQ(nlohmann::json::parse(js.out)["error"]["location"], "[tool.cut] force_g") << js.out;
   EXPECT_EQ(run("plan " + model + " -o " + (dir_ / "j.hpgl").string()).code, 2) << "--profile is required";
+  const Result piped = run("plan " + model + " --profile " + profile("sim.toml") + " -o -");
+  EXPECT_EQ(piped.code, 0) << piped.err;
+  EXPECT_EQ(piped.out.rfind("IN;", 0), 0u) << "-o - writes the job to standard output: " << piped.out.substr(0, 40);
+  EXPECT_EQ(run("plan --json " + model + " --profile " + profile("sim.toml") + " -o -").code, 2) << "job and report both on stdout";
   EXPECT_EQ(run("plan " + model + " --profile " + (dir_ / "none.toml").string() + " -o x.hpgl").code, 2) << "missing profile";
   EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --device serial:/dev/ttyS0").code, 2) << "unsupported device";
   EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --sim-slowdown 0").code, 2) << "slowdown below 1";
