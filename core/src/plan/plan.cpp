@@ -541,9 +541,10 @@ std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> pa
     for (long r = 0; r <= std::max(grid.nx(), grid.nv()); ++r) {
       if (best >= 0 && (static_cast<double>(r) - 1) * grid.cell_mm() > best_d) break;
       for (long v = cv - r; v <= cv + r; ++v) {
-        for (long x = cx - r; x <= cx + r; ++x) {
+        // The ring only: whole rows at its top and bottom, two cells on the rows between.
+        const bool edge_row = v == cv - r || v == cv + r;
+        for (long x = cx - r; x <= cx + r; x += (edge_row || r == 0) ? 1 : 2 * r) {
           if (x < 0 || v < 0 || x >= grid.nx() || v >= grid.nv()) continue;
-          if (std::max(std::labs(x - cx), std::labs(v - cv)) != r) continue;  // ring only
           auto& cell = grid.cell(x, v);
           for (std::size_t k = 0; k < cell.size();) {
             const Entry& e = entries[static_cast<std::size_t>(cell[k])];
