@@ -204,7 +204,7 @@ void print_json_line(const json& j) { print_json(j); }
 
 int run(int argc, char** argv) {
   CLI::App app{"popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
-               "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output, 4 internal error."};
+               "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output (or reach the cutter), 4 internal error."};
   app.set_version_flag("--version", std::string("popcut ") + "0.1.0");
   app.require_subcommand(1);
 

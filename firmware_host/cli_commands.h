@@ -1,22 +1,6 @@
 // The popcut command-line tool: subcommands and their documented exit codes.
 #pragma once
 
-namespace popcut::cli {
-
-// Exit codes (README.md): stable for scripts and CI.
-enum ExitCode : int {
-  kOk = 0,
-  kDoesNotPopUp = 1,   // validate/repair: the card would not stand or has loose pieces
-  kBadInput = 2,       // unreadable or invalid input, or a bad command line
-  kCannotWrite = 3,    // an output file could not be written
-  kInternal = 4,       // a bug in popcut
-};
-
-int run(int argc, char** argv);
-
-}  // namespace popcut::cli
-
-// Shared by the command files (cli_commands.cpp, cli_cut.cpp).
 #include <functional>
 #include <iosfwd>
 #include <nlohmann/json.hpp>
@@ -25,6 +9,19 @@ int run(int argc, char** argv);
 #include "popcut/pattern/pattern.h"
 
 namespace popcut::cli {
+
+// Exit codes (README.md): stable for scripts and CI.
+enum ExitCode : int {
+  kOk = 0,
+  kDoesNotPopUp = 1,   // validate/repair: the card would not stand or has loose pieces
+  kBadInput = 2,       // unreadable or invalid input, or a bad command line
+  kCannotWrite = 3,    // an output file could not be written; cut: the job did not reach the cutter
+  kInternal = 4,       // a bug in popcut
+};
+
+int run(int argc, char** argv);
+
+// Shared by the command files (cli_commands.cpp, cli_cut.cpp).
 
 // Runs a command body, turning popcut errors into messages (and JSON with --json) and exit codes.
 int run_guarded(bool json_errors, const std::function<int()>& body);
