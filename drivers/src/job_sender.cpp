@@ -33,6 +33,7 @@ SendResult send_job(Transport& t, std::string_view job, const SendOptions& o) {
   // fit in the last quarter.
   const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(256, o.buffer_bytes / 8));
   bool paused = false;
+  std::size_t credit = 0;  // ESC.B: bytes the device last said it could take, less those sent since
   std::uint8_t buf[64];
   while (r.bytes_sent < job.size()) {
     std::size_t n = std::min(chunk, job.size() - r.bytes_sent);
@@ -59,11 +60,11 @@ SendResult send_job(Transport& t, std::string_view job, const SendOptions& o) {
           return r;
         }
       }
-    } else if (o.flow == FlowControl::esc_b) {
-      // Ask for free space; poll again (letting the device work) while there is too little.
-      const auto deadline_polls = std::max<long>(1, o.hold_timeout.count() / 20);
-      long polls = 0;
-      for (;;) {
+    } else if (o.flow == FlowControl::esc_b && credit < n) {
+      // Ask for free space; poll again (letting the device work, backing off) while there is
+      // too little. The answer is credit for the next chunks: the device only drains meanwhile.
+      long waited_ms = 0;
+      for (int polls = 0;; ++polls) {
         const IoResult w = t.write(bytes_of("\x1b.B"), o.timeout);
         if (!w.status.ok()) {
           r.status = w.status;
@@ -79,22 +80,25 @@ SendResult send_job(Transport& t, std::string_view job, const SendOptions& o) {
           }
           answer.append(reinterpret_cast<const char*>(buf), got.bytes);
         }
-        const long free_bytes = std::strtol(answer.c_str(), nullptr, 10);
-        if (free_bytes >= static_cast<long>(n)) break;
-        if (free_bytes > 0 && static_cast<std::size_t>(free_bytes) >= chunk / 2) {
-          n = static_cast<std::size_t>(free_bytes);
+        credit = static_cast<std::size_t>(std::max(0L, std::strtol(answer.c_str(), nullptr, 10)));
+        if (credit >= n) break;
+        if (credit >= chunk / 2) {
+          n = credit;
           break;
         }
-        if (++polls > deadline_polls) {
+        if (waited_ms > o.hold_timeout.count()) {
           r.status = {TransportError::timeout, 0, "device buffer stayed full for longer than " +
                                                       std::to_string(o.hold_timeout.count()) + " ms"};
           return r;
         }
-        (void)t.read(std::span<std::uint8_t>(buf, 0), std::chrono::milliseconds(20));  // let it work
+        const long wait_ms = std::min(200L, 20L << std::min(polls, 4));
+        (void)t.read(std::span<std::uint8_t>(buf, 0), std::chrono::milliseconds(wait_ms));  // let it work
+        waited_ms += wait_ms;
       }
     }
     const IoResult w = t.write(bytes_of(job.substr(r.bytes_sent, n)), o.timeout);
     r.bytes_sent += w.bytes;
+    credit -= std::min(credit, w.bytes);
     if (o.progress) o.progress(r.bytes_sent, job.size());
     if (!w.status.ok()) {
       r.status = w.status;
