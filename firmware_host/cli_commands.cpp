@@ -1,5 +1,6 @@
 // popcut subcommands: pattern, validate, repair — load a model, run core, write files and reports.
 #include "cli_commands.h"
+#include "cli_cut.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -195,9 +196,15 @@ void write_output(const std::string& path, const std::function<void(std::ostream
 
 }  // namespace
 
+// For the command files beside this one (cli_cut.cpp).
+int run_guarded(bool json_errors, const std::function<int()>& body) { return guarded(json_errors, body); }
+Pattern load_cli_pattern(const std::string& model_path) { return load_pattern(model_path); }
+void write_cli_output(const std::string& path, const std::function<void(std::ostream&)>& content) { write_output(path, content); }
+void print_json_line(const json& j) { print_json(j); }
+
 int run(int argc, char** argv) {
   CLI::App app{"popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
-               "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output, 4 internal error."};
+               "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output (or reach the cutter), 4 internal error."};
   app.set_version_flag("--version", std::string("popcut ") + "0.1.0");
   app.require_subcommand(1);
 
@@ -234,9 +241,13 @@ int run(int argc, char** argv) {
   render->add_option("--frames", frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
   render->add_option("--width", width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
 
+  // Stroke planning and cutting (issue 5): their options and handlers live in cli_cut.cpp.
+  CutCommands cut_commands;
+  add_cut_commands(app, cut_commands);
+
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold or render)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, plan or cut)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -255,6 +266,7 @@ int run(int argc, char** argv) {
     return kBadInput;
   }
 
+  if (const std::optional<int> rc = run_cut_commands(cut_commands)) return *rc;
   if (*pattern) {
     return guarded(json_out, [&] {
       const std::string ext = out_path == "-" ? ".json" : require_extension(out_path, {".json", ".svg"}, "output type");

@@ -1,6 +1,13 @@
 // The popcut command-line tool: subcommands and their documented exit codes.
 #pragma once
 
+#include <functional>
+#include <iosfwd>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "popcut/pattern/pattern.h"
+
 namespace popcut::cli {
 
 // Exit codes (README.md): stable for scripts and CI.
@@ -8,10 +15,20 @@ enum ExitCode : int {
   kOk = 0,
   kDoesNotPopUp = 1,   // validate/repair: the card would not stand or has loose pieces
   kBadInput = 2,       // unreadable or invalid input, or a bad command line
-  kCannotWrite = 3,    // an output file could not be written
+  kCannotWrite = 3,    // an output file could not be written; cut: the job did not reach the cutter
   kInternal = 4,       // a bug in popcut
 };
 
 int run(int argc, char** argv);
+
+// Shared by the command files (cli_commands.cpp, cli_cut.cpp).
+
+// Runs a command body, turning popcut errors into messages (and JSON with --json) and exit codes.
+int run_guarded(bool json_errors, const std::function<int()>& body);
+// The pattern of a model file, as every command loads it ("-" is standard input).
+Pattern load_cli_pattern(const std::string& model_path);
+// Writes an output file atomically; failures exit with kCannotWrite.
+void write_cli_output(const std::string& path, const std::function<void(std::ostream&)>& content);
+void print_json_line(const nlohmann::json& j);
 
 }  // namespace popcut::cli

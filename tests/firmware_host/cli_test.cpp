@@ -255,3 +255,93 @@ TEST_F(Cli, FaceModelWithAPieceCutFreeIsBadInput) {
 }
 
 }  // namespace
+
+// ---- plan and cut (issue 5) ----
+namespace {
+
+std::string profile(const std::string& name) { return std::string(POPCUT_SOURCE_DIR) + "/configs/devices/" + name; }
+std::string example(const std::string& name) { return std::string(POPCUT_SOURCE_DIR) + "/examples/" + name; }
+
+TEST_F(Cli, PlanAndCutHaveHelp) {
+  for (const char* sub : {"plan --help", "cut --help"}) {
+    const Result r = run(sub);
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("--profile"), std::string::npos) << sub << " documents --profile: " << r.out;
+  }
+}
+
+TEST_F(Cli, PlanWritesHpglAndAReport) {
+  const fs::path job = dir_ / "job.hpgl", rep = dir_ / "plan.json";
+  const Result r = run("plan " + example("voxel/townhouse.json") + " --profile " + profile("generic-hpgl.toml") + " -o " +
+                       job.string() + " --report " + rep.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(job).rfind("IN;SP1;", 0), 0u) << "the job starts with the profile's init: " << slurp(job).substr(0, 40);
+  const auto j = nlohmann::json::parse(slurp(rep));
+  for (const char* k : {"strokes", "pen_lifts", "pen_lift_bound", "cut_mm", "travel_mm", "est_time_s"}) {
+    EXPECT_TRUE(j.contains(k)) << "report has " << k << ": " << j.dump();
+    for (const char* kind : {"valley", "mountain", "cut", "outline"}) {
+      EXPECT_TRUE(j["kinds"][kind].contains(k)) << kind << " has " << k;
+    }
+  }
+  EXPECT_EQ(j["strokes"], j["pen_lift_bound"]) << "no turn limit in this profile: strokes at the Euler bound";
+  EXPECT_GT(j["cut_mm"].get<double>(), 0);
+  EXPECT_NE(r.err.find("wrote " + job.string()), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
+  const std::string model = file("box.json", kBox);
+  const std::string bad = file("bad.toml", "[device]\nname = \"x\"\n[tool.cut]\nforce_g = 9000\n");
+  const Result r = run("plan " + model + " --profile " + bad + " -o " + (dir_ / "j.hpgl").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.toml: [tool.cut] force_g: 9000 is out of range"), std::string::npos) << "file, section and key: " << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "j.hpgl")) << "nothing written on error";
+  const Result js = run("plan --json " + model + " --profile " + bad + " -o " + (dir_ / "j.hpgl").string());
+  EXPECT_EQ(nlohmann::json::parse(js.out)["error"]["location"], "[tool.cut] force_g") << js.out;
+  EXPECT_EQ(run("plan " + model + " -o " + (dir_ / "j.hpgl").string()).code, 2) << "--profile is required";
+  const Result piped = run("plan " + model + " --profile " + profile("sim.toml") + " -o -");
+  EXPECT_EQ(piped.code, 0) << piped.err;
+  EXPECT_EQ(piped.out.rfind("IN;", 0), 0u) << "-o - writes the job to standard output: " << piped.out.substr(0, 40);
+  EXPECT_EQ(run("plan --json " + model + " --profile " + profile("sim.toml") + " -o -").code, 2) << "job and report both on stdout";
+  EXPECT_EQ(run("plan " + model + " --profile " + (dir_ / "none.toml").string() + " -o x.hpgl").code, 2) << "missing profile";
+  EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --device serial:/dev/ttyS0").code, 2) << "unsupported device";
+  EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --sim-slowdown 0").code, 2) << "slowdown below 1";
+  const std::string tiny = file("tiny.toml", "[device]\nname = \"tiny\"\narea_max_x_mm = 5\narea_max_y_mm = 5\n");
+  const Result small = run("plan " + model + " --profile " + tiny + " -o " + (dir_ / "t.hpgl").string());
+  EXPECT_EQ(small.code, 2) << "a sheet larger than the device is refused";
+  EXPECT_NE(small.err.find("does not fit"), std::string::npos) << small.err;
+}
+
+TEST_F(Cli, CutOnTheSimulatorWritesJobSvgAndReport) {
+  const fs::path out = dir_ / "cut";
+  const Result r = run("cut " + example("voxel/townhouse.json") + " --device sim --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "job.hpgl"));
+  EXPECT_NE(slurp(out / "cut.svg").find("<polyline"), std::string::npos) << "the simulator drew what it cut";
+  const auto j = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(j["format"], "popcut.cut.v1");
+  EXPECT_TRUE(j["sim"]["strokes_match_plan"].get<bool>()) << j.dump();
+  EXPECT_EQ(j["sim"]["strokes"], j["strokes"]) << "recovered as many strokes as planned";
+  EXPECT_NEAR(j["sim"]["cut_mm"].get<double>(), j["cut_mm"].get<double>(), 1.0) << "knife-down length agrees";
+  EXPECT_GT(j["sim"]["motion_time_s"].get<double>(), 0);
+  EXPECT_EQ(r.err.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
+}
+
+TEST_F(Cli, CutReportsADroppedConnectionWithExit3) {
+  const fs::path out = dir_ / "cut";
+  const Result r = run("cut " + example("voxel/townhouse.json") + " --device sim --sim-drop-after 300 --out " + out.string());
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("after 300 of"), std::string::npos) << "says how far it got: " << r.err;
+  const auto j = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_FALSE(j["sent"]["complete"].get<bool>());
+  EXPECT_EQ(j["sent"]["error"], "disconnected");
+}
+
+TEST_F(Cli, CutToAFileWritesTheSameBytes) {
+  const fs::path out = dir_ / "cut", dev = dir_ / "device.hpgl";
+  const Result r = run("cut " + example("voxel/box.json") + " --device file:" + dev.string() + " --profile " +
+                       profile("generic-hpgl.toml") + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(dev), slurp(out / "job.hpgl")) << "the device got exactly the job";
+}
+
+}  // namespace

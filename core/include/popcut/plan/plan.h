@@ -1,0 +1,120 @@
+// Stroke planning: a pattern's lines as ordered, chained knife-down paths, per tool, in mm.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "popcut/pattern/pattern.h"
+
+namespace popcut {
+
+// What a tool does: planning knows line kinds and modes, never devices.
+enum class PlanKind { valley, mountain, cut, outline };
+inline constexpr std::array<PlanKind, 4> kAllPlanKinds = {PlanKind::valley, PlanKind::mountain, PlanKind::cut,
+                                                          PlanKind::outline};
+const char* to_string(PlanKind kind);
+std::size_t index_of(PlanKind kind);
+
+enum class ToolMode { cut, score, perforate, skip };
+const char* to_string(ToolMode mode);
+
+// How one line kind is drawn. Score differs from cut only in force (the encoder's business).
+struct KindPlan {
+  ToolMode mode = ToolMode::cut;
+  int passes = 1;                 // more than one: back and forth along the stroke, knife down
+  double perforate_on_mm = 1.0;   // perforate: cut this long...
+  double perforate_off_mm = 1.0;  // ...then leave this much uncut; dashes start and end uncut
+};
+
+struct PlanOptions {
+  double fold_gap_mm = 0.5;                 // folds stop this short of any cut line or the outline
+  std::optional<double> max_turn_deg;       // lift the knife where a stroke turns more sharply
+  std::vector<PlanKind> order = {PlanKind::valley, PlanKind::mountain, PlanKind::cut, PlanKind::outline};
+  std::array<KindPlan, 4> kinds{};          // indexed by index_of(PlanKind)
+  std::chrono::milliseconds optimise_budget{50};  // 2-opt time per kind; 0 = greedy only
+  std::optional<Point2> home;               // where the knife starts; default the sheet's min corner
+  // Drag knife: the blade tip trails the tool axis by this much; the axis path is offset ahead
+  // along each segment with swivel arcs at the corners. 0: a tangential knife (or a pen).
+  double blade_offset_mm = 0;
+  double swivel_step_deg = 15;              // chord step of the swivel arcs
+  double overcut_mm = 0;                    // closed loops: cut on past the start so they close cleanly
+};
+
+// One knife-down path: the knife lowers at points.front() and lifts at points.back().
+struct Stroke {
+  PlanKind kind = PlanKind::cut;
+  std::vector<Point2> points;
+  friend bool operator==(const Stroke&, const Stroke&) = default;
+};
+
+struct KindStats {
+  int strokes = 0;
+  int pen_lifts = 0;       // = strokes: every stroke ends with the knife lifting
+  int pen_lift_bound = 0;  // Euler bound of the kind's line graph (before perforation)
+  double cut_mm = 0;       // knife-down length, all passes
+  double travel_mm = 0;    // knife-up length travelled to reach this kind's strokes
+  int folds_dropped = 0;   // folds shorter than two gaps: nothing left to score
+};
+
+struct StrokePlan {
+  Rect sheet;
+  Point2 home;
+  std::vector<Stroke> strokes;  // in cutting order
+  std::array<KindStats, 4> kinds{};
+  KindStats total() const;
+  // The sheet and every stroke point: a drag knife's axis path may pass the sheet's edge.
+  Rect extent() const;
+};
+
+// The whole plan: fold gaps, chaining, perforation, passes, ordering. Deterministic.
+StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options = {});
+
+// Parts, exposed for tests and benchmarks.
+
+// Lines of one kind after the fold gap (for folds); the outline kind yields the sheet's edges.
+std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fold_gap_mm, int* dropped = nullptr);
+
+// Splits segments where another's endpoint lies inside them, so chains may turn there.
+std::vector<std::pair<Point2, Point2>> split_at_junctions(const std::vector<std::pair<Point2, Point2>>& segments);
+
+// Minimum number of strokes covering a graph's edges once each: per connected component
+// max(1, odd-degree vertices / 2).
+int euler_bound(const std::vector<std::pair<Point2, Point2>>& edges);
+
+// Chains edges into exactly euler_bound() trails (then splits at turns sharper than max_turn_deg).
+std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2, Point2>>& edges,
+                                             std::optional<double> max_turn_deg);
+
+// Orders paths from `start` to cut knife-up travel: greedy nearest neighbour over a grid, then
+// 2-opt within the budget; picks each open path's direction and each closed loop's start.
+std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
+                                             std::chrono::milliseconds budget);
+
+// The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
+std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
+// A closed loop continued past its start by `overcut_mm` along itself; open paths unchanged.
+std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm);
+
+// Knife-up distance to walk `paths` in order from `start`.
+double travel_mm(const std::vector<std::vector<Point2>>& paths, Point2 start);
+double path_length_mm(const std::vector<Point2>& path);
+
+// Motion-time model of a plotter (trapezoidal speed profile, a stop at every vertex).
+struct Kinematics {
+  double travel_speed_mm_s = 300;
+  double accel_mm_s2 = 2000;
+  double knife_up_s = 0.03;
+  double knife_down_s = 0.03;
+};
+double move_time_s(double length_mm, double speed_mm_s, double accel_mm_s2);
+struct TimeEstimate {
+  double total_s = 0;
+  std::array<double, 4> kind_s{};  // travel to a kind's strokes counts for that kind
+};
+// cut_speed_mm_s per kind (indexed by index_of); every stroke also pays knife down and up.
+TimeEstimate estimate_time(const StrokePlan& plan, const Kinematics& k, const std::array<double, 4>& cut_speed_mm_s);
+
+}  // namespace popcut

@@ -1,0 +1,722 @@
+// Stroke planning: fold gaps, Euler chaining, perforation, passes and travel-minimising order.
+#include "popcut/plan/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+namespace popcut {
+namespace {
+
+constexpr double kEps = 1e-7;  // mm: pattern coordinates are exact to far better than this
+constexpr double kPi = 3.14159265358979323846;
+
+double dist(Point2 a, Point2 b) { return std::hypot(a.x_mm - b.x_mm, a.v_mm - b.v_mm); }
+bool same(Point2 a, Point2 b) { return dist(a, b) <= kEps; }
+
+// Vertices are identified on a 1e-6 mm lattice so endpoints computed twice still meet.
+struct Key {
+  std::int64_t x, v;
+  friend bool operator==(const Key&, const Key&) = default;
+};
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    return std::hash<std::int64_t>()(k.x) ^ (std::hash<std::int64_t>()(k.v) * 0x9e3779b97f4a7c15ULL);
+  }
+};
+Key key_of(Point2 p) { return {std::llround(p.x_mm * 1e6), std::llround(p.v_mm * 1e6)}; }
+
+// A uniform grid over item bounding boxes: the spatial index for junctions and nearest neighbours.
+class Grid {
+ public:
+  Grid(Rect box, std::size_t items) {
+    const double w = std::max(box.max.x_mm - box.min.x_mm, 1e-3), h = std::max(box.max.v_mm - box.min.v_mm, 1e-3);
+    const double cells = std::max<double>(1, static_cast<double>(items));
+    cell_mm_ = std::max(std::sqrt(w * h / cells), 1e-3);
+    origin_ = box.min;
+    nx_ = std::min<long>(4096, static_cast<long>(w / cell_mm_) + 1);
+    nv_ = std::min<long>(4096, static_cast<long>(h / cell_mm_) + 1);
+    cells_.resize(static_cast<std::size_t>(nx_ * nv_));
+  }
+  long cx(double x) const { return std::clamp(static_cast<long>((x - origin_.x_mm) / cell_mm_), 0L, nx_ - 1); }
+  long cv(double v) const { return std::clamp(static_cast<long>((v - origin_.v_mm) / cell_mm_), 0L, nv_ - 1); }
+  std::vector<int>& cell(long x, long v) { return cells_[static_cast<std::size_t>(v * nx_ + x)]; }
+  void insert(int id, Point2 lo, Point2 hi) {
+    for (long v = cv(lo.v_mm); v <= cv(hi.v_mm); ++v)
+      for (long x = cx(lo.x_mm); x <= cx(hi.x_mm); ++x) cell(x, v).push_back(id);
+  }
+  double cell_mm() const { return cell_mm_; }
+  long nx() const { return nx_; }
+  long nv() const { return nv_; }
+
+ private:
+  Point2 origin_;
+  double cell_mm_ = 1;
+  long nx_ = 1, nv_ = 1;
+  std::vector<std::vector<int>> cells_;
+};
+
+Rect bounds_of(const std::vector<std::pair<Point2, Point2>>& segs) {
+  Rect r{{1e300, 1e300}, {-1e300, -1e300}};
+  for (const auto& [a, b] : segs) {
+    for (Point2 p : {a, b}) {
+      r.min = {std::min(r.min.x_mm, p.x_mm), std::min(r.min.v_mm, p.v_mm)};
+      r.max = {std::max(r.max.x_mm, p.x_mm), std::max(r.max.v_mm, p.v_mm)};
+    }
+  }
+  return r;
+}
+
+// Parameter t in (0, 1) where p lies strictly inside segment ab, or a negative value.
+double interior_param(Point2 p, Point2 a, Point2 b) {
+  const double dx = b.x_mm - a.x_mm, dv = b.v_mm - a.v_mm, len2 = dx * dx + dv * dv;
+  if (len2 <= kEps * kEps) return -1;
+  const double t = ((p.x_mm - a.x_mm) * dx + (p.v_mm - a.v_mm) * dv) / len2;
+  const Point2 q{a.x_mm + t * dx, a.v_mm + t * dv};
+  if (dist(p, q) > kEps) return -1;
+  const double len = std::sqrt(len2);
+  if (t * len <= kEps || (1 - t) * len <= kEps) return -1;
+  return t;
+}
+
+bool on_segment(Point2 p, Point2 a, Point2 b) { return same(p, a) || same(p, b) || interior_param(p, a, b) > 0; }
+
+Point2 lerp(Point2 a, Point2 b, double t) { return {a.x_mm + (b.x_mm - a.x_mm) * t, a.v_mm + (b.v_mm - a.v_mm) * t}; }
+
+// Degrees the direction turns at b when going a → b → c (0 = straight on, 180 = back).
+double turn_deg(Point2 a, Point2 b, Point2 c) {
+  const double ux = b.x_mm - a.x_mm, uv = b.v_mm - a.v_mm, wx = c.x_mm - b.x_mm, wv = c.v_mm - b.v_mm;
+  const double n = std::hypot(ux, uv) * std::hypot(wx, wv);
+  if (n <= 0) return 0;
+  return std::acos(std::clamp((ux * wx + uv * wv) / n, -1.0, 1.0)) * 180 / kPi;
+}
+
+struct Graph {
+  std::vector<Point2> pos;
+  std::vector<std::pair<int, int>> edges;
+  std::vector<std::vector<std::pair<int, int>>> adj;  // (edge, other vertex)
+};
+
+Graph build_graph(const std::vector<std::pair<Point2, Point2>>& segs) {
+  Graph g;
+  std::unordered_map<Key, int, KeyHash> ids;
+  const auto vid = [&](Point2 p) {
+    const auto [it, fresh] = ids.try_emplace(key_of(p), static_cast<int>(g.pos.size()));
+    if (fresh) {
+      g.pos.push_back(p);
+      g.adj.emplace_back();
+    }
+    return it->second;
+  };
+  for (const auto& [a, b] : segs) {
+    if (same(a, b)) continue;  // zero-length: nothing to cut
+    const int u = vid(a), w = vid(b);
+    const int e = static_cast<int>(g.edges.size());
+    g.edges.emplace_back(u, w);
+    g.adj[static_cast<std::size_t>(u)].emplace_back(e, w);
+    g.adj[static_cast<std::size_t>(w)].emplace_back(e, u);
+  }
+  return g;
+}
+
+std::vector<int> components(const Graph& g, int& count) {
+  std::vector<int> comp(g.pos.size(), -1);
+  count = 0;
+  for (std::size_t s = 0; s < g.pos.size(); ++s) {
+    if (comp[s] >= 0) continue;
+    std::vector<std::size_t> stack{s};
+    comp[s] = count;
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      for (const auto& [e, w] : g.adj[v]) {
+        if (comp[static_cast<std::size_t>(w)] < 0) {
+          comp[static_cast<std::size_t>(w)] = count;
+          stack.push_back(static_cast<std::size_t>(w));
+        }
+      }
+    }
+    ++count;
+  }
+  return comp;
+}
+
+std::vector<std::vector<Point2>> split_at_turns(std::vector<Point2> path, double max_deg) {
+  std::vector<std::vector<Point2>> out{{path.front()}};
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    out.back().push_back(path[i]);
+    if (i + 1 < path.size() && turn_deg(path[i - 1], path[i], path[i + 1]) > max_deg) out.push_back({path[i]});
+  }
+  // A closed loop split somewhere may still run smoothly through its start: join the ends there.
+  const bool closed = path.size() > 2 && same(path.front(), path.back());
+  if (closed && out.size() > 1 && turn_deg(path[path.size() - 2], path.front(), path[1]) <= max_deg) {
+    std::vector<Point2> joined = out.back();
+    joined.insert(joined.end(), out.front().begin() + 1, out.front().end());
+    out.front() = std::move(joined);
+    out.pop_back();
+  }
+  return out;
+}
+
+std::vector<Point2> reversed(std::vector<Point2> p) {
+  std::reverse(p.begin(), p.end());
+  return p;
+}
+
+bool is_closed(const std::vector<Point2>& p) { return p.size() > 2 && same(p.front(), p.back()); }
+
+// Rotates a closed loop to start (and end) at vertex i.
+void rotate_loop(std::vector<Point2>& p, std::size_t i) {
+  if (i == 0 || i + 1 >= p.size()) return;
+  std::vector<Point2> r(p.begin() + static_cast<long>(i), p.end() - 1);
+  r.insert(r.end(), p.begin(), p.begin() + static_cast<long>(i) + 1);
+  p = std::move(r);
+}
+
+// Pieces of `path` that the knife cuts when perforating: off, on, off, ..., on, off, with the
+// off gaps stretched evenly so both ends are uncut.
+std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, double on_mm, double off_mm) {
+  const double length = path_length_mm(path);
+  const double n_real = std::floor((length - off_mm) / (on_mm + off_mm));
+  if (n_real < 1) return {};
+  const int n = static_cast<int>(n_real);
+  const double gap = (length - n * on_mm) / (n + 1);
+  // Walk the polyline once, cutting out [start_i, start_i + on] for each dash.
+  std::vector<std::vector<Point2>> dashes;
+  std::size_t seg = 0;
+  double seg_start = 0;  // arc length at path[seg]
+  const auto point_at = [&](double s) {
+    while (seg + 2 < path.size() && seg_start + dist(path[seg], path[seg + 1]) < s) {
+      seg_start += dist(path[seg], path[seg + 1]);
+      ++seg;
+    }
+    const double l = dist(path[seg], path[seg + 1]);
+    return lerp(path[seg], path[seg + 1], l > 0 ? std::clamp((s - seg_start) / l, 0.0, 1.0) : 0.0);
+  };
+  for (int i = 0; i < n; ++i) {
+    const double s0 = gap + i * (on_mm + gap), s1 = s0 + on_mm;
+    std::vector<Point2> dash{point_at(s0)};
+    // Keep the path's corners that fall inside the dash.
+    while (seg + 1 < path.size() && seg_start + dist(path[seg], path[seg + 1]) < s1) {
+      seg_start += dist(path[seg], path[seg + 1]);
+      ++seg;
+      dash.push_back(path[seg]);
+    }
+    dash.push_back(point_at(s1));
+    dashes.push_back(std::move(dash));
+  }
+  return dashes;
+}
+
+std::vector<Point2> with_passes(const std::vector<Point2>& path, int passes) {
+  std::vector<Point2> out = path;
+  std::vector<Point2> last = path;
+  for (int p = 1; p < passes; ++p) {
+    last = reversed(last);  // alternate direction: the knife never lifts between passes
+    out.insert(out.end(), last.begin() + 1, last.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+const char* to_string(PlanKind kind) {
+  switch (kind) {
+    case PlanKind::valley: return "valley";
+    case PlanKind::mountain: return "mountain";
+    case PlanKind::cut: return "cut";
+    case PlanKind::outline: return "outline";
+  }
+  return "cut";
+}
+
+std::size_t index_of(PlanKind kind) { return static_cast<std::size_t>(kind); }
+
+const char* to_string(ToolMode mode) {
+  switch (mode) {
+    case ToolMode::cut: return "cut";
+    case ToolMode::score: return "score";
+    case ToolMode::perforate: return "perforate";
+    case ToolMode::skip: return "skip";
+  }
+  return "cut";
+}
+
+KindStats StrokePlan::total() const {
+  KindStats t;
+  for (const KindStats& k : kinds) {
+    t.strokes += k.strokes;
+    t.pen_lifts += k.pen_lifts;
+    t.pen_lift_bound += k.pen_lift_bound;
+    t.cut_mm += k.cut_mm;
+    t.travel_mm += k.travel_mm;
+    t.folds_dropped += k.folds_dropped;
+  }
+  return t;
+}
+
+Rect StrokePlan::extent() const {
+  Rect r = sheet;
+  for (const Stroke& s : strokes) {
+    for (Point2 p : s.points) {
+      r.min = {std::min(r.min.x_mm, p.x_mm), std::min(r.min.v_mm, p.v_mm)};
+      r.max = {std::max(r.max.x_mm, p.x_mm), std::max(r.max.v_mm, p.v_mm)};
+    }
+  }
+  return r;
+}
+
+std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm) {
+  if (overcut_mm <= 0 || !is_closed(path)) return path;
+  std::vector<Point2> out = path;
+  double left = overcut_mm;
+  for (std::size_t i = 1; i < path.size() && left > 0; ++i) {
+    const double l = dist(path[i - 1], path[i]);
+    if (l >= left) {
+      out.push_back(lerp(path[i - 1], path[i], left / l));
+      break;
+    }
+    out.push_back(path[i]);
+    left -= l;
+  }
+  return out;
+}
+
+std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip, double offset_mm, double swivel_step_deg) {
+  std::vector<Point2> pts;
+  for (Point2 p : tip) {
+    if (pts.empty() || !same(pts.back(), p)) pts.push_back(p);
+  }
+  if (offset_mm <= 0 || pts.size() < 2) return pts;
+  const auto unit = [](Point2 a, Point2 b) {
+    const double l = dist(a, b);
+    return Point2{(b.x_mm - a.x_mm) / l, (b.v_mm - a.v_mm) / l};
+  };
+  const auto ahead = [&](Point2 p, Point2 d) { return Point2{p.x_mm + offset_mm * d.x_mm, p.v_mm + offset_mm * d.v_mm}; };
+  const double step = std::max(1.0, swivel_step_deg) * kPi / 180;
+  std::vector<Point2> out{ahead(pts[0], unit(pts[0], pts[1]))};
+  for (std::size_t i = 1; i + 1 < pts.size(); ++i) {
+    const Point2 d0 = unit(pts[i - 1], pts[i]), d1 = unit(pts[i], pts[i + 1]);
+    out.push_back(ahead(pts[i], d0));
+    // Swivel: the axis circles the tip (which stays at the corner) from the old heading to the
+    // new, the short way round, so the blade turns in place.
+    const double a0 = std::atan2(d0.v_mm, d0.x_mm);
+    const double turn = std::atan2(d0.x_mm * d1.v_mm - d0.v_mm * d1.x_mm, d0.x_mm * d1.x_mm + d0.v_mm * d1.v_mm);
+    const int n = static_cast<int>(std::ceil(std::abs(turn) / step));
+    for (int k = 1; k <= n; ++k) {
+      const double a = a0 + turn * k / n;
+      out.push_back({pts[i].x_mm + offset_mm * std::cos(a), pts[i].v_mm + offset_mm * std::sin(a)});
+    }
+  }
+  out.push_back(ahead(pts.back(), unit(pts[pts.size() - 2], pts.back())));
+  return out;
+}
+
+double path_length_mm(const std::vector<Point2>& path) {
+  double l = 0;
+  for (std::size_t i = 1; i < path.size(); ++i) l += dist(path[i - 1], path[i]);
+  return l;
+}
+
+double travel_mm(const std::vector<std::vector<Point2>>& paths, Point2 start) {
+  double t = 0;
+  for (const auto& p : paths) {
+    t += dist(start, p.front());
+    start = p.back();
+  }
+  return t;
+}
+
+std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fold_gap_mm, int* dropped) {
+  std::vector<Segment> out;
+  if (dropped) *dropped = 0;
+  const Rect& s = pattern.sheet;
+  if (kind == PlanKind::outline) {
+    const Point2 c[4] = {s.min, {s.max.x_mm, s.min.v_mm}, s.max, {s.min.x_mm, s.max.v_mm}};
+    for (int i = 0; i < 4; ++i) out.push_back({LineKind::cut, c[i], c[(i + 1) % 4]});
+    return out;
+  }
+  const LineKind want = kind == PlanKind::cut ? LineKind::cut : (kind == PlanKind::valley ? LineKind::valley : LineKind::mountain);
+  // Cut lines in a grid, so each fold end looks only at the cuts near it.
+  std::vector<std::pair<Point2, Point2>> cuts;
+  for (const Segment& l : pattern.lines) {
+    if (l.kind == LineKind::cut) cuts.emplace_back(l.a, l.b);
+  }
+  Grid grid(s, cuts.size());
+  for (std::size_t i = 0; i < cuts.size(); ++i) {
+    const auto& [a, b] = cuts[i];
+    grid.insert(static_cast<int>(i), {std::min(a.x_mm, b.x_mm) - kEps, std::min(a.v_mm, b.v_mm) - kEps},
+                {std::max(a.x_mm, b.x_mm) + kEps, std::max(a.v_mm, b.v_mm) + kEps});
+  }
+  const auto touches_cut = [&](Point2 p) {
+    if (std::abs(p.x_mm - s.min.x_mm) <= kEps || std::abs(p.x_mm - s.max.x_mm) <= kEps ||
+        std::abs(p.v_mm - s.min.v_mm) <= kEps || std::abs(p.v_mm - s.max.v_mm) <= kEps) {
+      return true;  // the outline is cut too
+    }
+    const std::vector<int>& near = grid.cell(grid.cx(p.x_mm), grid.cv(p.v_mm));
+    return std::any_of(near.begin(), near.end(), [&](int i) {
+      const auto& c = cuts[static_cast<std::size_t>(i)];
+      return on_segment(p, c.first, c.second);
+    });
+  };
+  for (const Segment& l : pattern.lines) {
+    if (l.kind != want) continue;
+    if (want == LineKind::cut || fold_gap_mm <= 0) {
+      out.push_back(l);
+      continue;
+    }
+    const double len = dist(l.a, l.b);
+    const double ta = touches_cut(l.a) ? fold_gap_mm / len : 0, tb = touches_cut(l.b) ? fold_gap_mm / len : 0;
+    if (ta + tb >= 1 - 1e-9) {
+      if (dropped) ++*dropped;
+      continue;
+    }
+    out.push_back({l.kind, lerp(l.a, l.b, ta), lerp(l.a, l.b, 1 - tb)});
+  }
+  return out;
+}
+
+std::vector<std::pair<Point2, Point2>> split_at_junctions(const std::vector<std::pair<Point2, Point2>>& segs) {
+  std::vector<std::pair<Point2, Point2>> out;
+  if (segs.empty()) return out;
+  Grid grid(bounds_of(segs), segs.size());
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    const auto& [a, b] = segs[i];
+    grid.insert(static_cast<int>(i), {std::min(a.x_mm, b.x_mm) - kEps, std::min(a.v_mm, b.v_mm) - kEps},
+                {std::max(a.x_mm, b.x_mm) + kEps, std::max(a.v_mm, b.v_mm) + kEps});
+  }
+  std::vector<std::vector<double>> cuts_at(segs.size());
+  for (const auto& [a, b] : segs) {
+    for (Point2 p : {a, b}) {
+      for (int j : grid.cell(grid.cx(p.x_mm), grid.cv(p.v_mm))) {
+        const auto& s = segs[static_cast<std::size_t>(j)];
+        const double t = interior_param(p, s.first, s.second);
+        if (t > 0) cuts_at[static_cast<std::size_t>(j)].push_back(t);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    auto& ts = cuts_at[i];
+    std::sort(ts.begin(), ts.end());
+    Point2 from = segs[i].first;
+    for (double t : ts) {
+      const Point2 to = lerp(segs[i].first, segs[i].second, t);
+      if (!same(from, to)) out.emplace_back(from, to);
+      from = to;
+    }
+    if (!same(from, segs[i].second)) out.emplace_back(from, segs[i].second);
+  }
+  return out;
+}
+
+int euler_bound(const std::vector<std::pair<Point2, Point2>>& edges) {
+  const Graph g = build_graph(edges);
+  int count = 0;
+  const std::vector<int> comp = components(g, count);
+  std::vector<int> odd(static_cast<std::size_t>(count), 0), has_edge(static_cast<std::size_t>(count), 0);
+  for (std::size_t v = 0; v < g.pos.size(); ++v) {
+    if (g.adj[v].size() % 2 == 1) ++odd[static_cast<std::size_t>(comp[v])];
+    if (!g.adj[v].empty()) has_edge[static_cast<std::size_t>(comp[v])] = 1;
+  }
+  int bound = 0;
+  for (std::size_t c = 0; c < odd.size(); ++c) {
+    if (has_edge[c]) bound += std::max(1, odd[c] / 2);
+  }
+  return bound;
+}
+
+std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2, Point2>>& input,
+                                             std::optional<double> max_turn_deg) {
+  Graph g = build_graph(input);
+  const std::size_t real_edges = g.edges.size();
+  int count = 0;
+  const std::vector<int> comp = components(g, count);
+  // Pair the odd vertices of each component with virtual edges; an Euler circuit of the result,
+  // cut at the virtual edges, is exactly odd/2 trails (or one closed trail when none are odd).
+  std::vector<std::vector<int>> odd(static_cast<std::size_t>(count));
+  for (std::size_t v = 0; v < g.pos.size(); ++v) {
+    if (g.adj[v].size() % 2 == 1) odd[static_cast<std::size_t>(comp[v])].push_back(static_cast<int>(v));
+  }
+  for (const auto& list : odd) {
+    for (std::size_t i = 0; i + 1 < list.size(); i += 2) {
+      const int e = static_cast<int>(g.edges.size());
+      g.edges.emplace_back(list[i], list[i + 1]);
+      g.adj[static_cast<std::size_t>(list[i])].emplace_back(e, list[i + 1]);
+      g.adj[static_cast<std::size_t>(list[i + 1])].emplace_back(e, list[i]);
+    }
+  }
+  std::vector<char> used(g.edges.size(), 0);
+  std::vector<std::size_t> next(g.pos.size(), 0);
+  std::vector<char> comp_done(static_cast<std::size_t>(count), 0);
+  std::vector<std::vector<Point2>> trails;
+  for (std::size_t s = 0; s < g.pos.size(); ++s) {
+    const auto c = static_cast<std::size_t>(comp[s]);
+    if (comp_done[c] || g.adj[s].empty()) continue;
+    comp_done[c] = 1;
+    // Iterative Hierholzer: (vertex, edge used to arrive).
+    std::vector<std::pair<int, int>> stack{{static_cast<int>(s), -1}}, circuit;
+    while (!stack.empty()) {
+      const auto v = static_cast<std::size_t>(stack.back().first);
+      while (next[v] < g.adj[v].size() && used[static_cast<std::size_t>(g.adj[v][next[v]].first)]) ++next[v];
+      if (next[v] < g.adj[v].size()) {
+        const auto [e, w] = g.adj[v][next[v]];
+        used[static_cast<std::size_t>(e)] = 1;
+        stack.emplace_back(w, e);
+      } else {
+        circuit.push_back(stack.back());
+        stack.pop_back();
+      }
+    }
+    std::reverse(circuit.begin(), circuit.end());
+    // circuit[i] (i ≥ 1) arrives over edge circuit[i].second; the walk is closed. Start right
+    // after a virtual edge, if any, so each trail is a run of real edges between virtual ones.
+    const std::size_t m = circuit.size() - 1;
+    std::size_t first = 0;
+    for (std::size_t i = 1; i <= m; ++i) {
+      if (static_cast<std::size_t>(circuit[i].second) >= real_edges) {
+        first = i;
+        break;
+      }
+    }
+    std::vector<Point2> trail{g.pos[static_cast<std::size_t>(circuit[first].first)]};
+    for (std::size_t k = 1; k <= m; ++k) {
+      const std::size_t i = (first + k - 1) % m + 1;
+      const auto [v, e] = circuit[i];
+      if (static_cast<std::size_t>(e) >= real_edges) {
+        if (trail.size() > 1) trails.push_back(std::move(trail));
+        trail = {g.pos[static_cast<std::size_t>(v)]};
+      } else {
+        trail.push_back(g.pos[static_cast<std::size_t>(v)]);
+      }
+    }
+    if (trail.size() > 1) trails.push_back(std::move(trail));
+  }
+  if (!max_turn_deg) return trails;
+  std::vector<std::vector<Point2>> out;
+  for (auto& t : trails) {
+    for (auto& piece : split_at_turns(std::move(t), *max_turn_deg)) out.push_back(std::move(piece));
+  }
+  return out;
+}
+
+std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
+                                             std::chrono::milliseconds budget) {
+  const auto deadline = std::chrono::steady_clock::now() + budget;
+  const std::size_t n = paths.size();
+  if (n == 0) return paths;
+  // Entry points: both ends of an open path, every vertex of a closed loop.
+  struct Entry {
+    int path;
+    int vertex;
+  };
+  std::vector<Entry> entries;
+  std::vector<std::pair<Point2, Point2>> extent;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = paths[i];
+    if (is_closed(p)) {
+      for (std::size_t k = 0; k + 1 < p.size(); ++k) entries.push_back({static_cast<int>(i), static_cast<int>(k)});
+    } else {
+      entries.push_back({static_cast<int>(i), 0});
+      entries.push_back({static_cast<int>(i), static_cast<int>(p.size() - 1)});
+    }
+    extent.emplace_back(p.front(), p.back());
+  }
+  const auto entry_pos = [&](const Entry& e) { return paths[static_cast<std::size_t>(e.path)][static_cast<std::size_t>(e.vertex)]; };
+  std::vector<std::pair<Point2, Point2>> pts;
+  for (const Entry& e : entries) pts.emplace_back(entry_pos(e), entry_pos(e));
+  pts.emplace_back(start, start);
+  Grid grid(bounds_of(pts), entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) grid.insert(static_cast<int>(i), pts[i].first, pts[i].first);
+  std::vector<char> done(n, 0);
+  std::vector<std::vector<Point2>> tour;
+  Point2 at = start;
+  for (std::size_t step = 0; step < n; ++step) {
+    // Search rings of cells around `at` until no closer entry can exist.
+    const long cx = grid.cx(at.x_mm), cv = grid.cv(at.v_mm);
+    int best = -1;
+    double best_d = 1e300;
+    for (long r = 0; r <= std::max(grid.nx(), grid.nv()); ++r) {
+      if (best >= 0 && (static_cast<double>(r) - 1) * grid.cell_mm() > best_d) break;
+      for (long v = cv - r; v <= cv + r; ++v) {
+        // The ring only: whole rows at its top and bottom, two cells on the rows between.
+        const bool edge_row = v == cv - r || v == cv + r;
+        for (long x = cx - r; x <= cx + r; x += (edge_row || r == 0) ? 1 : 2 * r) {
+          if (x < 0 || v < 0 || x >= grid.nx() || v >= grid.nv()) continue;
+          auto& cell = grid.cell(x, v);
+          for (std::size_t k = 0; k < cell.size();) {
+            const Entry& e = entries[static_cast<std::size_t>(cell[k])];
+            if (done[static_cast<std::size_t>(e.path)]) {  // drop entries of finished paths
+              cell[k] = cell.back();
+              cell.pop_back();
+              continue;
+            }
+            const double d = dist(at, entry_pos(e));
+            if (d < best_d || (d == best_d && cell[k] < best)) {
+              best_d = d;
+              best = cell[k];
+            }
+            ++k;
+          }
+        }
+      }
+    }
+    const Entry e = entries[static_cast<std::size_t>(best)];
+    auto p = std::move(paths[static_cast<std::size_t>(e.path)]);
+    done[static_cast<std::size_t>(e.path)] = 1;
+    if (is_closed(p)) rotate_loop(p, static_cast<std::size_t>(e.vertex));
+    else if (e.vertex != 0) p = reversed(std::move(p));
+    at = p.back();
+    tour.push_back(std::move(p));
+  }
+  // 2-opt: reverse tour[i..j] (each path reversed too) when that shortens the knife-up links.
+  bool improved = true;
+  while (improved && std::chrono::steady_clock::now() < deadline) {
+    improved = false;
+    for (std::size_t i = 0; i < n && std::chrono::steady_clock::now() < deadline; ++i) {
+      const Point2 before = i == 0 ? start : tour[i - 1].back();
+      for (std::size_t j = i + 1; j < n; ++j) {
+        const bool has_next = j + 1 < n;
+        const double old_d = dist(before, tour[i].front()) + (has_next ? dist(tour[j].back(), tour[j + 1].front()) : 0);
+        const double new_d = dist(before, tour[j].back()) + (has_next ? dist(tour[i].front(), tour[j + 1].front()) : 0);
+        if (new_d < old_d - 1e-9) {
+          std::reverse(tour.begin() + static_cast<long>(i), tour.begin() + static_cast<long>(j) + 1);
+          for (std::size_t k = i; k <= j; ++k) std::reverse(tour[k].begin(), tour[k].end());
+          improved = true;
+        }
+      }
+    }
+  }
+  // Or-opt: move a run of one to three paths elsewhere, either way round, when that shortens
+  // the links (2-opt cannot move a stroke without reversing everything in between).
+  const auto entry_of = [&](std::size_t k) { return tour[k].front(); };
+  const auto exit_of = [&](std::size_t k) { return tour[k].back(); };
+  improved = true;
+  while (improved && std::chrono::steady_clock::now() < deadline) {
+    improved = false;
+    for (std::size_t len = 1; len <= 3; ++len) {
+      for (std::size_t i = 0; i + len <= n && std::chrono::steady_clock::now() < deadline; ++i) {
+        const std::size_t last = i + len - 1;
+        const Point2 before = i == 0 ? start : exit_of(i - 1);
+        const bool has_after = last + 1 < n;
+        const double removed = dist(before, entry_of(i)) + (has_after ? dist(exit_of(last), entry_of(last + 1)) - dist(before, entry_of(last + 1)) : 0);
+        double best_gain = 1e-9;
+        const std::size_t none = n + 1;
+        std::size_t best_j = none;
+        bool best_rev = false;
+        // Insert after tour[j] (j == n means: before the first path).
+        for (std::size_t j = 0; j <= n; ++j) {
+          if (j + 1 >= i && j <= last) continue;  // inside or right before the run: no move
+          if (j == n && i == 0) continue;         // already first
+          const Point2 from = j == n ? start : exit_of(j);
+          const std::size_t next = j == n ? 0 : j + 1;
+          const bool has_next = next < n && !(next >= i && next <= last);
+          const double link = has_next ? dist(from, entry_of(next)) : 0;
+          for (bool rev : {false, true}) {
+            const Point2 in = rev ? exit_of(last) : entry_of(i), out = rev ? entry_of(i) : exit_of(last);
+            const double added = dist(from, in) + (has_next ? dist(out, entry_of(next)) : 0) - link;
+            if (removed - added > best_gain) {
+              best_gain = removed - added;
+              best_j = j;
+              best_rev = rev;
+            }
+          }
+        }
+        if (best_j == none) continue;
+        std::vector<std::vector<Point2>> run(std::make_move_iterator(tour.begin() + static_cast<long>(i)),
+                                             std::make_move_iterator(tour.begin() + static_cast<long>(last) + 1));
+        if (best_rev) {
+          std::reverse(run.begin(), run.end());
+          for (auto& p : run) std::reverse(p.begin(), p.end());
+        }
+        tour.erase(tour.begin() + static_cast<long>(i), tour.begin() + static_cast<long>(last) + 1);
+        const std::size_t at_pos = best_j == n ? 0 : (best_j > last ? best_j - len + 1 : best_j + 1);
+        tour.insert(tour.begin() + static_cast<long>(at_pos), std::make_move_iterator(run.begin()), std::make_move_iterator(run.end()));
+        improved = true;
+      }
+    }
+  }
+  // Closed loops may start anywhere: pick the vertex closest to both neighbours' links.
+  Point2 prev = start;
+  for (std::size_t i = 0; i < n; ++i) {
+    auto& p = tour[i];
+    if (is_closed(p)) {
+      std::size_t best_k = 0;
+      double best_d = 1e300;
+      for (std::size_t k = 0; k + 1 < p.size(); ++k) {
+        const double d = dist(prev, p[k]) + (i + 1 < n ? dist(p[k], tour[i + 1].front()) : 0);
+        if (d < best_d - 1e-12) {
+          best_d = d;
+          best_k = k;
+        }
+      }
+      rotate_loop(p, best_k);
+    }
+    prev = p.back();
+  }
+  return tour;
+}
+
+StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
+  StrokePlan plan;
+  plan.sheet = pattern.sheet;
+  plan.home = options.home.value_or(pattern.sheet.min);
+  Point2 at = plan.home;
+  for (PlanKind kind : options.order) {
+    const KindPlan& kp = options.kinds[index_of(kind)];
+    KindStats& stats = plan.kinds[index_of(kind)];
+    if (kp.mode == ToolMode::skip) continue;
+    std::vector<std::pair<Point2, Point2>> segs;
+    for (const Segment& s : kind_lines(pattern, kind, options.fold_gap_mm, &stats.folds_dropped)) segs.emplace_back(s.a, s.b);
+    segs = split_at_junctions(segs);
+    stats.pen_lift_bound = euler_bound(segs);
+    std::vector<std::vector<Point2>> paths = chain_edges(segs, options.max_turn_deg);
+    if (kp.mode == ToolMode::perforate) {
+      std::vector<std::vector<Point2>> dashes;
+      for (const auto& p : paths) {
+        for (auto& d : perforate(p, kp.perforate_on_mm, kp.perforate_off_mm)) dashes.push_back(std::move(d));
+      }
+      paths = std::move(dashes);
+    }
+    paths = order_paths(std::move(paths), at, options.optimise_budget);
+    stats.travel_mm = travel_mm(paths, at);
+    for (auto& p : paths) {
+      // Overcut closes a loop; the blade offset applies to every pass, turns included.
+      const std::vector<Point2> tip = with_passes(with_overcut(p, options.overcut_mm), kp.passes);
+      at = tip.back();  // the next kind is ordered from where the blade tip stands
+      Stroke s{kind, blade_offset_path(tip, options.blade_offset_mm, options.swivel_step_deg)};
+      stats.cut_mm += path_length_mm(s.points);
+      ++stats.strokes;
+      ++stats.pen_lifts;
+      plan.strokes.push_back(std::move(s));
+    }
+  }
+  return plan;
+}
+
+double move_time_s(double length_mm, double speed_mm_s, double accel_mm_s2) {
+  if (length_mm <= 0 || speed_mm_s <= 0) return 0;
+  if (accel_mm_s2 <= 0) return length_mm / speed_mm_s;
+  const double ramp_mm = speed_mm_s * speed_mm_s / accel_mm_s2;  // accelerate + decelerate
+  if (length_mm >= ramp_mm) return length_mm / speed_mm_s + speed_mm_s / accel_mm_s2;
+  return 2 * std::sqrt(length_mm / accel_mm_s2);
+}
+
+TimeEstimate estimate_time(const StrokePlan& plan, const Kinematics& k, const std::array<double, 4>& cut_speed_mm_s) {
+  TimeEstimate est;
+  Point2 at = plan.home;
+  for (const Stroke& s : plan.strokes) {
+    double& t = est.kind_s[index_of(s.kind)];
+    t += move_time_s(dist(at, s.points.front()), k.travel_speed_mm_s, k.accel_mm_s2) + k.knife_down_s + k.knife_up_s;
+    for (std::size_t i = 1; i < s.points.size(); ++i) {
+      t += move_time_s(dist(s.points[i - 1], s.points[i]), cut_speed_mm_s[index_of(s.kind)], k.accel_mm_s2);
+    }
+    at = s.points.back();
+  }
+  for (double t : est.kind_s) est.total_s += t;
+  return est;
+}
+
+}  // namespace popcut

@@ -1,0 +1,48 @@
+// Incremental HP-GL reader: two-letter commands, Roland "!XX" commands and ESC. device-control sequences.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace popcut::drivers {
+
+struct HpglCommand {
+  std::string name;            // "PA", "!FS", or "ESC.B" for device control
+  std::vector<double> params;  // numeric parameters in order (ESC.@ and friends: theirs too)
+  std::size_t offset = 0;      // byte offset of the command in the stream
+  std::size_t length = 0;      // bytes it took, terminator included
+  bool malformed = false;      // a parameter that is not a number
+};
+
+// Feed bytes as they arrive; commands come out once complete (a terminator, a newline or the next
+// command's first letter ends one), so a command split across writes is read whole. Two things
+// follow real devices rather than the letter of HP-GL:
+// - ESC. sequences are taken out of the stream wherever they arrive, even inside another
+//   command's parameters (hosts poll ESC.B between arbitrary chunks);
+// - a long PA/PR/PU/PD comes out in pieces as its coordinate pairs arrive (same name, the pairs
+//   so far), as a plotter consumes them from its buffer; executing the pieces equals the whole.
+// Offsets count the HP-GL bytes only (device-control sequences left out).
+class HpglReader {
+ public:
+  void feed(std::string_view bytes, std::vector<HpglCommand>& out);
+  // End of input: the last command may lack its terminator.
+  void finish(std::vector<HpglCommand>& out);
+  // Whether the next byte continues a device-control sequence (those bypass the buffer).
+  bool in_device_control() const { return !esc_.empty(); }
+  // Bytes held for a command not yet complete.
+  std::size_t pending() const { return pending_.size() - synthetic_ + esc_.size(); }
+
+ private:
+  void parse(std::vector<HpglCommand>& out, bool final);
+  std::string pending_;
+  std::size_t consumed_ = 0;  // stream offset of pending_[0]
+  std::size_t synthetic_ = 0; // leading bytes of pending_ we put back (a split command's name)
+  std::string esc_;           // a device-control sequence being received
+  std::size_t esc_count_ = 0;
+};
+
+std::vector<HpglCommand> parse_hpgl(std::string_view text);
+
+}  // namespace popcut::drivers

@@ -1,0 +1,131 @@
+// The simulated cutter: executes HP-GL on a virtual clock, records strokes, models its buffer and faults.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "popcut/drivers/hpgl_reader.h"
+#include "popcut/drivers/profile.h"
+#include "popcut/drivers/transport.h"
+
+namespace popcut::drivers {
+
+// One knife-down path as the device moved it, in absolute plotter units.
+struct SimStroke {
+  int pen = 0;
+  double force = 0;       // as sent (FS / !FS units)
+  double speed_cm_s = 0;  // VS in force when the knife went down
+  std::vector<std::array<std::int64_t, 2>> points_pu;
+};
+
+// Faults a test double of a real device must be able to show.
+struct SimFaults {
+  std::optional<std::size_t> stop_answering_after_bytes;  // then: no execution, no replies
+  std::optional<std::size_t> drop_after_bytes;            // then: the connection is gone
+  double slowdown = 1;                                     // motion takes this many times longer
+};
+
+struct SimIssue {
+  std::size_t offset = 0;
+  std::string command;
+  std::string message;
+};
+
+struct SimReport {
+  std::size_t bytes_received = 0;
+  std::size_t commands = 0;
+  std::size_t overflow_bytes = 0;   // bytes that arrived with the buffer full (lost)
+  std::size_t max_buffer_used = 0;
+  int xoff_sent = 0;
+  int queries_answered = 0;
+  int knife_downs = 0;
+  double knife_down_mm = 0;
+  double knife_up_mm = 0;
+  double motion_time_s = 0;         // time spent executing commands (kinematics, slowdown)
+  double clock_s = 0;               // virtual wall clock, including time spent waiting for bytes
+  bool outside_area = false;        // a move left the usable area
+  std::vector<SimIssue> unknown;    // commands it does not know: reported, not fatal
+  std::vector<SimIssue> errors;     // malformed parameters, odd coordinate counts
+};
+
+class SimCutter {
+ public:
+  explicit SimCutter(const DeviceProfile& profile, SimFaults faults = {});
+
+  // Bytes arriving on the line, each taking one character time at the profile's baud rate.
+  // With hardware or no flow control a full buffer holds the line until space frees (up to
+  // max_wait_s of virtual time); with XON/XOFF or ESC.B pacing the bytes are lost instead.
+  IoResult receive(const std::uint8_t* data, std::size_t size, double max_wait_s);
+  // Replies waiting (XON/XOFF, query answers); waits up to max_wait_s of virtual time for one.
+  IoResult reply(std::uint8_t* data, std::size_t size, double max_wait_s);
+  // Runs every buffered command (the host waiting for the device to finish); false if stuck.
+  bool run_to_end();
+
+  const std::vector<SimStroke>& strokes() const { return strokes_; }
+  const SimReport& report() const { return report_; }
+  const DeviceProfile& profile() const { return profile_; }
+  std::size_t buffer_used() const;
+  bool frozen() const;
+
+  // What it cut, one colour per pen, over the usable area.
+  void write_svg(std::ostream& out) const;
+
+ private:
+  void advance_to(double t_s);
+  void execute(const HpglCommand& c);
+  void answer(const HpglCommand& c);
+  void move_to(std::array<std::int64_t, 2> p);
+  void end_stroke();
+  void check_water_marks();
+  void queue_reply(const std::string& s);
+
+  DeviceProfile profile_;
+  SimFaults faults_;
+  HpglReader reader_;
+  std::deque<HpglCommand> queue_;
+  std::size_t queued_bytes_ = 0;
+  double busy_until_s_ = 0;
+  double now_s_ = 0;
+  std::string replies_;
+  bool xoff_ = false;
+  // Device state.
+  bool pen_down_ = false;
+  bool relative_ = false;
+  std::array<std::int64_t, 2> pos_{0, 0};
+  int pen_ = 0;
+  double force_ = 0;
+  double speed_cm_s_ = 0;
+  std::optional<SimStroke> current_;
+  std::vector<SimStroke> strokes_;
+  SimReport report_;
+};
+
+// Index of the first recovered stroke that differs from the planned one by more than tol_pu on
+// either axis at any point (or by point count), or of the first one missing or extra; nullopt
+// when they agree.
+std::optional<std::size_t> first_difference(const std::vector<PlotterPath>& planned, const std::vector<SimStroke>& cut,
+                                            std::int64_t tol_pu = 1);
+
+// A Transport whose far end is a SimCutter; timeouts count in the simulator's virtual time.
+class SimTransport final : public Transport {
+ public:
+  explicit SimTransport(std::shared_ptr<SimCutter> cutter) : cutter_(std::move(cutter)) {}
+  TransportStatus open() override;
+  IoResult write(std::span<const std::uint8_t> data, std::chrono::milliseconds timeout) override;
+  IoResult read(std::span<std::uint8_t> buffer, std::chrono::milliseconds timeout) override;
+  TransportStatus drain(std::chrono::milliseconds timeout) override;
+  void close() override { open_ = false; }
+  std::string describe() const override { return "sim"; }
+
+ private:
+  std::shared_ptr<SimCutter> cutter_;
+  bool open_ = false;
+};
+
+}  // namespace popcut::drivers

@@ -1,0 +1,162 @@
+// HP-GL tokenizer: splits a byte stream into commands with numeric parameters, tolerating any dialect's separators.
+#include "popcut/drivers/hpgl_reader.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+
+namespace popcut::drivers {
+namespace {
+
+constexpr char kEsc = '\x1b';
+
+bool is_letter(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
+bool starts_command(char c) { return is_letter(c) || c == '!' || c == kEsc; }
+bool is_separator(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ',' || c == '\x11' || c == '\x13'; }
+
+// Numbers separated by commas or blanks; anything else marks the command malformed.
+void parse_params(std::string_view text, HpglCommand& cmd) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    while (i < text.size() && (text[i] == ',' || text[i] == ' ' || text[i] == '\t' || text[i] == '\r')) ++i;
+    if (i >= text.size()) break;
+    std::size_t j = i;
+    while (j < text.size() && text[j] != ',' && text[j] != ' ' && text[j] != '\t' && text[j] != '\r') ++j;
+    const std::string token(text.substr(i, j - i));
+    char* end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) cmd.malformed = true;
+    else cmd.params.push_back(v);
+    i = j;
+  }
+}
+
+}  // namespace
+
+// Whether a device-control sequence is complete: three bytes, or up to the colon for set-ups.
+bool esc_complete(const std::string& e) {
+  if (e.size() < 2) return false;
+  if (e[1] != '.') return true;  // not device control: ESC and one byte
+  if (e.size() < 3) return false;
+  if (std::string_view("@HIMNT").find(e[2]) == std::string_view::npos) return true;
+  return e.back() == ':';
+}
+
+HpglCommand esc_command(const std::string& e, std::size_t offset) {
+  HpglCommand cmd;
+  cmd.offset = offset;
+  cmd.length = e.size();
+  if (e[1] != '.') {
+    cmd.name = "ESC";
+    cmd.malformed = true;
+    return cmd;
+  }
+  cmd.name = std::string("ESC.") + e[2];
+  if (e.size() > 3) {
+    std::string p = e.substr(3, e.back() == ':' ? e.size() - 4 : e.size() - 3);
+    for (char& c : p) c = c == ';' ? ',' : c;
+    parse_params(p, cmd);
+  }
+  return cmd;
+}
+
+void HpglReader::feed(std::string_view bytes, std::vector<HpglCommand>& out) {
+  for (char c : bytes) {
+    if (!esc_.empty() || c == kEsc) {
+      esc_ += c;
+      if (esc_complete(esc_)) {
+        out.push_back(esc_command(esc_, consumed_ + pending_.size() - synthetic_));
+        esc_.clear();
+      }
+      continue;
+    }
+    pending_ += c;
+  }
+  parse(out, false);
+}
+
+void HpglReader::finish(std::vector<HpglCommand>& out) {
+  if (!esc_.empty()) {
+    out.push_back(esc_command(esc_.size() >= 2 ? esc_ : esc_ + "?", consumed_));
+    esc_.clear();
+  }
+  parse(out, true);
+}
+
+void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
+  std::size_t i = 0;
+  const std::string_view s = pending_;
+  while (i < s.size()) {
+    if (is_separator(s[i])) {
+      ++i;
+      continue;
+    }
+    HpglCommand cmd;
+    cmd.offset = consumed_ + i;
+    std::size_t end = 0;  // one past the command's last byte
+    std::size_t params_from = 0, params_to = 0;
+    if (s[i] == '!' || is_letter(s[i])) {
+      const std::size_t name_len = s[i] == '!' ? 3 : 2;
+      if (s.size() - i < name_len) {
+        if (!final) break;
+        cmd.name = std::string(s.substr(i));
+        cmd.malformed = true;
+        end = s.size();
+      } else {
+        cmd.name = std::string(s.substr(i, name_len));
+        for (char& c : cmd.name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        std::size_t j = i + name_len;
+        while (j < s.size() && s[j] != ';' && s[j] != '\n' && !starts_command(s[j])) ++j;
+        if (j == s.size() && !final) {
+          // The parameters may go on in the next write. A coordinate command hands over the
+          // pairs complete so far (those followed by a separator) and keeps the rest.
+          const bool coords = cmd.name == "PA" || cmd.name == "PR" || cmd.name == "PU" || cmd.name == "PD";
+          if (!coords) break;
+          std::size_t numbers = 0, cut = 0;
+          for (std::size_t k = i + name_len; k < j; ++k) {
+            if ((s[k] == ',' || s[k] == ' ') && k > i + name_len && s[k - 1] != ',' && s[k - 1] != ' ') {
+              ++numbers;
+              if (numbers % 2 == 0) cut = k;
+            }
+          }
+          if (cut == 0) break;
+          parse_params(s.substr(i + name_len, cut - i - name_len), cmd);
+          cmd.length = cut + 1 - i - (i == 0 ? synthetic_ : 0);  // bytes that really arrived
+          out.push_back(cmd);
+          // Put the name back before the rest, as if the command had been sent in two.
+          const std::string name = std::string(s.substr(i, name_len));
+          const std::size_t real = cut + 1 - synthetic_;
+          consumed_ += real;
+          pending_ = name + pending_.substr(cut + 1);
+          synthetic_ = name_len;
+          return;
+        }
+        params_from = i + name_len;
+        params_to = j;
+        end = j < s.size() && (s[j] == ';' || s[j] == '\n') ? j + 1 : j;
+      }
+    } else {
+      cmd.name = "?";
+      cmd.malformed = true;
+      end = i + 1;
+    }
+    if (params_to > params_from) parse_params(s.substr(params_from, params_to - params_from), cmd);
+    cmd.length = end - i - (i == 0 ? synthetic_ : 0);
+    out.push_back(std::move(cmd));
+    i = end;
+  }
+  const std::size_t real = i > synthetic_ ? i - synthetic_ : 0;
+  if (i > 0) synthetic_ = 0;
+  consumed_ += real;
+  pending_.erase(0, i);
+}
+
+std::vector<HpglCommand> parse_hpgl(std::string_view text) {
+  HpglReader r;
+  std::vector<HpglCommand> out;
+  r.feed(text, out);
+  r.finish(out);
+  return out;
+}
+
+}  // namespace popcut::drivers

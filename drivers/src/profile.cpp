@@ -1,0 +1,255 @@
+// Device profile loader: each TOML section read through typed, range-checked getters; unknown keys rejected.
+#include "popcut/drivers/profile.h"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+#include <vector>
+
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+
+namespace popcut::drivers {
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// One section of the file: every key read is remembered so the rest can be refused as unknown.
+class Section {
+ public:
+  Section(const toml::table* table, std::string name, std::string source)
+      : table_(table), name_(std::move(name)), source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+    throw Error(ErrorCode::invalid_input, source_, "[" + name_ + "] " + key, message);
+  }
+
+  const toml::node* node(const std::string& key) {
+    seen_.insert(key);
+    return table_ ? table_->get(key) : nullptr;
+  }
+
+  double number(const std::string& key, double fallback, double lo, double hi) {
+    const toml::node* n = node(key);
+    if (!n) return fallback;
+    if (!n->is_number()) fail(key, "expected a number");
+    const double v = n->value<double>().value_or(0);
+    if (!std::isfinite(v) || v < lo || v > hi) fail(key, num(v) + " is out of range " + num(lo) + " to " + num(hi));
+    return v;
+  }
+  std::optional<double> optional_number(const std::string& key, double lo, double hi) {
+    if (!node(key)) return std::nullopt;
+    return number(key, 0, lo, hi);
+  }
+  int integer(const std::string& key, int fallback, int lo, int hi) {
+    const toml::node* n = node(key);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(key, "expected a whole number");
+    const std::int64_t v = n->value<std::int64_t>().value_or(0);
+    if (v < lo || v > hi) fail(key, std::to_string(v) + " is out of range " + std::to_string(lo) + " to " + std::to_string(hi));
+    return static_cast<int>(v);
+  }
+  bool boolean(const std::string& key, bool fallback) {
+    const toml::node* n = node(key);
+    if (!n) return fallback;
+    if (!n->is_boolean()) fail(key, "expected true or false");
+    return n->value<bool>().value_or(false);
+  }
+  std::string text(const std::string& key, const std::string& fallback, std::size_t max_len = 256) {
+    const toml::node* n = node(key);
+    if (!n) return fallback;
+    if (!n->is_string()) fail(key, "expected a string");
+    std::string s = n->value<std::string>().value_or("");
+    if (s.size() > max_len) fail(key, "longer than " + std::to_string(max_len) + " bytes");
+    return s;
+  }
+  // One of `names`; returns its index.
+  template <std::size_t N>
+  std::size_t choice(const std::string& key, std::size_t fallback, const std::array<const char*, N>& names) {
+    const toml::node* n = node(key);
+    if (!n) return fallback;
+    std::string allowed;
+    for (const char* a : names) allowed += std::string(allowed.empty() ? "" : ", ") + "\"" + a + "\"";
+    if (!n->is_string()) fail(key, "expected one of " + allowed);
+    const std::string s = n->value<std::string>().value_or("");
+    for (std::size_t i = 0; i < N; ++i) {
+      if (s == names[i]) return i;
+    }
+    fail(key, "\"" + s + "\" is not one of " + allowed);
+  }
+  const toml::array* array(const std::string& key) {
+    const toml::node* n = node(key);
+    if (n && !n->is_array()) fail(key, "expected an array");
+    return n ? n->as_array() : nullptr;
+  }
+  void reject_unknown() const {
+    if (!table_) return;
+    for (const auto& [k, v] : *table_) {
+      if (!seen_.count(std::string(k.str()))) fail(std::string(k.str()), "unknown key");
+    }
+  }
+
+ private:
+  const toml::table* table_;
+  std::string name_, source_;
+  std::set<std::string> seen_;
+};
+
+constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
+constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
+constexpr std::array<const char*, 4> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b"};
+
+}  // namespace
+
+const char* to_string(FlowControl flow) { return kFlowNames[static_cast<std::size_t>(flow)]; }
+
+std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
+  std::array<double, 4> s{};
+  for (std::size_t i = 0; i < 4; ++i) s[i] = tools[i].speed_cm_s * 10;
+  return s;
+}
+
+DeviceProfile parse_profile(const std::string& text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw Error(ErrorCode::invalid_input, source, "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
+                std::string(e.description()));
+  }
+  DeviceProfile p;
+  p.source = source;
+  const auto section = [&](const std::string& name) {
+    const toml::node* n = root.get(name);
+    if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
+    return Section(n ? n->as_table() : nullptr, name, source);
+  };
+  for (const auto& [k, v] : root) {
+    const std::string key(k.str());
+    if (key != "device" && key != "hpgl" && key != "transport" && key != "kinematics" && key != "plan" && key != "tool") {
+      throw Error(ErrorCode::invalid_input, source, "[" + key + "]",
+                  "unknown section (expected device, hpgl, transport, kinematics, plan, tool.KIND)");
+    }
+  }
+
+  Section dev = section("device");
+  if (!root.get("device")) dev.fail("name", "missing: every profile names its device");
+  p.name = dev.text("name", "");
+  if (p.name.empty()) dev.fail("name", "must not be empty");
+  HpglDialect& d = p.dialect;
+  d.units_per_mm_x = dev.number("units_per_mm", 40, 1, 1000);
+  d.units_per_mm_y = d.units_per_mm_x;
+  // Calibration: real devices differ per axis by up to a few per cent.
+  d.units_per_mm_x *= dev.number("scale_x", 1, 0.9, 1.1);
+  d.units_per_mm_y *= dev.number("scale_y", 1, 0.9, 1.1);
+  d.swap_axes = dev.boolean("swap_axes", false);
+  d.flip_x = dev.boolean("flip_x", false);
+  d.flip_y = dev.boolean("flip_y", false);
+  d.allow_negative = dev.boolean("negative_coords", false);
+  const double lo = d.allow_negative ? -10000 : 0;
+  const double min_x = dev.number("area_min_x_mm", 0, lo, 10000), min_y = dev.number("area_min_y_mm", 0, lo, 10000);
+  const double max_x = dev.number("area_max_x_mm", 600, lo, 10000), max_y = dev.number("area_max_y_mm", 1000, lo, 100000);
+  if (max_x <= min_x) dev.fail("area_max_x_mm", "must exceed area_min_x_mm (" + num(min_x) + ")");
+  if (max_y <= min_y) dev.fail("area_max_y_mm", "must exceed area_min_y_mm (" + num(min_y) + ")");
+  // The area's corners are whole plotter units inside what the profile declares.
+  d.area_min_x_pu = static_cast<std::int64_t>(std::ceil(min_x * d.units_per_mm_x));
+  d.area_min_y_pu = static_cast<std::int64_t>(std::ceil(min_y * d.units_per_mm_y));
+  d.area_max_x_pu = static_cast<std::int64_t>(std::floor(max_x * d.units_per_mm_x));
+  d.area_max_y_pu = static_cast<std::int64_t>(std::floor(max_y * d.units_per_mm_y));
+  dev.reject_unknown();
+
+  Section h = section("hpgl");
+  d.init = h.text("init", "IN;");
+  d.finish = h.text("finish", "PU;SP0;");
+  d.move_style = h.choice("move_style", 0, std::array<const char*, 2>{"separate", "inline"}) == 0 ? MoveStyle::separate
+                                                                                                  : MoveStyle::inline_xy;
+  d.coords = h.choice("coordinates", 0, std::array<const char*, 2>{"absolute", "relative"}) == 0 ? CoordMode::absolute
+                                                                                                 : CoordMode::relative;
+  d.terminator = h.text("terminator", ";", 2);
+  d.newline = h.boolean("newline", false);
+  d.velocity = h.boolean("velocity", true);
+  d.force = static_cast<ForceStyle>(h.choice("force", 1, std::array<const char*, 3>{"none", "fs", "roland"}));
+  d.force_g_per_unit = h.number("force_g_per_unit", 1, 0.1, 100);
+  d.max_pairs_per_command = h.integer("max_pairs_per_command", 64, 1, 4096);
+  h.reject_unknown();
+
+  Section t = section("transport");
+  p.transport.uri = t.text("default", "file:job.hpgl");
+  p.transport.baud = t.integer("baud", 9600, 300, 4000000);
+  p.transport.flow = static_cast<FlowControl>(t.choice("flow_control", 0, kFlowNames));
+  p.transport.buffer_bytes = static_cast<std::size_t>(t.integer("buffer_bytes", 1024, 64, 1 << 26));
+  p.transport.timeout_ms = t.integer("timeout_ms", 5000, 10, 600000);
+  p.transport.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
+  t.reject_unknown();
+
+  Section k = section("kinematics");
+  p.kinematics.travel_speed_mm_s = k.number("travel_speed_cm_s", 30, 0.1, 500) * 10;
+  p.kinematics.accel_mm_s2 = k.number("accel_mm_s2", 2000, 1, 100000);
+  p.kinematics.knife_up_s = k.number("knife_up_s", 0.03, 0, 10);
+  p.kinematics.knife_down_s = k.number("knife_down_s", 0.03, 0, 10);
+  k.reject_unknown();
+
+  Section pl = section("plan");
+  p.plan.fold_gap_mm = pl.number("fold_gap_mm", 0.5, 0, 20);
+  p.plan.max_turn_deg = pl.optional_number("max_turn_deg", 1, 180);
+  p.plan.optimise_budget = std::chrono::milliseconds(pl.integer("optimise_ms", 50, 0, 60000));
+  p.plan.blade_offset_mm = pl.number("blade_offset_mm", 0, 0, 2);
+  p.plan.swivel_step_deg = pl.number("swivel_step_deg", 15, 1, 90);
+  p.plan.overcut_mm = pl.number("overcut_mm", 0, 0, 10);
+  if (const toml::array* order = pl.array("order")) {
+    p.plan.order.clear();
+    std::set<std::string> names;
+    for (const toml::node& n : *order) {
+      const std::string s = n.value<std::string>().value_or("");
+      std::size_t i = 0;
+      while (i < 4 && s != kKindNames[i]) ++i;
+      if (i == 4) pl.fail("order", "\"" + s + "\" is not a line kind (valley, mountain, cut, outline)");
+      if (!names.insert(s).second) pl.fail("order", "\"" + s + "\" appears twice");
+      p.plan.order.push_back(static_cast<PlanKind>(i));
+    }
+    if (names.size() != 4) pl.fail("order", "must list each of valley, mountain, cut, outline once");
+  }
+  pl.reject_unknown();
+
+  const toml::node* tools = root.get("tool");
+  if (tools && !tools->is_table()) throw Error(ErrorCode::invalid_input, source, "[tool]", "expected tables [tool.KIND]");
+  if (tools) {
+    for (const auto& [key, v] : *tools->as_table()) {
+      const std::string name(key.str());
+      if (std::find_if(kKindNames.begin(), kKindNames.end(), [&](const char* n) { return name == n; }) == kKindNames.end()) {
+        throw Error(ErrorCode::invalid_input, source, "[tool." + name + "]", "unknown line kind (expected valley, mountain, cut, outline)");
+      }
+    }
+  }
+  for (std::size_t i = 0; i < 4; ++i) {
+    const std::string name = std::string("tool.") + kKindNames[i];
+    const toml::node* n = tools ? tools->as_table()->get(kKindNames[i]) : nullptr;
+    if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
+    Section s(n ? n->as_table() : nullptr, name, source);
+    ToolSetting& tool = p.tools[i];
+    KindPlan& kp = p.plan.kinds[i];
+    const bool fold = i < 2;
+    // Folds default to scoring at reduced force; cuts and the outline cut through.
+    kp.mode = static_cast<ToolMode>(s.choice("mode", fold ? 1 : 0, kModeNames));
+    tool.pen = s.integer("pen", 1, 0, 8);
+    tool.force_g = s.number("force_g", fold ? 40 : 120, 1, 2000);
+    tool.speed_cm_s = s.number("speed_cm_s", 10, 0.1, 200);
+    kp.passes = s.integer("passes", 1, 1, 10);
+    kp.perforate_on_mm = s.number("perforate_on_mm", 1, 0.1, 100);
+    kp.perforate_off_mm = s.number("perforate_off_mm", 1, 0.1, 100);
+    if (!n) continue;
+    s.reject_unknown();
+  }
+  return p;
+}
+
+DeviceProfile load_profile(const std::string& path) { return parse_profile(read_text_file(path, 1 << 20), path); }
+
+}  // namespace popcut::drivers

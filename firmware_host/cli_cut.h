@@ -1,0 +1,25 @@
+// The plan and cut subcommands: stroke planning, HP-GL and sending to a cutter (or the simulator).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+namespace popcut::cli {
+
+struct CutCommands {
+  CLI::App* plan = nullptr;
+  CLI::App* cut = nullptr;
+  std::string model_path, profile_path, out_path, report_path, device = "sim", out_dir;
+  bool json_out = false, no_progress = false;
+  long stop_answering_after = -1, drop_after = -1;
+  double slowdown = 1;
+};
+
+// Adds `plan` and `cut` to the app; `state` receives the parsed options.
+void add_cut_commands(CLI::App& app, CutCommands& state);
+
+// Runs whichever of the two was chosen; nullopt when neither was.
+std::optional<int> run_cut_commands(const CutCommands& state);
+
+}  // namespace popcut::cli

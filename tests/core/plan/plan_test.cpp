@@ -1,0 +1,267 @@
+// Stroke planning: Euler bound by construction and over random models, fold gaps, coverage, order.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "popcut/io/model_io.h"
+#include "popcut/pattern/voxel_pattern.h"
+#include "popcut/plan/plan.h"
+#include "random_models.h"
+
+namespace popcut {
+namespace {
+
+using Edges = std::vector<std::pair<Point2, Point2>>;
+
+double dist(Point2 a, Point2 b) { return std::hypot(a.x_mm - b.x_mm, a.v_mm - b.v_mm); }
+
+double dist_to_segment(Point2 p, Point2 a, Point2 b) {
+  const double dx = b.x_mm - a.x_mm, dv = b.v_mm - a.v_mm, l2 = dx * dx + dv * dv;
+  const double t = l2 > 0 ? std::clamp(((p.x_mm - a.x_mm) * dx + (p.v_mm - a.v_mm) * dv) / l2, 0.0, 1.0) : 0;
+  return dist(p, {a.x_mm + t * dx, a.v_mm + t * dv});
+}
+
+// An undirected edge on a 1e-4 mm lattice, so a stroke's edges compare with the input's.
+using EdgeKey = std::pair<std::pair<long, long>, std::pair<long, long>>;
+EdgeKey key(Point2 a, Point2 b) {
+  auto k = [](Point2 p) { return std::make_pair(std::lround(p.x_mm * 1e4), std::lround(p.v_mm * 1e4)); };
+  return std::minmax(k(a), k(b));
+}
+
+std::map<EdgeKey, int> edge_counts(const Edges& edges) {
+  std::map<EdgeKey, int> m;
+  for (const auto& [a, b] : edges) ++m[key(a, b)];
+  return m;
+}
+
+std::map<EdgeKey, int> stroke_edge_counts(const std::vector<std::vector<Point2>>& paths) {
+  std::map<EdgeKey, int> m;
+  for (const auto& p : paths) {
+    for (std::size_t i = 1; i < p.size(); ++i) ++m[key(p[i - 1], p[i])];
+  }
+  return m;
+}
+
+TEST(EulerBound, SmallGraphs) {
+  const Edges square = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
+  EXPECT_EQ(euler_bound(square), 1) << "a closed loop is one stroke";
+  const Edges plus = {{{0, 0}, {5, 0}}, {{5, 0}, {10, 0}}, {{5, -5}, {5, 0}}, {{5, 0}, {5, 5}}};
+  EXPECT_EQ(euler_bound(plus), 2) << "a plus has four odd ends: two strokes";
+  const Edges apart = {{{0, 0}, {1, 0}}, {{5, 5}, {6, 5}}};
+  EXPECT_EQ(euler_bound(apart), 2) << "each component needs its own stroke";
+  EXPECT_EQ(euler_bound({}), 0) << "nothing to cut, no stroke";
+}
+
+TEST(EulerBound, TJunctionIsSplitSoChainsCanTurn) {
+  const Edges t = {{{0, 0}, {10, 0}}, {{5, 0}, {5, 5}}};
+  const Edges split = split_at_junctions(t);
+  EXPECT_EQ(split.size(), 3u) << "the bar is split where the stem meets it";
+  EXPECT_EQ(euler_bound(split), 2) << "T: four odd vertices (three ends and the junction)";
+  EXPECT_EQ(chain_edges(split, std::nullopt).size(), 2u) << "chained to the bound";
+}
+
+TEST(ChainEdges, CoversEveryEdgeOnceAndMeetsTheBound) {
+  // A grid of 3 x 3 cells: many odd vertices on the border, even inside.
+  Edges grid;
+  for (int i = 0; i <= 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      grid.push_back({{double(j), double(i)}, {double(j + 1), double(i)}});
+      grid.push_back({{double(i), double(j)}, {double(i), double(j + 1)}});
+    }
+  }
+  const auto chains = chain_edges(grid, std::nullopt);
+  EXPECT_EQ(static_cast<int>(chains.size()), euler_bound(grid)) << "strokes at the Euler bound";
+  EXPECT_EQ(stroke_edge_counts(chains), edge_counts(grid)) << "every edge exactly once";
+}
+
+TEST(ChainEdges, TurnLimitLiftsAtSharpCorners) {
+  const Edges square = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
+  EXPECT_EQ(chain_edges(square, 45.0).size(), 4u) << "90° corners with a 45° limit: one stroke per side";
+  EXPECT_EQ(chain_edges(square, 90.0).size(), 1u) << "a 90° limit allows 90° turns";
+}
+
+TEST(Perforate, DashesStartAndEndUncut) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  p.lines = {{LineKind::valley, {10, 0}, {30, 0}}};
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::valley)] = {ToolMode::perforate, 1, 2.0, 1.0};
+  o.order = {PlanKind::valley};
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 6u) << "floor((20 - 1) / 3) = 6 dashes of 2 mm";
+  double lo = 1e9, hi = -1e9;
+  for (const Stroke& s : plan.strokes) {
+    EXPECT_NEAR(path_length_mm(s.points), 2.0, 1e-9) << "each dash is as long as asked";
+    for (Point2 q : s.points) lo = std::min(lo, q.x_mm), hi = std::max(hi, q.x_mm);
+  }
+  EXPECT_GT(lo, 10.0 + 0.99) << "the first dash starts after an uncut gap";
+  EXPECT_LT(hi, 30.0 - 0.99) << "the last dash ends before an uncut gap";
+}
+
+TEST(Passes, GoBackAndForthWithoutLifting) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  p.lines = {{LineKind::cut, {10, 5}, {30, 5}}};
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::cut)].passes = 3;
+  o.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 1u) << "passes do not add strokes";
+  EXPECT_NEAR(plan.kinds[index_of(PlanKind::cut)].cut_mm, 60.0, 1e-9) << "three passes of 20 mm";
+  EXPECT_EQ(plan.strokes[0].points.size(), 4u) << "there, back, there";
+}
+
+TEST(FoldGap, FoldsStopShortOfCutsAndTheOutline) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  p.lines = {{LineKind::cut, {10, 0}, {10, 10}}, {LineKind::valley, {10, 0}, {30, 0}}, {LineKind::mountain, {0, 5}, {5, 5}},
+             {LineKind::valley, {20, 10}, {20.8, 10}}};
+  int dropped = 0;
+  const auto valleys = kind_lines(p, PlanKind::valley, 0.5, &dropped);
+  ASSERT_EQ(valleys.size(), 2u) << "both valleys survive while nothing cuts the short one";
+  EXPECT_NEAR(valleys[0].a.x_mm, 10.5, 1e-12) << "trimmed at the cut";
+  EXPECT_NEAR(valleys[0].b.x_mm, 30.0, 1e-12) << "a free end is left alone";
+  EXPECT_EQ(dropped, 0) << "a fold touching nothing keeps its length";
+  const auto mountains = kind_lines(p, PlanKind::mountain, 0.5);
+  EXPECT_NEAR(mountains.at(0).a.x_mm, 0.5, 1e-12) << "trimmed at the sheet's edge (the outline is cut)";
+  p.lines.push_back({LineKind::cut, {20.8, 9}, {20.8, 11}});
+  p.lines.push_back({LineKind::cut, {20, 9}, {20, 11}});
+  kind_lines(p, PlanKind::valley, 0.5, &dropped);
+  EXPECT_EQ(dropped, 1) << "a 0.8 mm fold between two cuts has nothing left after two 0.5 mm gaps";
+}
+
+TEST(Order, TwoOptNeverWorseThanGreedyAndBothBeatInputOrder) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 200);
+  std::vector<std::vector<Point2>> paths;
+  for (int i = 0; i < 300; ++i) {
+    const Point2 a{u(rng), u(rng)};
+    paths.push_back({a, {a.x_mm + 2, a.v_mm + 1}});
+  }
+  const double input = travel_mm(paths, {0, 0});
+  const double greedy = travel_mm(order_paths(paths, {0, 0}, std::chrono::milliseconds(0)), {0, 0});
+  const double opt = travel_mm(order_paths(paths, {0, 0}, std::chrono::milliseconds(200)), {0, 0});
+  EXPECT_LT(greedy, input * 0.5) << "nearest neighbour cuts random order's travel by more than half";
+  EXPECT_LE(opt, greedy + 1e-9) << "2-opt only accepts improvements";
+  EXPECT_EQ(stroke_edge_counts(order_paths(paths, {0, 0}, std::chrono::milliseconds(50))), stroke_edge_counts(paths))
+      << "ordering keeps every path (possibly reversed)";
+}
+
+TEST(Order, ClosedLoopStartsWhereTravelIsShortest) {
+  const std::vector<Point2> loop = {{10, 10}, {20, 10}, {20, 20}, {10, 20}, {10, 10}};
+  const auto out = order_paths({loop}, {25, 25}, std::chrono::milliseconds(10));
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].front(), (Point2{20, 20})) << "enter the loop at its corner nearest the knife";
+  EXPECT_EQ(out[0].back(), out[0].front()) << "still closed";
+}
+
+TEST(DragKnife, AxisRunsAheadAndSwivelsRoundCorners) {
+  const std::vector<Point2> tip = {{0, 0}, {10, 0}, {10, 10}};
+  const auto axis = blade_offset_path(tip, 0.5, 15);
+  ASSERT_EQ(axis.size(), 2u + 1u + 6u) << "start, corner, 90° in 15° steps, end";
+  EXPECT_EQ(axis.front(), (Point2{0.5, 0})) << "the axis leads the tip along the first segment";
+  EXPECT_EQ(axis[1], (Point2{10.5, 0})) << "and reaches past the corner by the offset";
+  for (std::size_t i = 2; i + 1 < axis.size(); ++i) {
+    EXPECT_NEAR(dist(axis[i], {10, 0}), 0.5, 1e-12) << "swivel arc point " << i << " circles the corner";
+    EXPECT_GE(axis[i].v_mm, -1e-12) << "a left turn swivels the short way (through +v)";
+  }
+  EXPECT_NEAR(axis.back().x_mm, 10, 1e-12);
+  EXPECT_NEAR(axis.back().v_mm, 10.5, 1e-12) << "ends the offset past the last point";
+  const auto back = blade_offset_path({{0, 0}, {10, 0}, {0, 0}}, 0.5, 15);
+  EXPECT_EQ(back.size(), 2u + 12u + 1u) << "a second pass swivels 180°";
+  EXPECT_EQ(blade_offset_path(tip, 0, 15), tip) << "no offset: the tip path itself";
+}
+
+TEST(DragKnife, OvercutContinuesClosedLoopsOnly) {
+  const std::vector<Point2> square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}};
+  const auto over = with_overcut(square, 12);
+  EXPECT_NEAR(path_length_mm(over), 52, 1e-12) << "40 mm round plus 12 mm again";
+  EXPECT_EQ(over.back(), (Point2{10, 2})) << "the overcut follows the loop past its first corner";
+  const std::vector<Point2> open = {{0, 0}, {10, 0}};
+  EXPECT_EQ(with_overcut(open, 5), open) << "open strokes are not extended";
+}
+
+TEST(DragKnife, PlannedAxisStaysWithinTheOffsetOfTheLines) {
+  std::mt19937_64 rng(23);
+  for (int n = 0; n < 30; ++n) {
+    const Pattern p = make_pattern(testing::random_model(rng, {}));
+    PlanOptions tip_only, drag;
+    tip_only.optimise_budget = drag.optimise_budget = std::chrono::milliseconds(0);
+    drag.blade_offset_mm = 0.3;
+    const StrokePlan a = plan_strokes(p, tip_only), b = plan_strokes(p, drag);
+    ASSERT_EQ(a.strokes.size(), b.strokes.size()) << "model " << n << ": the offset adds no strokes";
+    for (std::size_t i = 0; i < a.strokes.size(); ++i) {
+      for (Point2 q : b.strokes[i].points) {
+        double d = 1e9;
+        for (std::size_t k = 1; k < a.strokes[i].points.size(); ++k) {
+          d = std::min(d, dist_to_segment(q, a.strokes[i].points[k - 1], a.strokes[i].points[k]));
+        }
+        EXPECT_LE(d, 0.3 + 1e-9) << "model " << n << " stroke " << i << ": the axis stays within the blade offset";
+      }
+    }
+    const Rect e = b.extent();
+    EXPECT_LE(p.sheet.min.x_mm - e.min.x_mm, 0.3 + 1e-9) << "the outline's corners swing at most the offset past the sheet";
+  }
+}
+
+TEST(Time, TrapezoidProfile) {
+  EXPECT_NEAR(move_time_s(100, 100, 1000), 1.1, 1e-12) << "cruise 1 s plus the ramps' lost 0.1 s";
+  EXPECT_NEAR(move_time_s(4, 100, 1000), 2 * std::sqrt(4.0 / 1000), 1e-12) << "too short to reach full speed";
+  EXPECT_EQ(move_time_s(0, 100, 1000), 0) << "no move, no time";
+}
+
+// For many random models (voxel with windows, and face models): per kind, with no turn limit, the
+// strokes meet the Euler bound exactly, cover every line piece once, and folds keep their gap.
+TEST(PlanProperties, RandomModelsMeetTheBoundAndCoverEveryLineOnce) {
+  std::mt19937_64 rng(11);
+  testing::RandomModelSpec spec;
+  spec.window_probability = 0.3;
+  spec.random_sheet = true;
+  std::vector<Pattern> patterns;
+  for (int i = 0; i < 150; ++i) patterns.push_back(make_pattern(testing::random_model(rng, spec)));
+  for (int i = 0; i < 40; ++i) patterns.push_back(make_pattern(AnyModel(testing::random_face_model(rng, {}))));
+  int checked = 0;
+  for (std::size_t n = 0; n < patterns.size(); ++n) {
+    const Pattern& p = patterns[n];
+    PlanOptions o;
+    o.optimise_budget = std::chrono::milliseconds(2);
+    const StrokePlan plan = plan_strokes(p, o);
+    for (PlanKind kind : kAllPlanKinds) {
+      Edges want;
+      for (const Segment& s : kind_lines(p, kind, o.fold_gap_mm)) want.emplace_back(s.a, s.b);
+      want = split_at_junctions(want);
+      std::vector<std::vector<Point2>> got;
+      for (const Stroke& s : plan.strokes) {
+        if (s.kind == kind) got.push_back(s.points);
+      }
+      const KindStats& k = plan.kinds[index_of(kind)];
+      EXPECT_EQ(k.strokes, euler_bound(want)) << "model " << n << " " << to_string(kind) << ": strokes at the Euler bound";
+      EXPECT_EQ(k.strokes, static_cast<int>(got.size())) << "model " << n << " " << to_string(kind) << ": stats count the strokes";
+      EXPECT_EQ(stroke_edge_counts(got), edge_counts(want)) << "model " << n << " " << to_string(kind)
+                                                            << ": every line piece cut once, nothing else";
+    }
+    // Voxel patterns are axis-aligned: every fold end is at least the gap from every cut.
+    if (n < 150) {
+      for (const Stroke& s : plan.strokes) {
+        if (s.kind != PlanKind::valley && s.kind != PlanKind::mountain) continue;
+        for (Point2 q : {s.points.front(), s.points.back()}) {
+          for (const Segment& c : p.lines) {
+            if (c.kind == LineKind::cut) {
+              EXPECT_GE(dist_to_segment(q, c.a, c.b), 0.5 - 1e-9) << "model " << n << ": fold gap";
+            }
+          }
+          EXPECT_GE(std::min({q.x_mm - p.sheet.min.x_mm, p.sheet.max.x_mm - q.x_mm, q.v_mm - p.sheet.min.v_mm, p.sheet.max.v_mm - q.v_mm}),
+                    0.5 - 1e-9)
+              << "model " << n << ": fold gap from the outline";
+        }
+      }
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 190);
+}
+
+}  // namespace
+}  // namespace popcut

@@ -1,0 +1,44 @@
+// Golden HP-GL: the exact bytes each shipped profile produces for two examples, reviewed and kept in tests/data/golden.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "popcut/drivers/profile.h"
+#include "popcut/hpgl/hpgl.h"
+#include "popcut/io/model_io.h"
+#include "shipped_profiles.h"
+
+namespace popcut::drivers {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Regenerate after an intended change with POPCUT_UPDATE_GOLDEN=1, then review the diff.
+TEST(GoldenHpgl, EveryProfileWritesTheReviewedBytes) {
+  const std::string src = POPCUT_SOURCE_DIR;
+  const bool update = std::getenv("POPCUT_UPDATE_GOLDEN") != nullptr;
+  for (const char* model : {"voxel/box.json", "faces/porch.json"}) {
+    const Pattern pattern = make_pattern(load_model(src + "/examples/" + model));
+    for (const std::string& file : testing::shipped_profiles()) {
+      const DeviceProfile prof = load_profile(file);
+      // Small cards: 2-opt and Or-opt converge long before this budget, so the plan is stable.
+      PlanOptions o = prof.plan;
+      o.optimise_budget = std::chrono::milliseconds(2000);
+      const std::string job = encode_hpgl(plan_strokes(pattern, o), prof.dialect, prof.tools);
+      const fs::path golden = fs::path(src) / "tests/data/golden" /
+                              (fs::path(file).stem().string() + "-" + fs::path(model).stem().string() + ".hpgl");
+      if (update) std::ofstream(golden, std::ios::binary) << job;
+      std::ifstream in(golden, std::ios::binary);
+      ASSERT_TRUE(in.good()) << golden << " is missing: run with POPCUT_UPDATE_GOLDEN=1";
+      std::stringstream want;
+      want << in.rdbuf();
+      EXPECT_EQ(job, want.str()) << golden.filename() << ": the job changed; if intended, regenerate and review";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace popcut::drivers

@@ -1,0 +1,90 @@
+// Device profiles: every shipped file loads; bad profiles are refused naming file, section and key.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "popcut/drivers/profile.h"
+#include "popcut/error.h"
+#include "shipped_profiles.h"
+
+namespace popcut::drivers {
+namespace {
+
+using testing::shipped_profiles;
+
+TEST(Profiles, EveryShippedProfileLoads) {
+  const auto files = shipped_profiles();
+  EXPECT_GE(files.size(), 6u) << "generic, Roland, Graphtec, US Cutter, Secabo and sim";
+  for (const std::string& f : files) {
+    try {
+      const DeviceProfile p = load_profile(f);
+      EXPECT_FALSE(p.name.empty()) << f;
+      EXPECT_GT(p.dialect.area_max_x_pu, p.dialect.area_min_x_pu) << f;
+      EXPECT_GE(p.dialect.area_min_x_pu, 0) << f << ": no profile ships with negative coordinates";
+    } catch (const Error& e) {
+      ADD_FAILURE() << f << ": " << e.what();
+    }
+  }
+}
+
+TEST(Profiles, ValuesArriveWhereTheyBelong) {
+  const DeviceProfile p = load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/roland-gx24.toml");
+  EXPECT_EQ(p.dialect.move_style, MoveStyle::inline_xy);
+  EXPECT_EQ(p.dialect.force, ForceStyle::roland);
+  EXPECT_TRUE(p.dialect.swap_axes);
+  EXPECT_EQ(p.dialect.area_max_x_pu, 584 * 40) << "usable width in plotter units";
+  EXPECT_EQ(p.transport.flow, FlowControl::xon_xoff);
+  EXPECT_EQ(p.plan.kinds[index_of(PlanKind::mountain)].mode, ToolMode::perforate);
+  EXPECT_EQ(p.plan.kinds[index_of(PlanKind::outline)].passes, 2);
+  EXPECT_DOUBLE_EQ(p.tools[index_of(PlanKind::cut)].force_g, 110);
+  EXPECT_DOUBLE_EQ(p.kinematics.travel_speed_mm_s, 500) << "cm/s in the file, mm/s inside";
+}
+
+struct Bad {
+  const char* text;
+  const char* location;  // expected "[section] key" (or line/column)
+  const char* says;      // expected part of the message
+};
+
+TEST(Profiles, BadProfilesNameFileSectionAndKey) {
+  const std::string ok = "[device]\nname = \"x\"\n";
+  const Bad cases[] = {
+      {"[device]\nname = \"x\"\nunits_per_mm = 0.5\n", "[device] units_per_mm", "out of range 1 to 1000"},
+      {"[device]\nname = \"x\"\nspeed = 3\n", "[device] speed", "unknown key"},
+      {"[device]\nname = \"x\"\n[motors]\n", "[motors]", "unknown section"},
+      {"[device]\nname = \"x\"\n[tool.cut]\nforce_g = 5000\n", "[tool.cut] force_g", "out of range"},
+      {"[device]\nname = \"x\"\n[tool.cut]\nforce = 50\n", "[tool.cut] force", "unknown key"},
+      {"[device]\nname = \"x\"\n[tool.cut]\nmode = \"burn\"\n", "[tool.cut] mode", "not one of"},
+      {"[device]\nname = \"x\"\n[tool.edge]\nmode = \"cut\"\n", "[tool.edge]", "unknown line kind"},
+      {"[device]\nname = \"x\"\n[tool.valley]\npasses = 0\n", "[tool.valley] passes", "out of range 1 to 10"},
+      {"[device]\nname = \"x\"\n[tool.valley]\npasses = 1.5\n", "[tool.valley] passes", "whole number"},
+      {"[device]\nname = \"x\"\n[hpgl]\nmove_style = \"fancy\"\n", "[hpgl] move_style", "\"separate\", \"inline\""},
+      {"[device]\nname = \"x\"\n[hpgl]\nvelocity = \"yes\"\n", "[hpgl] velocity", "true or false"},
+      {"[device]\nname = \"x\"\n[transport]\nflow_control = \"smoke\"\n", "[transport] flow_control", "not one of"},
+      {"[device]\nname = \"x\"\n[transport]\nbuffer_bytes = 8\n", "[transport] buffer_bytes", "out of range"},
+      {"[device]\nname = \"x\"\n[plan]\norder = [\"cut\", \"cut\", \"valley\", \"mountain\"]\n", "[plan] order", "appears twice"},
+      {"[device]\nname = \"x\"\n[plan]\norder = [\"cut\"]\n", "[plan] order", "each of"},
+      {"[device]\nname = \"x\"\n[plan]\nfold_gap_mm = -1\n", "[plan] fold_gap_mm", "out of range"},
+      {"[device]\nname = \"x\"\narea_min_x_mm = -5\n", "[device] area_min_x_mm", "out of range 0"},
+      {"[device]\nname = \"x\"\narea_max_x_mm = 0\n", "[device] area_max_x_mm", "must exceed"},
+      {"[hpgl]\ninit = \"IN;\"\n", "[device] name", "missing"},
+      {"[device]\nname = \n", "line 2", ""},
+  };
+  for (const Bad& b : cases) {
+    try {
+      parse_profile(b.text, "bad.toml");
+      ADD_FAILURE() << "accepted:\n" << b.text;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_input) << b.text;
+      EXPECT_EQ(e.source(), "bad.toml") << "names the file";
+      EXPECT_EQ(e.location().rfind(b.location, 0), 0u) << "location for\n" << b.text << "was " << e.location();
+      EXPECT_NE(e.message().find(b.says), std::string::npos) << "message for\n" << b.text << "was " << e.message();
+    }
+  }
+  EXPECT_NO_THROW(parse_profile(ok, "ok.toml")) << "a name is all a profile needs";
+  EXPECT_NO_THROW(parse_profile(ok + "negative_coords = true\narea_min_x_mm = -5\n", "ok.toml"))
+      << "negative coordinates when the device allows them";
+}
+
+}  // namespace
+}  // namespace popcut::drivers

@@ -1,0 +1,239 @@
+// HP-GL reader and simulated cutter: parsing, flow control, faults, and plan ⇄ recovered strokes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+#include "popcut/drivers/hpgl_reader.h"
+#include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/sim_cutter.h"
+#include "popcut/io/model_io.h"
+#include "popcut/pattern/voxel_pattern.h"
+#include "random_models.h"
+#include "shipped_profiles.h"
+
+namespace popcut::drivers {
+namespace {
+
+std::string config(const std::string& name) { return std::string(POPCUT_SOURCE_DIR) + "/configs/devices/" + name; }
+
+using testing::shipped_profiles;
+
+TEST(HpglReader, CommandsParamsAndSeparators) {
+  const auto c = parse_hpgl("IN;SP1;PU100,200;PD 300 400,500,600\nPA;!FS80;VS10,1;ZZ3;PR-5,+7");
+  std::vector<std::string> names;
+  for (const auto& x : c) names.push_back(x.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"IN", "SP", "PU", "PD", "PA", "!FS", "VS", "ZZ", "PR"}));
+  EXPECT_EQ(c[3].params, (std::vector<double>{300, 400, 500, 600})) << "blanks and commas both separate";
+  EXPECT_EQ(c[5].params, std::vector<double>{80}) << "Roland !FS";
+  EXPECT_EQ(c[8].params, (std::vector<double>{-5, 7})) << "signed numbers; the last command needs no terminator";
+}
+
+TEST(HpglReader, SplitWritesAndOutOfBandEscapes) {
+  const std::string job = "PU;PA10,20,30,40,50,60;PD;";
+  HpglReader r;
+  std::vector<HpglCommand> out;
+  r.feed("PU;PA10,2", out);
+  r.feed("0,30,4\x1b.B", out);  // a buffer query arrives inside the coordinates
+  r.feed("0,50,60;PD;", out);
+  r.finish(out);
+  std::vector<double> pa;
+  bool query = false;
+  for (const auto& c : out) {
+    if (c.name == "PA") pa.insert(pa.end(), c.params.begin(), c.params.end());
+    if (c.name == "ESC.B") query = true;
+    EXPECT_FALSE(c.malformed) << c.name << " at " << c.offset;
+  }
+  EXPECT_TRUE(query) << "ESC.B is taken out wherever it arrives";
+  EXPECT_EQ(pa, (std::vector<double>{10, 20, 30, 40, 50, 60})) << "the coordinates survive the split and the query";
+}
+
+DeviceProfile sim_profile() { return load_profile(config("sim.toml")); }
+
+std::string drain_replies(SimTransport& t) {
+  std::string s;
+  std::uint8_t buf[64];
+  for (;;) {
+    const IoResult r = t.read(buf, std::chrono::milliseconds(0));
+    if (r.bytes == 0) return s;
+    s.append(reinterpret_cast<const char*>(buf), r.bytes);
+  }
+}
+
+TEST(SimCutter, RecordsStrokesWithToolForceAndSpeedAndReportsUnknownCommands) {
+  auto cutter = std::make_shared<SimCutter>(sim_profile());
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const std::string job = "IN;SP2;VS12;FS55;PU100,100;PD200,100,200,200;PU;XX9;PA400,400;PD;PR0,40;PU;";
+  ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(1000)).status.ok());
+  ASSERT_TRUE(cutter->run_to_end());
+  const auto& s = cutter->strokes();
+  ASSERT_EQ(s.size(), 2u) << "two knife-down paths";
+  EXPECT_EQ(s[0].points_pu, (PlotterPath{{100, 100}, {200, 100}, {200, 200}}));
+  EXPECT_EQ(s[0].pen, 2);
+  EXPECT_EQ(s[0].force, 55);
+  EXPECT_EQ(s[0].speed_cm_s, 12);
+  EXPECT_EQ(s[1].points_pu, (PlotterPath{{400, 400}, {400, 440}})) << "relative move after PR";
+  ASSERT_EQ(cutter->report().unknown.size(), 1u) << "XX is reported";
+  EXPECT_EQ(cutter->report().unknown[0].command, "XX");
+  EXPECT_NEAR(cutter->report().knife_down_mm, 2.5 + 2.5 + 1, 1e-9) << "100 units = 2.5 mm at 40/mm";
+  EXPECT_GT(cutter->report().motion_time_s, 0);
+}
+
+TEST(SimCutter, HostileNumbersAreReportedNotFatal) {
+  auto cutter = std::make_shared<SimCutter>(sim_profile());
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  // HP-GL has no exponents (a letter starts a command): huge numbers are long digit strings.
+  const std::string job = "IN;PR" + std::string(30, '9') + ",1;PR-" + std::string(30, '9') + ",1;PA1" + std::string(400, '0') +
+                          ",5;PD1,2,3;";
+  t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(100));
+  ASSERT_TRUE(cutter->run_to_end());
+  EXPECT_TRUE(cutter->report().outside_area) << "moves far off the table are flagged";
+  const auto& errors = cutter->report().errors;
+  ASSERT_EQ(errors.size(), 3u) << "PA: a number beyond double (malformed, leaving an odd count); PD: three numbers";
+  EXPECT_EQ(errors[0].command + " " + errors[0].message, "PA malformed parameters");
+  EXPECT_EQ(errors[1].command + " " + errors[1].message, "PA odd number of coordinates");
+  EXPECT_EQ(errors[2].command + " " + errors[2].message, "PD odd number of coordinates");
+}
+
+TEST(SimCutter, AnswersBufferAndStatusQueries) {
+  auto cutter = std::make_shared<SimCutter>(sim_profile());
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const std::string q = "\x1b.B\x1b.O";
+  t.write({reinterpret_cast<const std::uint8_t*>(q.data()), q.size()}, std::chrono::milliseconds(100));
+  EXPECT_EQ(drain_replies(t), "1024\r8\r") << "an idle device: whole buffer free, status 8 (buffer empty)";
+  const std::string part = "PU;PD1000,1000,0,0,1000,1000;";  // queued behind a long move
+  t.write({reinterpret_cast<const std::uint8_t*>(part.data()), part.size()}, std::chrono::milliseconds(100));
+  const std::string q2 = "IN;SP1;PA5,5;\x1b.B";
+  t.write({reinterpret_cast<const std::uint8_t*>(q2.data()), q2.size()}, std::chrono::milliseconds(100));
+  const std::string free_bytes = drain_replies(t);
+  EXPECT_LT(std::stol(free_bytes), 1024) << "commands waiting behind a move occupy the buffer: " << free_bytes;
+}
+
+TEST(SimCutter, XonXoffKeepsTheBufferFromOverflowing) {
+  DeviceProfile p = sim_profile();
+  p.transport.buffer_bytes = 256;
+  auto cutter = std::make_shared<SimCutter>(p);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  std::string job = "IN;SP1;";
+  for (int i = 0; i < 200; ++i) job += "PU0,0;PD4000,0,4000,4000;";
+  const SendResult r = send_job(t, job, send_options(p));
+  ASSERT_TRUE(r.status.ok()) << r.status.message;
+  EXPECT_GT(r.xoff_pauses, 0) << "a slow device holds the host off";
+  ASSERT_TRUE(cutter->run_to_end());
+  EXPECT_EQ(cutter->report().overflow_bytes, 0u) << "the host honoured XOFF";
+  EXPECT_LE(cutter->report().max_buffer_used, 256u);
+  EXPECT_EQ(cutter->strokes().size(), 200u);
+
+  // A host that ignores flow control loses bytes: the model notices.
+  auto rude = std::make_shared<SimCutter>(p);
+  SimTransport t2(rude);
+  ASSERT_TRUE(t2.open().ok());
+  SendOptions none = send_options(p);
+  none.flow = FlowControl::none;
+  send_job(t2, job, none);
+  EXPECT_GT(rude->report().overflow_bytes, 0u) << "ignoring XOFF overflows the buffer";
+}
+
+TEST(SimCutter, FaultsShowUpAsTransportErrors) {
+  const DeviceProfile p = sim_profile();
+  std::string job = "IN;SP1;";
+  for (int i = 0; i < 300; ++i) job += "PU0,0;PD400,0,400,400;";
+  {
+    auto c = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, 500, 1});
+    SimTransport t(c);
+    ASSERT_TRUE(t.open().ok());
+    const SendResult r = send_job(t, job, send_options(p));
+    EXPECT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
+    EXPECT_EQ(r.bytes_sent, 500u) << "exactly the bytes before the drop got through";
+  }
+  {
+    auto c = std::make_shared<SimCutter>(p, SimFaults{700, std::nullopt, 1});
+    SimTransport t(c);
+    ASSERT_TRUE(t.open().ok());
+    SendOptions o = send_options(p);
+    o.hold_timeout = std::chrono::milliseconds(2000);
+    const SendResult r = send_job(t, job, o);
+    EXPECT_EQ(r.status.error, TransportError::timeout) << "a device that stops answering times out: " << r.status.message;
+    EXPECT_FALSE(c->run_to_end()) << "and never finishes";
+  }
+  {
+    auto fast = std::make_shared<SimCutter>(p);
+    auto slow = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, 3});
+    for (auto& c : {fast, slow}) {
+      SimTransport t(c);
+      ASSERT_TRUE(t.open().ok());
+      ASSERT_TRUE(send_job(t, job, send_options(p)).status.ok());
+      ASSERT_TRUE(c->run_to_end());
+    }
+    EXPECT_NEAR(slow->report().motion_time_s, 3 * fast->report().motion_time_s, 1e-6) << "slowdown scales motion";
+    EXPECT_EQ(slow->strokes().size(), fast->strokes().size()) << "but cuts the same";
+  }
+}
+
+// The core property: for random models and every shipped profile, what the simulator recovers
+// from the bytes is exactly the plan (within one plotter unit), with nothing outside the area.
+TEST(SimCutter, RecoversThePlannedStrokesForEveryProfile) {
+  std::mt19937_64 rng(5);
+  testing::RandomModelSpec spec;
+  spec.window_probability = 0.2;
+  std::vector<Pattern> patterns;
+  for (int i = 0; i < 12; ++i) patterns.push_back(make_pattern(testing::random_model(rng, spec)));
+  for (int i = 0; i < 4; ++i) patterns.push_back(make_pattern(AnyModel(testing::random_face_model(rng, {}))));
+  for (const std::string& file : shipped_profiles()) {
+    const DeviceProfile prof = load_profile(file);
+    for (std::size_t n = 0; n < patterns.size(); ++n) {
+      PlanOptions opts = prof.plan;
+      opts.optimise_budget = std::chrono::milliseconds(1);
+      const StrokePlan plan = plan_strokes(patterns[n], opts);
+      const std::string job = encode_hpgl(plan, prof.dialect, prof.tools);
+      auto cutter = std::make_shared<SimCutter>(prof);
+      SimTransport t(cutter);
+      ASSERT_TRUE(t.open().ok());
+      const SendResult sent = send_job(t, job, send_options(prof));
+      ASSERT_TRUE(sent.status.ok()) << file << " model " << n << ": " << sent.status.message;
+      ASSERT_TRUE(cutter->run_to_end());
+      const SimReport& r = cutter->report();
+      const auto planned = plan_in_plotter_units(plan, prof.dialect);
+      const auto diff = first_difference(planned, cutter->strokes());
+      EXPECT_FALSE(diff.has_value()) << file << " model " << n << ": stroke " << diff.value_or(0) << " differs ("
+                                     << planned.size() << " planned, " << cutter->strokes().size() << " cut)";
+      EXPECT_FALSE(r.outside_area) << file << " model " << n << ": a move left the usable area";
+      EXPECT_EQ(r.overflow_bytes, 0u) << file << " model " << n;
+      EXPECT_TRUE(r.unknown.empty()) << file << " model " << n << ": " << (r.unknown.empty() ? "" : r.unknown[0].command);
+      EXPECT_TRUE(r.errors.empty()) << file << " model " << n << ": " << (r.errors.empty() ? "" : r.errors[0].message);
+      // Each stroke carries the tool its kind was given.
+      std::size_t k = 0;
+      for (const Stroke& s : plan.strokes) {
+        if (k >= cutter->strokes().size()) break;
+        const ToolSetting& tool = prof.tools[index_of(s.kind)];
+        EXPECT_EQ(cutter->strokes()[k].pen, tool.pen) << file << " model " << n << " stroke " << k;
+        ++k;
+      }
+    }
+  }
+}
+
+TEST(SimCutter, SvgHasOnePolylinePerStrokeColouredByPen) {
+  auto cutter = std::make_shared<SimCutter>(sim_profile());
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const std::string job = "IN;SP1;PU0,0;PD40,0;PU;SP2;PU0,40;PD40,40;PU;";
+  t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(100));
+  ASSERT_TRUE(cutter->run_to_end());
+  std::ostringstream svg;
+  cutter->write_svg(svg);
+  const std::string s = svg.str();
+  std::size_t count = 0;
+  for (std::size_t at = 0; (at = s.find("<polyline", at)) != std::string::npos; ++at) ++count;
+  EXPECT_EQ(count, 2u) << s;
+  EXPECT_NE(s.find("data-pen=\"1\" data-force=\"0\" data-speed=\"0\" stroke=\"#d62728\""), std::string::npos) << s;
+  EXPECT_NE(s.find("stroke=\"#1f77b4\""), std::string::npos) << "pen 2 has its own colour: " << s;
+}
+
+}  // namespace
+}  // namespace popcut::drivers
