@@ -95,7 +95,7 @@ VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
 
 VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
   const json_util::Reader in(source);
-  in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "sheet"});
+  in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "dropped_tops", "sheet"});
   VoxelFile file;
   VoxelModel& m = file.model;
   const double voxel_mm = in.number(in.require(root, "voxel_mm", ""), "voxel_mm", kMinVoxelMm, kMaxVoxelMm);
@@ -160,6 +160,22 @@ VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
       m.set_window(x, z, true);
     }
   }
+  if (root.contains("dropped_tops")) {
+    const json& w = root["dropped_tops"];
+    in.require_array(w, "dropped_tops");
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      const std::string p = index_path("dropped_tops", i);
+      if (!w[i].is_array() || w[i].size() != 2) in.fail(p, "expected [x, z]");
+      const int x = in.integer(w[i][0], index_path(p, 0), 0, kMaxVoxelAxis);
+      const int z = in.integer(w[i][1], index_path(p, 1), 1, kMaxVoxelAxis);
+      if (x >= size.width || z > size.height) {
+        in.fail(p, "[" + std::to_string(x) + ", " + std::to_string(z) + "] is outside the grid (x from 0 to " +
+                       std::to_string(size.width - 1) + ", z from 1 to " + std::to_string(size.height) + ")");
+      }
+      if (m.is_top_dropped(x, z)) in.fail(p, "repeats an earlier top [" + std::to_string(x) + ", " + std::to_string(z) + "]");
+      m.set_top_dropped(x, z, true);
+    }
+  }
   if (root.contains("sheet")) read_sheet(in, root["sheet"], m.sheet);
   if (root.contains("name")) m.name = in.string(root["name"], "name", 256);
   return file;
@@ -210,6 +226,15 @@ std::string to_voxel_json(const VoxelModel& m) {
     }
   }
   o << "]";
+  bool any_top = false;
+  for (int x = 0; x < m.width; ++x) {
+    for (int z = 1; z <= m.height; ++z) {
+      if (!m.is_top_dropped(x, z)) continue;
+      o << (any_top ? ", " : ",\n  \"dropped_tops\": [") << "[" << x << ", " << z << "]";
+      any_top = true;
+    }
+  }
+  if (any_top) o << "]";
   if (m.sheet.back || m.sheet.floor || m.sheet.side) {
     o << ",\n  \"sheet\": {";
     const char* sep = "";

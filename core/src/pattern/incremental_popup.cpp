@@ -254,28 +254,47 @@ bool IncrementalPopup::decide(int x) {
   return true;
 }
 
-bool IncrementalPopup::pops_up_with_window(int x, int z, bool on) {
-  if (x < 0 || x >= model_.width || z < 0 || z >= model_.height) {
-    throw Error(ErrorCode::invalid_input, source_, "windows",
-                "window (" + std::to_string(x) + ", " + std::to_string(z) + ") is outside the grid");
+bool IncrementalPopup::flag(Edit edit, int x, int z) const {
+  return edit == Edit::window ? model_.is_window(x, z) : model_.is_top_dropped(x, z);
+}
+
+void IncrementalPopup::set_flag(Edit edit, int x, int z, bool on) {
+  if (edit == Edit::window) {
+    model_.set_window(x, z, on);
+  } else {
+    model_.set_top_dropped(x, z, on);
   }
-  if (model_.is_window(x, z) == on) return true;  // no change: the card pops up as it is
-  if (on && z >= model_.h(x, 0)) {
-    throw Error(ErrorCode::invalid_input, source_, "windows",
+}
+
+bool IncrementalPopup::pops_up_with(Edit edit, int x, int z, bool on) {
+  const char* field = edit == Edit::window ? "windows" : "dropped_tops";
+  const int z_lo = edit == Edit::window ? 0 : 1;
+  const int z_hi = edit == Edit::window ? model_.height - 1 : model_.height;
+  if (x < 0 || x >= model_.width || z < z_lo || z > z_hi) {
+    throw Error(ErrorCode::invalid_input, source_, field,
+                "[" + std::to_string(x) + ", " + std::to_string(z) + "] is outside the grid");
+  }
+  if (flag(edit, x, z) == on) return true;  // no change: the card pops up as it is
+  if (on && edit == Edit::window && z >= model_.h(x, 0)) {
+    throw Error(ErrorCode::invalid_input, source_, field,
                 "row " + std::to_string(z) + " of slice " + std::to_string(x) + " has no front face to open");
   }
-  model_.set_window(x, z, on);
+  if (on && edit == Edit::dropped_top && !model_.has_top(x, z)) {
+    throw Error(ErrorCode::invalid_input, source_, field,
+                "slice " + std::to_string(x) + " has no top face at height " + std::to_string(z));
+  }
+  set_flag(edit, x, z, on);
   const bool ok = decide(x);
-  model_.set_window(x, z, !on);
+  set_flag(edit, x, z, !on);
   changed_ = -1;
   return ok;
 }
 
-bool IncrementalPopup::try_window(int x, int z, bool on) {
-  if (model_.is_window(x, z) == on) return true;
+bool IncrementalPopup::try_edit(Edit edit, int x, int z, bool on) {
   const std::int64_t fallbacks = stats_.full_checks;
-  if (!pops_up_with_window(x, z, on)) return false;
-  model_.set_window(x, z, on);
+  if (!pops_up_with(edit, x, z, on)) return false;
+  if (flag(edit, x, z) == on) return true;
+  set_flag(edit, x, z, on);
   if (stats_.full_checks != fallbacks) {
     rebuild();  // the full check decided; the segment walks start afresh
     return true;

@@ -154,11 +154,19 @@ void slice_faces(const VoxelModel& m, const SheetVoxels& sheet, int x, std::vect
     if (!m.is_window(x, z)) last = z;
   }
   // Walk the slice's surface from the back wall down to the floor: v falls by one per cell.
+  int step_start = 0;  // the first column of the current step (columns of one height)
   for (int y = 0;; ++y) {
     const int hy = m.h(x, y);
+    if (y > 0 && hy != m.h(x, y - 1)) step_start = y;
     const int top_v = hy - y - 1;
     if (top_v < -floor_rows) break;
-    set(top_v, CellGrid::pack(FaceKind::horizontal, hy));
+    std::uint32_t top = CellGrid::pack(FaceKind::horizontal, hy);
+    if (m.is_top_dropped(x, hy)) {
+      // §3.3: a dropped top's cells lie on the wall behind the step (y = step_start), whose
+      // paper is next to them in the strip; where that runs below z = 0 they lie on the floor.
+      top = top_v + step_start >= 0 ? CellGrid::pack(FaceKind::vertical, step_start) : floor;
+    }
+    set(top_v, top);
     for (int z = m.h(x, y + 1); z < hy; ++z) {
       std::uint32_t face = CellGrid::pack(FaceKind::vertical, y + 1);
       if (m.is_window(x, z)) {

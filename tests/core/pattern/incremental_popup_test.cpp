@@ -32,19 +32,27 @@ void compare_on_random_cards(std::uint64_t seed, const testing::RandomModelSpec&
       const int x = static_cast<int>(rng() % static_cast<unsigned>(m.width));
       const int top = inc.model().h(x, 0);
       if (top == 0) continue;
-      const int z = static_cast<int>(rng() % static_cast<unsigned>(top));
-      const bool on = !inc.model().is_window(x, z);
+      // Half the edits are windows, half dropped top faces (§3.3) of a step of the slice.
+      const bool window = rng() % 2 == 0;
+      const int z = window ? static_cast<int>(rng() % static_cast<unsigned>(top))
+                           : inc.model().h(x, static_cast<int>(rng() % static_cast<unsigned>(inc.model().depth)));
+      if (!window && z == 0) continue;
+      const bool on = window ? !inc.model().is_window(x, z) : !inc.model().is_top_dropped(x, z);
       VoxelModel toggled = inc.model();
-      toggled.set_window(x, z, on);
+      if (window) {
+        toggled.set_window(x, z, on);
+      } else {
+        toggled.set_top_dropped(x, z, on);
+      }
       const bool expected = full_check(toggled);
-      ASSERT_EQ(inc.pops_up_with_window(x, z, on), expected)
-          << "seed " << seed << " card " << card << " step " << step << ": window (" << x << ", " << z << ") "
-          << (on ? "on" : "off") << " judged differently from check_popup";
+      ASSERT_EQ(window ? inc.pops_up_with_window(x, z, on) : inc.pops_up_with_top_dropped(x, z, on), expected)
+          << "seed " << seed << " card " << card << " step " << step << ": " << (window ? "window" : "dropped top") << " (" << x
+          << ", " << z << ") " << (on ? "on" : "off") << " judged differently from check_popup";
       ++judged;
       (expected ? accepted : rejected) += 1;
       if (rng() % 2 == 0) {
         const VoxelModel before = inc.model();
-        ASSERT_EQ(inc.try_window(x, z, on), expected) << "try_window agrees with the decision";
+        ASSERT_EQ(window ? inc.try_window(x, z, on) : inc.try_drop_top(x, z, on), expected) << "trying agrees with the decision";
         ASSERT_TRUE(inc.model() == (expected ? toggled : before)) << "kept exactly when it stands";
         ASSERT_TRUE(full_check(inc.model())) << "seed " << seed << " card " << card << ": the kept model pops up";
       }

@@ -35,11 +35,21 @@ class IncrementalPopup {
 
   // Would the card still pop up with isHole(x, z) set to `on`? Leaves the model unchanged; the
   // row must have a front face when turning a window on (z below the column's top).
-  bool pops_up_with_window(int x, int z, bool on);
+  bool pops_up_with_window(int x, int z, bool on) { return pops_up_with(Edit::window, x, z, on); }
   // Sets the window when the card still pops up with it; returns whether it did.
-  bool try_window(int x, int z, bool on = true);
+  bool try_window(int x, int z, bool on = true) { return try_edit(Edit::window, x, z, on); }
+  // The same for leaving out the top face at height z of slice x (§3.3); the slice must have
+  // a top face there (VoxelModel::has_top).
+  bool pops_up_with_top_dropped(int x, int z, bool on) { return pops_up_with(Edit::dropped_top, x, z, on); }
+  bool try_drop_top(int x, int z, bool on = true) { return try_edit(Edit::dropped_top, x, z, on); }
 
  private:
+  enum class Edit { window, dropped_top };
+  bool pops_up_with(Edit edit, int x, int z, bool on);
+  bool try_edit(Edit edit, int x, int z, bool on);
+  bool flag(Edit edit, int x, int z) const;
+  void set_flag(Edit edit, int x, int z, bool on);
+
   struct Segment {
     int lo = 0, hi = 0;  // rows [lo, hi) of the strip
     std::uint32_t face = 0;
