@@ -82,6 +82,43 @@ TriangleSoup tower_mesh(int tiers, double base, double tier_height) {
   return s;
 }
 
+TriangleSoup street_mesh(int houses) {
+  TriangleSoup s;
+  const double w = 80.0 / houses;
+  // The street's back wall spans the full depth so the kept front half starts at y = 40.
+  add_box(s, 0, 70, 0, 80, 80, 20);
+  for (int i = 0; i < houses; ++i) {
+    const double x0 = i * w, x1 = x0 + w;
+    const double wall = 18 + 4 * (i % 3);
+    const double front = 8 + 6 * (i % 2);  // houses stand at two depths
+    add_prism(s, {{x0, 0}, {x1, 0}, {x1, wall}, {x0 + w / 2, std::min(40.0, wall + w * 0.45)}, {x0, wall}}, front, 70);
+    // An arcade: two piers and a lintel in front of the house, open below.
+    add_box(s, x0 + 1, front - 6, 0, x0 + 3, front, wall * 0.5);
+    add_box(s, x1 - 3, front - 6, 0, x1 - 1, front, wall * 0.5);
+    add_box(s, x0 + 1, front - 6, wall * 0.5, x1 - 1, front, wall * 0.5 + 4);
+    // A balcony sticking out higher up, with nothing under it.
+    add_box(s, x0 + w * 0.3, front - 5, wall * 0.75, x0 + w * 0.7, front, wall * 0.75 + 4);
+  }
+  // A round tower on the left, 16 facets standing on the ground: slanted walls seen from the front.
+  const double cx = 10, cy = 30, r = 6;
+  const auto bottom = add_point(s, cx, cy, 0), top = add_point(s, cx, cy, 38);
+  for (int k = 0; k < 16; ++k) {
+    const double a0 = M_PI / 8 * k, a1 = M_PI / 8 * (k + 1);
+    const auto p0 = add_point(s, cx + r * std::cos(a0), cy + r * std::sin(a0), 0);
+    const auto p1 = add_point(s, cx + r * std::cos(a1), cy + r * std::sin(a1), 0);
+    const auto q0 = add_point(s, cx + r * std::cos(a0), cy + r * std::sin(a0), 38);
+    const auto q1 = add_point(s, cx + r * std::cos(a1), cy + r * std::sin(a1), 38);
+    s.triangles.push_back({p0, q0, q1});
+    s.triangles.push_back({p0, q1, p1});
+    s.triangles.push_back({bottom, p1, p0});
+    s.triangles.push_back({top, q0, q1});
+  }
+  s.polygons += 16 * 3;
+  add_box(s, 0, 0, 0, 0.01, 80, 0.01);  // pins the bounding box to 80 × 80 × 40
+  add_box(s, 79.99, 79.99, 39.99, 80, 80, 40);
+  return s;
+}
+
 TriangleSoup city_mesh(int n, unsigned seed) {
   TriangleSoup s;
   std::mt19937 rng(seed);

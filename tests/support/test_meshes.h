@@ -23,6 +23,10 @@ TriangleSoup house_mesh(double width = 40, double depth = 30, double wall = 20, 
 TriangleSoup arch_mesh(double width = 40, double height = 30, double depth = 20, int segments = 16);
 // A tower of `tiers` boxes, each narrower, shallower and set back from the one below.
 TriangleSoup tower_mesh(int tiers = 4, double base = 40, double tier_height = 12);
+// A street front 80 wide, 80 deep and 40 high (the voxel paper's size at 80 voxels across and
+// half the depth kept): gabled houses, arcades, balconies and a tower, `houses` across, for
+// benchmarks and examples; every feature the import pipeline treats differently appears.
+TriangleSoup street_mesh(int houses = 5);
 // A grid of `n` × `n` city blocks of random heights: many triangles and steps, for benchmarks.
 TriangleSoup city_mesh(int n, unsigned seed);
 

@@ -106,18 +106,26 @@ void IncrementalPopup::rebuild() {
   }
 }
 
-// Everything a walk can reach from the changed slice, before or after the change: the new
-// slice's segments, and whatever the walk reaches from the unchanged segments beside the old
-// and the new slice. Unchanged segments reach each other by the same edges in both views.
+// Everything a walk can reach from the changed slice, before or after the change, without
+// passing another slice's start segment: the new slice's segments, and whatever the walk
+// reaches from the unchanged segments beside the old and the new slice. Unchanged segments
+// reach each other by the same edges in both views. A segment outside this area keeps its
+// reach: a path to it from its last start segment avoids the slice, so it exists before and after.
 void IncrementalPopup::closure(bool down, std::vector<Ref>& area) {
   area.clear();
   stack_.clear();
+  // A walk's start segments (every strip's top for walk a, bottom for walk b) are reached
+  // whatever changes, so a path through one can start afresh there: the area includes them
+  // but does not spread from them — except the changed slice's own, whose extent changes.
+  // Without this, walk (a)'s area would always be the whole card, since every slice's top
+  // segment belongs to the back board.
   const auto add = [&](Ref n) {
     std::uint32_t& mark = down ? at(n).in_back_area : at(n).in_floor_area;
     if (mark == epoch_) return;
     mark = epoch_;
     area.push_back(n);
-    stack_.push_back(n);
+    const int last = static_cast<int>(column(n.column).size()) - 1;
+    if (n.column == changed_ || n.index != (down ? last : 0)) stack_.push_back(n);
   };
   for (int i = 0; i < static_cast<int>(pending_.size()); ++i) add(Ref{changed_, i});
   // The old slice's side neighbours, found with the old slice in place.
