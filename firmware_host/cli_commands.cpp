@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -21,6 +22,7 @@
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
 #include "popcut/mesh/mesh_import.h"
+#include "popcut/mesh/silhouette_faces.h"
 #include "popcut/model/repair.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
@@ -228,7 +230,7 @@ int run(int argc, char** argv) {
   ImportOptions import_opt;
   std::string up_axis = "+z", front_axis = "-y", pattern_path, depth_method = "zbuffer";
   double width_mm = 0, voxel_mm = 0;
-  bool no_windows = false;
+  bool no_windows = false, faces_out = false;
   CLI::App* import_cmd = app.add_subcommand("import", "Turn a 3D mesh (OBJ, STL, OFF, PLY) into a voxel card that pops up (voxel paper §3).");
   import_cmd->add_option("MESH", model_path, "Mesh file: .obj, .stl (ASCII or binary), .off or .ply")->required();
   import_cmd->add_option("-o,--output", out_path, "Where to write the popcut.voxel.v1 model (OUT.json, or - for standard output)")->required();
@@ -244,6 +246,7 @@ int run(int argc, char** argv) {
   import_cmd->add_option("--depth-method", depth_method, "zbuffer (rasterise triangles) or raycast (CGAL AABB tree)")->capture_default_str();
   import_cmd->add_option("--name", import_opt.name, "Label stored in the model");
   import_cmd->add_option("--pattern", pattern_path, "Also write the pattern: OUT.svg or OUT.json");
+  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose wall tops follow the mesh silhouette instead of voxel steps");
   import_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
@@ -411,9 +414,11 @@ int run(int argc, char** argv) {
       const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       ImportResult r = import_mesh(mesh, import_opt, model_path);
       r.timings.read_ms = read_ms;
-      const Pattern p = make_pattern(r.model, model_path);
+      std::optional<SilhouetteFaces> faces;
+      if (faces_out) faces.emplace(silhouette_faces(mesh, import_opt, r, model_path));
+      const Pattern p = faces ? make_pattern(AnyModel(faces->model), model_path) : make_pattern(r.model, model_path);
       const PopupReport report = check_popup(p);
-      const std::string text = to_voxel_json(r.model);
+      const std::string text = faces ? to_face_json(faces->model, import_opt.name) : to_voxel_json(r.model);
       write_output(out_path, [&](std::ostream& out) { out << text; });
       if (!pattern_path.empty()) {
         write_output(pattern_path, [&](std::ostream& out) {
@@ -434,6 +439,13 @@ int run(int argc, char** argv) {
         j["timings_ms"] = {{"read", r.timings.read_ms}, {"sampling", r.timings.sample_ms}, {"morphology", r.timings.morphology_ms},
                            {"filling", r.timings.fill_ms}, {"windows", r.timings.windows_ms}, {"thin_tops", r.timings.thin_ms}};
         if (!pattern_path.empty()) j["pattern"] = pattern_path;
+        if (faces) {
+          const SilhouetteComparison& c = faces->comparison;
+          j["faces"] = {{"outlines_redrawn", c.outlines}, {"steps_kept", c.steps_kept}, {"voxel_lines", c.voxel_lines},
+                        {"face_lines", c.face_lines}, {"samples", c.samples},
+                        {"voxel_mean_mm", c.voxel_mean_mm}, {"face_mean_mm", c.face_mean_mm},
+                        {"voxel_max_mm", c.voxel_max_mm}, {"face_max_mm", c.face_max_mm}};
+        }
         print_json(j);
       } else {
         std::ostream& out = out_path == "-" ? std::cerr : std::cout;
@@ -443,6 +455,13 @@ int run(int argc, char** argv) {
             << " rejected";
         if (import_opt.thin_top_voxels > 0) out << "; thin tops: " << s.tops_dropped << " dropped, " << s.tops_kept << " kept";
         out << "; wrote " << out_path << (pattern_path.empty() ? "" : " and " + pattern_path) << "\n";
+        if (faces) {
+          const SilhouetteComparison& c = faces->comparison;
+          out << "faces: " << c.outlines << " wall tops follow the silhouette (" << c.steps_kept << " steps kept); lines "
+              << c.voxel_lines << " (voxels) -> " << c.face_lines << " (faces); distance to the silhouette, mean "
+              << mm(c.voxel_mean_mm) << " -> " << mm(c.face_mean_mm) << " mm, max " << mm(c.voxel_max_mm) << " -> "
+              << mm(c.face_max_mm) << " mm over " << c.samples << " samples\n";
+        }
         print_report(out, out_path, p, report);
       }
       return report.pops_up() ? kOk : kDoesNotPopUp;

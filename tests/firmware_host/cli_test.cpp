@@ -210,6 +210,18 @@ TEST_F(Cli, ShippedMeshCardsAreWhatImportMakes) {
   }
 }
 
+TEST_F(Cli, ImportFacesFollowTheSilhouette) {
+  const fs::path meshes = fs::path(POPCUT_SOURCE_DIR) / "examples" / "meshes";
+  const fs::path card = dir_ / "house-faces.json";
+  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() + " --resolution 40 --thin-tops 2 --faces --json");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["faces"]["outlines_redrawn"].get<int>(), 0) << r.out;
+  EXPECT_LT(j["faces"]["face_mean_mm"].get<double>(), j["faces"]["voxel_mean_mm"].get<double>()) << r.out;
+  EXPECT_NE(slurp(card).find("popcut.faces.v1"), std::string::npos) << "--faces writes a face model";
+  EXPECT_EQ(run("validate " + card.string()).code, 0) << "which validates";
+}
+
 TEST_F(Cli, ImportErrorsNameFileAndOption) {
   const std::string obj = file("house.obj", "v 0 0 0\nv 1 0 0\nv 0 1 1\nf 1 2 3\n");
   Result r = run("import " + obj + " -o " + (dir_ / "x.json").string() + " --front +z");

@@ -103,7 +103,9 @@ ImportGrid plan_grid(const TriangleSoup& mesh, const ImportOptions& o, const std
   g.step = ext[0] / o.resolution;
   g.x0 = lo[0];
   g.z0 = lo[2];
-  g.voxel_mm = o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution;
+  // Whole nanometres: face models snap every coordinate to 1 nm, and a fold needs t_h - t_v = v
+  // exactly, which independent rounding of 120 / 42 mm multiples would break (--faces).
+  g.voxel_mm = std::round((o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution) * 1e6) / 1e6;
   const double slab = o.keep_depth * ext[1];
   g.back_wall_y = hi[1] - slab;
   // Sizes in voxels, computed in double first so a flat sliver of a mesh cannot overflow int.

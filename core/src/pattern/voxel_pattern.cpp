@@ -200,6 +200,17 @@ CellGrid make_cell_grid(const VoxelModel& m, const std::string& source) {
   return g;
 }
 
+std::vector<int> cell_regions(const CellGrid& g) {
+  RegionMap regions(g);
+  std::vector<std::pair<int, int>> first_cell;
+  regions.label_all(first_cell);
+  std::vector<int> out(g.faces.size());
+  for (int r = 0; r < g.rows; ++r) {
+    for (int c = 0; c < g.columns; ++c) out[regions.index(c, r)] = regions.at(c, r);
+  }
+  return out;
+}
+
 Pattern make_pattern(const CellGrid& g) {
   Pattern p;
   const double mm = g.voxel_mm;

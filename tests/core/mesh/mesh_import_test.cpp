@@ -11,6 +11,8 @@
 #include "popcut/error.h"
 #include "popcut/io/voxel_json.h"
 #include "popcut/model/thin_tops.h"
+#include "popcut/io/model_io.h"
+#include "popcut/mesh/silhouette_faces.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "test_meshes.h"
@@ -320,6 +322,51 @@ TEST(MeshImport, BadOptionsAndDegenerateMeshesAreNamed) {
   testing::add_box(spike, 0, 9, 0, 10, 10, 10);
   testing::add_box(spike, 0, 0, 5, 10, 10, 5.4);
   EXPECT_NE(error_of([&] { import_mesh(spike, small(20), "spike"); }).find("no voxel is left"), std::string::npos);
+}
+
+TEST(SilhouetteFaces, HouseRoofFollowsTheSlopeWithFewerLines) {
+  ImportOptions o = small(40);
+  o.thin_top_voxels = 2;
+  const TriangleSoup house = testing::house_mesh();
+  const ImportResult voxels = import_mesh(house, o, "house");
+  const SilhouetteFaces f = silhouette_faces(house, o, voxels, "house");
+  const SilhouetteComparison& c = f.comparison;
+  EXPECT_GT(c.outlines, 0) << "the roof edges are redrawn";
+  EXPECT_GT(c.samples, 100) << "along many silhouette samples";
+  EXPECT_LT(c.face_mean_mm, c.voxel_mean_mm / 2) << "the polyline is at least twice as close to the silhouette as the steps";
+  EXPECT_LT(c.face_lines, c.voxel_lines) << "and needs fewer lines";
+  const Pattern p = make_pattern(AnyModel(f.model));
+  EXPECT_TRUE(check_popup(p).pops_up()) << "the face model pops up";
+  EXPECT_EQ(p.faces.size(), make_pattern(voxels.model).faces.size()) << "the same faces, other outlines";
+  // Round trip through popcut.faces.v1.
+  EXPECT_EQ(make_pattern(parse_model(to_face_json(f.model), "rt")).faces.size(), p.faces.size()) << "the file reads back";
+}
+
+TEST(SilhouetteFaces, RandomSlantedMeshesStayValid) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  int redrawn = 0;
+  for (int trial = 0; trial < 25; ++trial) {
+    TriangleSoup s;
+    for (int k = 0; k < 3; ++k) {
+      // Gabled and lean-to blocks at random depths: slanted tops seen from the front.
+      const double x0 = 30 * u(rng), w = 8 + 20 * u(rng), h = 5 + 20 * u(rng), y0 = 20 * u(rng);
+      testing::add_prism(s, {{x0, 0}, {x0 + w, 0}, {x0 + w, h * u(rng) + 1}, {x0 + w * u(rng), h + 6}, {x0, h * u(rng) + 1}}, y0, y0 + 10 + 20 * u(rng));
+    }
+    ImportOptions o = small(16 + static_cast<int>(rng() % 40));
+    o.thin_top_voxels = 1 + static_cast<int>(rng() % 3);
+    ImportResult voxels;
+    try {
+      voxels = import_mesh(s, o, "random");
+    } catch (const Error&) {
+      continue;  // nothing left after smoothing: tested elsewhere
+    }
+    const SilhouetteFaces f = silhouette_faces(s, o, voxels, "random");
+    EXPECT_TRUE(check_popup(make_pattern(AnyModel(f.model))).pops_up()) << "trial " << trial << ", " << o.resolution << " across";
+    EXPECT_LE(f.comparison.face_mean_mm, f.comparison.voxel_mean_mm + 1e-9) << "trial " << trial << ": never further from the silhouette";
+    redrawn += f.comparison.outlines;
+  }
+  EXPECT_GT(redrawn, 10) << "slanted tops get redrawn";
 }
 
 // Files other projects ship, read where their Debian packages are installed: each gives a card

@@ -39,6 +39,9 @@ CellGrid make_cell_grid(const VoxelModel& model, const std::string& source = "")
 // The model must be valid; this is the column make_cell_grid writes, for incremental checks.
 void slice_faces(const VoxelModel& model, const SheetVoxels& sheet, int x, std::vector<std::uint32_t>& strip);
 
+// The region (pattern face index, as make_pattern numbers them) of every cell, index r * columns + c.
+std::vector<int> cell_regions(const CellGrid& grid);
+
 // Regions, typed lines and fold links of a cell grid, in millimetres.
 Pattern make_pattern(const CellGrid& grid);
 
