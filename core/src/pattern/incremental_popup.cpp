@@ -65,19 +65,24 @@ void IncrementalPopup::neighbours(Ref r, bool down, Visit visit) const {
   }
 }
 
+// Runs of one face in a strip, bottom first.
+void IncrementalPopup::cut_into_segments(const std::vector<std::uint32_t>& strip, Column& out) {
+  out.clear();
+  for (int r = 0; r < static_cast<int>(strip.size()); ++r) {
+    if (out.empty() || out.back().face != strip[static_cast<std::size_t>(r)]) {
+      out.push_back(Segment{r, r + 1, strip[static_cast<std::size_t>(r)], 0, 0, 0, 0, 0, 0, 0});
+    } else {
+      out.back().hi = r + 1;
+    }
+  }
+}
+
 void IncrementalPopup::rebuild() {
   changed_ = -1;
   columns_.assign(static_cast<std::size_t>(model_.width + 2 * sheet_.side), {});
   for (std::size_t c = 0; c < columns_.size(); ++c) {
     slice_faces(model_, sheet_, static_cast<int>(c) - sheet_.side, strip_);
-    Column& col = columns_[c];
-    for (int r = 0; r < static_cast<int>(strip_.size()); ++r) {
-      if (col.empty() || col.back().face != strip_[static_cast<std::size_t>(r)]) {
-        col.push_back(Segment{r, r + 1, strip_[static_cast<std::size_t>(r)], 0, 0, 0, 0, 0, 0, 0});
-      } else {
-        col.back().hi = r + 1;
-      }
-    }
+    cut_into_segments(strip_, columns_[c]);
   }
   // Walk (a) from the back board (every strip's top segment), walk (b) from the floor (bottom).
   for (bool down : {true, false}) {
@@ -214,14 +219,7 @@ bool IncrementalPopup::decide(int x) {
   }
   changed_ = x + sheet_.side;
   slice_faces(model_, sheet_, x, strip_);
-  pending_.clear();
-  for (int r = 0; r < static_cast<int>(strip_.size()); ++r) {
-    if (pending_.empty() || pending_.back().face != strip_[static_cast<std::size_t>(r)]) {
-      pending_.push_back(Segment{r, r + 1, strip_[static_cast<std::size_t>(r)], 0, 0, 0, 0, 0, 0, 0});
-    } else {
-      pending_.back().hi = r + 1;
-    }
-  }
+  cut_into_segments(strip_, pending_);
   closure(true, area_back_);
   closure(false, area_floor_);
   rewalk(true, area_back_);

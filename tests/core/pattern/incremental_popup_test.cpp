@@ -68,36 +68,27 @@ void compare_on_random_cards(std::uint64_t seed, const testing::RandomModelSpec&
   EXPECT_LT(fallbacks * 5, decisions) << "most decisions are settled by the local walks, not the full check";
 }
 
-TEST(IncrementalPopup, MatchesFullCheckOnSmallCards) {
+testing::RandomModelSpec spec_of(int width, int depth, int height, double windows, bool random_sheet) {
   testing::RandomModelSpec spec;
-  spec.max_width = 6;
-  spec.max_depth = 5;
-  spec.max_height = 7;
-  spec.window_probability = 0.15;
-  spec.random_sheet = true;
-  compare_on_random_cards(1, spec, 400, 40);
+  spec.max_width = width;
+  spec.max_depth = depth;
+  spec.max_height = height;
+  spec.window_probability = windows;
+  spec.random_sheet = random_sheet;
+  return spec;
 }
 
-TEST(IncrementalPopup, MatchesFullCheckOnWiderCards) {
-  testing::RandomModelSpec spec;
-  spec.max_width = 24;
-  spec.max_depth = 10;
-  spec.max_height = 14;
-  spec.window_probability = 0.05;
-  compare_on_random_cards(2, spec, 60, 150);
-}
+TEST(IncrementalPopup, MatchesFullCheckOnSmallCards) { compare_on_random_cards(1, spec_of(6, 5, 7, 0.15, true), 400, 40); }
 
-TEST(IncrementalPopup, MatchesFullCheckWithoutSideColumns) {
-  // With no bare board columns beside the model, every strip may carry windows: the floor is
-  // then more often reached only through them, which the local walks must notice.
-  std::mt19937_64 rng(3);
-  testing::RandomModelSpec spec;
-  spec.max_width = 8;
-  spec.max_depth = 5;
-  spec.max_height = 8;
-  spec.window_probability = 0.1;
-  spec.random_sheet = true;
-  for (int seed = 3; seed < 8; ++seed) compare_on_random_cards(static_cast<std::uint64_t>(seed) * 7919, spec, 80, 30);
+TEST(IncrementalPopup, MatchesFullCheckOnWiderCards) { compare_on_random_cards(2, spec_of(24, 10, 14, 0.05, false), 60, 150); }
+
+TEST(IncrementalPopup, MatchesFullCheckOnRandomSheets) {
+  // Random sheets include side = 0: with no bare board strip beside the model every strip may
+  // carry windows, and the floor is then more often reached only through them, which the local
+  // walks must notice (or hand to the full check).
+  for (int seed = 3; seed < 8; ++seed) {
+    compare_on_random_cards(static_cast<std::uint64_t>(seed) * 7919, spec_of(8, 5, 8, 0.1, true), 80, 30);
+  }
 }
 
 TEST(IncrementalPopup, RejectsACardThatDoesNotPopUp) {

@@ -64,6 +64,7 @@ class IncrementalPopup {
     int index;
   };
 
+  static void cut_into_segments(const std::vector<std::uint32_t>& strip, Column& out);
   bool decide(int x);
   void rebuild();
   bool full_check() const;
