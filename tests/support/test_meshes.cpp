@@ -193,9 +193,18 @@ std::string to_stl_binary(const TriangleSoup& s) {
   return out;
 }
 
+// The folder of this process's temporary files, removed when the process ends.
+struct TempDir {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("popcut-test-" + std::to_string(::getpid()));
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("popcut-test-" + std::to_string(::getpid()));
-  const auto path = dir / name;
+  static const TempDir dir;
+  const auto path = dir.path / name;
   std::filesystem::create_directories(path.parent_path());
   std::ofstream(path, std::ios::binary) << text;
   return path.string();

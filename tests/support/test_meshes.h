@@ -36,7 +36,8 @@ std::string to_ply(const TriangleSoup& soup);  // ASCII
 std::string to_stl_ascii(const TriangleSoup& soup);
 std::string to_stl_binary(const TriangleSoup& soup);
 
-// Writes `text` to a new file under the system temporary directory; returns its path.
+// Writes `text` to a file in this process's folder under the system temporary directory (removed
+// when the process ends); returns its path.
 std::string write_temp(const std::string& name, const std::string& text);
 
 }  // namespace popcut::testing

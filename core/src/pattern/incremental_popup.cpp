@@ -111,40 +111,49 @@ void IncrementalPopup::rebuild() {
   }
 }
 
-// Everything a walk can reach from the changed slice, before or after the change, without
-// passing another slice's start segment: the new slice's segments, and whatever the walk
-// reaches from the unchanged segments beside the old and the new slice. Unchanged segments
-// reach each other by the same edges in both views. A segment outside this area keeps its
-// reach: a path to it from its last start segment avoids the slice, so it exists before and after.
+// Everything a walk can reach from what changed in the slice, before or after the change,
+// without passing a start segment that did not change: the slice's new segments that have no
+// identical old one, and whatever the walk reaches from the old segments' neighbours. A segment
+// of the slice with the same rows and face before and after is unchanged, with the same edges
+// to every other unchanged segment. A segment outside this area keeps its reach: a path to it
+// from its last start segment avoids what changed, so it exists before and after.
 void IncrementalPopup::closure(bool down, std::vector<Ref>& area) {
   area.clear();
   stack_.clear();
   // A walk's start segments (every strip's top for walk a, bottom for walk b) are reached
   // whatever changes, so a path through one can start afresh there: the area includes them
-  // but does not spread from them — except the changed slice's own, whose extent changes.
-  // Without this, walk (a)'s area would always be the whole card, since every slice's top
-  // segment belongs to the back board.
+  // but does not spread from them, unless they changed. Without this, walk (a)'s area would
+  // always be the whole card, since every slice's top segment belongs to the back board.
   const auto add = [&](Ref n) {
     std::uint32_t& mark = down ? at(n).in_back_area : at(n).in_floor_area;
     if (mark == epoch_) return;
     mark = epoch_;
     area.push_back(n);
     const int last = static_cast<int>(column(n.column).size()) - 1;
-    if (n.column == changed_ || n.index != (down ? last : 0)) stack_.push_back(n);
+    const bool changed = n.column == changed_ && old_index_[static_cast<std::size_t>(n.index)] < 0;
+    if (changed || n.index != (down ? last : 0)) stack_.push_back(n);
   };
-  for (int i = 0; i < static_cast<int>(pending_.size()); ++i) add(Ref{changed_, i});
-  // The old slice's side neighbours, found with the old slice in place.
+  for (int i = 0; i < static_cast<int>(pending_.size()); ++i) {
+    if (old_index_[static_cast<std::size_t>(i)] < 0) add(Ref{changed_, i});
+  }
+  // The old changed segments' neighbours, found with the old slice in place; those in the
+  // slice itself are unchanged segments, named by their index in the new slice.
   const int c = changed_;
   changed_ = -1;
   const Column& old = columns_[static_cast<std::size_t>(c)];
-  std::vector<Ref> beside;
+  std::vector<Ref> next_to_old;
   for (int i = 0; i < static_cast<int>(old.size()); ++i) {
-    neighbours(Ref{c, i}, down, [&](Ref n) {
-      if (n.column != c) beside.push_back(n);
-    });
+    if (new_index_[static_cast<std::size_t>(i)] >= 0) continue;
+    neighbours(Ref{c, i}, down, [&](Ref n) { next_to_old.push_back(n); });
   }
   changed_ = c;
-  for (Ref n : beside) add(n);
+  for (Ref n : next_to_old) {
+    if (n.column != c) {
+      add(n);
+    } else if (new_index_[static_cast<std::size_t>(n.index)] >= 0) {
+      add(Ref{c, new_index_[static_cast<std::size_t>(n.index)]});
+    }
+  }
   while (!stack_.empty()) {
     const Ref r = stack_.back();
     stack_.pop_back();
@@ -220,14 +229,32 @@ bool IncrementalPopup::decide(int x) {
   changed_ = x + sheet_.side;
   slice_faces(model_, sheet_, x, strip_);
   cut_into_segments(strip_, pending_);
+  // Segments the change leaves as they were keep their reach until shown otherwise.
+  const Column& old = columns_[static_cast<std::size_t>(changed_)];
+  old_index_.assign(pending_.size(), -1);
+  new_index_.assign(old.size(), -1);
+  for (std::size_t i = 0, j = 0; i < old.size() && j < pending_.size();) {
+    if (old[i].lo == pending_[j].lo && old[i].hi == pending_[j].hi && old[i].face == pending_[j].face) {
+      old_index_[j] = static_cast<int>(i);
+      new_index_[i] = static_cast<int>(j);
+      pending_[j].from_back = old[i].from_back;
+      pending_[j].from_floor = old[i].from_floor;
+    }
+    (old[i].hi <= pending_[j].hi ? ++i : ++j);
+  }
   closure(true, area_back_);
   closure(false, area_floor_);
   rewalk(true, area_back_);
   rewalk(false, area_floor_);
   stats_.segments_visited += static_cast<std::int64_t>(area_back_.size() + area_floor_.size());
 
+  // Segments neither walk reaches: the old slice's go, the new slice's come (those outside the
+  // areas with the reach they kept), and the re-walked others change.
   std::int64_t neither = neither_;
-  for (const Segment& s : columns_[static_cast<std::size_t>(changed_)]) neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
+  for (const Segment& s : old) neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
+  for (const Segment& s : pending_) {
+    if (s.in_back_area != epoch_ && s.in_floor_area != epoch_) neither += (!s.from_back && !s.from_floor) ? 1 : 0;
+  }
   bool standing = true;
   const auto judge = [&](Ref r) {
     const Segment& s = at(r);
@@ -253,7 +280,9 @@ bool IncrementalPopup::decide(int x) {
   // Every VFace stands. With every segment reached by one walk or the other and the floor
   // reached from the back board, every piece hangs together with both boards: no loose pieces,
   // no split sheet. Otherwise (rare) only the full check can tell.
-  if (neither > 0 || !pending_.front().new_back) {
+  pending_neither_ = neither;
+  const Segment& floor = pending_.front();
+  if (neither > 0 || !(floor.in_back_area == epoch_ ? floor.new_back : floor.from_back)) {
     ++stats_.full_checks;
     return full_check();
   }
@@ -307,31 +336,11 @@ bool IncrementalPopup::try_edit(Edit edit, int x, int z, bool on) {
   }
   // Commit the decision just made: the re-walked areas take their new reach.
   changed_ = x + sheet_.side;
-  std::int64_t neither = neither_;
-  for (const Segment& s : columns_[static_cast<std::size_t>(changed_)]) neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
-  for (Ref r : area_back_) {
-    if (r.column == changed_) continue;
-    Segment& s = at(r);
-    neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
-    s.from_back = s.new_back;
-    if (s.in_floor_area == epoch_) s.from_floor = s.new_floor;
-    neither += (!s.from_back && !s.from_floor) ? 1 : 0;
-  }
-  for (Ref r : area_floor_) {
-    if (r.column == changed_ || at(r).in_back_area == epoch_) continue;
-    Segment& s = at(r);
-    neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
-    s.from_floor = s.new_floor;
-    neither += (!s.from_back && !s.from_floor) ? 1 : 0;
-  }
-  for (Segment& s : pending_) {
-    s.from_back = s.new_back;
-    s.from_floor = s.new_floor;
-    neither += (!s.from_back && !s.from_floor) ? 1 : 0;
-  }
+  for (Ref r : area_back_) at(r).from_back = at(r).new_back;
+  for (Ref r : area_floor_) at(r).from_floor = at(r).new_floor;
   changed_ = -1;
   columns_[static_cast<std::size_t>(x + sheet_.side)] = pending_;
-  neither_ = neither;
+  neither_ = pending_neither_;
   return true;
 }
 

@@ -19,9 +19,10 @@ struct IncrementalPopupStats {
 // The voxel paper's §3.2 c) flags a window and re-runs the pop-up check (§2.6) each time; over a
 // whole card that is rows × cells. This keeps the two walks of check_popup on a coarser graph —
 // each slice's strip cut into segments of one face — and, when one slice changes, re-walks only
-// the segments whose reach can change: those reachable from the slice (in the walk's direction)
-// before or after the change. Every other segment keeps its reach, because a walk that reaches it
-// and avoids the slice uses only edges the change leaves alone. The answer is exactly
+// the segments whose reach can change: those reachable (in the walk's direction) from the
+// segments that changed, before or after the change, not spreading through unchanged start
+// segments. Every other segment keeps its reach, because a walk that reaches it from its last
+// start segment avoids what changed and uses only edges the change leaves alone. The answer is exactly
 // check_popup(make_pattern(model)).pops_up(); when the local walks cannot settle it (a face that
 // neither walk reaches, or a floor the back board no longer reaches — both rare) it falls back
 // to that full check, and counts it.
@@ -87,6 +88,8 @@ class IncrementalPopup {
   // The decision in progress: column `changed_` as it would be (the new view of the graph).
   int changed_ = -1;
   Column pending_;
+  std::vector<int> old_index_, new_index_;  // unchanged segments: their index in the other view
+  std::int64_t pending_neither_ = 0;
   std::vector<std::uint32_t> strip_;
   std::vector<Ref> area_back_, area_floor_, stack_;
   std::uint32_t epoch_ = 0;
