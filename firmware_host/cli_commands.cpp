@@ -1,12 +1,14 @@
-// popcut subcommands: pattern, validate, repair — load a model, run core, write files and reports.
+// popcut subcommands: pattern, validate, repair, fold, render, import — load a model, run core, write files and reports.
 #include "cli_commands.h"
 #include "cli_cut.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -20,6 +22,8 @@
 #include "popcut/io/model_io.h"
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
+#include "popcut/mesh/mesh_import.h"
+#include "popcut/mesh/silhouette_faces.h"
 #include "popcut/model/repair.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/popup_check.h"
@@ -241,13 +245,36 @@ int run(int argc, char** argv) {
   render->add_option("--frames", frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
   render->add_option("--width", width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
 
+  ImportOptions import_opt;
+  std::string up_axis = "+z", front_axis = "-y", pattern_path, depth_method = "zbuffer";
+  double width_mm = 0, voxel_mm = 0;
+  bool no_windows = false, faces_out = false;
+  CLI::App* import_cmd = app.add_subcommand("import", "Turn a 3D mesh (OBJ, STL, OFF, PLY) into a voxel card that pops up (voxel paper §3).");
+  import_cmd->add_option("MESH", model_path, "Mesh file: .obj, .stl (ASCII or binary), .off or .ply")->required();
+  import_cmd->add_option("-o,--output", out_path, "Where to write the popcut.voxel.v1 model (OUT.json, or - for standard output)")->required();
+  import_cmd->add_option("--up", up_axis, "Mesh axis pointing up: +x, -x, +y, -y, +z or -z")->capture_default_str();
+  import_cmd->add_option("--front", front_axis, "Mesh axis pointing at the viewer (the card's depth)")->capture_default_str();
+  import_cmd->add_option("--resolution", import_opt.resolution, "Voxels across the card")->capture_default_str();
+  import_cmd->add_option("--width-mm", width_mm, "Card width of the model in mm (default 120)");
+  import_cmd->add_option("--voxel-mm", voxel_mm, "Voxel edge in mm, instead of --width-mm");
+  import_cmd->add_option("--keep-depth", import_opt.keep_depth, "Fraction of the model's depth kept, from the front (the paper keeps half)")->capture_default_str();
+  import_cmd->add_option("--smooth", import_opt.structuring_element, "Side of the square for opening and closing each slice, in voxels (odd; 1 = off)")->capture_default_str();
+  import_cmd->add_flag("--no-windows", no_windows, "Leave the rows filled by eq. 7 solid instead of trying them as windows");
+  import_cmd->add_option("--thin-tops", import_opt.thin_top_voxels, "Drop top faces at most this many voxels wide where the card stays valid (0 = keep all)")->capture_default_str();
+  import_cmd->add_option("--depth-method", depth_method, "zbuffer (rasterise triangles) or raycast (CGAL AABB tree)")->capture_default_str();
+  import_cmd->add_option("--name", import_opt.name, "Label stored in the model");
+  import_cmd->add_option("--pattern", pattern_path, "Also write the pattern: OUT.svg or OUT.json");
+  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose wall tops follow the mesh silhouette instead of voxel steps");
+  import_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
+
+
   // Stroke planning and cutting (issue 5): their options and handlers live in cli_cut.cpp.
   CutCommands cut_commands;
   add_cut_commands(app, cut_commands);
 
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, plan or cut)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan or cut)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -381,6 +408,85 @@ int run(int argc, char** argv) {
         if (windows) std::cout << "; windows: " << r.windows_added << " added, " << r.windows_rejected << " rejected";
         std::cout << "; wrote " << out_path << "\n";
         print_report(std::cout, out_path, p, report);
+      }
+      return report.pops_up() ? kOk : kDoesNotPopUp;
+    });
+  }
+  if (*import_cmd) {
+    return guarded(json_out, [&] {
+      const auto axis = [](const std::string& text, const char* option) {
+        if (auto a = parse_axis(text)) return *a;
+        throw Error(ErrorCode::invalid_input, "", option, "'" + text + "' is not an axis: use +x, -x, +y, -y, +z or -z");
+      };
+      import_opt.up = axis(up_axis, "--up");
+      import_opt.front = axis(front_axis, "--front");
+      if (import_cmd->count("--width-mm")) import_opt.width_mm = width_mm;
+      if (import_cmd->count("--voxel-mm")) import_opt.voxel_mm = voxel_mm;
+      import_opt.windows = !no_windows;
+      if (depth_method != "zbuffer" && depth_method != "raycast") {
+        throw Error(ErrorCode::invalid_input, "", "--depth-method", "'" + depth_method + "': use zbuffer or raycast");
+      }
+      import_opt.depth = depth_method == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
+      if (out_path != "-") require_extension(out_path, {".json"}, "model type");
+      std::string pattern_ext;
+      if (!pattern_path.empty()) pattern_ext = require_extension(pattern_path, {".svg", ".json"}, "pattern type");
+      if (out_path == "-" && json_out) {
+        throw Error(ErrorCode::invalid_input, "", "--json", "cannot print a summary when the model itself goes to standard output");
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      const TriangleSoup mesh = read_mesh(model_path);
+      const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      ImportResult r = import_mesh(mesh, import_opt, model_path);
+      r.timings.read_ms = read_ms;
+      std::optional<SilhouetteFaces> faces;
+      if (faces_out) faces.emplace(silhouette_faces(mesh, import_opt, r, model_path));
+      const Pattern p = faces ? make_pattern(AnyModel(faces->model), model_path) : make_pattern(r.model, model_path);
+      const PopupReport report = check_popup(p);
+      const std::string text = faces ? to_face_json(faces->model, import_opt.name) : to_voxel_json(r.model);
+      write_output(out_path, [&](std::ostream& out) { out << text; });
+      if (!pattern_path.empty()) {
+        write_output(pattern_path, [&](std::ostream& out) {
+          if (pattern_ext == ".svg") write_pattern_svg(out, p, {true});
+          else write_pattern_json(out, p);
+        });
+      }
+      const ImportStats& s = r.stats;
+      if (json_out) {
+        json j = report_json(out_path, p, report);
+        j["mesh"] = {{"triangles", s.triangles}, {"degenerate", s.degenerate}};
+        j["grid"] = {{"width", r.grid.width}, {"depth", r.grid.depth}, {"height", r.grid.height}, {"voxel_mm", r.grid.voxel_mm}};
+        j["cells_filled"] = s.cells_filled;
+        j["windows_added"] = s.windows_added;
+        j["windows_rejected"] = s.windows_rejected;
+        j["tops_dropped"] = s.tops_dropped;
+        j["tops_kept"] = s.tops_kept;
+        j["timings_ms"] = {{"read", r.timings.read_ms}, {"sampling", r.timings.sample_ms}, {"morphology", r.timings.morphology_ms},
+                           {"filling", r.timings.fill_ms}, {"windows", r.timings.windows_ms}, {"thin_tops", r.timings.thin_ms}};
+        if (!pattern_path.empty()) j["pattern"] = pattern_path;
+        if (faces) {
+          const SilhouetteComparison& c = faces->comparison;
+          j["faces"] = {{"outlines_redrawn", c.outlines}, {"steps_kept", c.steps_kept}, {"voxel_lines", c.voxel_lines},
+                        {"face_lines", c.face_lines}, {"samples", c.samples},
+                        {"voxel_mean_mm", c.voxel_mean_mm}, {"face_mean_mm", c.face_mean_mm},
+                        {"voxel_max_mm", c.voxel_max_mm}, {"face_max_mm", c.face_max_mm}};
+        }
+        print_json(j);
+      } else {
+        std::ostream& out = out_path == "-" ? std::cerr : std::cout;
+        out << model_path << ": " << s.triangles << " triangles" << (s.degenerate ? " (" + std::to_string(s.degenerate) + " of zero area dropped)" : "")
+            << " -> " << r.grid.width << " x " << r.grid.depth << " x " << r.grid.height << " voxels of " << r.grid.voxel_mm
+            << " mm; filled " << s.cells_filled << " cells; windows: " << s.windows_added << " added, " << s.windows_rejected
+            << " rejected";
+        if (import_opt.thin_top_voxels > 0) out << "; thin tops: " << s.tops_dropped << " dropped, " << s.tops_kept << " kept";
+        out << "; wrote " << out_path << (pattern_path.empty() ? "" : " and " + pattern_path) << "\n";
+        if (faces) {
+          const SilhouetteComparison& c = faces->comparison;
+          out << "faces: " << c.outlines << " wall tops follow the silhouette (" << c.steps_kept << " steps kept); lines "
+              << c.voxel_lines << " (voxels) -> " << c.face_lines << " (faces); distance to the silhouette, mean "
+              << mm(c.voxel_mean_mm) << " -> " << mm(c.face_mean_mm) << " mm, max " << mm(c.voxel_max_mm) << " -> "
+              << mm(c.face_max_mm) << " mm over " << c.samples << " samples\n";
+        }
+        print_report(out, out_path, p, report);
       }
       return report.pops_up() ? kOk : kDoesNotPopUp;
     });

@@ -55,7 +55,7 @@ const char* kBox = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[
 const char* kSplit = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3]], "windows": [[0, 1]]})";
 
 TEST_F(Cli, HelpEverywhere) {
-  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold ", "render "}) {
+  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold ", "render ", "import "}) {
     const Result r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.code, 0) << "'" << sub << "--help' exits 0";
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
@@ -163,7 +163,7 @@ TEST_F(Cli, PaperFailureFixtures) {
 }
 
 TEST_F(Cli, ShippedExamplesValidate) {
-  for (const char* kind : {"voxel", "faces"}) {
+  for (const char* kind : {"voxel", "faces", "meshes"}) {
     int seen = 0;
     for (const auto& e : fs::directory_iterator(fs::path(POPCUT_SOURCE_DIR) / "examples" / kind)) {
       if (e.path().extension() != ".json") continue;
@@ -174,6 +174,73 @@ TEST_F(Cli, ShippedExamplesValidate) {
     }
     EXPECT_GE(seen, 3) << "examples/" << kind << " holds at least three models";
   }
+}
+
+TEST_F(Cli, ImportMeshToCardAndPattern) {
+  const fs::path meshes = fs::path(POPCUT_SOURCE_DIR) / "examples" / "meshes";
+  const fs::path card = dir_ / "house.json", svg = dir_ / "house.svg";
+  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() + " --resolution 30 --pattern " + svg.string() +
+                 " --json");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["pops_up"].get<bool>()) << r.out;
+  EXPECT_EQ(j["grid"]["width"].get<int>(), 30) << "--resolution sets the voxels across";
+  EXPECT_EQ(j["mesh"]["triangles"].get<int>(), 28) << r.out;
+  for (const char* step : {"read", "sampling", "morphology", "filling", "windows", "thin_tops"}) {
+    EXPECT_TRUE(j["timings_ms"].contains(step)) << "the timing of " << step << " is reported";
+  }
+  EXPECT_EQ(run("validate " + card.string()).code, 0) << "the card validates";
+  EXPECT_NE(slurp(svg).find("<svg"), std::string::npos) << "--pattern writes the SVG";
+  // -y as the value of --front, Y-up axes, voxel size instead of width.
+  r = run("import " + (meshes / "tower.ply").string() + " -o " + card.string() + " --up +z --front -y --voxel-mm 2 --resolution 20");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("voxels of 2 mm"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, ShippedMeshCardsAreWhatImportMakes) {
+  // examples/meshes/NAME.json was made by: popcut import NAME.* -o NAME.json --resolution 40 --thin-tops 1
+  const fs::path meshes = fs::path(POPCUT_SOURCE_DIR) / "examples" / "meshes";
+  for (const char* mesh : {"house.obj", "arch.off", "tower.ply"}) {
+    const fs::path card = dir_ / "card.json";
+    Result r = run("import " + (meshes / mesh).string() + " -o " + card.string() + " --resolution 40 --thin-tops 1");
+    ASSERT_EQ(r.code, 0) << mesh << ": " << r.err;
+    EXPECT_EQ(popcut::parse_voxel_model(slurp(card), "made"),
+              popcut::parse_voxel_model(slurp(meshes / (fs::path(mesh).stem().string() + ".json")), "shipped"))
+        << mesh << ": the shipped card is out of date";
+  }
+}
+
+TEST_F(Cli, ImportFacesFollowTheSilhouette) {
+  const fs::path meshes = fs::path(POPCUT_SOURCE_DIR) / "examples" / "meshes";
+  const fs::path card = dir_ / "house-faces.json";
+  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() + " --resolution 40 --thin-tops 2 --faces --json");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["faces"]["outlines_redrawn"].get<int>(), 0) << r.out;
+  EXPECT_LT(j["faces"]["face_mean_mm"].get<double>(), j["faces"]["voxel_mean_mm"].get<double>()) << r.out;
+  EXPECT_NE(slurp(card).find("popcut.faces.v1"), std::string::npos) << "--faces writes a face model";
+  EXPECT_EQ(run("validate " + card.string()).code, 0) << "which validates";
+}
+
+TEST_F(Cli, ImportErrorsNameFileAndOption) {
+  const std::string obj = file("house.obj", "v 0 0 0\nv 1 0 0\nv 0 1 1\nf 1 2 3\n");
+  Result r = run("import " + obj + " -o " + (dir_ / "x.json").string() + " --front +z");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--front: must be perpendicular to --up"), std::string::npos) << r.err;
+  r = run("import " + obj + " -o " + (dir_ / "x.json").string() + " --up sideways");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--up: 'sideways' is not an axis"), std::string::npos) << r.err;
+  r = run("import " + file("bad.obj", "v 0 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\n") + " -o " + (dir_ / "x.json").string() + " --json");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("bad.obj: line 2: 'nan' is not a finite number"), std::string::npos) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["error"]["code"], "invalid_input") << r.out;
+  r = run("import " + file("empty.stl", "") + " -o " + (dir_ / "x.json").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("the file is empty"), std::string::npos) << r.err;
+  r = run("import " + obj + " -o " + (dir_ / "x.svg").string());
+  EXPECT_EQ(r.code, 2) << "the model goes to JSON";
+  r = run("import " + obj + " -o /nonexistent/dir/x.json");
+  EXPECT_EQ(r.code, 3) << "an unwritable output is exit 3: " << r.err;
 }
 
 TEST_F(Cli, FoldWritesObjAndGltf) {

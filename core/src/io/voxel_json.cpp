@@ -95,7 +95,7 @@ VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
 
 VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
   const json_util::Reader in(source);
-  in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "sheet"});
+  in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "dropped_tops", "sheet"});
   VoxelFile file;
   VoxelModel& m = file.model;
   const double voxel_mm = in.number(in.require(root, "voxel_mm", ""), "voxel_mm", kMinVoxelMm, kMaxVoxelMm);
@@ -144,22 +144,32 @@ VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
     i = j;
   }
 
-  if (root.contains("windows")) {
-    const json& w = root["windows"];
-    in.require_array(w, "windows");
+  // Windows [x, z] (rows 0 to height - 1) and dropped tops [x, z] (heights 1 to height): the
+  // same list of cells of the x-z plane, each given once.
+  const auto read_cells = [&](const char* field, const char* what, int z_lo, int z_hi, auto is_set, auto set) {
+    if (!root.contains(field)) return;
+    const json& w = root[field];
+    in.require_array(w, field);
     for (std::size_t i = 0; i < w.size(); ++i) {
-      const std::string p = index_path("windows", i);
+      const std::string p = index_path(field, i);
       if (!w[i].is_array() || w[i].size() != 2) in.fail(p, "expected [x, z]");
       const int x = in.integer(w[i][0], index_path(p, 0), 0, kMaxVoxelAxis);
-      const int z = in.integer(w[i][1], index_path(p, 1), 0, kMaxVoxelAxis);
-      if (x >= size.width || z >= size.height) {
-        in.fail(p, "[" + std::to_string(x) + ", " + std::to_string(z) + "] is outside the grid (x from 0 to " +
-                       std::to_string(size.width - 1) + ", z from 0 to " + std::to_string(size.height - 1) + ")");
+      const int z = in.integer(w[i][1], index_path(p, 1), z_lo, kMaxVoxelAxis);
+      // Appended, not "[" + to_string(x): GCC 12 warns falsely (-Wrestrict) on that inlined form.
+      std::string cell("[");
+      cell.append(std::to_string(x)).append(", ").append(std::to_string(z)).append("]");
+      if (x >= size.width || z > z_hi) {
+        in.fail(p, cell + " is outside the grid (x from 0 to " + std::to_string(size.width - 1) + ", z from " + std::to_string(z_lo) +
+                       " to " + std::to_string(z_hi) + ")");
       }
-      if (m.is_window(x, z)) in.fail(p, "repeats an earlier window [" + std::to_string(x) + ", " + std::to_string(z) + "]");
-      m.set_window(x, z, true);
+      if (is_set(x, z)) in.fail(p, std::string("repeats an earlier ") + what + " " + cell);
+      set(x, z);
     }
-  }
+  };
+  read_cells("windows", "window", 0, size.height - 1, [&](int x, int z) { return m.is_window(x, z); },
+             [&](int x, int z) { m.set_window(x, z, true); });
+  read_cells("dropped_tops", "top", 1, size.height, [&](int x, int z) { return m.is_top_dropped(x, z); },
+             [&](int x, int z) { m.set_top_dropped(x, z, true); });
   if (root.contains("sheet")) read_sheet(in, root["sheet"], m.sheet);
   if (root.contains("name")) m.name = in.string(root["name"], "name", 256);
   return file;
@@ -210,6 +220,15 @@ std::string to_voxel_json(const VoxelModel& m) {
     }
   }
   o << "]";
+  bool any_top = false;
+  for (int x = 0; x < m.width; ++x) {
+    for (int z = 1; z <= m.height; ++z) {
+      if (!m.is_top_dropped(x, z)) continue;
+      o << (any_top ? ", " : ",\n  \"dropped_tops\": [") << "[" << x << ", " << z << "]";
+      any_top = true;
+    }
+  }
+  if (any_top) o << "]";
   if (m.sheet.back || m.sheet.floor || m.sheet.side) {
     o << ",\n  \"sheet\": {";
     const char* sep = "";

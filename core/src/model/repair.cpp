@@ -5,10 +5,34 @@
 #include <vector>
 
 #include "popcut/error.h"
+#include "popcut/pattern/incremental_popup.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
 
 namespace popcut {
+
+WindowMarking mark_windows(VoxelModel& m, const std::vector<std::uint8_t>& rows, const std::string& source) {
+  WindowMarking out;
+  // Only a card that pops up before a window can judge the window; a card whose own windows
+  // already fail is left as it is and reported by the caller's check.
+  if (!check_popup(make_pattern(m, source)).pops_up()) return out;
+  IncrementalPopup card(m, source);
+  for (int x = 0; x < m.width; ++x) {
+    for (int z = m.height - 1; z >= 0; --z) {
+      if (!rows[static_cast<std::size_t>(x) * static_cast<std::size_t>(m.height) + static_cast<std::size_t>(z)]) continue;
+      if (card.model().is_window(x, z) || z >= m.h(x, 0)) continue;
+      if (card.try_window(x, z)) {
+        ++out.added;
+      } else {
+        ++out.rejected;
+      }
+    }
+  }
+  out.full_checks = card.stats().full_checks;
+  m = card.model();
+  return out;
+}
+
 RepairResult repair(const VoxelFile& file, const RepairOptions& options, const std::string& source) {
   RepairResult out;
   out.model = file.model;
@@ -30,34 +54,9 @@ RepairResult repair(const VoxelFile& file, const RepairOptions& options, const s
   }
   if (!options.windows || out.cells_filled == 0) return out;
 
-  const auto pops_up = [&](const VoxelModel& model) { return check_popup(make_pattern(model, source)).pops_up(); };
-  std::int64_t candidates = 0;
-  for (std::uint8_t f : filled_rows) candidates += f;
-  const SheetVoxels sheet = resolve_sheet(m, source);
-  const std::int64_t cells = (std::int64_t{m.width} + 2 * sheet.side) * (sheet.back + sheet.floor);
-  if (candidates * cells > kMaxRepairWindowChecks) {
-    throw Error(ErrorCode::limit, source, "--windows",
-                "marking windows would re-check a card of " + std::to_string(cells) + " cells for each of " +
-                    std::to_string(candidates) + " filled rows, over the limit of " + std::to_string(kMaxRepairWindowChecks) +
-                    " cell checks; repair without --windows, or use fewer, larger voxels");
-  }
-
-  // Only a card that pops up before a window can judge the window; a card whose own windows
-  // already fail is left as it is and reported by the caller's check.
-  if (!pops_up(m)) return out;
-  for (int x = 0; x < m.width; ++x) {
-    for (int z = m.height - 1; z >= 0; --z) {
-      if (!filled_rows[static_cast<std::size_t>(x) * static_cast<std::size_t>(m.height) + static_cast<std::size_t>(z)]) continue;
-      if (m.is_window(x, z) || z >= m.h(x, 0)) continue;
-      m.set_window(x, z, true);
-      if (pops_up(m)) {
-        ++out.windows_added;
-      } else {
-        m.set_window(x, z, false);
-        ++out.windows_rejected;
-      }
-    }
-  }
+  const WindowMarking marked = mark_windows(m, filled_rows, source);
+  out.windows_added = marked.added;
+  out.windows_rejected = marked.rejected;
   return out;
 }
 

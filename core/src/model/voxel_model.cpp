@@ -31,6 +31,13 @@ void clear_windows_above_top(VoxelModel& m, int x) {
   for (int z = std::max(0, m.h(x, 0)); z < m.height; ++z) m.set_window(x, z, false);
 }
 
+// A dropped top names a step of the slice; an edit that removes the step removes the mark.
+void clear_missing_tops(VoxelModel& m, int x) {
+  for (int z = 1; z <= m.height; ++z) {
+    if (m.is_top_dropped(x, z) && !m.has_top(x, z)) m.set_top_dropped(x, z, false);
+  }
+}
+
 }  // namespace
 
 VoxelModel VoxelModel::empty(int width, int depth, int height, double voxel_mm) {
@@ -41,7 +48,17 @@ VoxelModel VoxelModel::empty(int width, int depth, int height, double voxel_mm) 
   m.voxel_mm = voxel_mm;
   m.heights.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(depth), 0);
   m.windows.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0);
+  m.dropped_tops.assign(m.windows.size(), 0);
   return m;
+}
+
+bool VoxelModel::has_top(int x, int z) const {
+  if (z < 1) return false;
+  for (int y = 0; y < depth; ++y) {
+    if (h(x, y) == z) return true;
+    if (h(x, y) < z) return false;  // heights fall towards the front
+  }
+  return false;
 }
 
 int VoxelModel::window_count() const {
@@ -73,6 +90,13 @@ std::optional<ModelViolation> find_violation(const VoxelModel& m) {
                               "window [" + std::to_string(x) + ", " + std::to_string(z) + "] is on row z=" +
                                   std::to_string(z) + " but column x=" + std::to_string(x) + " is only " +
                                   std::to_string(m.h(x, 0)) + " high, so that row has no front face to open"};
+      }
+    }
+    for (int z = 1; z <= m.height; ++z) {
+      if (m.is_top_dropped(x, z) && !m.has_top(x, z)) {
+        return ModelViolation{"dropped_tops", "top [" + std::to_string(x) + ", " + std::to_string(z) + "]: slice x=" +
+                                                  std::to_string(x) + " has no column exactly " + std::to_string(z) +
+                                                  " high, so there is no top face at z=" + std::to_string(z) + " to drop"};
       }
     }
   }
@@ -135,12 +159,14 @@ SheetVoxels resolve_sheet(const VoxelModel& m, const std::string& source) {
 void add_voxel(VoxelModel& m, int x, int y, int z) {
   require_in_grid(m, x, y, z, "add_voxel");
   for (int yy = 0; yy <= y; ++yy) m.h_at(x, yy) = std::max(m.h(x, yy), z + 1);
+  clear_missing_tops(m, x);
 }
 
 void remove_voxel(VoxelModel& m, int x, int y, int z) {
   require_in_grid(m, x, y, z, "remove_voxel");
   for (int yy = y; yy < m.depth; ++yy) m.h_at(x, yy) = std::min(m.h(x, yy), z);
   clear_windows_above_top(m, x);
+  clear_missing_tops(m, x);
 }
 
 void toggle_window(VoxelModel& m, int x, int z) {

@@ -137,6 +137,50 @@ void emit_runs(int count, KindAt kind_at, PointAt point_at, std::vector<Segment>
 
 }  // namespace
 
+void slice_faces(const VoxelModel& m, const SheetVoxels& sheet, int x, std::vector<std::uint32_t>& strip) {
+  const std::uint32_t back_wall = CellGrid::pack(FaceKind::vertical, 0);
+  const std::uint32_t floor = CellGrid::pack(FaceKind::horizontal, 0);
+  const int floor_rows = sheet.floor;
+  strip.resize(static_cast<std::size_t>(sheet.back + sheet.floor));
+  const auto set = [&](int v, std::uint32_t face) { strip[static_cast<std::size_t>(v + floor_rows)] = face; };
+  for (int v = -floor_rows; v < sheet.back; ++v) set(v, v >= 0 ? back_wall : floor);
+  if (x < 0 || x >= m.width) return;
+  // below(z): the highest row under z that is not a window (-1: the floor), for §2.3; kept as
+  // a running value because rows are visited bottom-up within each front face.
+  std::vector<int> below(static_cast<std::size_t>(std::max(m.height, 1)));
+  int last = -1;
+  for (int z = 0; z < m.height; ++z) {
+    below[static_cast<std::size_t>(z)] = last;
+    if (!m.is_window(x, z)) last = z;
+  }
+  // Walk the slice's surface from the back wall down to the floor: v falls by one per cell.
+  int step_start = 0;  // the first column of the current step (columns of one height)
+  for (int y = 0;; ++y) {
+    const int hy = m.h(x, y);
+    if (y > 0 && hy != m.h(x, y - 1)) step_start = y;
+    const int top_v = hy - y - 1;
+    if (top_v < -floor_rows) break;
+    std::uint32_t top = CellGrid::pack(FaceKind::horizontal, hy);
+    if (m.is_top_dropped(x, hy)) {
+      // §3.3: a dropped top's cells lie on the wall behind the step (y = step_start), whose
+      // paper is next to them in the strip; where that runs below z = 0 they lie on the floor.
+      top = top_v + step_start >= 0 ? CellGrid::pack(FaceKind::vertical, step_start) : floor;
+    }
+    set(top_v, top);
+    for (int z = m.h(x, y + 1); z < hy; ++z) {
+      std::uint32_t face = CellGrid::pack(FaceKind::vertical, y + 1);
+      if (m.is_window(x, z)) {
+        // The front cell of voxel (x, y, z) becomes the top face of voxel (x, y', h') with
+        // h' the highest non-window row below z; past the back wall it lies on the wall.
+        const int hp = below[static_cast<std::size_t>(z)];
+        const int yp = y - (z - hp) + 1;
+        face = yp >= 0 ? CellGrid::pack(FaceKind::horizontal, hp + 1) : back_wall;
+      }
+      set(z - y - 1, face);
+    }
+  }
+}
+
 CellGrid make_cell_grid(const VoxelModel& m, const std::string& source) {
   require_valid(m, source);
   CellGrid g;
@@ -145,49 +189,26 @@ CellGrid make_cell_grid(const VoxelModel& m, const std::string& source) {
   g.columns = m.width + 2 * g.sheet.side;
   g.rows = g.sheet.back + g.sheet.floor;
   g.faces.assign(static_cast<std::size_t>(g.columns) * static_cast<std::size_t>(g.rows), 0);
-
-  const std::uint32_t back_wall = CellGrid::pack(FaceKind::vertical, 0);
-  const std::uint32_t floor = CellGrid::pack(FaceKind::horizontal, 0);
-  const int floor_rows = g.sheet.floor;
-  std::vector<std::uint32_t> strip(static_cast<std::size_t>(g.rows));
-  std::vector<int> below(static_cast<std::size_t>(std::max(m.height, 1)));
-  const auto set = [&](int v, std::uint32_t face) { strip[static_cast<std::size_t>(v + floor_rows)] = face; };
-
+  std::vector<std::uint32_t> strip;
   for (int c = 0; c < g.columns; ++c) {
-    const int x = c - g.sheet.side;
-    for (int v = -floor_rows; v < g.sheet.back; ++v) set(v, v >= 0 ? back_wall : floor);
-    if (x >= 0 && x < m.width) {
-      // below[z]: the highest row under z that is not a window (-1: the floor), for §2.3.
-      int last = -1;
-      for (int z = 0; z < m.height; ++z) {
-        below[static_cast<std::size_t>(z)] = last;
-        if (!m.is_window(x, z)) last = z;
-      }
-      // Walk the slice's surface from the back wall down to the floor: v falls by one per cell.
-      for (int y = 0;; ++y) {
-        const int hy = m.h(x, y);
-        const int top_v = hy - y - 1;
-        if (top_v < -floor_rows) break;
-        set(top_v, CellGrid::pack(FaceKind::horizontal, hy));
-        for (int z = m.h(x, y + 1); z < hy; ++z) {
-          std::uint32_t face = CellGrid::pack(FaceKind::vertical, y + 1);
-          if (m.is_window(x, z)) {
-            // The front cell of voxel (x, y, z) becomes the top face of voxel (x, y', h') with
-            // h' the highest non-window row below z; past the back wall it lies on the wall.
-            const int hp = below[static_cast<std::size_t>(z)];
-            const int yp = y - (z - hp) + 1;
-            face = yp >= 0 ? CellGrid::pack(FaceKind::horizontal, hp + 1) : back_wall;
-          }
-          set(z - y - 1, face);
-        }
-      }
-    }
+    slice_faces(m, g.sheet, c - g.sheet.side, strip);
     for (int r = 0; r < g.rows; ++r) {
       g.faces[static_cast<std::size_t>(r) * static_cast<std::size_t>(g.columns) + static_cast<std::size_t>(c)] =
           strip[static_cast<std::size_t>(r)];
     }
   }
   return g;
+}
+
+std::vector<int> cell_regions(const CellGrid& g) {
+  RegionMap regions(g);
+  std::vector<std::pair<int, int>> first_cell;
+  regions.label_all(first_cell);
+  std::vector<int> out(g.faces.size());
+  for (int r = 0; r < g.rows; ++r) {
+    for (int c = 0; c < g.columns; ++c) out[regions.index(c, r)] = regions.at(c, r);
+  }
+  return out;
 }
 
 Pattern make_pattern(const CellGrid& g) {

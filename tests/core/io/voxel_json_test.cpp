@@ -168,5 +168,21 @@ TEST(VoxelJson, FuzzedInputNeverCrashes) {
   EXPECT_GT(accepted, 0) << "some mutations (e.g. a changed digit) are still valid models";
 }
 
+TEST(VoxelJson, DroppedTopsReadWriteAndAreChecked) {
+  const VoxelModel m = parse_voxel_model(
+      R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3, 3], [2]], "dropped_tops": [[1, 2]]})", "tops.json");
+  EXPECT_TRUE(m.is_top_dropped(1, 2)) << "the top of slice 1 at z = 2 is dropped";
+  EXPECT_EQ(parse_voxel_model(to_voxel_json(m), "rt"), m) << "round trip";
+  try {
+    parse_voxel_model(R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3, 3], [2]], "dropped_tops": [[0, 2]]})", "t.json");
+    ADD_FAILURE() << "slice 0 has no top at z = 2";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location(), "dropped_tops") << e.message();
+    EXPECT_NE(e.message().find("no column exactly 2 high"), std::string::npos) << e.message();
+  }
+  EXPECT_THROW(parse_voxel_model(R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3]], "dropped_tops": [[0, 0]]})", "t.json"),
+               Error) << "z starts at 1 (a top face sits on a column)";
+}
+
 }  // namespace
 }  // namespace popcut

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "popcut/io/voxel_json.h"
 #include "popcut/model/voxel_model.h"
@@ -21,13 +23,23 @@ struct RepairResult {
   int windows_rejected = 0;  // candidate windows dropped because the card would not pop up
 };
 
-// Work limit for window marking: candidate rows × pattern cells re-checked (about 10 s).
-inline constexpr std::int64_t kMaxRepairWindowChecks = 100'000'000;
+// Outcome of opening candidate windows one by one.
+struct WindowMarking {
+  int added = 0;
+  int rejected = 0;     // candidates dropped because the card would not pop up with them
+  std::int64_t full_checks = 0;  // decisions the incremental check handed to check_popup
+};
+
+// Voxel paper §3.2 c): tries isHole(x, z) for every candidate row (`rows[x * height + z]` != 0
+// with a front face) slice by slice, from the top row down as the paper does, keeping each only
+// while the card still pops up. Each decision is IncrementalPopup's, so the work follows what a
+// window can reach rather than the whole card. A card that does not pop up to begin with is
+// left as it is (nothing can be judged on it).
+WindowMarking mark_windows(VoxelModel& model, const std::vector<std::uint8_t>& rows, const std::string& source = "");
 
 // Fills every cell behind and below a filled one (eq. 4's closure, done as eq. 7 row by row):
 // the least filling that satisfies the staircase. Windows are tried row by row from the top of
-// each slice down, as the paper does; each is checked with the full pop-up check, so the work
-// grows as rows × cells and is refused (ErrorCode::limit) past kMaxRepairWindowChecks.
+// each slice down, as the paper does (mark_windows).
 // `source` names the file in errors.
 RepairResult repair(const VoxelFile& file, const RepairOptions& options, const std::string& source = "");
 

@@ -46,6 +46,10 @@ struct VoxelModel {
   std::string name;
   std::vector<int> heights;            // width × depth, index x * depth + y
   std::vector<std::uint8_t> windows;   // width × height, index x * height + z
+  // width × height (or empty: none), index x * height + z - 1: the top face at height z
+  // (1 ≤ z ≤ height) of slice x is left out (§3.3); its paper lies on the face behind it
+  // instead, as a window's does (see slice_faces).
+  std::vector<std::uint8_t> dropped_tops;
 
   static VoxelModel empty(int width, int depth, int height, double voxel_mm);
 
@@ -60,6 +64,16 @@ struct VoxelModel {
     windows[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z)] = on ? 1 : 0;
   }
   int window_count() const;
+  bool is_top_dropped(int x, int z) const {
+    return !dropped_tops.empty() && z >= 1 && z <= height &&
+           dropped_tops[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z - 1)] != 0;
+  }
+  void set_top_dropped(int x, int z, bool on) {
+    dropped_tops.resize(windows.size(), 0);
+    dropped_tops[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z - 1)] = on ? 1 : 0;
+  }
+  // Does slice x have a top face at height z (a column exactly z high, z ≥ 1)?
+  bool has_top(int x, int z) const;
 
   friend bool operator==(const VoxelModel&, const VoxelModel&) = default;
 };

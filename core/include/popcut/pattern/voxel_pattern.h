@@ -34,6 +34,14 @@ struct CellGrid {
 // Throws popcut::Error when the model is invalid or the sheet too small (`source` names the file).
 CellGrid make_cell_grid(const VoxelModel& model, const std::string& source = "");
 
+// The face of every cell in the strip of model slice x (outside 0..width-1: the bare boards),
+// bottom row first: strip[r] covers v in [r - sheet.floor, r - sheet.floor + 1] voxels.
+// The model must be valid; this is the column make_cell_grid writes, for incremental checks.
+void slice_faces(const VoxelModel& model, const SheetVoxels& sheet, int x, std::vector<std::uint32_t>& strip);
+
+// The region (pattern face index, as make_pattern numbers them) of every cell, index r * columns + c.
+std::vector<int> cell_regions(const CellGrid& grid);
+
 // Regions, typed lines and fold links of a cell grid, in millimetres.
 Pattern make_pattern(const CellGrid& grid);
 

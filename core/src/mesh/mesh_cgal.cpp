@@ -1,0 +1,248 @@
+// The CGAL side of mesh import: file readers (OBJ, STL, OFF, PLY) and ray casting on an AABB tree.
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/OBJ.h>
+#include <CGAL/IO/OFF.h>
+#include <CGAL/IO/PLY.h>
+#include <CGAL/IO/STL.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <cstring>
+#include <new>
+#include <optional>
+#include <sstream>
+
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+#include "popcut/mesh/mesh_import.h"
+
+namespace popcut {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+std::string extension_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+bool non_finite_token(const std::string& token) {
+  std::string t = token;
+  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (!t.empty() && (t[0] == '-' || t[0] == '+')) t.erase(0, 1);
+  return t.rfind("nan", 0) == 0 || t.rfind("inf", 0) == 0;
+}
+
+// CGAL's readers say only that they failed; for text files look for the usual reasons, so the
+// error can name the line: a NaN or infinite number, and in OBJ an element other than faces
+// (lines, points) or a face naming a vertex not yet defined.
+std::optional<std::pair<int, std::string>> diagnose_text(const std::string& bytes, const std::string& ext) {
+  std::istringstream in(bytes);
+  std::string line;
+  int number = 0;
+  long vertices = 0;
+  bool faces = false;
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream words(line);
+    std::string keyword, token;
+    words >> keyword;
+    if (ext == "obj" && !keyword.empty() && keyword[0] != '#') {
+      if (keyword == "l") return std::make_pair(number, std::string("'l' (a polyline): only faces ('f') can be read"));
+      if (keyword == "v") ++vertices;
+      if (keyword == "f") {
+        faces = true;
+        while (words >> token) {
+          const long index = std::strtol(token.c_str(), nullptr, 10);
+          if (index == 0 || index > vertices || -index > vertices) {
+            return std::make_pair(number, "face refers to vertex " + std::to_string(index) + ", but only " +
+                                              std::to_string(vertices) + " are defined before it");
+          }
+        }
+        continue;
+      }
+    }
+    std::istringstream again(line);
+    while (again >> token) {
+      if (non_finite_token(token)) return std::make_pair(number, "'" + token + "' is not a finite number");
+    }
+  }
+  if (ext == "obj" && !faces) return std::make_pair(number, std::string("the file has no faces ('f' lines)"));
+  return std::nullopt;
+}
+
+// Binary STL (80-byte header, count, 50 bytes a triangle): CGAL merges equal vertices through
+// a map, where a NaN compares equal to anything and would silently vanish; catch it first.
+void check_binary_stl(const std::string& path, const std::string& bytes) {
+  if (bytes.size() < 84 || bytes.compare(0, 5, "solid") == 0) return;
+  std::uint32_t count = 0;
+  std::memcpy(&count, bytes.data() + 80, 4);
+  if (84 + std::uint64_t{count} * 50 != bytes.size()) {
+    throw Error(ErrorCode::invalid_input, path, "",
+                "binary STL says " + std::to_string(count) + " triangles, which take " + std::to_string(84 + std::uint64_t{count} * 50) +
+                    " bytes, but the file has " + std::to_string(bytes.size()) + " (truncated?)");
+  }
+  for (std::uint32_t t = 0; t < count; ++t) {
+    for (int k = 0; k < 9; ++k) {
+      float v = 0;
+      std::memcpy(&v, bytes.data() + 84 + std::size_t{t} * 50 + 12 + static_cast<std::size_t>(k) * 4, 4);
+      if (!std::isfinite(v)) {
+        throw Error(ErrorCode::invalid_input, path, "triangle " + std::to_string(t + 1), "coordinate is not a finite number (NaN or infinite)");
+      }
+    }
+  }
+}
+
+// Runs one of CGAL's readers on the file's bytes. They report failure as `false` without a
+// reason (and may throw on absurd counts), so the error says which format did not parse.
+template <typename Points, typename Polygons>
+void parse(const std::string& path, const std::string& ext, const std::string& bytes, Points& points, Polygons& polygons) {
+  std::istringstream in(bytes, std::ios::in | std::ios::binary);
+  bool ok = false;
+  try {
+    if (ext == "obj") {
+      ok = CGAL::IO::read_OBJ(in, points, polygons, CGAL::parameters::verbose(false));
+    } else if (ext == "off") {
+      ok = CGAL::IO::read_OFF(in, points, polygons, CGAL::parameters::verbose(false));
+    } else if (ext == "ply") {
+      ok = CGAL::IO::read_PLY(in, points, polygons, CGAL::parameters::verbose(false));
+    } else {
+      ok = CGAL::IO::read_STL(in, points, polygons, CGAL::parameters::verbose(false));
+    }
+  } catch (const std::bad_alloc&) {
+    throw Error(ErrorCode::limit, path, "", "the file's counts need more memory than there is; is it truncated or corrupt?");
+  } catch (const std::exception& e) {
+    throw Error(ErrorCode::invalid_input, path, "", "not a readable " + ext + " file: " + e.what());
+  }
+  if (!ok && ext != "stl" && ext != "ply") {
+    if (auto why = diagnose_text(bytes, ext)) throw Error(ErrorCode::invalid_input, path, "line " + std::to_string(why->first), why->second);
+  }
+  if (!ok) {
+    std::string upper = ext;
+    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    throw Error(ErrorCode::invalid_input, path, "",
+                "not a readable " + upper + " file (malformed or truncated; CGAL's reader stopped" +
+                    (points.empty() ? " before the first vertex)" : " after " + std::to_string(points.size()) + " vertices)"));
+  }
+}
+
+}  // namespace
+
+TriangleSoup read_mesh(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext != "obj" && ext != "stl" && ext != "off" && ext != "ply") {
+    throw Error(ErrorCode::invalid_input, path, "",
+                (ext.empty() ? std::string("no file extension") : "unknown mesh format '." + ext + "'") +
+                    ": the format is taken from the name: .obj, .stl, .off or .ply");
+  }
+  const std::string bytes = read_text_file(path, kMaxMeshFileBytes);
+  if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) throw Error(ErrorCode::invalid_input, path, "", "the file is empty");
+
+  if (ext == "stl") check_binary_stl(path, bytes);
+  std::vector<K::Point_3> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  parse(path, ext, bytes, points, polygons);
+
+  TriangleSoup soup;
+  soup.points.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const K::Point_3& p = points[i];
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+      throw Error(ErrorCode::invalid_input, path, "vertex " + std::to_string(i + 1),
+                  "coordinate is not a finite number (NaN or infinite)");
+    }
+    soup.points.push_back({p.x(), p.y(), p.z()});
+  }
+  soup.polygons = static_cast<std::int64_t>(polygons.size());
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const std::vector<std::size_t>& poly = polygons[f];
+    for (std::size_t v : poly) {
+      if (v >= points.size()) {
+        throw Error(ErrorCode::invalid_input, path, "face " + std::to_string(f + 1),
+                    "refers to a vertex that does not exist (the file has " + std::to_string(points.size()) + ")");
+      }
+    }
+    if (poly.size() < 3) {
+      ++soup.degenerate;
+      continue;
+    }
+    // A fan: exact for convex polygons, which is what exporters write; the depth of a
+    // non-convex polygon's fan may cover a notch (documented best effort).
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+      const auto& a = soup.points[poly[0]];
+      const auto& b = soup.points[poly[k]];
+      const auto& c = soup.points[poly[k + 1]];
+      const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+      const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+      const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+      if (nx == 0 && ny == 0 && nz == 0) {
+        ++soup.degenerate;
+        continue;
+      }
+      soup.triangles.push_back({static_cast<std::uint32_t>(poly[0]), static_cast<std::uint32_t>(poly[k]),
+                                static_cast<std::uint32_t>(poly[k + 1])});
+      if (static_cast<std::int64_t>(soup.triangles.size()) > kMaxMeshTriangles) {
+        throw Error(ErrorCode::limit, path, "", "more than " + std::to_string(kMaxMeshTriangles) + " triangles");
+      }
+    }
+  }
+  if (soup.triangles.empty()) {
+    throw Error(ErrorCode::invalid_input, path, "",
+                polygons.empty() ? "the mesh has no faces" : "every face has zero area: nothing to see from the front");
+  }
+  return soup;
+}
+
+// One orthographic ray per cell centre, from in front of the mesh towards the back wall; the
+// first hit is the surface seen. Kept for comparison with the z-buffer (bench/import_bench).
+DepthMap sample_depth_raycast(const TriangleSoup& mesh, const ImportGrid& grid) {
+  using Triangle = K::Triangle_3;
+  using Primitive = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+  std::vector<Triangle> triangles;
+  triangles.reserve(mesh.triangles.size());
+  double y_max = -std::numeric_limits<double>::infinity();
+  for (const auto& t : mesh.triangles) {
+    const auto p = [&](int i) {
+      const auto& q = mesh.points[t[static_cast<std::size_t>(i)]];
+      return K::Point_3(q[0], q[1], q[2]);
+    };
+    triangles.emplace_back(p(0), p(1), p(2));
+    for (int i = 0; i < 3; ++i) y_max = std::max(y_max, mesh.points[t[static_cast<std::size_t>(i)]][1]);
+  }
+  DepthMap map;
+  map.width = grid.width;
+  map.height = grid.height;
+  map.front.assign(static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height), -std::numeric_limits<double>::infinity());
+  if (triangles.empty()) return map;
+  Tree tree(triangles.begin(), triangles.end());
+  const double start_y = y_max + 1 + std::abs(y_max);
+  for (int x = 0; x < grid.width; ++x) {
+    for (int z = 0; z < grid.height; ++z) {
+      const double cx = grid.x0 + (x + 0.5) * grid.step;
+      const double cz = grid.z0 + (z + 0.5) * grid.step;
+      const K::Ray_3 ray(K::Point_3(cx, start_y, cz), K::Direction_3(0, -1, 0));
+      const auto hit = tree.first_intersection(ray);
+      if (!hit) continue;
+      double y = -std::numeric_limits<double>::infinity();
+      if (const K::Point_3* p = boost::get<K::Point_3>(&hit->first)) {
+        y = p->y();
+      } else if (const K::Segment_3* s = boost::get<K::Segment_3>(&hit->first)) {
+        y = std::max(s->source().y(), s->target().y());
+      }
+      map.front[static_cast<std::size_t>(x) * static_cast<std::size_t>(grid.height) + static_cast<std::size_t>(z)] = y;
+    }
+  }
+  return map;
+}
+
+}  // namespace popcut

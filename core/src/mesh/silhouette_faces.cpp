@@ -1,0 +1,262 @@
+// Redraws the voxel pattern's wall-on-wall edges along the mesh silhouette, keeping the faces a partition.
+#include "popcut/mesh/silhouette_faces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "popcut/error.h"
+#include "popcut/io/model_io.h"
+#include "popcut/pattern/popup_check.h"
+#include "popcut/pattern/voxel_pattern.h"
+
+namespace popcut {
+namespace {
+
+// The silhouette finely sampled: depth in voxels from the back wall per fine cell.
+struct FineDepth {
+  int scale = 1, width = 0, height = 0;
+  std::vector<double> voxels;
+  double at(int i, int k) const { return voxels[static_cast<std::size_t>(i) * static_cast<std::size_t>(height) + static_cast<std::size_t>(k)]; }
+
+  // Top (in voxels) of the run of fine cells in column i reaching depth t, searched from z_ref
+  // (voxels) within two voxels either way; nothing when the mesh is not there.
+  std::optional<double> top(int i, double t, double z_ref) const {
+    if (i < 0 || i >= width) return std::nullopt;
+    const double threshold = t - 0.5;  // the voxel model rounds depths the same way
+    int k = std::clamp(static_cast<int>(std::lround(z_ref * scale)) - 1, 0, height - 1);
+    const int reach = 2 * scale;
+    if (at(i, k) >= threshold) {
+      const int limit = std::min(height - 1, k + reach);
+      while (k < limit && at(i, k + 1) >= threshold) ++k;
+      return static_cast<double>(k + 1) / scale;
+    }
+    const int limit = std::max(0, k - reach);
+    while (k > limit && at(i, k) < threshold) --k;
+    if (at(i, k) < threshold) return std::nullopt;
+    return static_cast<double>(k + 1) / scale;
+  }
+};
+
+FineDepth fine_depth(const TriangleSoup& mesh, const ImportOptions& o, const ImportGrid& coarse, const std::string& source) {
+  FineDepth f;
+  // 8× finer, or less when that would pass 16 million samples.
+  const double cells = static_cast<double>(coarse.width) * coarse.height;
+  f.scale = std::clamp(static_cast<int>(std::sqrt(16e6 / cells)), 1, 8);
+  ImportGrid g = coarse;
+  g.width *= f.scale;
+  g.height *= f.scale;
+  g.step /= f.scale;
+  const DepthMap map = sample_depth_zbuffer(to_card_frame(mesh, o.up, o.front, source), g);
+  f.width = g.width;
+  f.height = g.height;
+  f.voxels.resize(map.front.size());
+  for (std::size_t i = 0; i < map.front.size(); ++i) f.voxels[i] = (map.front[i] - coarse.back_wall_y) / coarse.step;
+  return f;
+}
+
+// One edge between a front wall A (below in the pattern) and a wall B behind it (above),
+// running across consecutive slices: rows[k] is the boundary row in grid column first + k.
+struct Chain {
+  int a = -1, b = -1;
+  int first = 0;
+  std::vector<int> rows;
+  std::vector<int> low, high;  // per column: A's cells reach down to `low`, B's up to `high` (rows)
+};
+
+std::size_t find_or_insert(Ring& ring, Point2 p) {
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    if (ring[i] == p) return i;
+  }
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Point2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    const bool on_v = a.x_mm == b.x_mm && p.x_mm == a.x_mm && p.v_mm > std::min(a.v_mm, b.v_mm) && p.v_mm < std::max(a.v_mm, b.v_mm);
+    const bool on_h = a.v_mm == b.v_mm && p.v_mm == a.v_mm && p.x_mm > std::min(a.x_mm, b.x_mm) && p.x_mm < std::max(a.x_mm, b.x_mm);
+    if (on_v || on_h) {
+      ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(i + 1), p);
+      return i + 1;
+    }
+  }
+  return ring.size();
+}
+
+// Replaces the ring's path from `from` to `to` when it is exactly `expected` (corners between
+// them), by `interior`; false (ring unchanged) otherwise.
+bool replace_path(std::vector<Ring*> rings, Point2 from, Point2 to, const std::vector<Point2>& expected, const std::vector<Point2>& interior) {
+  for (Ring* ring_ptr : rings) {
+    Ring ring = *ring_ptr;
+    const std::size_t i = find_or_insert(ring, from);
+    if (i == ring.size()) continue;
+    const std::size_t j = find_or_insert(ring, to);
+    if (j == ring.size()) continue;
+    const std::size_t i2 = static_cast<std::size_t>(std::find(ring.begin(), ring.end(), from) - ring.begin());
+    std::vector<Point2> path;
+    for (std::size_t k = (i2 + 1) % ring.size(); k != j; k = (k + 1) % ring.size()) path.push_back(ring[k]);
+    if (path != expected) continue;
+    Ring out;
+    for (std::size_t k = j; k != i2; k = (k + 1) % ring.size()) out.push_back(ring[k]);
+    out.push_back(ring[i2]);
+    out.insert(out.end(), interior.begin(), interior.end());
+    *ring_ptr = out;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& o, const ImportResult& r, const std::string& source) {
+  const VoxelModel& m = r.model;
+  const CellGrid g = make_cell_grid(m, source);
+  const Pattern voxel_pattern = make_pattern(g);
+  std::vector<PatternFace> faces = voxel_pattern.faces;
+  const std::vector<int> region = cell_regions(g);
+  const FineDepth fine = fine_depth(mesh, o, r.grid, source);
+  const int side = g.sheet.side, floor = g.sheet.floor;
+  const double mm = g.voxel_mm;
+  const auto reg = [&](int c, int row) { return region[static_cast<std::size_t>(row) * static_cast<std::size_t>(g.columns) + static_cast<std::size_t>(c)]; };
+  const auto t_of = [&](int f) { return static_cast<int>(std::lround(faces[static_cast<std::size_t>(f)].t_mm / mm)); };
+  const auto is_v = [&](int f) { return faces[static_cast<std::size_t>(f)].kind == FaceKind::vertical; };
+
+  // Wall-on-wall boundaries per model column, then joined into chains across columns.
+  std::vector<Chain> chains;
+  std::map<std::pair<int, int>, std::size_t> open;  // (A, B) → chain ending at the previous column
+  for (int c = side; c < side + m.width; ++c) {
+    std::map<std::pair<int, int>, int> here;  // (A, B) → row, or -1 when it occurs twice
+    for (int row = 1; row < g.rows; ++row) {
+      const int a = reg(c, row - 1), b = reg(c, row);
+      if (a == b || !is_v(a) || !is_v(b) || t_of(a) <= t_of(b)) continue;
+      auto [it, fresh] = here.emplace(std::make_pair(a, b), row);
+      if (!fresh) it->second = -1;
+    }
+    std::map<std::pair<int, int>, std::size_t> next;
+    for (const auto& [key, row] : here) {
+      if (row < 0) continue;
+      int low = row - 1, high = row;
+      while (low > 0 && reg(c, low - 1) == key.first) --low;
+      while (high + 1 < g.rows && reg(c, high + 1) == key.second) ++high;
+      auto prev = open.find(key);
+      bool joined = false;
+      if (prev != open.end()) {
+        Chain& ch = chains[prev->second];
+        const int r1 = ch.rows.back(), lo = std::min(r1, row), hi = std::max(r1, row);
+        // The step between the two columns must separate A from B along its whole height.
+        joined = true;
+        for (int k = lo; k < hi && joined; ++k) {
+          joined = row > r1 ? (reg(c - 1, k) == key.second && reg(c, k) == key.first) : (reg(c - 1, k) == key.first && reg(c, k) == key.second);
+        }
+        if (joined) {
+          ch.rows.push_back(row);
+          ch.low.push_back(low);
+          ch.high.push_back(high + 1);
+          next[key] = prev->second;
+        }
+      }
+      if (!joined) {
+        chains.push_back(Chain{key.first, key.second, c, {row}, {low}, {high + 1}});
+        next[key] = chains.size() - 1;
+      }
+    }
+    open = std::move(next);
+  }
+
+  SilhouetteComparison cmp;
+  double voxel_sum = 0, face_sum = 0;
+  const auto pt = [&](double c, double row) { return Point2{c * mm, (row - floor) * mm}; };
+  for (const Chain& ch : chains) {
+    const int n = static_cast<int>(ch.rows.size());
+    if (n < 2) continue;  // a single slice has no step to smooth
+    const double t = t_of(ch.a);
+    // Vertices at the slice boundaries inside the chain, in rows (v = row - floor).
+    std::vector<double> vertex_rows(static_cast<std::size_t>(n + 1));
+    vertex_rows[0] = ch.rows.front();
+    vertex_rows[static_cast<std::size_t>(n)] = ch.rows.back();
+    std::vector<Point2> interior, expected;
+    for (int k = 0; k + 1 < n; ++k) {
+      const int c = ch.first + k;
+      const int x_model = c + 1 - side;  // the boundary, in model voxels
+      const double z_ref = ch.rows[static_cast<std::size_t>(k)] - floor + t;
+      std::optional<double> z1 = fine.top(x_model * fine.scale - 1, t, z_ref);
+      std::optional<double> z2 = fine.top(x_model * fine.scale, t, ch.rows[static_cast<std::size_t>(k + 1)] - floor + t);
+      const double lo = std::max(ch.low[static_cast<std::size_t>(k)], ch.low[static_cast<std::size_t>(k + 1)]) + 0.1;
+      const double hi = std::min(ch.high[static_cast<std::size_t>(k)], ch.high[static_cast<std::size_t>(k + 1)]) - 0.1;
+      const int r1 = ch.rows[static_cast<std::size_t>(k)], r2 = ch.rows[static_cast<std::size_t>(k + 1)];
+      if (r1 != r2) {
+        expected.push_back(pt(c + 1, r1));
+        expected.push_back(pt(c + 1, r2));
+      }
+      if ((z1 || z2) && lo <= hi) {
+        const double z = z1 && z2 ? (*z1 + *z2) / 2 : (z1 ? *z1 : *z2);
+        const double row = std::clamp(z - t + floor, lo, hi);
+        vertex_rows[static_cast<std::size_t>(k + 1)] = row;
+        interior.push_back(pt(c + 1, row));
+      } else {
+        ++cmp.steps_kept;
+        interior.push_back(pt(c + 1, r1));
+        interior.push_back(pt(c + 1, r2));
+        vertex_rows[static_cast<std::size_t>(k + 1)] = (r1 + r2) / 2.0;
+      }
+    }
+    const Point2 left = pt(ch.first, ch.rows.front()), right = pt(ch.first + n, ch.rows.back());
+    // A (below) walks its edge right to left, B (above) left to right: both keep the region on their left.
+    PatternFace& fa = faces[static_cast<std::size_t>(ch.a)];
+    PatternFace& fb = faces[static_cast<std::size_t>(ch.b)];
+    std::vector<Ring*> rings_a{&fa.outer}, rings_b{&fb.outer};
+    for (Ring& h : fa.holes) rings_a.push_back(&h);
+    for (Ring& h : fb.holes) rings_b.push_back(&h);
+    std::vector<Point2> expected_rev(expected.rbegin(), expected.rend()), interior_rev(interior.rbegin(), interior.rend());
+    const PatternFace keep_a = fa, keep_b = fb;
+    if (!replace_path(rings_a, right, left, expected_rev, interior_rev) || !replace_path(rings_b, left, right, expected, interior)) {
+      fa = keep_a;
+      fb = keep_b;
+      continue;
+    }
+    ++cmp.outlines;
+    // Distances to the silhouette at every fine column inside the chain.
+    for (int i = (ch.first - side) * fine.scale; i < (ch.first - side + n) * fine.scale; ++i) {
+      const double x = (i + 0.5) / fine.scale;  // model voxels
+      const int k = static_cast<int>(x) - (ch.first - side);
+      const double z_voxel = ch.rows[static_cast<std::size_t>(k)] - floor + t;
+      const std::optional<double> z_sil = fine.top(i, t, z_voxel);
+      if (!z_sil) continue;
+      // The polyline between the vertices of slice k: the left end x = k, the right x = k + 1.
+      const double f = x - static_cast<int>(x);
+      const double row = vertex_rows[static_cast<std::size_t>(k)] * (1 - f) + vertex_rows[static_cast<std::size_t>(k + 1)] * f;
+      const double z_face = row - floor + t;
+      const double dv = std::abs(z_voxel - *z_sil) * mm, df = std::abs(z_face - *z_sil) * mm;
+      voxel_sum += dv;
+      face_sum += df;
+      cmp.voxel_max_mm = std::max(cmp.voxel_max_mm, dv);
+      cmp.face_max_mm = std::max(cmp.face_max_mm, df);
+      ++cmp.samples;
+    }
+  }
+  if (cmp.samples > 0) {
+    cmp.voxel_mean_mm = voxel_sum / cmp.samples;
+    cmp.face_mean_mm = face_sum / cmp.samples;
+  }
+
+  const Rect sheet = voxel_pattern.sheet;
+  const auto model_of = [&](const std::vector<PatternFace>& fs) {
+    std::vector<OAFace> out;
+    for (const PatternFace& f : fs) out.push_back(OAFace{f.kind, f.t_mm, PolygonWithHoles{f.outer, f.holes}});
+    return FaceModel::from_faces(sheet.max.x_mm, sheet.max.v_mm, -sheet.min.v_mm, out, source);
+  };
+  cmp.voxel_lines = static_cast<int>(voxel_pattern.lines.size());
+  try {
+    FaceModel model = model_of(faces);
+    const Pattern p = make_pattern(AnyModel(model), source);
+    if (check_popup(p).pops_up()) {
+      cmp.face_lines = static_cast<int>(p.lines.size());
+      return SilhouetteFaces{std::move(model), cmp};
+    }
+  } catch (const Error&) {
+    // Fall through to the voxel outlines, which the voxel card has already shown to work.
+  }
+  FaceModel model = model_of(voxel_pattern.faces);
+  cmp = SilhouetteComparison{};
+  cmp.voxel_lines = cmp.face_lines = static_cast<int>(voxel_pattern.lines.size());
+  return SilhouetteFaces{std::move(model), cmp};
+}
+
+}  // namespace popcut
