@@ -27,8 +27,8 @@ using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 // 100 m in nanometres fits easily in 64 bits.
 inline FT exact_decimal(double value_mm) {
   using ET = FT::ET;
-  const long long nm = std::llround(value_mm * 1e9);
-  return FT(ET(ET(std::to_string(nm)) / ET(std::string("1000000000"))));
+  const long long nm = std::llround(value_mm * 1e6);  // 1 nm = 1e-6 mm
+  return FT(ET(ET(std::to_string(nm)) / ET(std::string("1000000"))));
 }
 
 struct ExactFace {

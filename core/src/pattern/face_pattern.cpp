@@ -5,6 +5,7 @@
 #include <CGAL/Polygon_set_2.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "model/face_model_state.h"
@@ -282,10 +283,26 @@ void require_attached(const FaceModel& model, const Pattern& pattern, const Popu
 
 FaceModel to_face_model(const VoxelModel& model, const std::string& source) {
   const Pattern p = make_pattern(model, source);
+  // Every coordinate is a whole number of voxels. Face models snap lengths to 1 nm, so a voxel
+  // size with endless decimals (120/42 mm) would snap t_h, t_v and v apart and lose folds;
+  // rebuilding each length from its voxel count and one snapped voxel size keeps them exact.
+  const double voxel = model.voxel_mm;
+  const double snapped = std::round(voxel * 1e6) / 1e6;
+  const auto whole = [&](double mm) { return std::round(mm / voxel) * snapped; };
+  const auto ring = [&](const Ring& r) {
+    Ring out;
+    out.reserve(r.size());
+    for (const Point2& q : r) out.push_back({whole(q.x_mm), whole(q.v_mm)});
+    return out;
+  };
   std::vector<OAFace> faces;
   faces.reserve(p.faces.size());
-  for (const PatternFace& f : p.faces) faces.push_back({f.kind, f.t_mm, {f.outer, f.holes}});
-  return FaceModel::from_faces(p.sheet.max.x_mm - p.sheet.min.x_mm, p.sheet.max.v_mm, -p.sheet.min.v_mm, faces, source);
+  for (const PatternFace& f : p.faces) {
+    OAFace face{f.kind, whole(f.t_mm), {ring(f.outer), {}}};
+    for (const Ring& h : f.holes) face.polygon.holes.push_back(ring(h));
+    faces.push_back(std::move(face));
+  }
+  return FaceModel::from_faces(whole(p.sheet.max.x_mm - p.sheet.min.x_mm), whole(p.sheet.max.v_mm), whole(-p.sheet.min.v_mm), faces, source);
 }
 
 }  // namespace popcut

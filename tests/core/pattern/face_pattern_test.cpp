@@ -40,6 +40,23 @@ TEST(FacePattern, MatchesTheVoxelPathOnRandomModels) {
   EXPECT_GT(failing, 0) << "the sample includes cards that do not pop up";
 }
 
+TEST(FacePattern, VoxelSizesWithEndlessDecimalsKeepTheirFolds) {
+  // 120 / 42 mm has no finite decimal form: snapped length by length, t_h - t_v and v would
+  // disagree by a fraction of a nanometre and folds would turn into cuts.
+  std::mt19937_64 rng(5);
+  for (double voxel_mm : {120.0 / 42, 1.0 / 3, 0.1 + 0.2}) {
+    const VoxelModel m = testing::random_staircase(rng, 6, 5, 6, voxel_mm);
+    const LineCounts voxel = count_lines(make_pattern(m));
+    const Pattern faces = make_pattern(to_face_model(m));
+    const LineCounts face = count_lines(faces);
+    EXPECT_EQ(face.mountain, voxel.mountain) << voxel_mm << " mm voxels";
+    EXPECT_EQ(face.valley, voxel.valley) << voxel_mm << " mm voxels";
+    EXPECT_EQ(face.cut, voxel.cut) << voxel_mm << " mm voxels";
+    EXPECT_NEAR(face.mountain_mm, voxel.mountain_mm, 1e-3) << voxel_mm << " mm voxels";
+    EXPECT_TRUE(check_popup(faces).pops_up()) << voxel_mm << " mm voxels: a staircase pops up";
+  }
+}
+
 // Random face models: slanted edges, holes in both planes, coplanar neighbours.
 std::vector<FaceModel> random_face_models(int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
