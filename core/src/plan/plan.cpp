@@ -180,10 +180,18 @@ void rotate_loop(std::vector<Point2>& p, std::size_t i) {
 // off gaps stretched evenly so both ends are uncut.
 std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, double on_mm, double off_mm) {
   const double length = path_length_mm(path);
+  if (!(length > 0)) return {};
   const double n_real = std::floor((length - off_mm) / (on_mm + off_mm));
-  if (n_real < 1) return {};
-  const int n = static_cast<int>(n_real);
-  const double gap = (length - n * on_mm) / (n + 1);
+  int n = 1;
+  double on = on_mm;
+  if (n_real < 1) {
+    // Shorter than one dash and its gaps: one shorter dash, still with uncut ends, so the
+    // fold is still made (dropping it would leave a short fold unscored without a word).
+    on = length - 2 * std::min(off_mm, length / 4);
+  } else {
+    n = static_cast<int>(n_real);
+  }
+  const double gap = (length - n * on) / (n + 1);
   // Walk the polyline once, cutting out [start_i, start_i + on] for each dash.
   std::vector<std::vector<Point2>> dashes;
   std::size_t seg = 0;
@@ -197,7 +205,7 @@ std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, doub
     return lerp(path[seg], path[seg + 1], l > 0 ? std::clamp((s - seg_start) / l, 0.0, 1.0) : 0.0);
   };
   for (int i = 0; i < n; ++i) {
-    const double s0 = gap + i * (on_mm + gap), s1 = s0 + on_mm;
+    const double s0 = gap + i * (on + gap), s1 = s0 + on;
     std::vector<Point2> dash{point_at(s0)};
     // Keep the path's corners that fall inside the dash.
     while (seg + 1 < path.size() && seg_start + dist(path[seg], path[seg + 1]) < s1) {

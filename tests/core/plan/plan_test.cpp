@@ -100,6 +100,23 @@ TEST(Perforate, DashesStartAndEndUncut) {
   EXPECT_LT(hi, 30.0 - 0.99) << "the last dash ends before an uncut gap";
 }
 
+TEST(Perforate, ALineShorterThanADashStillGetsOneWithUncutEnds) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  p.lines = {{LineKind::valley, {10, 0}, {12, 0}}};  // 2 mm: too short for a 2 mm dash and two 1 mm gaps
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::valley)] = {ToolMode::perforate, 1, 2.0, 1.0};
+  o.order = {PlanKind::valley};
+  o.fold_gap_mm = 0;
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 1u) << "the short fold is not dropped";
+  EXPECT_NEAR(path_length_mm(plan.strokes[0].points), 1.0, 1e-9) << "2 mm less two end gaps of 2/4 mm";
+  for (Point2 q : plan.strokes[0].points) {
+    EXPECT_GT(q.x_mm, 10.4) << "uncut at the start";
+    EXPECT_LT(q.x_mm, 11.6) << "uncut at the end";
+  }
+}
+
 TEST(Passes, GoBackAndForthWithoutLifting) {
   Pattern p;
   p.sheet = {{0, -20}, {40, 20}};
