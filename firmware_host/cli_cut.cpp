@@ -161,6 +161,9 @@ int run_cut(const CutCommands& s) {
     }
     Progress progress(!s.no_progress && !s.json_out);
     drivers::SendOptions opts = drivers::send_options(j.profile);
+    // A file or printer-port node cannot answer XON/XOFF or ESC.B: the kernel's blocking writes
+    // pace a printer port, and a file needs no pacing. Asking would fail after truncating it.
+    if (!sim) opts.flow = drivers::FlowControl::none;
     opts.progress = [&](std::size_t sent, std::size_t total) { progress(sent, total); };
     const drivers::SendResult sent = drivers::send_job(*transport, j.hpgl, opts);
     progress.done();

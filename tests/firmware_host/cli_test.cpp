@@ -409,6 +409,13 @@ TEST_F(Cli, CutToAFileWritesTheSameBytes) {
                        profile("generic-hpgl.toml") + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(dev), slurp(out / "job.hpgl")) << "the device got exactly the job";
+  // A profile that paces by XON/XOFF or ESC.B queries: a file cannot answer, so it is not asked.
+  for (const char* paced : {"sim.toml", "secabo.toml"}) {
+    const Result q = run("cut " + example("voxel/box.json") + " --device file:" + dev.string() + " --profile " + profile(paced) +
+                         " --out " + out.string());
+    ASSERT_EQ(q.code, 0) << paced << ": " << q.err;
+    EXPECT_EQ(slurp(dev), slurp(out / "job.hpgl")) << paced << ": the file got exactly the job";
+  }
 }
 
 }  // namespace
