@@ -102,6 +102,49 @@ void check_binary_stl(const std::string& path, const std::string& bytes) {
   }
 }
 
+// CGAL's OFF and PLY readers reserve what the header declares before reading a record, so a
+// 30-byte file declaring a billion vertices would take all the memory there is (Linux
+// overcommits, so bad_alloc never comes). Every vertex takes at least 6 bytes ("0 0 0\n", or 12
+// in binary) and every face at least 2 (a count and an index), so larger counts cannot be true.
+void check_declared_counts(const std::string& path, const std::string& ext, const std::string& bytes) {
+  std::istringstream in(bytes.substr(0, 64 * 1024));
+  std::string line;
+  unsigned long long vertices = 0, faces = 0;
+  if (ext == "off") {
+    std::vector<std::string> tokens;
+    while (tokens.size() < 4 && std::getline(in, line)) {
+      line = line.substr(0, line.find('#'));
+      std::istringstream words(line);
+      for (std::string w; words >> w;) tokens.push_back(w);
+    }
+    if (tokens.size() < 3 || tokens[0].find("OFF") == std::string::npos) return;  // CGAL reports it
+    try {
+      vertices = std::stoull(tokens[1]);
+      faces = std::stoull(tokens[2]);
+    } catch (const std::exception&) {
+      return;
+    }
+  } else if (ext == "ply") {
+    while (std::getline(in, line) && line.rfind("end_header", 0) != 0) {
+      std::istringstream words(line);
+      std::string keyword, name;
+      unsigned long long count = 0;
+      if (words >> keyword >> name >> count && keyword == "element") {
+        if (name == "vertex") vertices = count;
+        if (name == "face") faces = count;
+      }
+    }
+  } else {
+    return;
+  }
+  const unsigned long long size = bytes.size();
+  if (vertices > size / 6 || faces > size / 2 || vertices * 6 + faces * 2 > size) {
+    throw Error(ErrorCode::invalid_input, path, "header",
+                "declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) + " faces, more than a file of " +
+                    std::to_string(size) + " bytes can hold: the file is truncated or corrupt");
+  }
+}
+
 // Runs one of CGAL's readers on the file's bytes. They report failure as `false` without a
 // reason (and may throw on absurd counts), so the error says which format did not parse.
 template <typename Points, typename Polygons>
@@ -148,6 +191,7 @@ TriangleSoup read_mesh(const std::string& path) {
   if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) throw Error(ErrorCode::invalid_input, path, "", "the file is empty");
 
   if (ext == "stl") check_binary_stl(path, bytes);
+  check_declared_counts(path, ext, bytes);
   std::vector<K::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   parse(path, ext, bytes, points, polygons);

@@ -270,7 +270,18 @@ TEST(MeshRead, BadFilesGiveClearErrors) {
   EXPECT_NE(error_of([] { read_mesh(write_temp("empty.obj", "")); }).find("empty"), std::string::npos);
   EXPECT_NE(error_of([] { read_mesh(write_temp("model.xyz", "v 0 0 0")); }).find("unknown mesh format '.xyz'"), std::string::npos);
   EXPECT_NE(error_of([] { read_mesh("/nonexistent/house.obj"); }).find("no such file"), std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("trunc.off", "OFF\n8 12 0\n0 0 0\n1 0 0\n")); }).find("not a readable OFF file"),
+  EXPECT_NE(error_of([] { read_mesh(write_temp("trunc.off", "OFF\n8 12 0\n0 0 0\n1 0 0\n")); }).find("8 vertices and 12 faces"),
+            std::string::npos);
+  // Counts no file of that size could hold are refused before CGAL's reader reserves them (a
+  // billion vertices from 34 bytes took all memory before).
+  EXPECT_NE(error_of([] { read_mesh(write_temp("huge.off", "OFF\n1000000000 1000000000 0\n0 0 0\n")); }).find("truncated or corrupt"),
+            std::string::npos);
+  EXPECT_NE(error_of([] {
+              read_mesh(write_temp("huge.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+                                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"));
+            }).find("declares 4000000000 vertices"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { read_mesh(write_temp("short.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n")); }).find("not a readable OFF file"),
             std::string::npos);
   EXPECT_NE(error_of([] { read_mesh(write_temp("range.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 9\n")); }).find("line 4: face refers to vertex 9, but only 3"),
             std::string::npos);
