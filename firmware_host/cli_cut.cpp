@@ -131,6 +131,7 @@ int run_cut(const CutCommands& s) {
       throw Error(ErrorCode::invalid_input, "", "--device",
                   "unknown device '" + s.device + "': use sim or file:PATH (serial and USB cutters are not supported yet)");
     }
+    if (!sim && s.device.size() == 5) throw Error(ErrorCode::invalid_input, "", "--device", "file: needs a path, e.g. file:job.hpgl");
     if (!sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
       throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
     }

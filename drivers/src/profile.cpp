@@ -238,7 +238,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
     const bool fold = i < 2;
     // Folds default to scoring at reduced force; cuts and the outline cut through.
     kp.mode = static_cast<ToolMode>(s.choice("mode", fold ? 1 : 0, kModeNames));
-    tool.pen = s.integer("pen", 1, 0, 8);
+    tool.pen = s.integer("pen", 1, 1, 8);  // SP0 puts the tool away: a line kind cut with it is not cut
     tool.force_g = s.number("force_g", fold ? 40 : 120, 1, 2000);
     tool.speed_cm_s = s.number("speed_cm_s", 10, 0.1, 200);
     kp.passes = s.integer("passes", 1, 1, 10);

@@ -57,6 +57,7 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[tool.cut]\nmode = \"burn\"\n", "[tool.cut] mode", "not one of"},
       {"[device]\nname = \"x\"\n[tool.edge]\nmode = \"cut\"\n", "[tool.edge]", "unknown line kind"},
       {"[device]\nname = \"x\"\n[tool.valley]\npasses = 0\n", "[tool.valley] passes", "out of range 1 to 10"},
+      {"[device]\nname = \"x\"\n[tool.cut]\npen = 0\n", "[tool.cut] pen", "out of range 1 to 8"},
       {"[device]\nname = \"x\"\n[tool.valley]\npasses = 1.5\n", "[tool.valley] passes", "whole number"},
       {"[device]\nname = \"x\"\n[hpgl]\nmove_style = \"fancy\"\n", "[hpgl] move_style", "\"separate\", \"inline\""},
       {"[device]\nname = \"x\"\n[hpgl]\nvelocity = \"yes\"\n", "[hpgl] velocity", "true or false"},

@@ -409,6 +409,10 @@ TEST_F(Cli, CutToAFileWritesTheSameBytes) {
                        profile("generic-hpgl.toml") + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(dev), slurp(out / "job.hpgl")) << "the device got exactly the job";
+  const Result empty = run("cut " + example("voxel/box.json") + " --device file: --profile " + profile("generic-hpgl.toml") +
+                           " --out " + out.string());
+  EXPECT_EQ(empty.code, 2) << "file: without a path is a bad command line: " << empty.err;
+  EXPECT_NE(empty.err.find("--device: file: needs a path"), std::string::npos) << empty.err;
   // A profile that paces by XON/XOFF or ESC.B queries: a file cannot answer, so it is not asked.
   for (const char* paced : {"sim.toml", "secabo.toml"}) {
     const Result q = run("cut " + example("voxel/box.json") + " --device file:" + dev.string() + " --profile " + profile(paced) +
