@@ -31,8 +31,8 @@ Pattern pattern_of(int scale) {
 
 void BM_Plan(benchmark::State& state) {
   const Pattern p = pattern_of(static_cast<int>(state.range(0)));
-  PlanOptions o;
-  o.optimise_budget = std::chrono::milliseconds(0);  // the time budget is extra, measured apart
+  PlanOptions o;  // the default work budget: what `popcut plan` spends
+  o.optimise_work = static_cast<std::uint64_t>(state.range(1));
   for (auto _ : state) benchmark::DoNotOptimize(plan_strokes(p, o));
   state.counters["segments"] = static_cast<double>(p.lines.size());
 }
@@ -43,7 +43,7 @@ void BM_Encode(benchmark::State& state) {
   HpglDialect d = prof.dialect;
   d.area_max_x_pu = d.area_max_y_pu = 40 * 100000;  // the big sheets must fit
   PlanOptions o;
-  o.optimise_budget = std::chrono::milliseconds(0);
+  o.optimise_work = 0;
   const StrokePlan plan = plan_strokes(p, o);
   std::size_t bytes = 0;
   for (auto _ : state) {
@@ -55,7 +55,9 @@ void BM_Encode(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(bytes) * state.iterations());
 }
 
-BENCHMARK(BM_Plan)->Arg(5)->Arg(10)->Arg(20)->Arg(40)->Arg(100)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Plan)
+    ->ArgsProduct({{5, 10, 20, 40, 100, 120}, {0, static_cast<std::int64_t>(kDefaultOptimiseWork)}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Encode)->Arg(20)->Unit(benchmark::kMillisecond);
 
 // (a) the pattern's own order: every line its own stroke, as given, kinds in the profile's order.
@@ -64,36 +66,145 @@ StrokePlan pattern_order(const Pattern& p, const PlanOptions& o) {
   plan.sheet = p.sheet;
   plan.home = p.sheet.min;
   for (PlanKind k : o.order) {
+    if (o.kinds[index_of(k)].mode == ToolMode::skip) continue;
     for (const Segment& s : kind_lines(p, k, o.fold_gap_mm)) plan.strokes.push_back({k, {s.a, s.b}});
   }
   return plan;
 }
 
-// (b) greedy nearest neighbour over the raw segments, with reversal, per kind.
+// (b) greedy nearest neighbour over the raw segments, with reversal, per kind: from where the
+// knife stands, the nearest end of any segment not yet cut (ties: lower index, front end).
+// Plain O(n²) and independent of the planner's own greedy, so improving popcut cannot move it.
 StrokePlan greedy_segments(const Pattern& p, const PlanOptions& o) {
   StrokePlan plan;
   plan.sheet = p.sheet;
   plan.home = p.sheet.min;
   Point2 at = plan.home;
+  const auto d = [](Point2 a, Point2 b) { return std::hypot(a.x_mm - b.x_mm, a.v_mm - b.v_mm); };
   for (PlanKind k : o.order) {
-    std::vector<std::vector<Point2>> paths;
-    for (const Segment& s : kind_lines(p, k, o.fold_gap_mm)) paths.push_back({s.a, s.b});
-    for (auto& path : order_paths(paths, at, std::chrono::milliseconds(0))) {
-      at = path.back();
-      plan.strokes.push_back({k, std::move(path)});
+    if (o.kinds[index_of(k)].mode == ToolMode::skip) continue;
+    std::vector<Segment> segs = kind_lines(p, k, o.fold_gap_mm);
+    std::vector<char> done(segs.size(), 0);
+    for (std::size_t step = 0; step < segs.size(); ++step) {
+      std::size_t best = 0;
+      bool best_back = false;
+      double best_d = 1e300;
+      for (std::size_t i = 0; i < segs.size(); ++i) {
+        if (done[i]) continue;
+        if (d(at, segs[i].a) < best_d) best_d = d(at, segs[i].a), best = i, best_back = false;
+        if (d(at, segs[i].b) < best_d) best_d = d(at, segs[i].b), best = i, best_back = true;
+      }
+      done[best] = 1;
+      const Segment& s = segs[best];
+      plan.strokes.push_back({k, best_back ? std::vector<Point2>{s.b, s.a} : std::vector<Point2>{s.a, s.b}});
+      at = plan.strokes.back().points.back();
     }
   }
   return plan;
 }
 
-double travel(const StrokePlan& plan) {
+std::vector<std::vector<Point2>> paths_of(const StrokePlan& plan) {
   std::vector<std::vector<Point2>> paths;
   for (const Stroke& s : plan.strokes) paths.push_back(s.points);
-  return travel_mm(paths, plan.home);
+  return paths;
+}
+
+double travel(const StrokePlan& plan) { return travel_mm(paths_of(plan), plan.home); }
+
+// Time spent on knife-up moves alone.
+double travel_time_s(const StrokePlan& plan, const Kinematics& k) {
+  double t = 0;
+  Point2 at = plan.home;
+  for (const Stroke& s : plan.strokes) {
+    t += move_time_s(std::hypot(at.x_mm - s.points.front().x_mm, at.v_mm - s.points.front().v_mm), k.travel_speed_mm_s, k.accel_mm_s2);
+    at = s.points.back();
+  }
+  return t;
+}
+
+// Lower bound on knife-up travel for any plan at the Euler bound with the profile's kind order:
+// per kind from its line graph (perforated kinds: from the plan's dashes), the first kind from
+// home, later kinds from wherever the previous one ended.
+double travel_bound(const Pattern& p, const PlanOptions& o, const StrokePlan& c) {
+  double bound = 0;
+  std::optional<Point2> from = c.home;
+  for (PlanKind k : o.order) {
+    const KindPlan& kp = o.kinds[index_of(k)];
+    if (kp.mode == ToolMode::skip) continue;
+    std::vector<std::pair<Point2, Point2>> edges;
+    if (kp.mode == ToolMode::perforate) {
+      for (const Stroke& s : c.strokes) {
+        if (s.kind == k) edges.emplace_back(s.points.front(), s.points.back());
+      }
+    } else {
+      for (const Segment& s : kind_lines(p, k, o.fold_gap_mm)) edges.emplace_back(s.a, s.b);
+      edges = split_at_junctions(edges);
+    }
+    if (edges.empty()) continue;
+    bound += travel_lower_bound_mm(edges, from);
+    from.reset();
+  }
+  return bound;
+}
+
+// The best order of (c)'s own strokes per kind, from where (c) starts each kind: Held-Karp over
+// (strokes cut, last stroke, how it was entered); -1 when a kind is too big to solve exactly.
+double exact_order_travel(const StrokePlan& c) {
+  constexpr std::size_t kMaxStrokes = 10, kMaxOptions = 8;
+  const auto d = [](Point2 a, Point2 b) { return std::hypot(a.x_mm - b.x_mm, a.v_mm - b.v_mm); };
+  double total = 0;
+  Point2 at = c.home;
+  for (std::size_t first = 0; first < c.strokes.size();) {
+    std::size_t end = first;
+    while (end < c.strokes.size() && c.strokes[end].kind == c.strokes[first].kind) ++end;
+    const std::size_t n = end - first;
+    if (n > kMaxStrokes) return -1;
+    std::vector<std::vector<std::pair<Point2, Point2>>> opts(n);  // (knife down, knife up)
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& p = c.strokes[first + i].points;
+      if (p.size() > 2 && d(p.front(), p.back()) < 1e-9) {
+        if (p.size() - 1 > kMaxOptions) return -1;
+        for (std::size_t k = 0; k + 1 < p.size(); ++k) opts[i].emplace_back(p[k], p[k]);
+      } else {
+        opts[i] = {{p.front(), p.back()}, {p.back(), p.front()}};
+      }
+    }
+    const std::size_t full = (std::size_t{1} << n) - 1;
+    std::vector<double> dp((full + 1) * n * kMaxOptions, 1e300);
+    const auto at_ = [&](std::size_t mask, std::size_t s, std::size_t o) -> double& { return dp[(mask * n + s) * kMaxOptions + o]; };
+    for (std::size_t s = 0; s < n; ++s) {
+      for (std::size_t o = 0; o < opts[s].size(); ++o) at_(std::size_t{1} << s, s, o) = d(at, opts[s][o].first);
+    }
+    for (std::size_t mask = 1; mask <= full; ++mask) {
+      for (std::size_t s = 0; s < n; ++s) {
+        if (!(mask >> s & 1)) continue;
+        for (std::size_t o = 0; o < opts[s].size(); ++o) {
+          const double v = at_(mask, s, o);
+          if (v >= 1e300) continue;
+          for (std::size_t t = 0; t < n; ++t) {
+            if (mask >> t & 1) continue;
+            for (std::size_t u = 0; u < opts[t].size(); ++u) {
+              double& w = at_(mask | std::size_t{1} << t, t, u);
+              w = std::min(w, v + d(opts[s][o].second, opts[t][u].first));
+            }
+          }
+        }
+      }
+    }
+    double best = 1e300;
+    for (std::size_t s = 0; s < n; ++s) {
+      for (std::size_t o = 0; o < opts[s].size(); ++o) best = std::min(best, at_(full, s, o));
+    }
+    total += best;
+    at = c.strokes[end - 1].points.back();
+    first = end;
+  }
+  return total;
 }
 
 void print_table(const bench::CollectingReporter& reporter) {
-  std::printf("\nPlanning time (greedy + chaining, no 2-opt budget); target: under 100 ms for 10,000 segments\n");
+  std::printf("\nPlanning time, whole plan_strokes (BM_Plan/scale/work: work 0 = greedy only, %llu = the default budget);\n"
+              "target: under 100 ms for 10,000 segments\n", static_cast<unsigned long long>(kDefaultOptimiseWork));
   for (const auto& row : reporter.rows()) {
     if (row.name.rfind("BM_Plan", 0) == 0) {
       std::printf("  %-14s %8.0f segments %9.2f ms\n", row.name.c_str(), row.counters.at("segments"), row.ms);
@@ -113,17 +224,33 @@ void print_table(const bench::CollectingReporter& reporter) {
   spec.window_probability = 0.2;
   for (int i = 0; i < 3; ++i) cases.emplace_back("random-" + std::to_string(i), make_pattern(testing::random_model(rng, spec)));
   std::printf("\nProfile generic-hpgl; travel = knife-up mm; time = estimated s. (a) pattern order, (b) greedy over raw segments,\n"
-              "(c) popcut. Targets: lifts at the bound, travel(c) <= 0.75 x travel(b), time(c) <= 0.6 x time(a).\n");
-  std::printf("%-22s %6s %6s %6s %6s | %9s %9s %9s %6s | %8s %8s %6s\n", "model", "lines", "lifts", "bound", "lift(a)", "travel(a)",
-              "travel(b)", "travel(c)", "c/b", "time(a)", "time(c)", "c/a");
+              "(c) popcut, LB = lower bound on knife-up travel for any plan at the Euler bound (t-LB: time(c) with travel at LB).\n"
+              "Targets: lifts at the bound, travel(c) <= 0.75 x travel(b), time(c) <= 0.6 x time(a). LB/b > 0.75 or t-LB/a > 0.6:\n"
+              "that target cannot be met on that model by any plan.\n");
+  std::printf("opt: the best order of (c)'s strokes per kind (exhaustive, kinds of at most 10 strokes); c x100: (c) with 100x the\n"
+              "work budget (equal to travel(c): the search converged).\n");
+  std::printf("%-20s %5s %5s %5s %6s | %9s %9s %9s %8s %8s %8s %5s %5s | %7s %7s %7s %5s %5s | %7s\n", "model", "lines", "lifts", "bound",
+              "lift(a)", "travel(a)", "travel(b)", "travel(c)", "c x100", "opt", "LB", "c/b", "LB/b", "time(a)", "time(c)", "t-LB", "c/a",
+              "LB/a", "plan ms");
   const auto speeds = prof.cut_speed_mm_s();
   for (const auto& [name, p] : cases) {
     PlanOptions o = prof.plan;
-    const StrokePlan a = pattern_order(p, o), b = greedy_segments(p, o), c = plan_strokes(p, o);
+    const auto t0 = std::chrono::steady_clock::now();
+    const StrokePlan c = plan_strokes(p, o);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const StrokePlan a = pattern_order(p, o), b = greedy_segments(p, o);
     const double ta = estimate_time(a, prof.kinematics, speeds).total_s, tc = estimate_time(c, prof.kinematics, speeds).total_s;
-    const double tra = travel(a), trb = travel(b), trc = travel(c);
-    std::printf("%-22s %6zu %6d %6d %6zu | %9.0f %9.0f %9.0f %6.2f | %8.1f %8.1f %6.2f\n", name.c_str(), p.lines.size(), c.total().pen_lifts,
-                c.total().pen_lift_bound, a.strokes.size(), tra, trb, trc, trb > 0 ? trc / trb : 0.0, ta, tc, ta > 0 ? tc / ta : 0.0);
+    const double tra = travel(a), trb = travel(b), trc = travel(c), lb = travel_bound(p, o, c);
+    const double t_lb = tc - travel_time_s(c, prof.kinematics) + move_time_s(lb, prof.kinematics.travel_speed_mm_s, prof.kinematics.accel_mm_s2);
+    PlanOptions more = o;
+    more.optimise_work = 100 * o.optimise_work;
+    const double tr_more = travel(plan_strokes(p, more)), opt = exact_order_travel(c);
+    char opt_text[32] = "-";
+    if (opt >= 0) std::snprintf(opt_text, sizeof opt_text, "%.0f", opt);
+    std::printf("%-20s %5zu %5d %5d %6zu | %9.0f %9.0f %9.0f %8.0f %8s %8.0f %5.2f %5.2f | %7.1f %7.1f %7.1f %5.2f %5.2f | %7.1f\n", name.c_str(),
+                p.lines.size(), c.total().pen_lifts, c.total().pen_lift_bound, a.strokes.size(), tra, trb, trc, tr_more, opt_text, lb,
+                trb > 0 ? trc / trb : 0.0,
+                trb > 0 ? lb / trb : 0.0, ta, tc, t_lb, ta > 0 ? tc / ta : 0.0, ta > 0 ? t_lb / ta : 0.0, ms);
   }
   std::printf("\nHP-GL bytes per mm cut, townhouse, per profile\n");
   const Pattern town = make_pattern(load_model(kSource + "/examples/voxel/townhouse.json"));

@@ -199,7 +199,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   Section pl = section("plan");
   p.plan.fold_gap_mm = pl.number("fold_gap_mm", 0.5, 0, 20);
   p.plan.max_turn_deg = pl.optional_number("max_turn_deg", 1, 180);
-  p.plan.optimise_budget = std::chrono::milliseconds(pl.integer("optimise_ms", 50, 0, 60000));
+  p.plan.optimise_work = static_cast<std::uint64_t>(pl.integer("optimise_work", static_cast<int>(kDefaultOptimiseWork), 0, 1000000000));
   p.plan.blade_offset_mm = pl.number("blade_offset_mm", 0, 0, 2);
   p.plan.swivel_step_deg = pl.number("swivel_step_deg", 15, 1, 90);
   p.plan.overcut_mm = pl.number("overcut_mm", 0, 0, 10);

@@ -24,10 +24,7 @@ TEST(GoldenHpgl, EveryProfileWritesTheReviewedBytes) {
     const Pattern pattern = make_pattern(load_model(src + "/examples/" + model));
     for (const std::string& file : testing::shipped_profiles()) {
       const DeviceProfile prof = load_profile(file);
-      // Small cards: 2-opt and Or-opt converge long before this budget, so the plan is stable.
-      PlanOptions o = prof.plan;
-      o.optimise_budget = std::chrono::milliseconds(2000);
-      const std::string job = encode_hpgl(plan_strokes(pattern, o), prof.dialect, prof.tools);
+      const std::string job = encode_hpgl(plan_strokes(pattern, prof.plan), prof.dialect, prof.tools);
       const fs::path golden = fs::path(src) / "tests/data/golden" /
                               (fs::path(file).stem().string() + "-" + fs::path(model).stem().string() + ".hpgl");
       if (update) std::ofstream(golden, std::ios::binary) << job;

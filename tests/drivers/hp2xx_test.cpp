@@ -63,9 +63,7 @@ TEST(Hp2xx, ReadsEveryProfilesJobAndDrawsThePlannedLines) {
     const DeviceProfile prof = load_profile(file);
     for (std::size_t n = 0; n < patterns.size(); ++n) {
       const std::string what = fs::path(file).filename().string() + " model " + std::to_string(n);
-      PlanOptions o = prof.plan;
-      o.optimise_budget = std::chrono::milliseconds(1);
-      const StrokePlan plan = plan_strokes(patterns[n], o);
+      const StrokePlan plan = plan_strokes(patterns[n], prof.plan);
       const fs::path in = dir / "job.hpgl", out = dir / "out.hpgl", err = dir / "err.txt";
       std::ofstream(in) << encode_hpgl(plan, prof.dialect, prof.tools);
       const std::string cmd = "hp2xx -q -m hpgl -f " + out.string() + " " + in.string() + " 2>" + err.string();

@@ -187,9 +187,7 @@ TEST(SimCutter, RecoversThePlannedStrokesForEveryProfile) {
   for (const std::string& file : shipped_profiles()) {
     const DeviceProfile prof = load_profile(file);
     for (std::size_t n = 0; n < patterns.size(); ++n) {
-      PlanOptions opts = prof.plan;
-      opts.optimise_budget = std::chrono::milliseconds(1);
-      const StrokePlan plan = plan_strokes(patterns[n], opts);
+      const StrokePlan plan = plan_strokes(patterns[n], prof.plan);
       const std::string job = encode_hpgl(plan, prof.dialect, prof.tools);
       auto cutter = std::make_shared<SimCutter>(prof);
       SimTransport t(cutter);

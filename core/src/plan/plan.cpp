@@ -2,6 +2,7 @@
 #include "popcut/plan/plan.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -14,7 +15,11 @@ namespace {
 constexpr double kEps = 1e-7;  // mm: pattern coordinates are exact to far better than this
 constexpr double kPi = 3.14159265358979323846;
 
-double dist(Point2 a, Point2 b) { return std::hypot(a.x_mm - b.x_mm, a.v_mm - b.v_mm); }
+// Not std::hypot: its overflow care costs several times more, and millimetres never overflow.
+double dist(Point2 a, Point2 b) {
+  const double dx = a.x_mm - b.x_mm, dv = a.v_mm - b.v_mm;
+  return std::sqrt(dx * dx + dv * dv);
+}
 bool same(Point2 a, Point2 b) { return dist(a, b) <= kEps; }
 
 // Vertices are identified on a 1e-6 mm lattice so endpoints computed twice still meet.
@@ -510,18 +515,17 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
   return out;
 }
 
-std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
-                                             std::chrono::milliseconds budget) {
-  const auto deadline = std::chrono::steady_clock::now() + budget;
+namespace {
+
+// Greedy nearest neighbour from `start`: entries are both ends of an open path and every vertex
+// of a closed loop, found through a grid; picks each path's direction and each loop's start.
+std::vector<std::vector<Point2>> greedy_order(std::vector<std::vector<Point2>> paths, Point2 start) {
   const std::size_t n = paths.size();
-  if (n == 0) return paths;
-  // Entry points: both ends of an open path, every vertex of a closed loop.
   struct Entry {
     int path;
     int vertex;
   };
   std::vector<Entry> entries;
-  std::vector<std::pair<Point2, Point2>> extent;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = paths[i];
     if (is_closed(p)) {
@@ -530,7 +534,6 @@ std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> pa
       entries.push_back({static_cast<int>(i), 0});
       entries.push_back({static_cast<int>(i), static_cast<int>(p.size() - 1)});
     }
-    extent.emplace_back(p.front(), p.back());
   }
   const auto entry_pos = [&](const Entry& e) { return paths[static_cast<std::size_t>(e.path)][static_cast<std::size_t>(e.vertex)]; };
   std::vector<std::pair<Point2, Point2>> pts;
@@ -579,92 +582,432 @@ std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> pa
     at = p.back();
     tour.push_back(std::move(p));
   }
-  // 2-opt: reverse tour[i..j] (each path reversed too) when that shortens the knife-up links.
-  bool improved = true;
-  while (improved && std::chrono::steady_clock::now() < deadline) {
-    improved = false;
-    for (std::size_t i = 0; i < n && std::chrono::steady_clock::now() < deadline; ++i) {
-      const Point2 before = i == 0 ? start : tour[i - 1].back();
-      for (std::size_t j = i + 1; j < n; ++j) {
-        const bool has_next = j + 1 < n;
-        const double old_d = dist(before, tour[i].front()) + (has_next ? dist(tour[j].back(), tour[j + 1].front()) : 0);
-        const double new_d = dist(before, tour[j].back()) + (has_next ? dist(tour[i].front(), tour[j + 1].front()) : 0);
-        if (new_d < old_d - 1e-9) {
-          std::reverse(tour.begin() + static_cast<long>(i), tour.begin() + static_cast<long>(j) + 1);
-          for (std::size_t k = i; k <= j; ++k) std::reverse(tour[k].begin(), tour[k].end());
-          improved = true;
-        }
+  return tour;
+}
+
+// Local search over a tour of paths: 2-opt (reverse a run of paths), Or-opt (move a run of one
+// to three paths elsewhere, either way round), and each closed loop's start vertex. Candidate
+// moves come from each path end's nearest other path ends, so a sweep costs O(n), not O(n²).
+// Work is counted (evaluations and elements moved), never timed: one input, one tour.
+class TourSearch {
+ public:
+  TourSearch(std::vector<std::vector<Point2>> tour, Point2 start, std::uint64_t budget)
+      : paths_(std::move(tour)), start_(start), budget_(budget), n_(static_cast<long>(paths_.size())) {
+    order_.resize(paths_.size());
+    std::iota(order_.begin(), order_.end(), 0);
+    pos_.assign(order_.begin(), order_.end());
+    flip_.assign(paths_.size(), 0);
+    loop_at_.assign(paths_.size(), 0);
+    closed_.resize(paths_.size());
+    for (std::size_t s = 0; s < paths_.size(); ++s) closed_[s] = is_closed(paths_[s]);
+    build_neighbours();
+  }
+
+  std::vector<std::vector<Point2>> run() {
+    queued_.assign(paths_.size(), 0);
+    for (long i = 0; i < n_; ++i) touch(i);
+    descend();
+    // Iterated local search: kick the tour (double bridge, or reverse a stretch), descend again,
+    // keep the result only if shorter. The kicks come from a fixed-seed generator.
+    double best = tour_mm();
+    Saved saved = save();
+    std::uint64_t seed = 0x9e3779b97f4a7c15ULL;
+    const long kicks = n_ >= 3 ? std::max<long>(50, 2 * n_) : 0;
+    for (long k = 0; k < kicks && work_ < budget_; ++k) {
+      kick(k % 2 == 0, seed);
+      descend();
+      const double len = tour_mm();
+      if (len < best - kGain) {
+        best = len;
+        saved = save();
+      } else {
+        restore(saved);
       }
     }
+    std::vector<std::vector<Point2>> out;
+    out.reserve(paths_.size());
+    for (int s : order_) {
+      auto& p = paths_[static_cast<std::size_t>(s)];
+      if (closed_[static_cast<std::size_t>(s)]) rotate_loop(p, loop_at_[static_cast<std::size_t>(s)]);
+      if (flip_[static_cast<std::size_t>(s)]) std::reverse(p.begin(), p.end());
+      out.push_back(std::move(p));
+    }
+    return out;
   }
-  // Or-opt: move a run of one to three paths elsewhere, either way round, when that shortens
-  // the links (2-opt cannot move a stroke without reversing everything in between).
-  const auto entry_of = [&](std::size_t k) { return tour[k].front(); };
-  const auto exit_of = [&](std::size_t k) { return tour[k].back(); };
-  improved = true;
-  while (improved && std::chrono::steady_clock::now() < deadline) {
-    improved = false;
-    for (std::size_t len = 1; len <= 3; ++len) {
-      for (std::size_t i = 0; i + len <= n && std::chrono::steady_clock::now() < deadline; ++i) {
-        const std::size_t last = i + len - 1;
-        const Point2 before = i == 0 ? start : exit_of(i - 1);
-        const bool has_after = last + 1 < n;
-        const double removed = dist(before, entry_of(i)) + (has_after ? dist(exit_of(last), entry_of(last + 1)) - dist(before, entry_of(last + 1)) : 0);
-        double best_gain = 1e-9;
-        const std::size_t none = n + 1;
-        std::size_t best_j = none;
-        bool best_rev = false;
-        // Insert after tour[j] (j == n means: before the first path).
-        for (std::size_t j = 0; j <= n; ++j) {
-          if (j + 1 >= i && j <= last) continue;  // inside or right before the run: no move
-          if (j == n && i == 0) continue;         // already first
-          const Point2 from = j == n ? start : exit_of(j);
-          const std::size_t next = j == n ? 0 : j + 1;
-          const bool has_next = next < n && !(next >= i && next <= last);
-          const double link = has_next ? dist(from, entry_of(next)) : 0;
-          for (bool rev : {false, true}) {
-            const Point2 in = rev ? exit_of(last) : entry_of(i), out = rev ? entry_of(i) : exit_of(last);
-            const double added = dist(from, in) + (has_next ? dist(out, entry_of(next)) : 0) - link;
-            if (removed - added > best_gain) {
-              best_gain = removed - added;
-              best_j = j;
-              best_rev = rev;
+
+ private:
+  static constexpr double kGain = 1e-9;  // mm: smaller gains are rounding, not improvement
+  static constexpr std::size_t kNeighbours = 8;
+
+  // An anchor is a place a path may be entered or left: an open path's ends, a loop's vertices,
+  // and the start (owner -1).
+  struct Anchor {
+    Point2 at;
+    int owner;
+    int vertex;  // index into the path's points
+  };
+
+  std::size_t ix(long i) const { return static_cast<std::size_t>(i); }
+  int path_at(long i) const { return order_[ix(i)]; }
+  Point2 entry(long i) const {
+    const int s = path_at(i);
+    const auto& p = paths_[static_cast<std::size_t>(s)];
+    if (closed_[static_cast<std::size_t>(s)]) return p[loop_at_[static_cast<std::size_t>(s)]];
+    return flip_[static_cast<std::size_t>(s)] ? p.back() : p.front();
+  }
+  Point2 exit(long i) const {
+    if (i < 0) return start_;
+    const int s = path_at(i);
+    const auto& p = paths_[static_cast<std::size_t>(s)];
+    if (closed_[static_cast<std::size_t>(s)]) return p[loop_at_[static_cast<std::size_t>(s)]];
+    return flip_[static_cast<std::size_t>(s)] ? p.front() : p.back();
+  }
+  // Knife-up move into position i (none past the end).
+  double link(long i) const { return i < n_ ? dist(exit(i - 1), entry(i)) : 0; }
+
+  // Does anchor `a` (of a path, at its position) currently serve as the entry / the exit?
+  bool is_entry(const Anchor& a) const {
+    if (a.owner < 0) return false;
+    const auto s = static_cast<std::size_t>(a.owner);
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s];
+    return (a.vertex == 0) != static_cast<bool>(flip_[s]);
+  }
+  bool is_exit(const Anchor& a) const {
+    if (a.owner < 0) return true;
+    const auto s = static_cast<std::size_t>(a.owner);
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s];
+    return (a.vertex == 0) == static_cast<bool>(flip_[s]);
+  }
+  long position(const Anchor& a) const { return a.owner < 0 ? -1 : pos_[static_cast<std::size_t>(a.owner)]; }
+
+  void build_neighbours() {
+    for (std::size_t s = 0; s < paths_.size(); ++s) {
+      const auto& p = paths_[s];
+      const int owner = static_cast<int>(s);
+      if (closed_[s]) {
+        for (std::size_t k = 0; k + 1 < p.size(); ++k) anchors_.push_back({p[k], owner, static_cast<int>(k)});
+      } else {
+        anchors_.push_back({p.front(), owner, 0});
+        anchors_.push_back({p.back(), owner, static_cast<int>(p.size() - 1)});
+      }
+    }
+    anchors_.push_back({start_, -1, 0});
+    of_path_.resize(paths_.size());
+    for (std::size_t a = 0; a < anchors_.size(); ++a) {
+      if (anchors_[a].owner >= 0) of_path_[static_cast<std::size_t>(anchors_[a].owner)].push_back(static_cast<int>(a));
+    }
+    std::vector<std::pair<Point2, Point2>> box;
+    for (const Anchor& a : anchors_) box.emplace_back(a.at, a.at);
+    Grid grid(bounds_of(box), anchors_.size());
+    for (std::size_t a = 0; a < anchors_.size(); ++a) grid.insert(static_cast<int>(a), anchors_[a].at, anchors_[a].at);
+    near_.resize(anchors_.size());
+    std::vector<std::pair<double, int>> found;
+    for (std::size_t a = 0; a < anchors_.size(); ++a) {
+      const Point2 at = anchors_[a].at;
+      const long cx = grid.cx(at.x_mm), cv = grid.cv(at.v_mm);
+      found.clear();
+      for (long r = 0; r <= std::max(grid.nx(), grid.nv()); ++r) {
+        if (found.size() >= kNeighbours && (static_cast<double>(r) - 1) * grid.cell_mm() > found[kNeighbours - 1].first) break;
+        for (long v = cv - r; v <= cv + r; ++v) {
+          const bool edge_row = v == cv - r || v == cv + r;
+          for (long x = cx - r; x <= cx + r; x += (edge_row || r == 0) ? 1 : 2 * r) {
+            if (x < 0 || v < 0 || x >= grid.nx() || v >= grid.nv()) continue;
+            for (int b : grid.cell(x, v)) {
+              if (anchors_[static_cast<std::size_t>(b)].owner == anchors_[a].owner) continue;
+              found.emplace_back(dist(at, anchors_[static_cast<std::size_t>(b)].at), b);
             }
           }
         }
-        if (best_j == none) continue;
-        std::vector<std::vector<Point2>> run(std::make_move_iterator(tour.begin() + static_cast<long>(i)),
-                                             std::make_move_iterator(tour.begin() + static_cast<long>(last) + 1));
-        if (best_rev) {
-          std::reverse(run.begin(), run.end());
-          for (auto& p : run) std::reverse(p.begin(), p.end());
-        }
-        tour.erase(tour.begin() + static_cast<long>(i), tour.begin() + static_cast<long>(last) + 1);
-        const std::size_t at_pos = best_j == n ? 0 : (best_j > last ? best_j - len + 1 : best_j + 1);
-        tour.insert(tour.begin() + static_cast<long>(at_pos), std::make_move_iterator(run.begin()), std::make_move_iterator(run.end()));
-        improved = true;
+        std::sort(found.begin(), found.end());
+        if (found.size() > kNeighbours) found.resize(kNeighbours);
       }
+      for (const auto& [d, b] : found) near_[a].push_back(b);
     }
   }
-  // Closed loops may start anywhere: pick the vertex closest to both neighbours' links.
-  Point2 prev = start;
+
+  // Gain of reversing positions lo..hi (each path turned round too).
+  double gain_reverse(long lo, long hi) {
+    ++work_;
+    const double before = link(lo) + link(hi + 1);
+    const double after = dist(exit(lo - 1), exit(hi)) + (hi + 1 < n_ ? dist(entry(lo), entry(hi + 1)) : 0);
+    return before - after;
+  }
+  void reverse(long lo, long hi) {
+    std::reverse(order_.begin() + lo, order_.begin() + hi + 1);
+    for (long k = lo; k <= hi; ++k) {
+      flip_[static_cast<std::size_t>(path_at(k))] ^= 1;
+      pos_[static_cast<std::size_t>(path_at(k))] = k;
+    }
+    work_ += static_cast<std::uint64_t>(hi - lo + 1);
+    touch(lo);
+    touch(hi);
+  }
+
+  // Gain of moving the run i..j to just after position q (q = -1: first), turned round or not.
+  double gain_move(long i, long j, long q, bool rev) {
+    ++work_;
+    const double removed = link(i) + link(j + 1) - (j + 1 < n_ ? dist(exit(i - 1), entry(j + 1)) : 0);
+    const Point2 in = rev ? exit(j) : entry(i), out = rev ? entry(i) : exit(j);
+    const double added = dist(exit(q), in) + (q + 1 < n_ ? dist(out, entry(q + 1)) - link(q + 1) : 0);
+    return removed - added;
+  }
+  void move(long i, long j, long q, bool rev) {
+    // The paths either side of the gap left behind and of the gap filled get new links.
+    std::vector<int> near;
+    for (long k : {i - 1, j + 1, q, q + 1}) {
+      if (k >= 0 && k < n_) near.push_back(path_at(k));
+    }
+    std::vector<int> run(order_.begin() + i, order_.begin() + j + 1);
+    if (rev) {
+      std::reverse(run.begin(), run.end());
+      for (int s : run) flip_[static_cast<std::size_t>(s)] ^= 1;
+    }
+    order_.erase(order_.begin() + i, order_.begin() + j + 1);
+    const long at = q < i ? q + 1 : q + 1 - (j - i + 1);
+    order_.insert(order_.begin() + at, run.begin(), run.end());
+    const long lo = std::min(i, at), hi = std::max(j, at + (j - i));
+    for (long k = lo; k <= hi; ++k) pos_[static_cast<std::size_t>(path_at(k))] = k;
+    // erase and insert each shift the rest of the order
+    work_ += static_cast<std::uint64_t>(hi - lo + 1) + 2 * static_cast<std::uint64_t>(n_ - lo);
+    for (int p : near) touch(pos_[static_cast<std::size_t>(p)]);
+    touch(at);
+    touch(at + (j - i));
+  }
+  bool try_move(long i, long j, long q, bool rev) {
+    if (i < 0 || j >= n_ || i > j || (q >= i - 1 && q <= j) || q < -1 || q >= n_) return false;
+    if (gain_move(i, j, q, rev) <= kGain) return false;
+    move(i, j, q, rev);
+    return true;
+  }
+
+  // First improving 2-opt or Or-opt move that makes a knife-up link between a path end at
+  // position i and one of its near anchors.
+  bool improve_at(long i) {
+    for (int ai : of_path_[static_cast<std::size_t>(path_at(i))]) {
+      const Anchor& a = anchors_[static_cast<std::size_t>(ai)];
+      const bool a_in = is_entry(a), a_out = is_exit(a);
+      if (!a_in && !a_out) continue;
+      for (int ci : near_[static_cast<std::size_t>(ai)]) {
+        if (work_ >= budget_) return false;
+        const Anchor& c = anchors_[static_cast<std::size_t>(ci)];
+        const long q = position(c);
+        const bool c_in = is_entry(c), c_out = is_exit(c);
+        if (q == i || (!c_in && !c_out)) continue;
+        // 2-opt: exit next to exit, or entry next to entry, by reversing what lies between.
+        if (a_out && c_out) {
+          const long lo = std::min(i, q) + 1, hi = std::max(i, q);
+          if (lo <= hi && gain_reverse(lo, hi) > kGain) return reverse(lo, hi), true;
+        }
+        if (a_in && c_in) {
+          const long lo = std::min(i, q), hi = std::max(i, q) - 1;
+          if (lo <= hi && gain_reverse(lo, hi) > kGain) return reverse(lo, hi), true;
+        }
+        // Or-opt: a run starting (or ending) with this path goes next to c.
+        for (long len = 1; len <= 3; ++len) {
+          if (a_in && c_out && try_move(i, i + len - 1, q, false)) return true;
+          if (a_in && c_in && try_move(i, i + len - 1, q - 1, true)) return true;
+          if (a_out && c_in && try_move(i - len + 1, i, q - 1, false)) return true;
+          if (a_out && c_out && try_move(i - len + 1, i, q, true)) return true;
+        }
+      }
+    }
+    // The end of the tour is free: appending costs only the link there.
+    for (long len = 1; len <= 3; ++len) {
+      for (bool rev : {false, true}) {
+        if (try_move(i, i + len - 1, n_ - 1, rev)) return true;
+      }
+    }
+    // Flip this path in place; turn the whole rest of the tour round.
+    for (long hi : {i, n_ - 1}) {
+      if (gain_reverse(i, hi) > kGain) return reverse(i, hi), true;
+    }
+    return place_loop_start(i);
+  }
+
+  // A closed loop starts at the vertex nearest to both its knife-up links.
+  bool place_loop_start(long i) {
+    const auto s = static_cast<std::size_t>(path_at(i));
+    if (!closed_[s]) return false;
+    const auto& p = paths_[s];
+    const Point2 from = exit(i - 1);
+    const auto cost = [&](std::size_t k) { return dist(from, p[k]) + (i + 1 < n_ ? dist(p[k], entry(i + 1)) : 0); };
+    std::size_t best = loop_at_[s];
+    double best_d = cost(best);
+    for (std::size_t k = 0; k + 1 < p.size(); ++k) {
+      if (cost(k) < best_d - kGain) best_d = cost(k), best = k;
+    }
+    work_ += p.size();
+    if (best == loop_at_[s]) return false;
+    loop_at_[s] = best;
+    touch(i);
+    return true;
+  }
+
+  // Paths whose links changed are looked at again; the rest stay settled ("don't look" bits).
+  void touch(long i) {
+    for (long k = std::max(0L, i - 1); k <= std::min(n_ - 1, i + 1); ++k) {
+      const auto s = static_cast<std::size_t>(path_at(k));
+      if (!queued_[s]) queued_[s] = 1, queue_.push_back(static_cast<int>(s));
+    }
+  }
+  void descend() {
+    for (std::size_t head = 0; head < queue_.size() && work_ < budget_; ++head) {
+      const auto s = static_cast<std::size_t>(queue_[head]);
+      queued_[s] = 0;
+      if (improve_at(pos_[s])) touch(pos_[s]);
+    }
+    queue_.clear();
+    std::fill(queued_.begin(), queued_.end(), 0);
+  }
+
+  double tour_mm() {
+    double t = 0;
+    for (long i = 0; i < n_; ++i) t += link(i);
+    work_ += static_cast<std::uint64_t>(n_);
+    return t;
+  }
+  struct Saved {
+    std::vector<int> order;
+    std::vector<char> flip;
+    std::vector<std::size_t> loop_at;
+  };
+  Saved save() {
+    work_ += static_cast<std::uint64_t>(n_);
+    return {order_, flip_, loop_at_};
+  }
+  void restore(const Saved& s) {
+    order_ = s.order;
+    flip_ = s.flip;
+    loop_at_ = s.loop_at;
+    for (long k = 0; k < n_; ++k) pos_[static_cast<std::size_t>(path_at(k))] = k;
+    work_ += static_cast<std::uint64_t>(n_);
+  }
+  // splitmix64: a fixed sequence on every platform (std distributions are not portable).
+  static std::uint64_t next(std::uint64_t& x) {
+    std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  void kick(bool bridge, std::uint64_t& seed) {
+    std::array<long, 3> cut{};
+    for (long& c : cut) c = static_cast<long>(next(seed) % static_cast<std::uint64_t>(n_ + 1));
+    std::sort(cut.begin(), cut.end());
+    if (bridge && cut[0] < cut[1] && cut[1] < cut[2]) {
+      // A B C D -> A C B D: a move 2-opt and Or-opt cannot undo in one step.
+      std::rotate(order_.begin() + cut[0], order_.begin() + cut[1], order_.begin() + cut[2]);
+      for (long k = cut[0]; k < cut[2]; ++k) pos_[static_cast<std::size_t>(path_at(k))] = k;
+      work_ += static_cast<std::uint64_t>(cut[2] - cut[0]);
+      for (long c : {cut[0], cut[0] + cut[2] - cut[1], cut[2] - 1}) touch(c);
+    } else {
+      const long lo = std::min(cut[0], n_ - 1), hi = std::max(lo, std::min(cut[2], n_ - 1));
+      reverse(lo, hi);
+    }
+  }
+
+  std::vector<std::vector<Point2>> paths_;
+  Point2 start_;
+  std::uint64_t budget_;
+  std::uint64_t work_ = 0;
+  long n_;
+  std::vector<int> order_;           // path ids in cutting order
+  std::vector<long> pos_;            // position of each path id
+  std::vector<char> flip_;           // open path cut back to front
+  std::vector<std::size_t> loop_at_; // closed loop: the vertex it starts and ends at
+  std::vector<char> closed_;
+  std::vector<Anchor> anchors_;
+  std::vector<std::vector<int>> of_path_;  // anchors of each path
+  std::vector<std::vector<int>> near_;     // nearest anchors of other paths (or the start)
+  std::vector<int> queue_;                 // paths to look at again
+  std::vector<char> queued_;
+};
+
+}  // namespace
+
+std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start, std::uint64_t work_budget) {
+  if (paths.empty()) return paths;
+  std::vector<std::vector<Point2>> tour = greedy_order(std::move(paths), start);
+  if (work_budget == 0) return tour;
+  return TourSearch(std::move(tour), start, work_budget).run();
+}
+
+double travel_lower_bound_mm(const std::vector<std::pair<Point2, Point2>>& edges, std::optional<Point2> start) {
+  const Graph g = build_graph(edges);
+  int count = 0;
+  const std::vector<int> comp = components(g, count);
+  std::vector<int> odd(static_cast<std::size_t>(count), 0);
+  for (std::size_t v = 0; v < g.pos.size(); ++v) {
+    if (g.adj[v].size() % 2 == 1) ++odd[static_cast<std::size_t>(comp[v])];
+  }
+  // Where a stroke of a minimal plan may begin or end: an odd vertex (each ends exactly one
+  // stroke), or any vertex of a component without odd vertices (one closed stroke, entered and
+  // left at the same vertex). The start is a component of its own.
+  struct Port {
+    Point2 at;
+    int comp;
+    bool loop;
+  };
+  std::vector<Port> ports;
+  for (std::size_t v = 0; v < g.pos.size(); ++v) {
+    const int c = comp[v];
+    if (g.adj[v].empty()) continue;
+    const bool loop = odd[static_cast<std::size_t>(c)] == 0;
+    if (loop || g.adj[v].size() % 2 == 1) ports.push_back({g.pos[v], c, loop});
+  }
+  if (start) ports.push_back({*start, count, false});
+  const std::size_t n = ports.size();
+  if (n < 2) return 0;
+  // Matching bound: each knife-up move (u, w) is at least as long as the larger of u's and w's
+  // distance to the nearest port it could be joined to (another port; for a loop, one outside it).
+  std::vector<double> nearest(n, 1e300);
   for (std::size_t i = 0; i < n; ++i) {
-    auto& p = tour[i];
-    if (is_closed(p)) {
-      std::size_t best_k = 0;
-      double best_d = 1e300;
-      for (std::size_t k = 0; k + 1 < p.size(); ++k) {
-        const double d = dist(prev, p[k]) + (i + 1 < n ? dist(p[k], tour[i + 1].front()) : 0);
-        if (d < best_d - 1e-12) {
-          best_d = d;
-          best_k = k;
-        }
-      }
-      rotate_loop(p, best_k);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (i == j || (ports[i].loop && ports[i].comp == ports[j].comp) || (ports[j].loop && ports[i].comp == ports[j].comp)) continue;
+      nearest[i] = std::min(nearest[i], dist(ports[i].at, ports[j].at));
     }
-    prev = p.back();
+    if (nearest[i] > 1e299) nearest[i] = 0;
   }
-  return tour;
+  std::vector<double> w;  // one value per end of a knife-up move
+  std::map<int, double> loop_w;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!ports[i].loop) {
+      w.push_back(nearest[i]);
+    } else {
+      const auto [it, fresh] = loop_w.try_emplace(ports[i].comp, nearest[i]);
+      if (!fresh) it->second = std::min(it->second, nearest[i]);
+    }
+  }
+  for (const auto& [c, d] : loop_w) w.insert(w.end(), {d, d});  // a loop is entered and left
+  std::sort(w.begin(), w.end());
+  // The first stroke's start (unless `start` is given) and the last stroke's end join no move.
+  const std::size_t free_ends = start ? 1 : 2;
+  double matching = 0;
+  for (std::size_t i = 0; i + free_ends < w.size(); ++i) matching += w[i];
+  matching /= 2;
+  // Tree bound: the moves join all components (and the start) into one walk, so they are at
+  // least a minimum spanning tree over components, components apart by their nearest ports.
+  const std::size_t comps = static_cast<std::size_t>(count) + (start ? 1 : 0);
+  std::vector<double> key(comps, 1e300);
+  std::vector<char> in_tree(comps, 0);
+  double tree = 0;
+  key[static_cast<std::size_t>(ports[0].comp)] = 0;
+  for (std::size_t added = 0; added < comps; ++added) {
+    std::size_t best = comps;
+    for (std::size_t c = 0; c < comps; ++c) {
+      if (!in_tree[c] && key[c] < 1e299 && (best == comps || key[c] < key[best])) best = c;
+    }
+    if (best == comps) break;  // components without ports (none): nothing more to join
+    in_tree[best] = 1;
+    tree += key[best];
+    for (const Port& p : ports) {
+      if (static_cast<std::size_t>(p.comp) != best) continue;
+      for (const Port& q : ports) {
+        const auto qc = static_cast<std::size_t>(q.comp);
+        if (!in_tree[qc]) key[qc] = std::min(key[qc], dist(p.at, q.at));
+      }
+    }
+  }
+  return std::max(matching, tree);
 }
 
 StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
@@ -688,7 +1031,7 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
       }
       paths = std::move(dashes);
     }
-    paths = order_paths(std::move(paths), at, options.optimise_budget);
+    paths = order_paths(std::move(paths), at, options.optimise_work);
     stats.travel_mm = travel_mm(paths, at);
     for (auto& p : paths) {
       // Overcut closes a loop; the blade offset applies to every pass, turns included.

@@ -2,7 +2,7 @@
 #pragma once
 
 #include <array>
-#include <chrono>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,12 +29,18 @@ struct KindPlan {
   double perforate_off_mm = 1.0;  // ...then leave this much uncut; dashes start and end uncut
 };
 
+// Small cards converge far below this; a 10,000-segment pattern stops here after some 50 ms.
+inline constexpr std::uint64_t kDefaultOptimiseWork = 500'000;
+
 struct PlanOptions {
   double fold_gap_mm = 0.5;                 // folds stop this short of any cut line or the outline
   std::optional<double> max_turn_deg;       // lift the knife where a stroke turns more sharply
   std::vector<PlanKind> order = {PlanKind::valley, PlanKind::mountain, PlanKind::cut, PlanKind::outline};
   std::array<KindPlan, 4> kinds{};          // indexed by index_of(PlanKind)
-  std::chrono::milliseconds optimise_budget{50};  // 2-opt time per kind; 0 = greedy only
+  // Work for 2-opt and Or-opt per kind after the greedy order, in counted steps (move
+  // evaluations and elements moved), not time: the same input always gives the same plan.
+  // 0 = greedy only.
+  std::uint64_t optimise_work = kDefaultOptimiseWork;
   std::optional<Point2> home;               // where the knife starts; default the sheet's min corner
   // Drag knife: the blade tip trails the tool axis by this much; the axis path is offset ahead
   // along each segment with swivel arcs at the corners. 0: a tangential knife (or a pen).
@@ -89,9 +95,17 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
                                              std::optional<double> max_turn_deg);
 
 // Orders paths from `start` to cut knife-up travel: greedy nearest neighbour over a grid, then
-// 2-opt within the budget; picks each open path's direction and each closed loop's start.
+// 2-opt and Or-opt (with reversal) over near path ends until no move gains or `work_budget`
+// steps are spent; picks each open path's direction and each closed loop's start. Deterministic.
 std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
-                                             std::chrono::milliseconds budget);
+                                             std::uint64_t work_budget = kDefaultOptimiseWork);
+
+// A lower bound on the knife-up travel between the strokes of any plan that cuts `edges` (a
+// line graph: split at junctions) in the minimum number of strokes (euler_bound), from `start`
+// if given (else from anywhere); the last stroke may end anywhere. The larger of a matching
+// bound (every stroke end is at least its nearest possible partner away) and a spanning tree
+// over the graph's components. O(ports²): for reports and benchmarks, not for planning.
+double travel_lower_bound_mm(const std::vector<std::pair<Point2, Point2>>& edges, std::optional<Point2> start);
 
 // The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
 std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
