@@ -30,7 +30,7 @@ using drivers::DeviceProfile;
 json kind_json(const KindStats& k, double est_s) {
   return {{"strokes", k.strokes},   {"pen_lifts", k.pen_lifts}, {"pen_lift_bound", k.pen_lift_bound},
           {"cut_mm", k.cut_mm},     {"travel_mm", k.travel_mm}, {"est_time_s", est_s},
-          {"folds_dropped", k.folds_dropped}};
+          {"folds_dropped", k.folds_dropped}, {"strokes_below_resolution", k.strokes_below_resolution}};
 }
 
 struct Job {
@@ -45,8 +45,10 @@ Job make_job(const std::string& model_path, const std::string& profile_path) {
   j.profile = drivers::load_profile(profile_path);
   const Pattern pattern = load_cli_pattern(model_path);
   j.plan = plan_strokes(pattern, j.profile.plan);
-  j.time = estimate_time(j.plan, j.profile.kinematics, j.profile.cut_speed_mm_s());
   try {
+    // Report what is sent: strokes shorter than the plotter's resolution are not.
+    j.plan = drop_below_resolution(j.plan, j.profile.dialect);
+    j.time = estimate_time(j.plan, j.profile.kinematics, j.profile.cut_speed_mm_s());
     j.hpgl = encode_hpgl(j.plan, j.profile.dialect, j.profile.tools);
   } catch (const Error& e) {
     // Name the profile: the sheet is fine, it is this device that is too small.
@@ -69,6 +71,7 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
             {"travel_mm", t.travel_mm},
             {"est_time_s", j.time.total_s},
             {"folds_dropped", t.folds_dropped},
+            {"strokes_below_resolution", t.strokes_below_resolution},
             {"hpgl_bytes", j.hpgl.size()},
             {"kinds", json::object()}};
   for (PlanKind k : kAllPlanKinds) {

@@ -75,6 +75,33 @@ std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const Hpg
   return out;
 }
 
+StrokePlan drop_below_resolution(const StrokePlan& plan, const HpglDialect& d) {
+  const Rect frame = plan.extent();
+  const Placement placement = place_sheet(frame, d);
+  StrokePlan out = plan;
+  // The frame placed stays the same (a dropped stroke may have reached past the sheet), so every
+  // kept point rounds exactly as it did.
+  out.sheet = frame;
+  out.strokes.clear();
+  for (KindStats& k : out.kinds) k.strokes = k.pen_lifts = 0, k.cut_mm = k.travel_mm = 0;
+  Point2 at = plan.home;
+  for (const Stroke& s : plan.strokes) {
+    KindStats& k = out.kinds[index_of(s.kind)];
+    if (rounded(s, frame, placement, d).size() < 2) {
+      ++k.strokes_below_resolution;
+      continue;
+    }
+    // Travel to a kind's strokes counts for that kind, as in plan_strokes.
+    k.travel_mm += travel_mm({s.points}, at);
+    k.cut_mm += path_length_mm(s.points);
+    ++k.strokes;
+    ++k.pen_lifts;
+    at = s.points.back();
+    out.strokes.push_back(s);
+  }
+  return out;
+}
+
 Placement place_sheet(const Rect& sheet, const HpglDialect& d) {
   const std::array<double, 2> size = along_axes(sheet.max, sheet, d);
   Placement p;

@@ -267,6 +267,7 @@ KindStats StrokePlan::total() const {
     t.cut_mm += k.cut_mm;
     t.travel_mm += k.travel_mm;
     t.folds_dropped += k.folds_dropped;
+    t.strokes_below_resolution += k.strokes_below_resolution;
   }
   return t;
 }

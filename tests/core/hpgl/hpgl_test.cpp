@@ -127,5 +127,30 @@ TEST(Hpgl, LongStrokesAreSplitIntoCommandsOfBoundedLength) {
       << "9 pairs in commands of at most 4: " << job;
 }
 
+TEST(Hpgl, StrokesBelowResolutionAreReportedNotCounted) {
+  StrokePlan p = small_plan();
+  p.home = p.sheet.min;
+  p.strokes.insert(p.strokes.begin() + 1, {PlanKind::cut, {{1, 1}, {1.004, 1}}});  // 0.16 units long
+  for (const Stroke& s : p.strokes) {
+    KindStats& k = p.kinds[index_of(s.kind)];
+    ++k.strokes, ++k.pen_lifts, k.cut_mm += path_length_mm(s.points);
+  }
+  const HpglDialect d = area({});
+  const StrokePlan sent = drop_below_resolution(p, d);
+  const KindStats& cut = sent.kinds[index_of(PlanKind::cut)];
+  EXPECT_EQ(cut.strokes_below_resolution, 1) << "the 0.004 mm stroke rounds to one point";
+  EXPECT_EQ(cut.strokes, 1) << "only the stroke that is sent counts";
+  EXPECT_EQ(cut.pen_lifts, 1) << "and only its lift";
+  EXPECT_NEAR(cut.cut_mm, path_length_mm(p.strokes[2].points), 1e-12) << "cut length without the dropped stroke";
+  EXPECT_EQ(sent.total().strokes_below_resolution, 1) << "the total reports it too";
+  EXPECT_EQ(sent.kinds[index_of(PlanKind::valley)].strokes, 1) << "other kinds untouched";
+  EXPECT_NEAR(sent.total().travel_mm, travel_mm({p.strokes[0].points, p.strokes[2].points}, p.home), 1e-12)
+      << "travel goes straight to the next stroke that is sent";
+  EXPECT_EQ(encode_hpgl(sent, d, tools()), encode_hpgl(p, d, tools())) << "the same bytes either way";
+  std::size_t pen_downs = 0;
+  for (std::size_t at = 0; (at = encode_hpgl(sent, d, tools()).find("PD", at)) != std::string::npos; ++at) ++pen_downs;
+  EXPECT_EQ(pen_downs, static_cast<std::size_t>(sent.total().strokes)) << "one PD per stroke counted";
+}
+
 }  // namespace
 }  // namespace popcut

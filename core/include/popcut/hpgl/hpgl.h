@@ -64,6 +64,11 @@ using PlotterPath = std::vector<std::array<std::int64_t, 2>>;
 // Throws popcut::Error when a point would leave the usable area (never sent).
 std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const HpglDialect& dialect);
 
+// The plan as the device will get it: strokes that round to a single plotter point (the encoder
+// never sends them) are removed and counted in strokes_below_resolution; strokes, pen_lifts,
+// cut_mm and travel_mm are recomputed from what is left. Throws like plan_in_plotter_units.
+StrokePlan drop_below_resolution(const StrokePlan& plan, const HpglDialect& dialect);
+
 // The job: init, per kind tool selection, every stroke, finish. Throws popcut::Error when a
 // point would leave the usable area (never sent).
 std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& dialect, const std::array<ToolSetting, 4>& tools);

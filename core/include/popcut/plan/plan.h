@@ -63,6 +63,7 @@ struct KindStats {
   double cut_mm = 0;       // knife-down length, all passes
   double travel_mm = 0;    // knife-up length travelled to reach this kind's strokes
   int folds_dropped = 0;   // folds shorter than two gaps: nothing left to score
+  int strokes_below_resolution = 0;  // round to one plotter point: not sent, not counted above
 };
 
 struct StrokePlan {
