@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 #include <vector>
 
+#include "popcut/drivers/hpgl_reader.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 
@@ -101,6 +102,41 @@ class Section {
   std::set<std::string> seen_;
 };
 
+// What is wrong with an init or finish string, or "" when nothing is: it is sent verbatim
+// around popcut's own commands, so it must be whole HP-GL commands with numeric parameters, each
+// ended by ';' or a newline, plus ESC. set-up sequences; no other control bytes (XON/XOFF or NUL
+// would disturb flow control) and no queries (their replies would be read as flow control).
+std::string hpgl_text_problem(const std::string& text) {
+  constexpr char kEsc = '\x1b';
+  std::string plain;  // without device-control sequences: what parse_hpgl's offsets count
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == kEsc) {
+      std::string e(1, text[i]);
+      while (!esc_complete(e) && i + 1 < text.size()) e += text[++i];
+      if (!esc_complete(e)) return "an incomplete ESC sequence at the end";
+      if (e.size() < 3 || e[1] != '.' || std::string_view("@HIMNRT").find(e[2]) == std::string_view::npos) {
+        return "ESC sequence '" + e.substr(1) + "' is not a set-up (ESC.@, .H, .I, .M, .N, .R, .T)";
+      }
+      continue;
+    }
+    if ((c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c >= 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "0x%02x", c);
+      return std::string("control or non-ASCII byte ") + buf + " at byte " + std::to_string(i + 1);
+    }
+    plain += text[i];
+  }
+  for (const HpglCommand& cmd : parse_hpgl(text)) {
+    if (cmd.name.rfind("ESC", 0) == 0) continue;
+    const std::string what = plain.substr(cmd.offset, cmd.length);
+    if (cmd.malformed) return "'" + what + "' is not a command with numeric parameters";
+    const char last = cmd.offset + cmd.length > 0 ? plain[cmd.offset + cmd.length - 1] : '\0';
+    if (last != ';' && last != '\n') return "'" + what + "' is not ended by ';' or a newline";
+  }
+  return "";
+}
+
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
 constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
 constexpr std::array<const char*, 4> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b"};
@@ -168,11 +204,19 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   Section h = section("hpgl");
   d.init = h.text("init", "IN;");
   d.finish = h.text("finish", "PU;SP0;");
+  for (const auto& [key, value] : {std::pair{"init", d.init}, std::pair{"finish", d.finish}}) {
+    if (const std::string problem = hpgl_text_problem(value); !problem.empty()) h.fail(key, problem);
+  }
   d.move_style = h.choice("move_style", 0, std::array<const char*, 2>{"separate", "inline"}) == 0 ? MoveStyle::separate
                                                                                                   : MoveStyle::inline_xy;
   d.coords = h.choice("coordinates", 0, std::array<const char*, 2>{"absolute", "relative"}) == 0 ? CoordMode::absolute
                                                                                                  : CoordMode::relative;
   d.terminator = h.text("terminator", ";", 2);
+  // Anything else (a digit, a comma, a letter) would run into the next command's parameters.
+  if (d.terminator.empty() || d.terminator.find_first_not_of(";\n\r") != std::string::npos ||
+      d.terminator.find_first_of(";\n") == std::string::npos) {
+    h.fail("terminator", "must be ';', a newline, or both (up to 2 bytes of ';', '\\n', '\\r' with a ';' or '\\n')");
+  }
   d.newline = h.boolean("newline", false);
   d.velocity = h.boolean("velocity", true);
   d.force = static_cast<ForceStyle>(h.choice("force", 1, std::array<const char*, 3>{"none", "fs", "roland"}));

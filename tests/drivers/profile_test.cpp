@@ -69,6 +69,18 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\narea_min_x_mm = -5\n", "[device] area_min_x_mm", "out of range 0"},
       {"[device]\nname = \"x\"\narea_max_x_mm = 0\n", "[device] area_max_x_mm", "must exceed"},
       {"[hpgl]\ninit = \"IN;\"\n", "[device] name", "missing"},
+      {"[device]\nname = \"x\"\n[hpgl]\nterminator = \"1\"\n", "[hpgl] terminator", "must be ';'"},
+      {"[device]\nname = \"x\"\n[hpgl]\nterminator = \",\"\n", "[hpgl] terminator", "must be ';'"},
+      {"[device]\nname = \"x\"\n[hpgl]\nterminator = \"\"\n", "[hpgl] terminator", "must be ';'"},
+      {"[device]\nname = \"x\"\n[hpgl]\nterminator = \"\\r\"\n", "[hpgl] terminator", "must be ';'"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;PA\"\n", "[hpgl] init", "'PA' is not ended by ';'"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"INSP1;\"\n", "[hpgl] init", "'IN' is not ended"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;VS1.2.3;\"\n", "[hpgl] init", "numeric parameters"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;\\u0013\"\n", "[hpgl] init", "control or non-ASCII byte 0x13"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"\\u0000IN;\"\n", "[hpgl] init", "byte 0x00 at byte 1"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"\\u001b.B\"\n", "[hpgl] init", "not a set-up"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;\\u001b.@1024\"\n", "[hpgl] init", "incomplete ESC"},
+      {"[device]\nname = \"x\"\n[hpgl]\nfinish = \"PU;SP\"\n", "[hpgl] finish", "'SP' is not ended"},
       {"[device]\nname = \n", "line 2", ""},
   };
   for (const Bad& b : cases) {
@@ -83,6 +95,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
     }
   }
   EXPECT_NO_THROW(parse_profile(ok, "ok.toml")) << "a name is all a profile needs";
+  EXPECT_NO_THROW(parse_profile(ok + "[hpgl]\ninit = \"\\u001b.@1024;0:IN;\\n!ST1;\"\nfinish = \"PU;\\nSP0;\\n\"\nterminator = \";\\n\"\n", "ok.toml"))
+      << "set-up sequences, Roland commands, newlines and a ';' + newline terminator are fine";
   EXPECT_NO_THROW(parse_profile(ok + "negative_coords = true\narea_min_x_mm = -5\n", "ok.toml"))
       << "negative coordinates when the device allows them";
 }

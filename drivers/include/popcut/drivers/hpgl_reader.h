@@ -45,4 +45,8 @@ class HpglReader {
 
 std::vector<HpglCommand> parse_hpgl(std::string_view text);
 
+// Whether `e`, bytes from an ESC on, is a whole device-control sequence (three bytes, or up to
+// the colon for set-ups such as ESC.@...:).
+bool esc_complete(const std::string& e);
+
 }  // namespace popcut::drivers
