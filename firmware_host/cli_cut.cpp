@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_commands.h"
+#include "config_dir.h"
 #include "popcut/drivers/file_transport.h"
 #include "popcut/drivers/job_sender.h"
 #include "popcut/drivers/profile.h"
@@ -16,10 +17,6 @@
 #include "popcut/error.h"
 #include "popcut/hpgl/hpgl.h"
 #include "popcut/plan/plan.h"
-
-#ifndef POPCUT_CONFIG_DIR
-#define POPCUT_CONFIG_DIR "configs"
-#endif
 
 namespace popcut::cli {
 namespace {
@@ -139,7 +136,7 @@ int run_cut(const CutCommands& s) {
       throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
     }
     const std::string profile_path =
-        !s.profile_path.empty() ? s.profile_path : (sim ? std::string(POPCUT_CONFIG_DIR) + "/devices/sim.toml" : "");
+        !s.profile_path.empty() ? s.profile_path : (sim ? find_config_file("devices/sim.toml") : "");
     if (profile_path.empty()) throw Error(ErrorCode::invalid_input, "", "--profile", "a file: device needs --profile");
     const Job j = make_job(s.model_path, profile_path);
     std::error_code ec;
