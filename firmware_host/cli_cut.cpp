@@ -27,7 +27,7 @@ using drivers::DeviceProfile;
 json kind_json(const KindStats& k, double est_s) {
   return {{"strokes", k.strokes},   {"pen_lifts", k.pen_lifts}, {"pen_lift_bound", k.pen_lift_bound},
           {"cut_mm", k.cut_mm},     {"travel_mm", k.travel_mm}, {"est_time_s", est_s},
-          {"folds_dropped", k.folds_dropped}, {"strokes_below_resolution", k.strokes_below_resolution}};
+          {"folds_dropped", k.folds_dropped}, {"strokes_below_resolution", k.strokes_below_resolution}, {"precuts", k.precuts}};
 }
 
 struct Job {

@@ -247,6 +247,10 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   p.plan.blade_offset_mm = pl.number("blade_offset_mm", 0, 0, 2);
   p.plan.swivel_step_deg = pl.number("swivel_step_deg", 15, 1, 90);
   p.plan.overcut_mm = pl.number("overcut_mm", 0, 0, 10);
+  p.plan.precut_mm = pl.number("precut_mm", 0, 0, 5);
+  if (p.plan.precut_mm > 0 && p.plan.blade_offset_mm <= 0) {
+    pl.fail("precut_mm", "a precut turns a drag knife's blade: set blade_offset_mm as well");
+  }
   if (const toml::array* order = pl.array("order")) {
     p.plan.order.clear();
     std::set<std::string> names;

@@ -81,6 +81,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"\\u001b.B\"\n", "[hpgl] init", "not a set-up"},
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;\\u001b.@1024\"\n", "[hpgl] init", "incomplete ESC"},
       {"[device]\nname = \"x\"\n[hpgl]\nfinish = \"PU;SP\"\n", "[hpgl] finish", "'SP' is not ended"},
+      {"[device]\nname = \"x\"\n[plan]\nprecut_mm = 1\n", "[plan] precut_mm", "set blade_offset_mm"},
+      {"[device]\nname = \"x\"\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 9\n", "[plan] precut_mm", "out of range 0 to 5"},
       {"[device]\nname = \n", "line 2", ""},
   };
   for (const Bad& b : cases) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -47,6 +48,12 @@ TEST(HpglReader, SplitWritesAndOutOfBandEscapes) {
   }
   EXPECT_TRUE(query) << "ESC.B is taken out wherever it arrives";
   EXPECT_EQ(pa, (std::vector<double>{10, 20, 30, 40, 50, 60})) << "the coordinates survive the split and the query";
+}
+
+double dist_to_segment(Point2 p, Point2 a, Point2 b) {
+  const double dx = b.x_mm - a.x_mm, dv = b.v_mm - a.v_mm, l2 = dx * dx + dv * dv;
+  const double t = l2 > 0 ? std::clamp(((p.x_mm - a.x_mm) * dx + (p.v_mm - a.v_mm) * dv) / l2, 0.0, 1.0) : 0;
+  return std::hypot(p.x_mm - a.x_mm - t * dx, p.v_mm - a.v_mm - t * dv);
 }
 
 DeviceProfile sim_profile() { return load_profile(config("sim.toml")); }
@@ -214,6 +221,54 @@ TEST(SimCutter, RecoversThePlannedStrokesForEveryProfile) {
       }
     }
   }
+}
+
+// A drag knife with precuts on the simulated cutter: it cuts exactly the plan, each precut is
+// followed by its stroke, and every knife-down point stays within the blade offset of a line of
+// the pattern (the axis runs that far ahead of the tip, which follows the lines): nothing is cut
+// where the pattern has no line.
+TEST(SimCutter, PrecutsCutOnlyAlongThePatternsLines) {
+  std::ifstream in(config("sim.toml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const double offset_mm = 0.3;
+  const DeviceProfile prof = parse_profile(text.str() + "\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 1.0\n", "sim+precut.toml");
+  ASSERT_FALSE(prof.dialect.swap_axes || prof.dialect.flip_x || prof.dialect.flip_y) << "the mm mapping below assumes plain axes";
+  std::mt19937_64 rng(31);
+  int precuts_seen = 0;
+  for (int n = 0; n < 8; ++n) {
+    const Pattern pattern = make_pattern(testing::random_model(rng, {}));
+    const StrokePlan plan = plan_strokes(pattern, prof.plan);
+    auto cutter = std::make_shared<SimCutter>(prof);
+    SimTransport t(cutter);
+    ASSERT_TRUE(t.open().ok());
+    ASSERT_TRUE(send_job(t, encode_hpgl(plan, prof.dialect, prof.tools), send_options(prof)).status.ok());
+    ASSERT_TRUE(cutter->run_to_end());
+    const auto planned = plan_in_plotter_units(plan, prof.dialect);
+    EXPECT_FALSE(first_difference(planned, cutter->strokes()).has_value()) << "model " << n << ": the simulator cuts the plan";
+    ASSERT_EQ(cutter->strokes().size(), plan.strokes.size()) << "model " << n << ": no stroke below resolution here";
+    std::vector<Segment> lines = kind_lines(pattern, PlanKind::outline, 0);
+    for (const Segment& l : pattern.lines) lines.push_back(l);
+    const Rect frame = plan.extent();
+    for (std::size_t k = 0; k < plan.strokes.size(); ++k) {
+      if (plan.strokes[k].precut) {
+        ++precuts_seen;
+        ASSERT_LT(k + 1, plan.strokes.size()) << "model " << n << ": a precut comes before its stroke";
+        EXPECT_FALSE(plan.strokes[k + 1].precut) << "model " << n << " stroke " << k;
+        EXPECT_EQ(plan.strokes[k + 1].kind, plan.strokes[k].kind) << "model " << n << " stroke " << k;
+      }
+      for (const auto& q : cutter->strokes()[k].points_pu) {
+        const Point2 mm{frame.min.x_mm + static_cast<double>(q[0] - prof.dialect.area_min_x_pu) / prof.dialect.units_per_mm_x,
+                        frame.min.v_mm + static_cast<double>(q[1] - prof.dialect.area_min_y_pu) / prof.dialect.units_per_mm_y};
+        double d = 1e9;
+        for (const Segment& l : lines) d = std::min(d, dist_to_segment(mm, l.a, l.b));
+        EXPECT_LE(d, offset_mm + 1.0 / 40) << "model " << n << " stroke " << k << (plan.strokes[k].precut ? " (precut)" : "")
+                                           << ": cut point (" << mm.x_mm << ", " << mm.v_mm << ") lies off every line";
+      }
+    }
+    EXPECT_EQ(plan.total().precuts, plan.total().strokes) << "model " << n << ": one precut per stroke";
+  }
+  EXPECT_GT(precuts_seen, 50) << "the property was checked on many precuts";
 }
 
 TEST(SimCutter, SvgHasOnePolylinePerStrokeColouredByPen) {

@@ -83,7 +83,7 @@ StrokePlan drop_below_resolution(const StrokePlan& plan, const HpglDialect& d) {
   // kept point rounds exactly as it did.
   out.sheet = frame;
   out.strokes.clear();
-  for (KindStats& k : out.kinds) k.strokes = k.pen_lifts = 0, k.cut_mm = k.travel_mm = 0;
+  for (KindStats& k : out.kinds) k.strokes = k.pen_lifts = k.precuts = 0, k.cut_mm = k.travel_mm = 0;
   Point2 at = plan.home;
   for (const Stroke& s : plan.strokes) {
     KindStats& k = out.kinds[index_of(s.kind)];
@@ -94,7 +94,7 @@ StrokePlan drop_below_resolution(const StrokePlan& plan, const HpglDialect& d) {
     // Travel to a kind's strokes counts for that kind, as in plan_strokes.
     k.travel_mm += travel_mm({s.points}, at);
     k.cut_mm += path_length_mm(s.points);
-    ++k.strokes;
+    ++(s.precut ? k.precuts : k.strokes);
     ++k.pen_lifts;
     at = s.points.back();
     out.strokes.push_back(s);

@@ -268,6 +268,7 @@ KindStats StrokePlan::total() const {
     t.travel_mm += k.travel_mm;
     t.folds_dropped += k.folds_dropped;
     t.strokes_below_resolution += k.strokes_below_resolution;
+    t.precuts += k.precuts;
   }
   return t;
 }
@@ -281,6 +282,14 @@ Rect StrokePlan::extent() const {
     }
   }
   return r;
+}
+
+std::vector<Point2> precut_path(const std::vector<Point2>& tip_path, double precut_mm) {
+  if (precut_mm <= 0 || tip_path.size() < 2) return {};
+  const Point2 a = tip_path[0], b = tip_path[1];
+  const double len = dist(a, b);
+  if (!(len > 0)) return {};
+  return {a, lerp(a, b, std::min(1.0, precut_mm / len))};
 }
 
 std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm) {
@@ -1038,6 +1047,15 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
       // Overcut closes a loop; the blade offset applies to every pass, turns included.
       const std::vector<Point2> tip = with_passes(with_overcut(p, options.overcut_mm), kp.passes);
       at = tip.back();  // the next kind is ordered from where the blade tip stands
+      if (const std::vector<Point2> pre = precut_path(tip, options.precut_mm); !pre.empty()) {
+        // Turn the blade: cut the stroke's own first millimetres, lift, and start again there.
+        Stroke ps{kind, blade_offset_path(pre, options.blade_offset_mm, options.swivel_step_deg), true};
+        stats.cut_mm += path_length_mm(ps.points);
+        stats.travel_mm += path_length_mm(pre);  // back to the stroke's start, knife up
+        ++stats.precuts;
+        ++stats.pen_lifts;
+        plan.strokes.push_back(std::move(ps));
+      }
       Stroke s{kind, blade_offset_path(tip, options.blade_offset_mm, options.swivel_step_deg)};
       stats.cut_mm += path_length_mm(s.points);
       ++stats.strokes;

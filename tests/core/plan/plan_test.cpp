@@ -299,6 +299,37 @@ TEST(DragKnife, PlannedAxisStaysWithinTheOffsetOfTheLines) {
   }
 }
 
+TEST(DragKnife, PrecutRunsAlongTheStrokesOwnFirstSegment) {
+  std::mt19937_64 rng(29);
+  for (int n = 0; n < 20; ++n) {
+    const Pattern p = make_pattern(testing::random_model(rng, {}));
+    PlanOptions tip_only;
+    tip_only.precut_mm = 1.0;
+    PlanOptions drag = tip_only;
+    drag.blade_offset_mm = 0.3;
+    const StrokePlan a = plan_strokes(p, tip_only), b = plan_strokes(p, drag), plain = plan_strokes(p, {});
+    EXPECT_EQ(a.total().strokes, plain.total().strokes) << "model " << n << ": precuts are not strokes";
+    EXPECT_EQ(a.total().precuts, a.total().strokes) << "model " << n << ": one precut per stroke";
+    EXPECT_EQ(a.total().pen_lifts, 2 * a.total().strokes) << "model " << n << ": each precut lifts the knife too";
+    ASSERT_EQ(a.strokes.size(), b.strokes.size()) << "model " << n << ": the offset adds no strokes";
+    for (std::size_t i = 0; i < a.strokes.size(); ++i) {
+      if (!a.strokes[i].precut) continue;
+      ASSERT_LT(i + 1, a.strokes.size());
+      const auto& pre = a.strokes[i].points;
+      const auto& next = a.strokes[i + 1].points;
+      ASSERT_EQ(pre.size(), 2u) << "model " << n << ": a precut is one straight cut";
+      EXPECT_EQ(pre.front(), next.front()) << "model " << n << " stroke " << i << ": it starts where the stroke starts";
+      EXPECT_LE(dist_to_segment(pre.back(), next[0], next[1]), 1e-9) << "model " << n << " stroke " << i << ": along its first segment";
+      EXPECT_NEAR(dist(pre.front(), pre.back()), std::min(1.0, dist(next[0], next[1])), 1e-9)
+          << "model " << n << " stroke " << i << ": 1 mm, or the whole first segment when shorter";
+      EXPECT_TRUE(b.strokes[i].precut) << "model " << n << " stroke " << i;
+      for (Point2 q : b.strokes[i].points) {
+        EXPECT_LE(dist_to_segment(q, pre.front(), pre.back()), 0.3 + 1e-9) << "model " << n << " stroke " << i << ": axis within the offset";
+      }
+    }
+  }
+}
+
 TEST(Time, TrapezoidProfile) {
   EXPECT_NEAR(move_time_s(100, 100, 1000), 1.1, 1e-12) << "cruise 1 s plus the ramps' lost 0.1 s";
   EXPECT_NEAR(move_time_s(4, 100, 1000), 2 * std::sqrt(4.0 / 1000), 1e-12) << "too short to reach full speed";

@@ -47,20 +47,25 @@ struct PlanOptions {
   double blade_offset_mm = 0;
   double swivel_step_deg = 15;              // chord step of the swivel arcs
   double overcut_mm = 0;                    // closed loops: cut on past the start so they close cleanly
+  // Drag knife: before each stroke, cut its first precut_mm (along its own first segment, never
+  // past it), lift and start the stroke there, so the blade already points the right way. 0: off.
+  double precut_mm = 0;
 };
 
 // One knife-down path: the knife lowers at points.front() and lifts at points.back().
 struct Stroke {
   PlanKind kind = PlanKind::cut;
   std::vector<Point2> points;
+  bool precut = false;  // a blade-turning cut along the next stroke's start (PlanOptions::precut_mm)
   friend bool operator==(const Stroke&, const Stroke&) = default;
 };
 
 struct KindStats {
   int strokes = 0;
-  int pen_lifts = 0;       // = strokes: every stroke ends with the knife lifting
+  int pen_lifts = 0;       // strokes + precuts: every knife-down path ends with a lift
+  int precuts = 0;         // blade-turning cuts before strokes (not counted in strokes)
   int pen_lift_bound = 0;  // Euler bound of the kind's line graph (before perforation)
-  double cut_mm = 0;       // knife-down length, all passes
+  double cut_mm = 0;       // knife-down length, all passes and precuts
   double travel_mm = 0;    // knife-up length travelled to reach this kind's strokes
   int folds_dropped = 0;   // folds shorter than two gaps: nothing left to score
   int strokes_below_resolution = 0;  // round to one plotter point: not sent, not counted above
@@ -110,6 +115,9 @@ double travel_lower_bound_mm(const std::vector<std::pair<Point2, Point2>>& edges
 
 // The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
 std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
+// The tip path of a precut before `tip_path`: its first min(precut_mm, first segment) mm;
+// empty when precut_mm is 0.
+std::vector<Point2> precut_path(const std::vector<Point2>& tip_path, double precut_mm);
 // A closed loop continued past its start by `overcut_mm` along itself; open paths unchanged.
 std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm);
 
