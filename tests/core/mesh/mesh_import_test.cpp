@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <random>
 
@@ -264,6 +265,83 @@ TEST(ThinTops, DroppedTopLiesOnTheWallBehind) {
   EXPECT_EQ(g.at(0, floor + 1), CellGrid::pack(FaceKind::vertical, 0)) << "v = 1 is back wall";
   EXPECT_EQ(g.at(0, floor + 0), CellGrid::pack(FaceKind::vertical, 2)) << "v = 0 is the front wall's top cell";
   EXPECT_FALSE(pops_up(m)) << "alone, the front wall stands on nothing from the back";
+}
+
+// Binary records for the crafted files below, in the byte order the format asks for.
+std::string bytes_of(const std::vector<std::uint32_t>& words, bool big_endian) {
+  std::string out;
+  for (std::uint32_t w : words) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>(w >> (8 * (big_endian ? 3 - k : k))));
+  }
+  return out;
+}
+std::uint32_t float_bits(float f) {
+  std::uint32_t u = 0;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
+// A list or face count the rest of the file cannot hold is refused, naming the record, before
+// CGAL's reader resizes a vector to it (0xffffffff ints took all the memory there is).
+TEST(MeshRead, ListCountsAreBoundedByTheFile) {
+  const std::string ply_header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uint int vertex_indices\nend_header\n";
+  const std::string vertices = bytes_of({0, float_bits(-1), 0, float_bits(1), 0, 0, 0, float_bits(-1), float_bits(1)}, false);
+  const std::string face = bytes_of({3, 0, 1, 2}, false);
+  // The well-formed file reads; each corruption below is one count.
+  EXPECT_EQ(read_mesh(write_temp("ok.ply", ply_header + vertices + face + face)).triangles.size(), 2u) << "the good binary PLY reads";
+  EXPECT_EQ(error_of([&] { read_mesh(write_temp("big.ply", ply_header + vertices + face + bytes_of({0xffffffffu, 0, 1, 2}, false))); }),
+            "face 2: list 'vertex_indices' says 4294967295 entries, but only 12 bytes (3 entries) are left in the file: the file is "
+            "truncated or corrupt")
+      << "a uint count of 0xffffffff";
+  std::string signed_header = ply_header;
+  signed_header.replace(signed_header.find("list uint"), 9, "list int");
+  EXPECT_NE(error_of([&] { read_mesh(write_temp("neg.ply", signed_header + vertices + bytes_of({0x80000000u, 0, 1, 2}, false) + face)); })
+                .find("face 1: list 'vertex_indices' says -2147483648 entries"),
+            std::string::npos)
+      << "a negative int count";
+  EXPECT_NE(error_of([&] { read_mesh(write_temp("cut.ply", ply_header + vertices + face + face.substr(0, 10))); }).find("face 2: "),
+            std::string::npos)
+      << "a face cut short";
+  std::string big_endian = ply_header;
+  big_endian.replace(big_endian.find("little"), 6, "big");
+  EXPECT_NE(error_of([&] { read_mesh(write_temp("be.ply", big_endian + std::string(36, '\0') + bytes_of({3, 0, 1, 2, 0x01000000u}, true))); })
+                .find("face 2: list 'vertex_indices' says 16777216 entries"),
+            std::string::npos)
+      << "big-endian counts are read big-endian";
+  const std::string ascii_ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 0 1\n";
+  EXPECT_EQ(error_of([&] { read_mesh(write_temp("big-ascii.ply", ascii_ply + "4294967295 0 1 2\n")); }),
+            "face 1: list 'vertex_indices' says '4294967295' entries, but only 3 numbers are left in the file: expected a whole "
+            "number of entries that follow")
+      << "a text PLY count";
+  // OFF: CGAL sizes a face by its first number, whatever the line holds.
+  const std::string off = "OFF\n# comment\n3 1 0\n\n0 0 0\n1 0 0  # x\n0 0 1\n";
+  EXPECT_EQ(error_of([&] { read_mesh(write_temp("big.off", off + "1e18 0 1 2\n")); }),
+            "line 8 (face 1): says '1e18' corners, but the line has 3 more numbers: expected the corner count, then that many "
+            "vertex indices")
+      << "a text OFF face count";
+  EXPECT_NE(error_of([&] { read_mesh(write_temp("neg.off", off + "-1 0 1 2\n")); }).find("line 8 (face 1): says '-1' corners"),
+            std::string::npos)
+      << "a negative OFF face count";
+  EXPECT_EQ(read_mesh(write_temp("ok.off", off + "3 0 1 2 255 0 0\n")).triangles.size(), 1u)
+      << "comments, blank lines and a face colour are fine";
+  const std::string binary_off = "OFF BINARY\n" + bytes_of({3, 1, 0}, true) +
+                                 bytes_of({0, 0, 0, float_bits(1), 0, 0, 0, 0, float_bits(1)}, true);
+  EXPECT_EQ(read_mesh(write_temp("ok-bin.off", binary_off + bytes_of({3, 0, 1, 2, 0}, true))).points.size(), 3u)
+      << "the good binary OFF reads";
+  EXPECT_EQ(error_of([&] { read_mesh(write_temp("big-bin.off", binary_off + bytes_of({0x7fffffffu, 0, 1, 2, 0}, true))); }),
+            "face 1: says 2147483647 corners, but only 4 numbers are left in the file: the file is truncated or corrupt")
+      << "a binary OFF face count";
+  // Coordinates that are finite but whose extent overflows.
+  EXPECT_NE(error_of([] {
+              const TriangleSoup s = read_mesh(write_temp("huge.obj", "v 1e308 0 0\nv -1e308 0 0\nv 0 1 1\nf 1 2 3\n"));
+              import_mesh(s, small(10), "huge.obj");
+            }).find("x extent (card axes) overflows a double"),
+            std::string::npos)
+      << "huge coordinates";
 }
 
 TEST(MeshRead, BadFilesGiveClearErrors) {
