@@ -40,6 +40,20 @@ std::string error_of(const std::function<void()>& f) {
   return "no error";
 }
 
+// Thin top faces partly dropped: a slice's top left out while a slice next to it, with a step at
+// the same height over overlapping depths (the same face), keeps its top. Must be 0.
+int partly_dropped_faces(const VoxelModel& m) {
+  int partial = 0;
+  for (int x = 0; x + 1 < m.width; ++x) {
+    for (int y = 0; y < m.depth; ++y) {
+      const int z = m.h(x, y);
+      if (z == 0) continue;
+      if (m.h(x + 1, y) == z && m.is_top_dropped(x, z) != m.is_top_dropped(x + 1, z)) ++partial;
+    }
+  }
+  return partial;
+}
+
 TEST(MeshRead, EveryFormatGivesTheSameCard) {
   const TriangleSoup house = testing::house_mesh();
   const std::vector<std::pair<std::string, std::string>> files = {
@@ -131,6 +145,7 @@ TEST(MeshImport, RandomMeshesAlwaysGiveACardThatPopsUp) {
       const ImportResult r = import_mesh(s, o, "random");
       ASSERT_FALSE(find_violation(r.model)) << "trial " << trial << ": the staircase rule holds";
       ASSERT_TRUE(pops_up(r.model)) << "trial " << trial << ": every import pops up";
+      EXPECT_EQ(partly_dropped_faces(r.model), 0) << "trial " << trial << ": thin tops go as whole faces";
       windows += r.stats.windows_added;
     } catch (const Error& e) {
       // Only a documented refusal: nothing left after smoothing.
@@ -250,6 +265,37 @@ TEST(ThinTops, TallestOfARunStaysAsTheSupport) {
   VoxelModel wide = VoxelModel::empty(4, 2, 8, 1.0);
   for (int x = 0; x < 4; ++x) wide.h_at(x, 0) = wide.h_at(x, 1) = 5 + x / 2;
   EXPECT_EQ(drop_thin_tops(wide, 1).dropped, 0) << "tops two slices wide are above the threshold of one";
+}
+
+TEST(ThinTops, AWideThinFaceGoesAsAWhole) {
+  // Fig. 14 (a) with every step two slices wide and a threshold of two: the three lower faces go
+  // whole; the tallest must stay to hold the front wall, and stays whole (slice by slice its left
+  // slice could go, the right one holding the wall, which leaves a face half dropped).
+  VoxelModel m = VoxelModel::empty(8, 2, 10, 1.0);
+  for (int x = 0; x < 8; ++x) m.h_at(x, 0) = m.h_at(x, 1) = 5 + x / 2;
+  const ThinTops r = drop_thin_tops(m, 2);
+  EXPECT_EQ(r.dropped, 3) << "three faces go";
+  EXPECT_EQ(r.kept, 1) << "the tallest face stays";
+  EXPECT_FALSE(m.is_top_dropped(6, 8) || m.is_top_dropped(7, 8)) << "no slice of the kept face is dropped";
+  for (int x = 0; x < 6; ++x) EXPECT_TRUE(m.is_top_dropped(x, 5 + x / 2)) << "slice " << x << " of a dropped face";
+  EXPECT_EQ(partly_dropped_faces(m), 0) << "faces go whole";
+  EXPECT_TRUE(pops_up(m)) << "and the card pops up";
+}
+
+TEST(ThinTops, MeshWithAWideThinRoof) {
+  // A stepped roof of four terraces rising to the right, each 2 voxels wide and as deep as the
+  // card: every roof face is 2 slices wide, under a threshold of 2.
+  TriangleSoup s;
+  for (int k = 0; k < 4; ++k) testing::add_box(s, 2.0 * k, 0, 0, 2.0 * k + 2, 3, 5.0 + k);
+  ImportOptions o = small(8);
+  o.keep_depth = 1;
+  o.structuring_element = 1;
+  o.thin_top_voxels = 2;
+  const ImportResult r = import_mesh(s, o, "roof");
+  EXPECT_EQ(r.stats.tops_dropped, 3) << "the three lower terraces go";
+  EXPECT_EQ(r.stats.tops_kept, 1) << "the top terrace holds the front wall";
+  EXPECT_EQ(partly_dropped_faces(r.model), 0) << "and each terrace goes or stays whole, across its two slices";
+  EXPECT_TRUE(pops_up(r.model)) << "the card pops up";
 }
 
 TEST(ThinTops, DroppedTopLiesOnTheWallBehind) {
