@@ -269,7 +269,7 @@ int run(int argc, char** argv) {
   import_cmd->add_option("--depth-method", depth_method, "zbuffer (rasterise triangles) or raycast (CGAL AABB tree)")->capture_default_str();
   import_cmd->add_option("--name", import_opt.name, "Label stored in the model");
   import_cmd->add_option("--pattern", pattern_path, "Also write the pattern: OUT.svg or OUT.json");
-  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose wall tops follow the mesh silhouette instead of voxel steps");
+  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose cut outlines (wall tops, openings) follow the mesh silhouette instead of voxel steps");
   import_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
 
@@ -483,7 +483,7 @@ int run(int argc, char** argv) {
         if (!pattern_path.empty()) j["pattern"] = pattern_path;
         if (faces) {
           const SilhouetteComparison& c = faces->comparison;
-          j["faces"] = {{"outlines_redrawn", c.outlines}, {"steps_kept", c.steps_kept}, {"voxel_lines", c.voxel_lines},
+          j["faces"] = {{"outlines_redrawn", c.outlines}, {"outlines_kept", c.outlines_kept}, {"fell_back", c.fell_back}, {"steps_kept", c.steps_kept}, {"voxel_lines", c.voxel_lines},
                         {"face_lines", c.face_lines}, {"samples", c.samples},
                         {"voxel_mean_mm", c.voxel_mean_mm}, {"face_mean_mm", c.face_mean_mm},
                         {"voxel_max_mm", c.voxel_max_mm}, {"face_max_mm", c.face_max_mm}};
@@ -499,7 +499,8 @@ int run(int argc, char** argv) {
         out << "; wrote " << out_path << (pattern_path.empty() ? "" : " and " + pattern_path) << "\n";
         if (faces) {
           const SilhouetteComparison& c = faces->comparison;
-          out << "faces: " << c.outlines << " wall tops follow the silhouette (" << c.steps_kept << " steps kept); lines "
+          out << "faces: " << c.outlines << " outlines follow the silhouette (" << c.outlines_kept << " kept in steps, " << c.steps_kept
+              << " single steps kept" << (c.fell_back ? "; the redrawn model failed its check: voxel outlines written" : "") << "); lines "
               << c.voxel_lines << " (voxels) -> " << c.face_lines << " (faces); distance to the silhouette, mean "
               << mm(c.voxel_mean_mm) << " -> " << mm(c.face_mean_mm) << " mm, max " << mm(c.voxel_max_mm) << " -> "
               << mm(c.face_max_mm) << " mm over " << c.samples << " samples\n";
