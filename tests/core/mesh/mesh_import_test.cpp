@@ -102,6 +102,20 @@ TEST(MeshImport, ArchOpeningBecomesWindows) {
   EXPECT_FALSE(r.model.is_window(2, 3)) << "the pier is solid";
 }
 
+TEST(MeshImport, ArchSillsLineUp) {
+  // An opening taller than the card is deep keeps one solid row per slice under its windows; at
+  // the same height in every slice, those rows' sills make one face, not one per slice (the
+  // paper's top-down order gave 8 and 18 sills held from one side on examples/meshes/arch.off).
+  const TriangleSoup arch = testing::arch_mesh(40, 30, 40, 16);
+  for (int across : {40, 80}) {
+    const ImportResult r = import_mesh(arch, small(across), "arch");
+    const PopupReport report = check_popup(make_pattern(r.model));
+    ASSERT_TRUE(report.pops_up()) << across << " across";
+    EXPECT_GT(r.stats.windows_added, 0) << across << " across: the opening is open";
+    EXPECT_LE(report.flaps.size(), 2u) << across << " across: the sills line up into few faces held from one side";
+  }
+}
+
 TEST(MeshImport, TowerStepsBackTierByTier) {
   const ImportResult r = import_mesh(testing::tower_mesh(), small(40), "tower");
   const VoxelModel& m = r.model;
