@@ -36,8 +36,8 @@ struct WindowMarking {
 // deep keeps its solid row where the floor stops holding the window paper, at the same height in
 // every slice, so its sills line up (examples/meshes/arch.off: 2 sills held from one side instead
 // of 8 at 40 across and 18 at 80; see docs/import.md). Each decision is IncrementalPopup's, so
-// the work follows what a window can reach rather than the whole card. A card that does not pop up to begin with is
-// left as it is (nothing can be judged on it).
+// the work follows what a window can reach rather than the whole card. A card that does not pop
+// up to begin with is left as it is (nothing can be judged on it).
 WindowMarking mark_windows(VoxelModel& model, const std::vector<std::uint8_t>& rows, const std::string& source = "");
 
 // Fills every cell behind and below a filled one (eq. 4's closure, done as eq. 7 row by row):
