@@ -419,17 +419,19 @@ int run(int argc, char** argv) {
   }
   if (*import_cmd) {
     return guarded(json_out, [&] {
-      const auto axis = [](const std::string& text, const char* option) {
+      // Option errors name the mesh and the option (as import_mesh's do), so --json gets the option
+      // as the location.
+      const auto axis = [&](const std::string& text, const char* option) {
         if (auto a = parse_axis(text)) return *a;
-        throw Error(ErrorCode::invalid_input, option, "", "'" + text + "' is not an axis: use +x, -x, +y, -y, +z or -z");
+        throw Error(ErrorCode::invalid_input, model_path, option, "'" + text + "' is not an axis: use +x, -x, +y, -y, +z or -z");
       };
       // The range itself is checked (and named) by import_mesh; here only that it is a number.
-      const auto whole = [](const std::string& text, const char* option, const std::string& range) {
+      const auto whole = [&](const std::string& text, const char* option, const std::string& range) {
         int value = 0;
         const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (ec == std::errc::result_out_of_range) throw Error(ErrorCode::invalid_input, option, "", "'" + text.substr(0, 40) + "' is out of range: expected " + range);
+        if (ec == std::errc::result_out_of_range) throw Error(ErrorCode::invalid_input, model_path, option, "'" + text.substr(0, 40) + "' is out of range: expected " + range);
         if (ec != std::errc() || end != text.data() + text.size()) {
-          throw Error(ErrorCode::invalid_input, option, "", "'" + text.substr(0, 40) + "' is not a whole number: expected " + range);
+          throw Error(ErrorCode::invalid_input, model_path, option, "'" + text.substr(0, 40) + "' is not a whole number: expected " + range);
         }
         return value;
       };
@@ -442,14 +444,14 @@ int run(int argc, char** argv) {
       if (import_cmd->count("--voxel-mm")) import_opt.voxel_mm = voxel_mm;
       import_opt.windows = !no_windows;
       if (depth_method != "zbuffer" && depth_method != "raycast") {
-        throw Error(ErrorCode::invalid_input, "--depth-method", "", "'" + depth_method + "' is not a method: use zbuffer or raycast");
+        throw Error(ErrorCode::invalid_input, model_path, "--depth-method", "'" + depth_method + "' is not a method: use zbuffer or raycast");
       }
       import_opt.depth = depth_method == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
       if (out_path != "-") require_extension(out_path, {".json"}, "model type");
       std::string pattern_ext;
       if (!pattern_path.empty()) pattern_ext = require_extension(pattern_path, {".svg", ".json"}, "pattern type");
       if (out_path == "-" && json_out) {
-        throw Error(ErrorCode::invalid_input, "--json", "", "cannot print a summary when the model itself goes to standard output");
+        throw Error(ErrorCode::invalid_input, model_path, "--json", "cannot print a summary when the model itself goes to standard output");
       }
       const auto t0 = std::chrono::steady_clock::now();
       const TriangleSoup mesh = read_mesh(model_path);
