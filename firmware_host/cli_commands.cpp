@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <system_error>
 
 #include "popcut/error.h"
 #include "popcut/fold/fold.h"
@@ -248,23 +250,26 @@ int run(int argc, char** argv) {
   ImportOptions import_opt;
   std::string up_axis = "+z", front_axis = "-y", pattern_path, depth_method = "zbuffer";
   double width_mm = 0, voxel_mm = 0;
+  // Whole-number options are read as text and parsed below: CLI11 says only "Could not convert".
+  std::string resolution_text = std::to_string(import_opt.resolution), smooth_text = std::to_string(import_opt.structuring_element),
+              thin_tops_text = std::to_string(import_opt.thin_top_voxels);
   bool no_windows = false, faces_out = false;
   CLI::App* import_cmd = app.add_subcommand("import", "Turn a 3D mesh (OBJ, STL, OFF, PLY) into a voxel card that pops up (voxel paper §3).");
   import_cmd->add_option("MESH", model_path, "Mesh file: .obj, .stl (ASCII or binary), .off or .ply")->required();
   import_cmd->add_option("-o,--output", out_path, "Where to write the popcut.voxel.v1 model (OUT.json, or - for standard output)")->required();
   import_cmd->add_option("--up", up_axis, "Mesh axis pointing up: +x, -x, +y, -y, +z or -z")->capture_default_str();
   import_cmd->add_option("--front", front_axis, "Mesh axis pointing at the viewer (the card's depth)")->capture_default_str();
-  import_cmd->add_option("--resolution", import_opt.resolution, "Voxels across the card")->capture_default_str();
+  import_cmd->add_option("--resolution", resolution_text, "Voxels across the card")->capture_default_str();
   import_cmd->add_option("--width-mm", width_mm, "Card width of the model in mm (default 120)");
   import_cmd->add_option("--voxel-mm", voxel_mm, "Voxel edge in mm, instead of --width-mm");
   import_cmd->add_option("--keep-depth", import_opt.keep_depth, "Fraction of the model's depth kept, from the front (the paper keeps half)")->capture_default_str();
-  import_cmd->add_option("--smooth", import_opt.structuring_element, "Side of the square for opening and closing each slice, in voxels (odd; 1 = off)")->capture_default_str();
+  import_cmd->add_option("--smooth", smooth_text, "Side of the square for opening and closing each slice, in voxels (odd; 1 = off)")->capture_default_str();
   import_cmd->add_flag("--no-windows", no_windows, "Leave the rows filled by eq. 7 solid instead of trying them as windows");
-  import_cmd->add_option("--thin-tops", import_opt.thin_top_voxels, "Drop top faces at most this many voxels wide where the card stays valid (0 = keep all)")->capture_default_str();
+  import_cmd->add_option("--thin-tops", thin_tops_text, "Drop top faces at most this many voxels wide where the card stays valid (0 = keep all)")->capture_default_str();
   import_cmd->add_option("--depth-method", depth_method, "zbuffer (rasterise triangles) or raycast (CGAL AABB tree)")->capture_default_str();
   import_cmd->add_option("--name", import_opt.name, "Label stored in the model");
   import_cmd->add_option("--pattern", pattern_path, "Also write the pattern: OUT.svg or OUT.json");
-  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose wall tops follow the mesh silhouette instead of voxel steps");
+  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose cut outlines (wall tops, openings) follow the mesh silhouette instead of voxel steps");
   import_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
 
@@ -414,24 +419,39 @@ int run(int argc, char** argv) {
   }
   if (*import_cmd) {
     return guarded(json_out, [&] {
-      const auto axis = [](const std::string& text, const char* option) {
+      // Option errors name the mesh and the option (as import_mesh's do), so --json gets the option
+      // as the location.
+      const auto axis = [&](const std::string& text, const char* option) {
         if (auto a = parse_axis(text)) return *a;
-        throw Error(ErrorCode::invalid_input, "", option, "'" + text + "' is not an axis: use +x, -x, +y, -y, +z or -z");
+        throw Error(ErrorCode::invalid_input, model_path, option, "'" + text + "' is not an axis: use +x, -x, +y, -y, +z or -z");
       };
+      // The range itself is checked (and named) by import_mesh; here only that it is a number.
+      const auto whole = [&](const std::string& text, const char* option, const std::string& range) {
+        int value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec == std::errc::result_out_of_range) throw Error(ErrorCode::invalid_input, model_path, option, "'" + text.substr(0, 40) + "' is out of range: expected " + range);
+        if (ec != std::errc() || end != text.data() + text.size()) {
+          throw Error(ErrorCode::invalid_input, model_path, option, "'" + text.substr(0, 40) + "' is not a whole number: expected " + range);
+        }
+        return value;
+      };
+      import_opt.resolution = whole(resolution_text, "--resolution", "1 to " + std::to_string(kMaxImportResolution) + " voxels across");
+      import_opt.structuring_element = whole(smooth_text, "--smooth", "an odd side, 1 to " + std::to_string(kMaxStructuringElement));
+      import_opt.thin_top_voxels = whole(thin_tops_text, "--thin-tops", "0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
       import_opt.up = axis(up_axis, "--up");
       import_opt.front = axis(front_axis, "--front");
       if (import_cmd->count("--width-mm")) import_opt.width_mm = width_mm;
       if (import_cmd->count("--voxel-mm")) import_opt.voxel_mm = voxel_mm;
       import_opt.windows = !no_windows;
       if (depth_method != "zbuffer" && depth_method != "raycast") {
-        throw Error(ErrorCode::invalid_input, "", "--depth-method", "'" + depth_method + "': use zbuffer or raycast");
+        throw Error(ErrorCode::invalid_input, model_path, "--depth-method", "'" + depth_method + "' is not a method: use zbuffer or raycast");
       }
       import_opt.depth = depth_method == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
       if (out_path != "-") require_extension(out_path, {".json"}, "model type");
       std::string pattern_ext;
       if (!pattern_path.empty()) pattern_ext = require_extension(pattern_path, {".svg", ".json"}, "pattern type");
       if (out_path == "-" && json_out) {
-        throw Error(ErrorCode::invalid_input, "", "--json", "cannot print a summary when the model itself goes to standard output");
+        throw Error(ErrorCode::invalid_input, model_path, "--json", "cannot print a summary when the model itself goes to standard output");
       }
       const auto t0 = std::chrono::steady_clock::now();
       const TriangleSoup mesh = read_mesh(model_path);
@@ -465,7 +485,7 @@ int run(int argc, char** argv) {
         if (!pattern_path.empty()) j["pattern"] = pattern_path;
         if (faces) {
           const SilhouetteComparison& c = faces->comparison;
-          j["faces"] = {{"outlines_redrawn", c.outlines}, {"steps_kept", c.steps_kept}, {"voxel_lines", c.voxel_lines},
+          j["faces"] = {{"outlines_redrawn", c.outlines}, {"outlines_kept", c.outlines_kept}, {"fell_back", c.fell_back}, {"steps_kept", c.steps_kept}, {"voxel_lines", c.voxel_lines},
                         {"face_lines", c.face_lines}, {"samples", c.samples},
                         {"voxel_mean_mm", c.voxel_mean_mm}, {"face_mean_mm", c.face_mean_mm},
                         {"voxel_max_mm", c.voxel_max_mm}, {"face_max_mm", c.face_max_mm}};
@@ -481,7 +501,8 @@ int run(int argc, char** argv) {
         out << "; wrote " << out_path << (pattern_path.empty() ? "" : " and " + pattern_path) << "\n";
         if (faces) {
           const SilhouetteComparison& c = faces->comparison;
-          out << "faces: " << c.outlines << " wall tops follow the silhouette (" << c.steps_kept << " steps kept); lines "
+          out << "faces: " << c.outlines << " outlines follow the silhouette (" << c.outlines_kept << " kept in steps, " << c.steps_kept
+              << " single steps kept" << (c.fell_back ? "; the redrawn model failed its check: voxel outlines written" : "") << "); lines "
               << c.voxel_lines << " (voxels) -> " << c.face_lines << " (faces); distance to the silhouette, mean "
               << mm(c.voxel_mean_mm) << " -> " << mm(c.face_mean_mm) << " mm, max " << mm(c.voxel_max_mm) << " -> "
               << mm(c.face_max_mm) << " mm over " << c.samples << " samples\n";

@@ -230,6 +230,25 @@ TEST_F(Cli, ImportErrorsNameFileAndOption) {
   r = run("import " + obj + " -o " + (dir_ / "x.json").string() + " --up sideways");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--up: 'sideways' is not an axis"), std::string::npos) << r.err;
+  // Every option: the mesh and the option named (no "<input>"), the allowed values, a short number.
+  const std::vector<std::pair<std::string, std::string>> numbers = {
+      {"--up +q", "house.obj: --up: '+q' is not an axis: use +x, -x, +y, -y, +z or -z"},
+      {"--depth-method fast", "house.obj: --depth-method: 'fast' is not a method: use zbuffer or raycast"},
+      {"--resolution 1e10", "house.obj: --resolution: '1e10' is not a whole number: expected 1 to 2048 voxels across"},
+      {"--resolution 99999999999", "house.obj: --resolution: '99999999999' is out of range: expected 1 to 2048 voxels across"},
+      {"--smooth 3.5", "house.obj: --smooth: '3.5' is not a whole number: expected an odd side, 1 to 15"},
+      {"--thin-tops -99999999999", "house.obj: --thin-tops: '-99999999999' is out of range: expected 0 (off) to 4096 voxels"},
+      {"--width-mm 1e308", "--width-mm: gives voxels of 1.25e+306 mm; they must be 0.01 to 1000 mm"},
+      {"--voxel-mm nan", "--voxel-mm: gives voxels of nan mm; they must be 0.01 to 1000 mm"},
+      {"--keep-depth 1e308", "--keep-depth: must be a fraction above 0 and at most 1, not 1e+308"},
+  };
+  for (const auto& [flags, message] : numbers) {
+    r = run("import " + obj + " -o " + (dir_ / "x.json").string() + " " + flags);
+    EXPECT_EQ(r.code, 2) << flags << ": bad input";
+    EXPECT_NE(r.err.find(message), std::string::npos) << flags << ": expected '" << message << "', got " << r.err;
+    EXPECT_EQ(r.err.find("<input>"), std::string::npos) << flags << ": the mesh is named, not <input>: " << r.err;
+    EXPECT_LT(r.err.size(), 200u) << flags << ": the message stays short: " << r.err;
+  }
   r = run("import " + file("bad.obj", "v 0 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\n") + " -o " + (dir_ / "x.json").string() + " --json");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("bad.obj: line 2: 'nan' is not a finite number"), std::string::npos) << r.err;

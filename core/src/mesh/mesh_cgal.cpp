@@ -20,6 +20,7 @@
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 #include "popcut/mesh/mesh_import.h"
+#include "mesh/mesh_file_check.h"
 
 namespace popcut {
 namespace {
@@ -192,6 +193,7 @@ TriangleSoup read_mesh(const std::string& path) {
 
   if (ext == "stl") check_binary_stl(path, bytes);
   check_declared_counts(path, ext, bytes);
+  check_mesh_list_counts(path, ext, bytes);
   std::vector<K::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   parse(path, ext, bytes, points, polygons);

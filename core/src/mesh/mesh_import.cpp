@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "popcut/error.h"
@@ -22,11 +23,11 @@ double axis_sign(Axis a) { return static_cast<int>(a) % 2 == 0 ? 1.0 : -1.0; }
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
+// Six significant digits: an option of 1e308 is named as such, not in 300 digits.
 std::string fmt(double v) {
-  std::string s = std::to_string(v);
-  s.erase(s.find_last_not_of('0') + 1);
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
 }
 
 void check_options(const ImportOptions& o, const std::string& source) {
@@ -96,6 +97,13 @@ ImportGrid plan_grid(const TriangleSoup& mesh, const ImportOptions& o, const std
   }
   if (mesh.triangles.empty()) throw Error(ErrorCode::invalid_input, source, "", "the mesh has no triangles");
   const double ext[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+  // Finite coordinates near ±1.8e308 can still span more than a double holds.
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(ext[k])) {
+      throw Error(ErrorCode::limit, source, "", std::string("the mesh's ") + "xyz"[k] +
+                                                    " extent (card axes) overflows a double: its coordinates are too large (near 1e308)");
+    }
+  }
   if (!(ext[0] > 0)) throw Error(ErrorCode::invalid_input, source, "", "the mesh has no width across the view: check --up and --front");
   if (!(ext[2] > 0)) throw Error(ErrorCode::invalid_input, source, "", "the mesh has no height: check --up");
   ImportGrid g;

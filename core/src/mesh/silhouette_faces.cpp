@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 
 #include "popcut/error.h"
 #include "popcut/io/model_io.h"
@@ -36,6 +37,30 @@ struct FineDepth {
     if (at(i, k) < threshold) return std::nullopt;
     return static_cast<double>(k + 1) / scale;
   }
+
+  // Bottom (in voxels) of the run of fine cells in column i reaching depth t, searched from
+  // z_ref the same way: the underside of an arch or a balcony at that depth.
+  std::optional<double> bottom(int i, double t, double z_ref) const {
+    if (i < 0 || i >= width) return std::nullopt;
+    const double threshold = t - 0.5;
+    int k = std::clamp(static_cast<int>(std::lround(z_ref * scale)), 0, height - 1);
+    const int reach = 2 * scale;
+    if (at(i, k) >= threshold) {
+      const int limit = std::max(0, k - reach);
+      while (k > limit && at(i, k - 1) >= threshold) --k;
+      return static_cast<double>(k) / scale;
+    }
+    const int limit = std::min(height - 1, k + reach);
+    while (k < limit && at(i, k) < threshold) ++k;
+    if (at(i, k) < threshold) return std::nullopt;
+    return static_cast<double>(k) / scale;
+  }
+
+  // The silhouette edge at depth t near z_ref: the top of the region when the wall lies below
+  // the edge, its bottom when the wall lies above it.
+  std::optional<double> edge(int i, double t, double z_ref, bool wall_below) const {
+    return wall_below ? top(i, t, z_ref) : bottom(i, t, z_ref);
+  }
 };
 
 FineDepth fine_depth(const TriangleSoup& mesh, const ImportOptions& o, const ImportGrid& coarse, const std::string& source) {
@@ -55,10 +80,14 @@ FineDepth fine_depth(const TriangleSoup& mesh, const ImportOptions& o, const Imp
   return f;
 }
 
-// One edge between a front wall A (below in the pattern) and a wall B behind it (above),
-// running across consecutive slices: rows[k] is the boundary row in grid column first + k.
+// One cut between two faces of the pattern, `a` below and `b` above it, running across
+// consecutive slices: rows[k] is the boundary row in grid column first + k. The outline it
+// follows is the nearer wall's (the VFace with the larger depth, or the only VFace): a wall top
+// (the wall below, a wall behind or a dropped top above) or a wall's underside (the wall above,
+// a window's paper or a wall behind below: an arch or window opening, a balcony).
 struct Chain {
   int a = -1, b = -1;
+  bool wall_below = true;
   int first = 0;
   std::vector<int> rows;
   std::vector<int> low, high;  // per column: A's cells reach down to `low`, B's up to `high` (rows)
@@ -103,6 +132,13 @@ bool replace_path(std::vector<Ring*> rings, Point2 from, Point2 to, const std::v
   return false;
 }
 
+// At least three distinct points: a ring the face model accepts.
+bool ring_ok(const Ring& ring) {
+  std::vector<Point2> distinct(ring.begin(), ring.end());
+  std::sort(distinct.begin(), distinct.end(), [](Point2 a, Point2 b) { return std::tie(a.x_mm, a.v_mm) < std::tie(b.x_mm, b.v_mm); });
+  return std::unique(distinct.begin(), distinct.end()) - distinct.begin() >= 3;
+}
+
 }  // namespace
 
 SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& o, const ImportResult& r, const std::string& source) {
@@ -118,14 +154,25 @@ SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& 
   const auto t_of = [&](int f) { return static_cast<int>(std::lround(faces[static_cast<std::size_t>(f)].t_mm / mm)); };
   const auto is_v = [&](int f) { return faces[static_cast<std::size_t>(f)].kind == FaceKind::vertical; };
 
-  // Wall-on-wall boundaries per model column, then joined into chains across columns.
+  // Where the top edge of a cell of face a (below) and the bottom edge of a cell of face b
+  // (above) lie on the open card, at the boundary row `row`: a VFace at depth t holds row v at
+  // z = v + t, an HFace at height z holds it at y = z - v. They meet (a fold) when both are at
+  // one place; otherwise the boundary is a cut and may follow the silhouette.
+  const auto is_fold = [&](int a, int b, int row) {
+    const int v = row - floor;
+    const auto place = [&](int f) { return is_v(f) ? std::make_pair(t_of(f), v + t_of(f)) : std::make_pair(t_of(f) - v, t_of(f)); };
+    return place(a) == place(b);
+  };
+  const auto wall_is_below = [&](int a, int b) { return is_v(a) && (!is_v(b) || t_of(a) > t_of(b)); };
+
+  // Cuts with a wall on one side, per model column, then joined into chains across columns.
   std::vector<Chain> chains;
   std::map<std::pair<int, int>, std::size_t> open;  // (A, B) → chain ending at the previous column
   for (int c = side; c < side + m.width; ++c) {
     std::map<std::pair<int, int>, int> here;  // (A, B) → row, or -1 when it occurs twice
     for (int row = 1; row < g.rows; ++row) {
       const int a = reg(c, row - 1), b = reg(c, row);
-      if (a == b || !is_v(a) || !is_v(b) || t_of(a) <= t_of(b)) continue;
+      if (a == b || (!is_v(a) && !is_v(b)) || is_fold(a, b, row)) continue;
       auto [it, fresh] = here.emplace(std::make_pair(a, b), row);
       if (!fresh) it->second = -1;
     }
@@ -153,7 +200,7 @@ SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& 
         }
       }
       if (!joined) {
-        chains.push_back(Chain{key.first, key.second, c, {row}, {low}, {high + 1}});
+        chains.push_back(Chain{key.first, key.second, wall_is_below(key.first, key.second), c, {row}, {low}, {high + 1}});
         next[key] = chains.size() - 1;
       }
     }
@@ -166,18 +213,19 @@ SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& 
   for (const Chain& ch : chains) {
     const int n = static_cast<int>(ch.rows.size());
     if (n < 2) continue;  // a single slice has no step to smooth
-    const double t = t_of(ch.a);
+    const double t = t_of(ch.wall_below ? ch.a : ch.b);
     // Vertices at the slice boundaries inside the chain, in rows (v = row - floor).
     std::vector<double> vertex_rows(static_cast<std::size_t>(n + 1));
     vertex_rows[0] = ch.rows.front();
     vertex_rows[static_cast<std::size_t>(n)] = ch.rows.back();
     std::vector<Point2> interior, expected;
+    int found = 0;
     for (int k = 0; k + 1 < n; ++k) {
       const int c = ch.first + k;
       const int x_model = c + 1 - side;  // the boundary, in model voxels
       const double z_ref = ch.rows[static_cast<std::size_t>(k)] - floor + t;
-      std::optional<double> z1 = fine.top(x_model * fine.scale - 1, t, z_ref);
-      std::optional<double> z2 = fine.top(x_model * fine.scale, t, ch.rows[static_cast<std::size_t>(k + 1)] - floor + t);
+      std::optional<double> z1 = fine.edge(x_model * fine.scale - 1, t, z_ref, ch.wall_below);
+      std::optional<double> z2 = fine.edge(x_model * fine.scale, t, ch.rows[static_cast<std::size_t>(k + 1)] - floor + t, ch.wall_below);
       const double lo = std::max(ch.low[static_cast<std::size_t>(k)], ch.low[static_cast<std::size_t>(k + 1)]) + 0.1;
       const double hi = std::min(ch.high[static_cast<std::size_t>(k)], ch.high[static_cast<std::size_t>(k + 1)]) - 0.1;
       const int r1 = ch.rows[static_cast<std::size_t>(k)], r2 = ch.rows[static_cast<std::size_t>(k + 1)];
@@ -193,9 +241,39 @@ SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& 
       } else {
         ++cmp.steps_kept;
         interior.push_back(pt(c + 1, r1));
-        interior.push_back(pt(c + 1, r2));
+        if (r2 != r1) interior.push_back(pt(c + 1, r2));  // a repeated point would pinch the ring
         vertex_rows[static_cast<std::size_t>(k + 1)] = (r1 + r2) / 2.0;
+        continue;
       }
+      ++found;
+    }
+    if (found == 0) continue;  // the silhouette at this depth is nowhere near: nothing to redraw
+    // Distances to the silhouette at every fine column inside the chain; an outline that would
+    // not come closer than its steps (the search found another edge) keeps its steps.
+    struct {
+      double voxel_sum = 0, face_sum = 0, voxel_max = 0, face_max = 0;
+      int samples = 0;
+    } d;
+    for (int i = (ch.first - side) * fine.scale; i < (ch.first - side + n) * fine.scale; ++i) {
+      const double x = (i + 0.5) / fine.scale;  // model voxels
+      const int k = static_cast<int>(x) - (ch.first - side);
+      const double z_voxel = ch.rows[static_cast<std::size_t>(k)] - floor + t;
+      const std::optional<double> z_sil = fine.edge(i, t, z_voxel, ch.wall_below);
+      if (!z_sil) continue;
+      // The polyline between the vertices of slice k: the left end x = k, the right x = k + 1.
+      const double f = x - static_cast<int>(x);
+      const double row = vertex_rows[static_cast<std::size_t>(k)] * (1 - f) + vertex_rows[static_cast<std::size_t>(k + 1)] * f;
+      const double z_face = row - floor + t;
+      const double dv = std::abs(z_voxel - *z_sil) * mm, df = std::abs(z_face - *z_sil) * mm;
+      d.voxel_sum += dv;
+      d.face_sum += df;
+      d.voxel_max = std::max(d.voxel_max, dv);
+      d.face_max = std::max(d.face_max, df);
+      ++d.samples;
+    }
+    if (d.samples == 0 || d.face_sum > d.voxel_sum) {
+      ++cmp.outlines_kept;
+      continue;
     }
     const Point2 left = pt(ch.first, ch.rows.front()), right = pt(ch.first + n, ch.rows.back());
     // A (below) walks its edge right to left, B (above) left to right: both keep the region on their left.
@@ -211,25 +289,23 @@ SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& 
       fb = keep_b;
       continue;
     }
-    ++cmp.outlines;
-    // Distances to the silhouette at every fine column inside the chain.
-    for (int i = (ch.first - side) * fine.scale; i < (ch.first - side + n) * fine.scale; ++i) {
-      const double x = (i + 0.5) / fine.scale;  // model voxels
-      const int k = static_cast<int>(x) - (ch.first - side);
-      const double z_voxel = ch.rows[static_cast<std::size_t>(k)] - floor + t;
-      const std::optional<double> z_sil = fine.top(i, t, z_voxel);
-      if (!z_sil) continue;
-      // The polyline between the vertices of slice k: the left end x = k, the right x = k + 1.
-      const double f = x - static_cast<int>(x);
-      const double row = vertex_rows[static_cast<std::size_t>(k)] * (1 - f) + vertex_rows[static_cast<std::size_t>(k + 1)] * f;
-      const double z_face = row - floor + t;
-      const double dv = std::abs(z_voxel - *z_sil) * mm, df = std::abs(z_face - *z_sil) * mm;
-      voxel_sum += dv;
-      face_sum += df;
-      cmp.voxel_max_mm = std::max(cmp.voxel_max_mm, dv);
-      cmp.face_max_mm = std::max(cmp.face_max_mm, df);
-      ++cmp.samples;
+    // The outline only moves area between the two faces; when a ring took another route round
+    // a face (a point it passes twice) or a face would vanish, this outline stays in steps.
+    const double before = face_area_mm2(keep_a) + face_area_mm2(keep_b);
+    const double area_a = face_area_mm2(fa), area_b = face_area_mm2(fb);
+    if (!(area_a > 0 && area_b > 0 && std::abs(area_a + area_b - before) <= 1e-6 * std::max(1.0, before)) || !ring_ok(fa.outer) ||
+        !ring_ok(fb.outer)) {
+      fa = keep_a;
+      fb = keep_b;
+      ++cmp.outlines_kept;
+      continue;
     }
+    ++cmp.outlines;
+    voxel_sum += d.voxel_sum;
+    face_sum += d.face_sum;
+    cmp.voxel_max_mm = std::max(cmp.voxel_max_mm, d.voxel_max);
+    cmp.face_max_mm = std::max(cmp.face_max_mm, d.face_max);
+    cmp.samples += d.samples;
   }
   if (cmp.samples > 0) {
     cmp.voxel_mean_mm = voxel_sum / cmp.samples;
@@ -255,6 +331,7 @@ SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& 
   }
   FaceModel model = model_of(voxel_pattern.faces);
   cmp = SilhouetteComparison{};
+  cmp.fell_back = true;
   cmp.voxel_lines = cmp.face_lines = static_cast<int>(voxel_pattern.lines.size());
   return SilhouetteFaces{std::move(model), cmp};
 }

@@ -1,10 +1,11 @@
-// Thin top faces found per step and across slices, dropped lowest first under the incremental check.
+// Thin top faces found per step and joined across slices, each dropped as a whole, lowest first, under the incremental check.
 #include "popcut/model/thin_tops.h"
 
 #include <algorithm>
 #include <tuple>
 #include <vector>
 
+#include "popcut/error.h"
 #include "popcut/pattern/incremental_popup.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
@@ -55,19 +56,39 @@ ThinTops drop_thin_tops(VoxelModel& m, int max_width_voxels, const std::string& 
       ++face_width[static_cast<std::size_t>(s.face)];
     }
   }
-  std::vector<Step> thin;
+  // A thin face goes as a whole or not at all: dropping part of it would leave a top narrower
+  // than the face and the threshold meant. Faces are tried lowest first (then leftmost), so the
+  // tallest of a run stays to hold the rest; within a face, slice by slice from the left, each
+  // step judged by the incremental check, and undone in reverse when a later slice cannot go
+  // (every undo returns to a state that popped up, so it cannot be refused).
+  std::vector<std::vector<Step>> thin(face_width.size());
   for (const auto& slice : slices) {
     for (const Step& s : slice) {
-      if (face_width[static_cast<std::size_t>(s.face)] <= max_width_voxels) thin.push_back(s);
+      if (face_width[static_cast<std::size_t>(s.face)] <= max_width_voxels) thin[static_cast<std::size_t>(s.face)].push_back(s);
     }
   }
-  std::sort(thin.begin(), thin.end(), [](const Step& a, const Step& b) { return std::tie(a.z, a.x) < std::tie(b.z, b.x); });
+  std::vector<std::size_t> order;
+  for (std::size_t f = 0; f < thin.size(); ++f) {
+    if (!thin[f].empty()) order.push_back(f);
+  }
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(thin[a].front().z, thin[a].front().x) < std::tie(thin[b].front().z, thin[b].front().x);
+  });
   IncrementalPopup card(m, source);
-  for (const Step& s : thin) {
-    if (card.try_drop_top(s.x, s.z)) {
+  for (std::size_t f : order) {
+    const std::vector<Step>& face = thin[f];
+    std::size_t done = 0;
+    while (done < face.size() && card.try_drop_top(face[done].x, face[done].z)) ++done;
+    if (done == face.size()) {
       ++out.dropped;
-    } else {
-      ++out.kept;
+      continue;
+    }
+    ++out.kept;
+    while (done > 0) {
+      --done;
+      if (!card.try_drop_top(face[done].x, face[done].z, false)) {
+        throw Error(ErrorCode::internal, source, "", "thin tops: undoing a dropped top was refused by the pop-up check");
+      }
     }
   }
   m = card.model();

@@ -31,15 +31,18 @@ struct WindowMarking {
 };
 
 // Voxel paper §3.2 c): tries isHole(x, z) for every candidate row (`rows[x * height + z]` != 0
-// with a front face) slice by slice, from the top row down as the paper does, keeping each only
-// while the card still pops up. Each decision is IncrementalPopup's, so the work follows what a
-// window can reach rather than the whole card. A card that does not pop up to begin with is
-// left as it is (nothing can be judged on it).
+// with a front face) slice by slice, from the bottom row up, keeping each only while the card
+// still pops up. The paper goes from the top down; bottom-up, an opening taller than the card is
+// deep keeps its solid row where the floor stops holding the window paper, at the same height in
+// every slice, so its sills line up (examples/meshes/arch.off: 2 sills held from one side instead
+// of 8 at 40 across and 18 at 80; see docs/import.md). Each decision is IncrementalPopup's, so
+// the work follows what a window can reach rather than the whole card. A card that does not pop
+// up to begin with is left as it is (nothing can be judged on it).
 WindowMarking mark_windows(VoxelModel& model, const std::vector<std::uint8_t>& rows, const std::string& source = "");
 
 // Fills every cell behind and below a filled one (eq. 4's closure, done as eq. 7 row by row):
-// the least filling that satisfies the staircase. Windows are tried row by row from the top of
-// each slice down, as the paper does (mark_windows).
+// the least filling that satisfies the staircase. Windows are tried row by row from the bottom
+// of each slice up (mark_windows).
 // `source` names the file in errors.
 RepairResult repair(const VoxelFile& file, const RepairOptions& options, const std::string& source = "");
 

@@ -1,0 +1,307 @@
+// Walks PLY and OFF bodies before CGAL reads them, so no list or face count asks for more memory than the file holds.
+#include "mesh/mesh_file_check.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include "popcut/error.h"
+
+namespace popcut {
+namespace {
+
+// CGAL's readers resize a face's index vector to the count the file states before reading the
+// indices (PLY: PLY_read_typed_list::get; OFF: read_OFF → resize(polygons[i], n)), so one face
+// saying 0xffffffff or 1e18 corners would take all the memory there is. Every list entry takes
+// at least one byte (binary: its type's size; text: a digit and a separator), so a count larger
+// than what is left of the file cannot be true and is refused here, naming the record.
+
+[[noreturn]] void fail(const std::string& path, const std::string& where, const std::string& message) {
+  throw Error(ErrorCode::invalid_input, path, where, message);
+}
+
+std::string record_name(const std::string& element, std::uint64_t index) { return element + " " + std::to_string(index + 1); }
+
+// ---- PLY ----
+
+struct PlyProperty {
+  bool list = false;
+  int size = 0;        // scalar size, or a list entry's size
+  int count_size = 0;  // a list's count type size
+  bool count_signed = false;
+  std::string name;
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// Size in bytes of a PLY scalar type and whether it is signed; 0 for an unknown name.
+int ply_type_size(const std::string& type, bool* is_signed = nullptr) {
+  struct Type {
+    const char* name;
+    int size;
+    bool is_signed;
+  };
+  static const Type types[] = {{"char", 1, true},     {"int8", 1, true},    {"uchar", 1, false},  {"uint8", 1, false},
+                               {"short", 2, true},    {"int16", 2, true},   {"ushort", 2, false}, {"uint16", 2, false},
+                               {"int", 4, true},      {"int32", 4, true},   {"uint", 4, false},   {"uint32", 4, false},
+                               {"float", 4, true},    {"float32", 4, true}, {"double", 8, true},  {"float64", 8, true}};
+  for (const Type& t : types) {
+    if (type == t.name) {
+      if (is_signed) *is_signed = t.is_signed;
+      return t.size;
+    }
+  }
+  return 0;
+}
+
+// A list count in a binary PLY: the count type's bytes, in the file's byte order.
+std::int64_t read_count(const std::string& bytes, std::size_t pos, int size, bool is_signed, bool big_endian) {
+  std::uint64_t u = 0;
+  for (int k = 0; k < size; ++k) {
+    const auto b = static_cast<unsigned char>(bytes[pos + static_cast<std::size_t>(big_endian ? k : size - 1 - k)]);
+    u = (u << 8) | b;
+  }
+  if (is_signed && size < 8 && (u >> (8 * size - 1)) != 0) return static_cast<std::int64_t>(u) - (std::int64_t{1} << (8 * size));
+  return static_cast<std::int64_t>(u);
+}
+
+void check_ply(const std::string& path, const std::string& bytes) {
+  std::size_t pos = 0;
+  std::string format;
+  std::vector<PlyElement> elements;
+  bool ended = false;
+  while (pos < bytes.size()) {
+    std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::istringstream words(bytes.substr(pos, eol - pos));
+    pos = eol + 1;
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "end_header") {
+      ended = true;
+      break;
+    }
+    if (keyword == "format") {
+      words >> format;
+    } else if (keyword == "element") {
+      PlyElement e;
+      words >> e.name >> e.count;
+      if (!words) return;  // CGAL reports the malformed header
+      elements.push_back(e);
+    } else if (keyword == "property" && !elements.empty()) {
+      PlyProperty p;
+      std::string type;
+      words >> type;
+      if (type == "list") {
+        std::string count_type, item_type;
+        words >> count_type >> item_type >> p.name;
+        p.list = true;
+        p.count_size = ply_type_size(count_type, &p.count_signed);
+        p.size = ply_type_size(item_type);
+        if (p.count_size == 0 || p.size == 0) return;  // an unknown type: CGAL reports it
+      } else {
+        words >> p.name;
+        p.size = ply_type_size(type);
+        if (p.size == 0) return;
+      }
+      elements.back().properties.push_back(p);
+    }
+  }
+  if (!ended) return;  // CGAL reports the missing end_header
+  const std::size_t body = pos;
+  const std::size_t size = bytes.size();
+
+  // Elements without properties take no bytes; CGAL would still loop over their count.
+  for (const PlyElement& e : elements) {
+    if (e.properties.empty() && e.count > size) {
+      fail(path, "header", "element '" + e.name + "' has no properties but a count of " + std::to_string(e.count) +
+                               ", more than the file's " + std::to_string(size) + " bytes: the file is corrupt");
+    }
+  }
+
+  if (format == "binary_little_endian" || format == "binary_big_endian") {
+    const bool big = format == "binary_big_endian";
+    std::size_t at = body;
+    const auto truncated = [&](const PlyElement& e, std::uint64_t i) {
+      fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+                                              "): the file is truncated");
+    };
+    for (const PlyElement& e : elements) {
+      for (std::uint64_t i = 0; i < e.count; ++i) {
+        for (const PlyProperty& p : e.properties) {
+          if (!p.list) {
+            if (size - at < static_cast<std::size_t>(p.size)) truncated(e, i);
+            at += static_cast<std::size_t>(p.size);
+            continue;
+          }
+          if (size - at < static_cast<std::size_t>(p.count_size)) truncated(e, i);
+          const std::int64_t n = read_count(bytes, at, p.count_size, p.count_signed, big);
+          at += static_cast<std::size_t>(p.count_size);
+          const std::uint64_t room = (size - at) / static_cast<std::size_t>(p.size);
+          if (n < 0 || static_cast<std::uint64_t>(n) > room) {
+            fail(path, record_name(e.name, i),
+                 "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
+                     " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
+          }
+          at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
+        }
+      }
+    }
+    return;
+  }
+  if (format != "ascii") return;  // CGAL reports an unknown format
+
+  // Text: count the tokens once, then walk them; a list may not claim more than are left.
+  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
+  std::uint64_t total = 0;
+  for (std::size_t k = body; k < size; ++k) {
+    if (!is_space(bytes[k]) && (k == body || is_space(bytes[k - 1]))) ++total;
+  }
+  std::size_t at = body;
+  std::uint64_t used = 0;
+  const auto next = [&]() -> std::string_view {
+    while (at < size && is_space(bytes[at])) ++at;
+    const std::size_t start = at;
+    while (at < size && !is_space(bytes[at])) ++at;
+    ++used;
+    return std::string_view(bytes).substr(start, at - start);
+  };
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        if (used >= total) {
+          fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+                                                  "): the file is truncated");
+        }
+        const std::string_view token = next();
+        if (!p.list) continue;
+        const std::string text(token);
+        char* end = nullptr;
+        const double n = std::strtod(text.c_str(), &end);
+        const std::uint64_t left = total - used;
+        if (end != text.c_str() + text.size() || !(n >= 0) || n != std::floor(n) || n > static_cast<double>(left)) {
+          fail(path, record_name(e.name, i),
+               "list '" + p.name + "' says '" + text + "' entries, but only " + std::to_string(left) +
+                   " numbers are left in the file: expected a whole number of entries that follow");
+        }
+        for (auto k = static_cast<std::uint64_t>(n); k > 0; --k) next();
+      }
+    }
+  }
+}
+
+// ---- OFF ----
+
+std::string strip_comment(std::string line) {
+  const std::size_t hash = line.find('#');
+  if (hash != std::string::npos) line.erase(hash);
+  return line;
+}
+
+std::uint32_t read_be32(const std::string& bytes, std::size_t pos) {
+  std::uint32_t u = 0;
+  for (int k = 0; k < 4; ++k) u = (u << 8) | static_cast<unsigned char>(bytes[pos + static_cast<std::size_t>(k)]);
+  return u;
+}
+
+void check_off(const std::string& path, const std::string& bytes) {
+  // Header: the keyword ([ST][C][N][4][n]OFF, maybe followed by BINARY), then vertex, face and
+  // edge counts, on one line or several.
+  std::istringstream in(bytes);
+  std::string line;
+  std::vector<std::string> tokens;
+  bool binary = false;
+  std::string keyword;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream words(strip_comment(line));
+    for (std::string w; words >> w;) {
+      if (keyword.empty()) {
+        keyword = w;
+        if (keyword.find("OFF") == std::string::npos) return;  // CGAL reports it
+        if (keyword.find('n') != std::string::npos) return;  // nOFF: a dimension first; left to CGAL (rare)
+      } else if (w == "BINARY" && tokens.empty()) {
+        binary = true;
+        break;  // binary counts follow the newline
+      } else {
+        tokens.push_back(w);
+      }
+    }
+    if (binary || tokens.size() >= 3) break;
+  }
+  if (binary) {
+    // Only the plain layout (3 float coordinates a vertex) is walked; CGAL's big-endian int32
+    // face counts would be negative or huge otherwise.
+    if (keyword != "OFF") return;
+    const std::size_t size = bytes.size();
+    std::size_t at = static_cast<std::size_t>(in.tellg());
+    if (in.tellg() < 0 || size - at < 12) return;  // CGAL reports the short header
+    const std::uint32_t vertices = read_be32(bytes, at), faces = read_be32(bytes, at + 4);
+    at += 12;
+    if (std::uint64_t{vertices} * 12 > size - at) {
+      fail(path, "header", "declares " + std::to_string(vertices) + " vertices, more than the file's " + std::to_string(size) +
+                               " bytes can hold: the file is truncated or corrupt");
+    }
+    at += std::size_t{vertices} * 12;
+    for (std::uint32_t f = 0; f < faces; ++f) {
+      for (int part = 0; part < 2; ++part) {  // the corners, then the colour components
+        if (size - at < 4) fail(path, record_name("face", f), "the file ends inside this face: the file is truncated");
+        const auto n = static_cast<std::int32_t>(read_be32(bytes, at));
+        at += 4;
+        if (n < 0 || static_cast<std::uint64_t>(n) > (size - at) / 4) {
+          fail(path, record_name("face", f),
+               std::string(part == 0 ? "says " : "has ") + std::to_string(n) + (part == 0 ? " corners" : " colour components") +
+                   ", but only " + std::to_string((size - at) / 4) + " numbers are left in the file: the file is truncated or corrupt");
+        }
+        at += static_cast<std::size_t>(n) * 4;
+      }
+    }
+    return;
+  }
+  if (tokens.size() < 3) return;
+  std::uint64_t vertices = 0, faces = 0;
+  try {
+    vertices = std::stoull(tokens[0]);
+    faces = std::stoull(tokens[1]);
+  } catch (const std::exception&) {
+    return;  // CGAL reports it
+  }
+  // Text: one vertex a line, then one face a line ("n i1 … in [colour]"); CGAL reads a face's
+  // whole line and sizes the face by its first number, so that number may not exceed the
+  // numbers on the line.
+  std::uint64_t record = 0;
+  while (record < vertices + faces && std::getline(in, line)) {
+    ++line_number;
+    std::istringstream words(strip_comment(line));
+    std::vector<std::string> numbers;
+    for (std::string w; words >> w;) numbers.push_back(w);
+    if (numbers.empty()) continue;
+    if (record++ < vertices) continue;
+    const std::uint64_t face = record - vertices - 1;
+    char* end = nullptr;
+    const double n = std::strtod(numbers[0].c_str(), &end);
+    if (end != numbers[0].c_str() + numbers[0].size() || !(n >= 0) || n != std::floor(n) ||
+        n > static_cast<double>(numbers.size() - 1)) {
+      fail(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")",
+           "says '" + numbers[0] + "' corners, but the line has " + std::to_string(numbers.size() - 1) +
+               " more numbers: expected the corner count, then that many vertex indices");
+    }
+  }
+}
+
+}  // namespace
+
+void check_mesh_list_counts(const std::string& path, const std::string& ext, const std::string& bytes) {
+  if (ext == "ply") check_ply(path, bytes);
+  if (ext == "off") check_off(path, bytes);
+}
+
+}  // namespace popcut
