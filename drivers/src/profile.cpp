@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 #include <vector>
 
+#include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 
@@ -19,87 +20,6 @@ std::string num(double v) {
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
-
-// One section of the file: every key read is remembered so the rest can be refused as unknown.
-class Section {
- public:
-  Section(const toml::table* table, std::string name, std::string source)
-      : table_(table), name_(std::move(name)), source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
-    throw Error(ErrorCode::invalid_input, source_, "[" + name_ + "] " + key, message);
-  }
-
-  const toml::node* node(const std::string& key) {
-    seen_.insert(key);
-    return table_ ? table_->get(key) : nullptr;
-  }
-
-  double number(const std::string& key, double fallback, double lo, double hi) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_number()) fail(key, "expected a number");
-    const double v = n->value<double>().value_or(0);
-    if (!std::isfinite(v) || v < lo || v > hi) fail(key, num(v) + " is out of range " + num(lo) + " to " + num(hi));
-    return v;
-  }
-  std::optional<double> optional_number(const std::string& key, double lo, double hi) {
-    if (!node(key)) return std::nullopt;
-    return number(key, 0, lo, hi);
-  }
-  int integer(const std::string& key, int fallback, int lo, int hi) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_integer()) fail(key, "expected a whole number");
-    const std::int64_t v = n->value<std::int64_t>().value_or(0);
-    if (v < lo || v > hi) fail(key, std::to_string(v) + " is out of range " + std::to_string(lo) + " to " + std::to_string(hi));
-    return static_cast<int>(v);
-  }
-  bool boolean(const std::string& key, bool fallback) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_boolean()) fail(key, "expected true or false");
-    return n->value<bool>().value_or(false);
-  }
-  std::string text(const std::string& key, const std::string& fallback, std::size_t max_len = 256) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_string()) fail(key, "expected a string");
-    std::string s = n->value<std::string>().value_or("");
-    if (s.size() > max_len) fail(key, "longer than " + std::to_string(max_len) + " bytes");
-    return s;
-  }
-  // One of `names`; returns its index.
-  template <std::size_t N>
-  std::size_t choice(const std::string& key, std::size_t fallback, const std::array<const char*, N>& names) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    std::string allowed;
-    for (const char* a : names) allowed += std::string(allowed.empty() ? "" : ", ") + "\"" + a + "\"";
-    if (!n->is_string()) fail(key, "expected one of " + allowed);
-    const std::string s = n->value<std::string>().value_or("");
-    for (std::size_t i = 0; i < N; ++i) {
-      if (s == names[i]) return i;
-    }
-    fail(key, "\"" + s + "\" is not one of " + allowed);
-  }
-  const toml::array* array(const std::string& key) {
-    const toml::node* n = node(key);
-    if (n && !n->is_array()) fail(key, "expected an array");
-    return n ? n->as_array() : nullptr;
-  }
-  void reject_unknown() const {
-    if (!table_) return;
-    for (const auto& [k, v] : *table_) {
-      if (!seen_.count(std::string(k.str()))) fail(std::string(k.str()), "unknown key");
-    }
-  }
-
- private:
-  const toml::table* table_;
-  std::string name_, source_;
-  std::set<std::string> seen_;
-};
 
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
 constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
@@ -129,7 +49,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   const auto section = [&](const std::string& name) {
     const toml::node* n = root.get(name);
     if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
-    return Section(n ? n->as_table() : nullptr, name, source);
+    return TomlSection(n ? n->as_table() : nullptr, name, source);
   };
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
@@ -139,7 +59,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
     }
   }
 
-  Section dev = section("device");
+  TomlSection dev = section("device");
   if (!root.get("device")) dev.fail("name", "missing: every profile names its device");
   p.name = dev.text("name", "");
   if (p.name.empty()) dev.fail("name", "must not be empty");
@@ -165,7 +85,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   d.area_max_y_pu = static_cast<std::int64_t>(std::floor(max_y * d.units_per_mm_y));
   dev.reject_unknown();
 
-  Section h = section("hpgl");
+  TomlSection h = section("hpgl");
   d.init = h.text("init", "IN;");
   d.finish = h.text("finish", "PU;SP0;");
   d.move_style = h.choice("move_style", 0, std::array<const char*, 2>{"separate", "inline"}) == 0 ? MoveStyle::separate
@@ -180,7 +100,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   d.max_pairs_per_command = h.integer("max_pairs_per_command", 64, 1, 4096);
   h.reject_unknown();
 
-  Section t = section("transport");
+  TomlSection t = section("transport");
   p.transport.uri = t.text("default", "file:job.hpgl");
   p.transport.baud = t.integer("baud", 9600, 300, 4000000);
   p.transport.flow = static_cast<FlowControl>(t.choice("flow_control", 0, kFlowNames));
@@ -189,14 +109,14 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   p.transport.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
   t.reject_unknown();
 
-  Section k = section("kinematics");
+  TomlSection k = section("kinematics");
   p.kinematics.travel_speed_mm_s = k.number("travel_speed_cm_s", 30, 0.1, 500) * 10;
   p.kinematics.accel_mm_s2 = k.number("accel_mm_s2", 2000, 1, 100000);
   p.kinematics.knife_up_s = k.number("knife_up_s", 0.03, 0, 10);
   p.kinematics.knife_down_s = k.number("knife_down_s", 0.03, 0, 10);
   k.reject_unknown();
 
-  Section pl = section("plan");
+  TomlSection pl = section("plan");
   p.plan.fold_gap_mm = pl.number("fold_gap_mm", 0.5, 0, 20);
   p.plan.max_turn_deg = pl.optional_number("max_turn_deg", 1, 180);
   p.plan.optimise_budget = std::chrono::milliseconds(pl.integer("optimise_ms", 50, 0, 60000));
@@ -232,7 +152,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
     const std::string name = std::string("tool.") + kKindNames[i];
     const toml::node* n = tools ? tools->as_table()->get(kKindNames[i]) : nullptr;
     if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
-    Section s(n ? n->as_table() : nullptr, name, source);
+    TomlSection s(n ? n->as_table() : nullptr, name, source);
     ToolSetting& tool = p.tools[i];
     KindPlan& kp = p.plan.kinds[i];
     const bool fold = i < 2;
