@@ -118,7 +118,11 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
       d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
     }
     d.reject_unknown();
-    dev.profile = drivers::load_profile(dev.profile_path);  // its own errors name the profile file
+    try {
+      dev.profile = drivers::load_profile(dev.profile_path);
+    } catch (const Error& e) {
+      d.fail("profile", e.what());  // names both files: the config's entry and the profile's problem
+    }
     c.devices.push_back(std::move(dev));
   }
   if (c.devices.empty()) throw Error(ErrorCode::invalid_input, source, "[[device]]", "no devices: add at least one [[device]]");

@@ -211,10 +211,19 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       user_cancel = w.user_cancel;
     }
     switch (out.kind) {
-      case CutOutcome::Kind::complete:
-        store_.finish(job.id, JobState::done, "", "", out.sim_match);
+      case CutOutcome::Kind::complete: {
+        // Held against the whole plan from the resumed stroke on, worked out apart from the
+        // bytes sent: a resume that started at the wrong stroke shows here.
+        bool match = false;
+        if (out.sim_cut) {
+          std::vector<PlotterPath> expected = plan_in_plotter_units(plan, dev.profile.dialect);
+          expected.erase(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(std::min(from, expected.size())));
+          match = !drivers::first_difference(expected, *out.sim_cut);
+        }
+        store_.finish(job.id, JobState::done, "", "", match);
         ++cuts_completed_;
         break;
+      }
       case CutOutcome::Kind::stopped:
         if (user_cancel) store_.finish(job.id, JobState::cancelled, "", "cancelled during the cut; the knife was lifted");
         else store_.finish(job.id, JobState::interrupted, "", "popcutd stopped during the cut; the knife was lifted");

@@ -119,9 +119,10 @@ class DriversLink final : public DeviceLink {
                   std::to_string(job.bytes.size()) + " bytes";
     }
     if (cutter && out.kind == CutOutcome::Kind::complete) {
-      const bool finished = cutter->run_to_end();
-      out.sim_match = finished && !drivers::first_difference(job.paths, cutter->strokes()) && cutter->report().overflow_bytes == 0 &&
-                      !cutter->report().outside_area;
+      // A cutter that lost bytes, stalled or left its area did not cut the job, whatever it drew.
+      const drivers::SimReport& rep = cutter->report();
+      const bool clean = cutter->run_to_end() && rep.overflow_bytes == 0 && !rep.outside_area && rep.errors.empty();
+      out.sim_cut = clean ? cutter->strokes() : std::vector<drivers::SimStroke>{};
     }
     t.close();
     return out;

@@ -5,10 +5,13 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <vector>
 #include <string>
 
 #include "config.h"
 #include "cut_job.h"
+#include "popcut/drivers/sim_cutter.h"
 
 namespace popcut::daemon {
 
@@ -16,7 +19,9 @@ struct CutOutcome {
   enum class Kind { complete, stopped, failed } kind = Kind::failed;
   std::size_t strokes_sent = 0;  // of the job given (which may start at a resumed stroke)
   std::string error;             // failed: what the transport said
-  bool sim_match = false;        // sim devices: every stroke cut equals the plan
+  // sim devices: the knife-down paths the simulated cutter made (complete cuts only), for the
+  // caller to hold against its plan
+  std::optional<std::vector<drivers::SimStroke>> sim_cut;
 };
 
 class DeviceLink {
