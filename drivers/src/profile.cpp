@@ -1,6 +1,7 @@
 // Device profile loader: each TOML section read through typed, range-checked getters; unknown keys rejected.
 #include "popcut/drivers/profile.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -23,11 +24,22 @@ std::string num(double v) {
 
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
 constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
-constexpr std::array<const char*, 4> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b"};
+constexpr std::array<const char*, 5> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b", "dtr_dsr"};
+constexpr std::array<const char*, 3> kDrainNames = {"none", "esc_b", "esc_o"};
+
+// "vvvv:pppp" in hex, as lsusb prints USB ids.
+bool usb_id_text(const std::string& s) {
+  if (s.size() != 9 || s[4] != ':') return false;
+  for (std::size_t i = 0; i < 9; ++i) {
+    if (i != 4 && !std::isxdigit(static_cast<unsigned char>(s[i]))) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
 const char* to_string(FlowControl flow) { return kFlowNames[static_cast<std::size_t>(flow)]; }
+const char* to_string(DrainQuery query) { return kDrainNames[static_cast<std::size_t>(query)]; }
 
 std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
   std::array<double, 4> s{};
@@ -101,12 +113,39 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   h.reject_unknown();
 
   TomlSection t = section("transport");
-  p.transport.uri = t.text("default", "file:job.hpgl");
+  p.transport.uri = t.text("default", "");  // no guess: `popcut cut` asks for --device
   p.transport.baud = t.integer("baud", 9600, 300, 4000000);
   p.transport.flow = static_cast<FlowControl>(t.choice("flow_control", 0, kFlowNames));
   p.transport.buffer_bytes = static_cast<std::size_t>(t.integer("buffer_bytes", 1024, 64, 1 << 26));
   p.transport.timeout_ms = t.integer("timeout_ms", 5000, 10, 600000);
   p.transport.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
+  p.transport.data_bits = t.integer("data_bits", 8, 5, 8);
+  p.transport.parity = static_cast<Parity>(t.choice("parity", 0, std::array<const char*, 3>{"none", "odd", "even"}));
+  p.transport.stop_bits = t.integer("stop_bits", 1, 1, 2);
+  p.transport.drain_query = static_cast<DrainQuery>(
+      t.choice("drain_query", p.transport.flow == FlowControl::esc_b ? 1 : 0, kDrainNames));
+  p.transport.abort = t.text("abort", "", 64);
+  for (char c : p.transport.abort) {
+    // ESC plus printable HP-GL: anything else is a typo that a device would take as data.
+    if (c != '\x1b' && c != '\r' && c != '\n' && (c < 0x20 || c > 0x7e)) {
+      t.fail("abort", "only ESC (\\u001b), CR, LF and printable ASCII are allowed");
+    }
+  }
+  {
+    std::string upper;
+    for (char c : p.transport.abort) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (upper.find("PD") != std::string::npos) t.fail("abort", "must not lower the knife (PD): it is sent to stop a job");
+  }
+  if (const toml::array* ids = t.array("usb_ids")) {
+    for (const toml::node& n : *ids) {
+      const std::string id = n.value<std::string>().value_or("");
+      if (!usb_id_text(id)) t.fail("usb_ids", "\"" + id + "\" is not a USB id like \"0b4d:110a\" (hex vendor:product)");
+      std::string lower;
+      for (char c : id) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      p.transport.usb_ids.push_back(lower);
+    }
+  }
+  p.transport.usb_chunk_bytes = static_cast<std::size_t>(t.integer("usb_chunk_bytes", 4096, 8, 1 << 20));
   t.reject_unknown();
 
   TomlSection k = section("kinematics");
