@@ -5,6 +5,7 @@
 #include <set>
 #include <toml++/toml.h>
 
+#include "popcut/drivers/device.h"
 #include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
@@ -108,13 +109,12 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
     if (profile.empty()) d.fail("profile", "missing: the device profile (e.g. devices/sim.toml)");
     dev.profile_path = resolve(profile, source);
     dev.transport = d.text("transport", "", 4096);
-    if (dev.transport != "sim" && (dev.transport.rfind("file:", 0) != 0 || dev.transport.size() == 5)) {
-      d.fail("transport", "\"" + dev.transport + "\": expected sim or file:PATH");
-    }
-    if (dev.transport.rfind("file:", 0) == 0) dev.transport = "file:" + resolve(dev.transport.substr(5), source);
+    drivers::DeviceAddress address;
+    if (const drivers::TransportStatus st = drivers::parse_device(dev.transport, address); !st.ok()) d.fail("transport", st.message);
+    if (address.kind == drivers::DeviceKind::file) dev.transport = "file:" + resolve(address.path, source);
     dev.sim_slowdown = d.number("sim_slowdown", 1, 1, 100000);
     dev.sim_time_scale = d.number("sim_time_scale", 0, 0, 100);
-    if (dev.transport != "sim" && (d.node("sim_slowdown") || d.node("sim_time_scale"))) {
+    if (address.kind != drivers::DeviceKind::sim && (d.node("sim_slowdown") || d.node("sim_time_scale"))) {
       d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
     }
     d.reject_unknown();

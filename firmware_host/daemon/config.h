@@ -16,7 +16,7 @@ struct DeviceConfig {
   std::string name;          // [A-Za-z0-9_-], unique
   std::string profile_path;  // resolved against the config file's directory
   drivers::DeviceProfile profile;
-  std::string transport;     // "sim", "file:PATH"
+  std::string transport;     // a device string: sim, file:PATH, serial:..., usb:... (drivers/device.h)
   // sim only: the simulated motion takes this many times longer, and each simulated second takes
   // sim_time_scale wall-clock seconds (0: as fast as the host can go). A slow sim device gives
   // tests and demos a cut long enough to watch, cancel or kill.

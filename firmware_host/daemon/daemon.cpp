@@ -12,6 +12,7 @@
 #include "model_limits.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
+#include "popcut/hpgl/hpgl.h"
 #include "popcut/io/pattern_io.h"
 
 namespace popcut::daemon {
@@ -141,15 +142,16 @@ void Daemon::plan_one(const Job& job) {
     const std::optional<std::string> text = store_.model_json(job.id);
     if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
-    const StrokePlan plan = sendable_plan(plan_strokes(pattern, dev->profile.plan), dev->profile);
-    const EncodedCut check = encode_from(plan, dev->profile, 0);  // throws when the sheet does not fit
+    const StrokePlan plan = plan_strokes(pattern, dev->profile.plan);
+    // Throws when the sheet does not fit the device; refused now, not at the cutter.
+    const EncodedJob check = encode_job(plan, dev->profile.dialect, dev->profile.tools);
     const TimeEstimate t = estimate_time(plan, dev->profile.kinematics, dev->profile.cut_speed_mm_s());
     const std::filesystem::path dir = job_dir(job.id);
     std::filesystem::create_directories(dir);
     write_text_file((dir / "pattern.svg").string(), [&](std::ostream& o) { write_pattern_svg(o, pattern, {true}); });
     write_text_file((dir / "plan.json").string(), [&](std::ostream& o) { o << plan_to_json(plan); });
     // Committed last: a job is ready only once its files are on disk.
-    store_.set_planned(job.id, static_cast<std::int64_t>(check.stroke_ends.size()), t.total_s);
+    store_.set_planned(job.id, static_cast<std::int64_t>(check.total_strokes), t.total_s);
   } catch (const Error& e) {
     const bool user = e.code() == ErrorCode::invalid_input || e.code() == ErrorCode::limit;
     store_.finish(job.id, JobState::failed, to_string(user ? (e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model)
@@ -197,14 +199,21 @@ void Daemon::cut_one(Worker& w, const Job& job) {
   try {
     const std::string plan_path = (std::filesystem::path(job_dir(job.id)) / "plan.json").string();
     const StrokePlan plan = plan_from_json(read_text_file(plan_path, std::size_t{1} << 30), plan_path);
-    const std::size_t from = static_cast<std::size_t>(job.resume_from);
-    const EncodedCut cut = encode_from(plan, dev.profile, from);
-    log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", from, " of ", plan.strokes.size());
+    // resume_from strokes were fully sent by an earlier run: this one starts at the next.
+    const std::size_t done_before = static_cast<std::size_t>(job.resume_from);
+    if (done_before >= static_cast<std::size_t>(job.strokes_total)) {
+      // Killed after the last byte went out but before the drain was confirmed: nothing to send.
+      store_.finish(job.id, JobState::done, "", "every stroke had been sent before the restart");
+      return;
+    }
+    const EncodedJob cut = encode_job(plan, dev.profile.dialect, dev.profile.tools, done_before + 1);
+    log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
-    const CutOutcome out = link->cut(cut, w.stop_cut, [&](std::size_t n) {
-      store_.set_progress(job.id, static_cast<std::int64_t>(from + n));
+    const double share = cut.total_strokes ? 1.0 - static_cast<double>(done_before) / static_cast<double>(cut.total_strokes) : 1.0;
+    const CutOutcome out = link->cut(cut, job.est_time_s * share, w.stop_cut, [&](std::size_t last) {
+      store_.set_progress(job.id, static_cast<std::int64_t>(last));
     });
-    store_.set_progress(job.id, static_cast<std::int64_t>(from + out.strokes_sent));
+    store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
     bool user_cancel;
     {
       std::lock_guard lock(mutex_);
@@ -217,7 +226,7 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         bool match = false;
         if (out.sim_cut) {
           std::vector<PlotterPath> expected = plan_in_plotter_units(plan, dev.profile.dialect);
-          expected.erase(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(std::min(from, expected.size())));
+          expected.erase(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(std::min(done_before, expected.size())));
           match = !drivers::first_difference(expected, *out.sim_cut);
         }
         store_.finish(job.id, JobState::done, "", "", match);
@@ -225,8 +234,14 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         break;
       }
       case CutOutcome::Kind::stopped:
-        if (user_cancel) store_.finish(job.id, JobState::cancelled, "", "cancelled during the cut; the knife was lifted");
-        else store_.finish(job.id, JobState::interrupted, "", "popcutd stopped during the cut; the knife was lifted");
+        // An empty error: the abort bytes and knife-up reached the device.
+        if (user_cancel) {
+          store_.finish(job.id, JobState::cancelled, out.error.empty() ? "" : to_string(ApiError::device_error),
+                        out.error.empty() ? "cancelled during the cut; the knife was lifted" : out.error);
+        } else {
+          store_.finish(job.id, JobState::interrupted, out.error.empty() ? "" : to_string(ApiError::device_error),
+                        out.error.empty() ? "popcutd stopped during the cut; the knife was lifted" : out.error);
+        }
         break;
       case CutOutcome::Kind::failed:
         // The cutter may be fixed and the job resumed from the last stroke fully sent.
