@@ -35,6 +35,7 @@ class Connection {
     if (!token.empty()) client_.set_default_headers({{"Authorization", "Bearer " + token}});
     client_.set_connection_timeout(5);
     client_.set_read_timeout(60);
+    client_.set_tcp_nodelay(true);
   }
   json request(const std::string& method, const std::string& path, const std::string& body = "") {
     httplib::Result r = method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json");

@@ -48,14 +48,7 @@ std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
 }
 
 DeviceProfile parse_profile(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw Error(ErrorCode::invalid_input, source, "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
-                std::string(e.description()));
-  }
+  const toml::table root = parse_toml(text, source);
   DeviceProfile p;
   p.source = source;
   const auto section = [&](const std::string& name) {

@@ -21,6 +21,7 @@ namespace popcut::daemon {
 namespace {
 
 using drivers::TomlSection;
+using drivers::parse_toml;
 
 // Relative paths in the file mean: next to the file, so a config and its profiles travel together.
 std::string resolve(const std::string& path, const std::string& source) {
@@ -43,14 +44,7 @@ bool is_safe_name(const std::string& name) {
 }
 
 DaemonConfig parse_daemon_config(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw Error(ErrorCode::invalid_input, source, "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
-                std::string(e.description()));
-  }
+  const toml::table root = parse_toml(text, source);
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
     if (key != "server" && key != "limits" && key != "device" && key != "token") {

@@ -86,6 +86,7 @@ httplib::Client PopcutdProcess::client(const std::string& token) const {
   httplib::Client c("127.0.0.1", port_);
   if (!token.empty()) c.set_default_headers({{"Authorization", "Bearer " + token}});
   c.set_read_timeout(120);
+  c.set_tcp_nodelay(true);
   return c;
 }
 

@@ -103,4 +103,15 @@ class TomlSection {
   std::set<std::string> seen_;
 };
 
+// Parses a whole TOML document; syntax errors name `source`, line and column.
+inline toml::table parse_toml(const std::string& text, const std::string& source) {
+  try {
+    return toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw Error(ErrorCode::invalid_input, source, "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
+                std::string(e.description()));
+  }
+}
+
 }  // namespace popcut::drivers
