@@ -150,7 +150,7 @@ TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
   std::ofstream(POPCUT_KIOSK_SCREENSHOT, std::ios::binary) << png;
 }
 
-TEST(Kiosk, CancelsItsOwnJobWhileItCuts) {
+TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
   TempDir dir("popcut-kiosk");
   const std::string cfg = dir.write("slow.toml", "[server]\ndata_dir = \"x\"\n[[device]]\nname = \"slow\"\nprofile = \"" + kSrc +
                                                      "/configs/devices/sim.toml\"\ntransport = \"sim\"\nsim_time_scale = 1\nsim_slowdown = 20\n"
@@ -160,8 +160,12 @@ TEST(Kiosk, CancelsItsOwnJobWhileItCuts) {
   b.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
   ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#example option').length").get<int>() > 3; }, 60))
       << "the page lists the examples";
-  b.click("#example option[value='voxel-castle']");
-  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 60)) << "ready to queue";
+  // This time the model comes from a file, as a visitor's own would.
+  const json input = b.session("POST", "/element", {{"using", "css selector"}, {"value", "#upload"}});
+  b.session("POST", "/element/" + input.begin().value().get<std::string>() + "/value", {{"text", kSrc + "/examples/voxel/castle.json"}});
+  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 60))
+      << "the uploaded model renders and can be queued; page: " << b.run("return document.body.innerText").dump();
+  EXPECT_EQ(b.run("return document.getElementById('model-name').textContent").get<std::string>(), "castle") << "named after the file";
   b.click("#queue");
   ASSERT_TRUE(wait_until([&] {
     return b.run("const j = document.querySelector('#jobs .job'); return j ? j.dataset.state : ''").get<std::string>() == "cutting";
