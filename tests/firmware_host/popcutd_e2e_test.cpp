@@ -317,3 +317,58 @@ TEST_F(Popcutd, BadConfigExitsTwoNamingTheKey) {
 }
 
 }  // namespace
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+class PopcutClient : public Popcutd {
+ protected:
+  CliRun cli(const std::string& args) {
+    const std::string out = (dir_.path() / "cli.out").string(), err = (dir_.path() / "cli.err").string();
+    const int status = std::system((std::string(POPCUT_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+  }
+};
+
+TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
+  const auto d = start(slow_config(dir_, 1.0, 20.0));
+  const std::string server = "--server http://127.0.0.1:" + std::to_string(d->port()) + " --token " + kKiosk;
+  CliRun r = cli("submit " + kSrc + "/examples/voxel/castle.json --device slow --name castle --json " + server);
+  ASSERT_EQ(r.code, 0) << "submit exits 0: " << r.err;
+  const json job = json::parse(r.out);
+  EXPECT_EQ(job["name"], "castle") << "--json prints the job";
+  r = cli("jobs " + server);
+  EXPECT_EQ(r.code, 0) << "jobs exits 0: " << r.err;
+  EXPECT_NE(r.out.find("castle"), std::string::npos) << "jobs lists it: " << r.out;
+  r = cli("cancel " + std::to_string(job["id"].get<int>()) + " " + server);
+  EXPECT_EQ(r.code, 0) << "cancel exits 0: " << r.err;
+  httplib::Client c = d->client(kKiosk);
+  ASSERT_TRUE(wait_until([&] { return final_state(Popcutd::job(c, job["id"].get<std::int64_t>())); })) << "the job ends";
+  EXPECT_EQ(Popcutd::job(c, job["id"].get<std::int64_t>())["state"], "cancelled") << "cancelled through the CLI";
+
+  r = cli("cancel " + std::to_string(job["id"].get<int>()) + " " + server);
+  EXPECT_EQ(r.code, 2) << "cancelling a cancelled job is refused: exit 2";
+  EXPECT_NE(r.err.find("409 conflict"), std::string::npos) << "the daemon's code is shown: " << r.err;
+  r = cli("cancel 4242 " + server);
+  EXPECT_EQ(r.code, 2) << "unknown id: exit 2";
+  EXPECT_NE(r.err.find("404 not_found"), std::string::npos) << "the daemon's code is shown: " << r.err;
+  r = cli("submit " + kSrc + "/examples/voxel/castle.json --device nowhere " + server);
+  EXPECT_EQ(r.code, 2) << "unknown device: exit 2";
+  EXPECT_NE(r.err.find("no_device"), std::string::npos) << "named: " << r.err;
+  r = cli("submit " + kSrc + "/README.md --device slow " + server);
+  EXPECT_EQ(r.code, 2) << "a file that is not JSON: exit 2";
+  r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + " --token not-a-known-token-at-all");
+  EXPECT_EQ(r.code, 2) << "wrong token: exit 2";
+  EXPECT_NE(r.err.find("401 unauthorized"), std::string::npos) << "named: " << r.err;
+  const int port = d->port();
+  EXPECT_EQ(d->stop(SIGTERM), 0) << "daemon stopped";
+  r = cli("jobs --server http://127.0.0.1:" + std::to_string(port) + " --token " + kKiosk);
+  EXPECT_EQ(r.code, 3) << "no daemon: exit 3";
+  EXPECT_NE(r.err.find("cannot reach popcutd"), std::string::npos) << "said so: " << r.err;
+}
+
+}  // namespace
