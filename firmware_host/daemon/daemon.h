@@ -34,7 +34,7 @@ class Daemon {
   const DaemonConfig& config() const { return config_; }
   JobStore& store() { return store_; }
 
-  // Wakes planners and workers: a job was queued, resumed or a device unpaused.
+  // Wakes planners and workers: a job was queued or resumed, or a device resumed.
   void notify();
   // Cancel: queued..ready/interrupted at once; cutting: the device stops at a command boundary,
   // lifts the knife, and the worker records `cancelled`.

@@ -3,10 +3,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -339,7 +337,7 @@ void Api::install() {
     };
   };
   post(R"(/api/v1/devices/([^/]+)/pause)", pause(true));
-  post(R"(/api/v1/devices/([^/]+)/unpause)", pause(false));
+  post(R"(/api/v1/devices/([^/]+)/resume)", pause(false));
 
   post("/api/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) { submit(req, res); });
   get("/api/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {

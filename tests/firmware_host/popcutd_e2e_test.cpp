@@ -282,6 +282,13 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
   const std::int64_t held = submit(c, submission(box, "device", "sim-a", "held"));
   EXPECT_EQ(post_json(admin, "/api/v1/jobs/" + std::to_string(held) + "/cancel", "").status, 202) << "the admin cancels anyone's job";
   EXPECT_EQ(job(c, held)["state"], "cancelled") << "a job waiting on a paused device is cancelled at once";
+  const std::int64_t waiting = submit(c, submission(box, "device", "sim-a", "waiting"));
+  ASSERT_TRUE(wait_until([&] { return job(c, waiting)["state"] == "ready"; })) << "planned while the device is paused";
+  EXPECT_EQ(get_json(admin, "/api/v1/devices").body["devices"][0]["state"], "paused") << "the device says it is paused";
+  EXPECT_EQ(job(c, waiting)["state"], "ready") << "a paused device takes no job";
+  EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/resume", "").status, 200) << "the admin resumes the device";
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, waiting)); })) << "the waiting job is cut once the device resumes";
+  EXPECT_EQ(job(c, waiting)["state"], "done") << "and it is done";
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon still serves after every bad request";
   EXPECT_EQ(d->stop(SIGTERM), 0) << "and stops cleanly";
 }
