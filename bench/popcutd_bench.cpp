@@ -19,17 +19,12 @@ namespace {
 
 using popcut::testing::PopcutdProcess;
 using popcut::testing::TempDir;
+using popcut::testing::read_file;
 
 const std::string kSource = POPCUT_SOURCE_DIR;
 const std::string kKiosk = "kiosk-0123456789abcdef";
 const std::string kAdmin = "admin-0123456789abcdef";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Two paused sim cutters: jobs are planned and wait, so the figures are the API's and the queue's.
 std::string config(const TempDir& dir) {
@@ -98,7 +93,7 @@ void report(benchmark::State& state, const Load& l, int count) {
 }
 
 std::string submission(int i) {
-  static const std::string box = slurp(kSource + "/examples/voxel/box.json");
+  static const std::string box = read_file(kSource + "/examples/voxel/box.json");
   return "{\"profile\": \"sim\", \"name\": \"bench-" + std::to_string(i) + "\", \"model\": " + box + "}";
 }
 

@@ -18,6 +18,7 @@ using nlohmann::json;
 using popcut::testing::PopcutdProcess;
 using popcut::testing::Reply;
 using popcut::testing::TempDir;
+using popcut::testing::read_file;
 using popcut::testing::get_json;
 using popcut::testing::post_json;
 using popcut::testing::wait_until;
@@ -26,14 +27,8 @@ const std::string kSrc = POPCUT_SOURCE_DIR;
 const std::string kKiosk = "kiosk-change-me-0123456789";   // configs/popcutd.toml's tokens
 const std::string kAdmin = "admin-change-me-0123456789";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
-std::string example(const std::string& rel) { return slurp(kSrc + "/examples/" + rel); }
+std::string example(const std::string& rel) { return read_file(kSrc + "/examples/" + rel); }
 
 std::string submission(const std::string& model, const std::string& target_key, const std::string& target, const std::string& name) {
   return json{{"model", json::parse(model)}, {target_key, target}, {"name", name}}.dump();
@@ -319,8 +314,8 @@ TEST_F(Popcutd, BadConfigExitsTwoNamingTheKey) {
   const std::string cmd = std::string(POPCUTD) + " --config " + cfg + " 2>" + (dir_.path() / "err").string();
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(status), 2) << "bad config is exit 2";
-  EXPECT_NE(slurp((dir_.path() / "err").string()).find("bad.toml: [server] port: expected a whole number"), std::string::npos)
-      << "the message names file, section and key: " << slurp((dir_.path() / "err").string());
+  EXPECT_NE(read_file((dir_.path() / "err").string()).find("bad.toml: [server] port: expected a whole number"), std::string::npos)
+      << "the message names file, section and key: " << read_file((dir_.path() / "err").string());
 }
 
 }  // namespace
@@ -337,7 +332,7 @@ class PopcutClient : public Popcutd {
   CliRun cli(const std::string& args) {
     const std::string out = (dir_.path() / "cli.out").string(), err = (dir_.path() / "cli.err").string();
     const int status = std::system((std::string(POPCUT_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
   }
 };
 

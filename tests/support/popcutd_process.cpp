@@ -66,12 +66,14 @@ PopcutdProcess::~PopcutdProcess() {
   if (pid_ > 0) stop(SIGKILL);
 }
 
-std::string PopcutdProcess::log() const {
-  std::ifstream in(log_path_);
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
+
+std::string PopcutdProcess::log() const { return read_file(log_path_); }
 
 int PopcutdProcess::stop(int sig) {
   if (pid_ <= 0) return -1;

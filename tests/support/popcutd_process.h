@@ -50,6 +50,9 @@ class PopcutdProcess {
   std::string log_path_;
 };
 
+// A whole file as text ("" when it cannot be read).
+std::string read_file(const std::string& path);
+
 struct Reply {
   int status = 0;  // 0: no answer at all
   nlohmann::json body;
