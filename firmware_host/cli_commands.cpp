@@ -1,5 +1,6 @@
 // popcut subcommands: pattern, validate, repair, fold, render, import — load a model, run core, write files and reports.
 #include "cli_commands.h"
+#include "cli_client.h"
 #include "cli_cut.h"
 
 #include <CLI/CLI.hpp>
@@ -276,10 +277,13 @@ int run(int argc, char** argv) {
   // Stroke planning and cutting (issue 5): their options and handlers live in cli_cut.cpp.
   CutCommands cut_commands;
   add_cut_commands(app, cut_commands);
+  // The popcutd client (issue 7): cli_client.cpp.
+  ClientCommands client_commands;
+  add_client_commands(app, client_commands);
 
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan or cut)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan, cut, submit, jobs or cancel)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -299,6 +303,7 @@ int run(int argc, char** argv) {
   }
 
   if (const std::optional<int> rc = run_cut_commands(cut_commands)) return *rc;
+  if (const std::optional<int> rc = run_client_commands(client_commands)) return *rc;
   if (*pattern) {
     return guarded(json_out, [&] {
       const std::string ext = out_path == "-" ? ".json" : require_extension(out_path, {".json", ".svg"}, "output type");

@@ -1,8 +1,12 @@
-// popcut plan / cut: pattern → stroke plan → HP-GL for a device profile → a transport (sim or file).
+// popcut plan / cut: pattern → stroke plan → HP-GL for a device profile → a transport (sim, file, serial, usb).
 #include "cli_cut.h"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -10,7 +14,7 @@
 
 #include "cli_commands.h"
 #include "config_dir.h"
-#include "popcut/drivers/file_transport.h"
+#include "popcut/drivers/device.h"
 #include "popcut/drivers/job_sender.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
@@ -34,10 +38,11 @@ struct Job {
   DeviceProfile profile;
   StrokePlan plan;
   TimeEstimate time;
-  std::string hpgl;
+  std::string hpgl;     // the whole job
+  EncodedJob encoded;   // what is sent: the whole job, or from --resume-from on
 };
 
-Job make_job(const std::string& model_path, const std::string& profile_path) {
+Job make_job(const std::string& model_path, const std::string& profile_path, std::size_t from_stroke = 1) {
   Job j;
   j.profile = drivers::load_profile(profile_path);
   const Pattern pattern = load_cli_pattern(model_path);
@@ -46,11 +51,19 @@ Job make_job(const std::string& model_path, const std::string& profile_path) {
     // Report what is sent: strokes shorter than the plotter's resolution are not.
     j.plan = drop_below_resolution(j.plan, j.profile.dialect);
     j.time = estimate_time(j.plan, j.profile.kinematics, j.profile.cut_speed_mm_s());
-    j.hpgl = encode_hpgl(j.plan, j.profile.dialect, j.profile.tools);
+    j.encoded = encode_job(j.plan, j.profile.dialect, j.profile.tools);
   } catch (const Error& e) {
     // Name the profile: the sheet is fine, it is this device that is too small.
     if (e.code() != ErrorCode::invalid_input) throw;
     throw Error(e.code(), profile_path, e.location(), e.message());
+  }
+  j.hpgl = j.encoded.bytes;
+  if (from_stroke != 1) {
+    try {
+      j.encoded = encode_job(j.plan, j.profile.dialect, j.profile.tools, from_stroke);
+    } catch (const Error& e) {
+      throw Error(e.code(), "", "--resume-from", e.message());
+    }
   }
   return j;
 }
@@ -79,19 +92,29 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
   return r;
 }
 
-// A one-line bar on a terminal; nothing when stderr is a file or pipe.
+// A one-line bar on a terminal: bytes, strokes, ETA; nothing when stderr is a file or pipe.
 class Progress {
  public:
-  explicit Progress(bool on) : on_(on && ::isatty(STDERR_FILENO)) {}
-  void operator()(std::size_t sent, std::size_t total) {
-    if (!on_ || total == 0) return;
-    const int pct = static_cast<int>(sent * 100 / total);
-    if (pct == last_) return;
+  explicit Progress(bool on) : on_(on && ::isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()) {}
+  void operator()(const drivers::SendProgress& p) {
+    if (!on_ || p.bytes_total == 0) return;
+    const int pct = static_cast<int>(p.bytes_sent * 100 / p.bytes_total);
+    const auto now = std::chrono::steady_clock::now();
+    if (pct == last_ && now - shown_ < std::chrono::milliseconds(500)) return;
     last_ = pct;
+    shown_ = now;
     const int filled = pct * 30 / 100;
+    const double elapsed_s = std::chrono::duration<double>(now - start_).count();
+    std::string eta = "--";
+    if (p.bytes_sent > 0 && elapsed_s > 1) {
+      const double left_s = elapsed_s * static_cast<double>(p.bytes_total - p.bytes_sent) / static_cast<double>(p.bytes_sent);
+      const long s = static_cast<long>(left_s + 0.5);
+      eta = std::to_string(s / 60) + ":" + (s % 60 < 10 ? "0" : "") + std::to_string(s % 60);
+    }
     std::cerr << "\rcutting [" << std::string(static_cast<std::size_t>(filled), '#')
-              << std::string(static_cast<std::size_t>(30 - filled), '.') << "] " << pct << "% " << sent << "/" << total
-              << " bytes" << std::flush;
+              << std::string(static_cast<std::size_t>(30 - filled), '.') << "] " << pct << "% " << p.bytes_sent << "/"
+              << p.bytes_total << " bytes, stroke " << p.last_stroke_sent << "/" << p.total_strokes << " sent, ETA " << eta
+              << "   " << std::flush;
   }
   void done() {
     if (on_ && last_ >= 0) std::cerr << "\n";
@@ -100,6 +123,43 @@ class Progress {
  private:
   bool on_;
   int last_ = -1;
+  std::chrono::steady_clock::time_point start_, shown_{};
+};
+
+// Ctrl-C asks the sender to stop safely; later ones are absorbed so that a second Ctrl-C cannot
+// kill popcut between a PD and the abort that lifts the knife.
+std::atomic<bool> g_cancel{false};
+
+extern "C" void on_interrupt(int) {
+  if (!g_cancel.exchange(true)) {
+    static const char msg[] = "\npopcut: cancelling: finishing the command in flight, then lifting the knife\n";
+    (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
+  } else {
+    static const char msg[] = "\npopcut: already cancelling; the knife is being lifted, please wait\n";
+    (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
+  }
+}
+
+// Installs on_interrupt for SIGINT and SIGTERM for its lifetime.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_cancel = false;
+    struct sigaction sa {};
+    sa.sa_handler = on_interrupt;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGINT, &sa, &old_int_);
+    ::sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~InterruptGuard() {
+    ::sigaction(SIGINT, &old_int_, nullptr);
+    ::sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
 };
 
 int run_plan(const CutCommands& s) {
@@ -124,66 +184,118 @@ int run_plan(const CutCommands& s) {
   });
 }
 
+// The device and profile a cut uses: --device, else the profile's [transport] default; the sim
+// profile and `sim` stand in when neither is given.
+struct Target {
+  std::string device, profile_path, note;
+};
+
+Target cut_target(const CutCommands& s) {
+  Target t{s.device, s.profile_path, ""};
+  if (t.profile_path.empty()) {
+    if (!t.device.empty() && t.device != "sim") {
+      throw Error(ErrorCode::invalid_input, "", "--profile", "--device " + t.device + " needs --profile (configs/devices/*.toml)");
+    }
+    t.profile_path = find_config_file("devices/sim.toml");
+    t.device = "sim";
+  }
+  return t;
+}
+
 int run_cut(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
-    const bool sim = s.device == "sim";
-    if (!sim && s.device.rfind("file:", 0) != 0) {
-      throw Error(ErrorCode::invalid_input, "", "--device",
-                  "unknown device '" + s.device + "': use sim or file:PATH (serial and USB cutters are not supported yet)");
+    Target target = cut_target(s);
+    if (s.resume_from < 1) throw Error(ErrorCode::invalid_input, "", "--resume-from", "strokes are numbered from 1");
+    const Job j = make_job(s.model_path, target.profile_path, static_cast<std::size_t>(s.resume_from));
+    if (target.device.empty()) {
+      target.device = j.profile.transport.uri;
+      if (target.device.empty()) {
+        throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] default",
+                    "the profile names no device: give --device (sim, file:PATH, serial:..., usb:...)");
+      }
+      target.note = "using the profile's device " + target.device + " ([transport] default in " + target.profile_path + ")";
     }
-    if (!sim && s.device.size() == 5) throw Error(ErrorCode::invalid_input, "", "--device", "file: needs a path, e.g. file:job.hpgl");
-    if (!sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
-      throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
-    }
-    const std::string profile_path =
-        !s.profile_path.empty() ? s.profile_path : (sim ? find_config_file("devices/sim.toml") : "");
-    if (profile_path.empty()) throw Error(ErrorCode::invalid_input, "", "--profile", "a file: device needs --profile");
-    const Job j = make_job(s.model_path, profile_path);
-    std::error_code ec;
-    std::filesystem::create_directories(s.out_dir, ec);
-    if (ec) throw Error(ErrorCode::io, s.out_dir, "output", "cannot create the directory: " + ec.message());
-    const std::filesystem::path dir(s.out_dir);
-    write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << j.hpgl; });
-
     drivers::SimFaults faults;
     if (s.stop_answering_after >= 0) faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
     if (s.drop_after >= 0) faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
     faults.slowdown = s.slowdown;
-    std::shared_ptr<drivers::SimCutter> cutter;
-    std::unique_ptr<drivers::Transport> transport;
-    if (sim) {
-      cutter = std::make_shared<drivers::SimCutter>(j.profile, faults);
-      transport = std::make_unique<drivers::SimTransport>(cutter);
-    } else {
-      transport = std::make_unique<drivers::FileTransport>(s.device.substr(5));
+    drivers::MadeTransport made = drivers::make_transport(target.device, j.profile, faults);
+    if (!made.status.ok()) {
+      const bool usage = made.status.error == drivers::TransportError::bad_argument;
+      throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, "", usage ? "--device" : "output", made.status.message);
     }
-    if (const drivers::TransportStatus st = transport->open(); !st.ok()) {
-      throw Error(ErrorCode::io, transport->describe(), "output", st.message);
+    const bool sim = made.address.kind == drivers::DeviceKind::sim;
+    if (!sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
+      throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
+    }
+    if (made.address.kind == drivers::DeviceKind::usb && !j.profile.transport.usb_ids.empty()) {
+      const std::string id = drivers::usb_id_string(*made.address.vid, *made.address.pid);
+      const auto& ids = j.profile.transport.usb_ids;
+      if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
+        std::string list;
+        for (const std::string& k : ids) list += (list.empty() ? "" : ", ") + k;
+        throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] usb_ids",
+                    "the profile is for USB " + list + " (" + j.profile.name + "), not " + id + ": pick the profile of that device");
+      }
+    }
+    if (!target.note.empty() && !s.json_out) std::cerr << "popcut: " << target.note << "\n";
+    std::error_code ec;
+    std::filesystem::create_directories(s.out_dir, ec);
+    if (ec) throw Error(ErrorCode::io, s.out_dir, "output", "cannot create the directory: " + ec.message());
+    const std::filesystem::path dir(s.out_dir);
+    write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << j.encoded.bytes; });
+
+    drivers::Transport& transport = *made.transport;
+    if (const drivers::TransportStatus st = transport.open(); !st.ok()) {
+      const bool usage = st.error == drivers::TransportError::bad_argument;
+      throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, transport.describe(), usage ? "--device" : "output", st.message);
     }
     Progress progress(!s.no_progress && !s.json_out);
     drivers::SendOptions opts = drivers::send_options(j.profile);
-    // A file or printer-port node cannot answer XON/XOFF or ESC.B: the kernel's blocking writes
-    // pace a printer port, and a file needs no pacing. Asking would fail after truncating it.
-    if (!sim) opts.flow = drivers::FlowControl::none;
-    opts.progress = [&](std::size_t sent, std::size_t total) { progress(sent, total); };
-    const drivers::SendResult sent = drivers::send_job(*transport, j.hpgl, opts);
+    // The simulator's clock is virtual and run_to_end() below waits for it; a plain file needs
+    // no waiting. A real device (or a printer node) holds up to a buffer of motion.
+    const bool plain_file = made.address.kind == drivers::DeviceKind::file && made.address.path.rfind("/dev/", 0) != 0;
+    if (!sim && !plain_file && !j.hpgl.empty()) {
+      const double share = static_cast<double>(j.encoded.bytes.size()) / static_cast<double>(j.hpgl.size());
+      opts.job_motion_estimate = std::chrono::milliseconds(static_cast<long>(j.time.total_s * share * 1000));
+    }
+    opts.progress = [&](const drivers::SendProgress& p) { progress(p); };
+    opts.cancel = &g_cancel;
+    drivers::SendResult sent;
+    {
+      InterruptGuard guard;
+      sent = drivers::send_job(transport, j.encoded, opts);
+    }
     progress.done();
-    transport->close();
+    transport.close();
 
-    json report = plan_json(j, s.model_path, profile_path);
+    json report = plan_json(j, s.model_path, target.profile_path);
     report["format"] = "popcut.cut.v1";
-    report["transport"] = transport->describe();
+    report["transport"] = transport.describe();
     report["sent"] = {{"bytes", sent.bytes_sent},
-                      {"complete", sent.status.ok()},
+                      {"bytes_total", j.encoded.bytes.size()},
+                      {"complete", sent.complete()},
+                      {"cancelled", sent.cancelled},
+                      {"abort_sent", sent.abort_sent},
                       {"error", sent.status.ok() ? "" : std::string(drivers::to_string(sent.status.error))},
                       {"message", sent.status.message},
+                      {"first_stroke", sent.first_stroke},
+                      {"last_stroke_sent", sent.last_stroke_sent},
+                      {"total_strokes", sent.total_strokes},
+                      {"buffered_bytes", sent.buffered_bytes},
+                      {"buffer_known", sent.buffer_known},
+                      {"drained_by", sent.drained_by},
                       {"xoff_pauses", sent.xoff_pauses},
                       {"buffer_queries", sent.buffer_queries}};
     bool match = true;
+    const std::shared_ptr<drivers::SimCutter>& cutter = made.sim;
     if (cutter) {
       const bool finished = sent.status.ok() && cutter->run_to_end();
       const drivers::SimReport& r = cutter->report();
-      const std::optional<std::size_t> diff = drivers::first_difference(plan_in_plotter_units(j.plan, j.profile.dialect), cutter->strokes());
+      // From --resume-from N the simulator should have cut exactly strokes N.. of the plan.
+      std::vector<PlotterPath> planned = plan_in_plotter_units(j.plan, j.profile.dialect);
+      planned.erase(planned.begin(), planned.begin() + static_cast<std::ptrdiff_t>(std::min(planned.size(), j.encoded.first_stroke - 1)));
+      const std::optional<std::size_t> diff = drivers::first_difference(planned, cutter->strokes());
       match = finished && !diff && r.overflow_bytes == 0 && !r.outside_area;
       json unknown = json::array();
       for (const auto& u : r.unknown) unknown.push_back({{"offset", u.offset}, {"command", u.command}});
@@ -204,14 +316,27 @@ int run_cut(const CutCommands& s) {
                        {"unknown_commands", unknown},
                        {"errors", errors},
                        {"strokes_match_plan", !diff},
-                       {"first_mismatch", diff ? json(*diff) : json(nullptr)}};
+                       {"first_mismatch", diff ? json(*diff + j.encoded.first_stroke) : json(nullptr)}};
       write_cli_output((dir / "cut.svg").string(), [&](std::ostream& o) { cutter->write_svg(o); });
     }
     write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << report.dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
+    const std::string strokes = std::to_string(sent.last_stroke_sent) + " of " + std::to_string(sent.total_strokes);
+    const std::string resume = sent.last_stroke_sent < sent.total_strokes
+                                   ? "; to finish, run the same command with --resume-from " + std::to_string(sent.last_stroke_sent + 1)
+                                   : "";
+    if (sent.cancelled) {
+      std::cerr << "popcut: cancelled on " << transport.describe() << ": last stroke fully sent " << strokes << "; "
+                << (sent.abort_sent ? "sent the abort sequence and lifted the knife" : "could NOT send the abort sequence: " + sent.status.message)
+                << "; the device " << (sent.buffer_known ? "holds " : "may still hold up to ") << sent.buffered_bytes
+                << " bytes it can go on cutting" << (j.profile.transport.abort.empty() ? "" : " unless it honours the abort sequence") << resume
+                << "\n";
+      return static_cast<int>(kCannotWrite);
+    }
     if (!sent.status.ok()) {
-      std::cerr << "popcut: error: the job did not reach the cutter (" << transport->describe() << "): " << sent.status.message
-                << " after " << sent.bytes_sent << " of " << j.hpgl.size() << " bytes\n";
+      std::cerr << "popcut: error: the job did not reach the cutter (" << transport.describe() << "): " << sent.status.message
+                << " after " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " bytes; last stroke fully sent " << strokes
+                << resume << "\n";
       return static_cast<int>(kCannotWrite);
     }
     if (cutter && !match) {
@@ -220,8 +345,9 @@ int run_cut(const CutCommands& s) {
     }
     if (!s.json_out) {
       const KindStats t = j.plan.total();
-      std::cerr << "cut on " << transport->describe() << " (" << j.profile.name << "): " << t.strokes << " strokes, "
-                << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
+      std::cerr << "cut on " << transport.describe() << " (" << j.profile.name << "): " << t.strokes << " strokes";
+      if (j.encoded.first_stroke > 1) std::cerr << " (sent " << j.encoded.first_stroke << " to " << sent.total_strokes << ")";
+      std::cerr << ", " << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
       if (cutter) std::cerr << ", " << static_cast<long>(cutter->report().motion_time_s + 0.5) << " s of motion";
       std::cerr << "; wrote " << (dir / "job.hpgl").string() << (cutter ? ", cut.svg" : "") << " and report.json\n";
     }
@@ -240,10 +366,16 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
 
   s.cut = app.add_subcommand("cut", "Plan, encode and send a job to a cutter: the simulated one (sim) or a file/device node.\n"
-                                    "Writes DIR/job.hpgl, DIR/report.json and, on sim, DIR/cut.svg. Exit 3 if the job does not get through.");
+                                    "Writes DIR/job.hpgl (the bytes sent), DIR/report.json and, on sim, DIR/cut.svg. Ctrl-C cancels safely.\n"
+                                    "Exit 3 if the job does not get through (cancel, disconnect, timeout): the message names the last\n"
+                                    "stroke fully sent and the --resume-from that finishes the job.");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
-  s.cut->add_option("--device", s.device, "sim, or file:PATH (a .hpgl file or a printer-port node)")->capture_default_str();
-  s.cut->add_option("--profile", s.profile_path, "Device profile (default for sim: configs/devices/sim.toml)");
+  s.cut->add_option("--device", s.device,
+                    "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"
+                    "usb:VID:PID[:SERIAL]; default: the profile's [transport] default, or sim without --profile");
+  s.cut->add_option("--profile", s.profile_path, "Device profile (default: configs/devices/sim.toml on --device sim)");
+  s.cut->add_option("--resume-from", s.resume_from,
+                    "Send strokes N.. only (numbered from 1 as progress and errors count them), starting with the knife up");
   s.cut->add_option("--out", s.out_dir, "Directory for job.hpgl, cut.svg and report.json")->required();
   s.cut->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
   s.cut->add_flag("--no-progress", s.no_progress, "No progress bar, even on a terminal");

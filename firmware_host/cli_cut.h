@@ -10,10 +10,11 @@ namespace popcut::cli {
 struct CutCommands {
   CLI::App* plan = nullptr;
   CLI::App* cut = nullptr;
-  std::string model_path, profile_path, out_path, report_path, device = "sim", out_dir;
+  std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
   bool json_out = false, no_progress = false;
   long stop_answering_after = -1, drop_after = -1;
   double slowdown = 1;
+  long resume_from = 1;
 };
 
 // Adds `plan` and `cut` to the app; `state` receives the parsed options.

@@ -1,6 +1,7 @@
 // Device profile loader: each TOML section read through typed, range-checked getters; unknown keys rejected.
 #include "popcut/drivers/profile.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "popcut/drivers/hpgl_reader.h"
+#include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 
@@ -20,87 +22,6 @@ std::string num(double v) {
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
-
-// One section of the file: every key read is remembered so the rest can be refused as unknown.
-class Section {
- public:
-  Section(const toml::table* table, std::string name, std::string source)
-      : table_(table), name_(std::move(name)), source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
-    throw Error(ErrorCode::invalid_input, source_, "[" + name_ + "] " + key, message);
-  }
-
-  const toml::node* node(const std::string& key) {
-    seen_.insert(key);
-    return table_ ? table_->get(key) : nullptr;
-  }
-
-  double number(const std::string& key, double fallback, double lo, double hi) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_number()) fail(key, "expected a number");
-    const double v = n->value<double>().value_or(0);
-    if (!std::isfinite(v) || v < lo || v > hi) fail(key, num(v) + " is out of range " + num(lo) + " to " + num(hi));
-    return v;
-  }
-  std::optional<double> optional_number(const std::string& key, double lo, double hi) {
-    if (!node(key)) return std::nullopt;
-    return number(key, 0, lo, hi);
-  }
-  int integer(const std::string& key, int fallback, int lo, int hi) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_integer()) fail(key, "expected a whole number");
-    const std::int64_t v = n->value<std::int64_t>().value_or(0);
-    if (v < lo || v > hi) fail(key, std::to_string(v) + " is out of range " + std::to_string(lo) + " to " + std::to_string(hi));
-    return static_cast<int>(v);
-  }
-  bool boolean(const std::string& key, bool fallback) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_boolean()) fail(key, "expected true or false");
-    return n->value<bool>().value_or(false);
-  }
-  std::string text(const std::string& key, const std::string& fallback, std::size_t max_len = 256) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    if (!n->is_string()) fail(key, "expected a string");
-    std::string s = n->value<std::string>().value_or("");
-    if (s.size() > max_len) fail(key, "longer than " + std::to_string(max_len) + " bytes");
-    return s;
-  }
-  // One of `names`; returns its index.
-  template <std::size_t N>
-  std::size_t choice(const std::string& key, std::size_t fallback, const std::array<const char*, N>& names) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    std::string allowed;
-    for (const char* a : names) allowed += std::string(allowed.empty() ? "" : ", ") + "\"" + a + "\"";
-    if (!n->is_string()) fail(key, "expected one of " + allowed);
-    const std::string s = n->value<std::string>().value_or("");
-    for (std::size_t i = 0; i < N; ++i) {
-      if (s == names[i]) return i;
-    }
-    fail(key, "\"" + s + "\" is not one of " + allowed);
-  }
-  const toml::array* array(const std::string& key) {
-    const toml::node* n = node(key);
-    if (n && !n->is_array()) fail(key, "expected an array");
-    return n ? n->as_array() : nullptr;
-  }
-  void reject_unknown() const {
-    if (!table_) return;
-    for (const auto& [k, v] : *table_) {
-      if (!seen_.count(std::string(k.str()))) fail(std::string(k.str()), "unknown key");
-    }
-  }
-
- private:
-  const toml::table* table_;
-  std::string name_, source_;
-  std::set<std::string> seen_;
-};
 
 // What is wrong with an init or finish string, or "" when nothing is: it is sent verbatim
 // around popcut's own commands, so it must be whole HP-GL commands with numeric parameters, each
@@ -139,11 +60,22 @@ std::string hpgl_text_problem(const std::string& text) {
 
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
 constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
-constexpr std::array<const char*, 4> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b"};
+constexpr std::array<const char*, 5> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b", "dtr_dsr"};
+constexpr std::array<const char*, 3> kDrainNames = {"none", "esc_b", "esc_o"};
+
+// "vvvv:pppp" in hex, as lsusb prints USB ids.
+bool usb_id_text(const std::string& s) {
+  if (s.size() != 9 || s[4] != ':') return false;
+  for (std::size_t i = 0; i < 9; ++i) {
+    if (i != 4 && !std::isxdigit(static_cast<unsigned char>(s[i]))) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
 const char* to_string(FlowControl flow) { return kFlowNames[static_cast<std::size_t>(flow)]; }
+const char* to_string(DrainQuery query) { return kDrainNames[static_cast<std::size_t>(query)]; }
 
 std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
   std::array<double, 4> s{};
@@ -152,20 +84,13 @@ std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
 }
 
 DeviceProfile parse_profile(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw Error(ErrorCode::invalid_input, source, "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
-                std::string(e.description()));
-  }
+  const toml::table root = parse_toml(text, source);
   DeviceProfile p;
   p.source = source;
   const auto section = [&](const std::string& name) {
     const toml::node* n = root.get(name);
     if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
-    return Section(n ? n->as_table() : nullptr, name, source);
+    return TomlSection(n ? n->as_table() : nullptr, name, source);
   };
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
@@ -175,7 +100,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
     }
   }
 
-  Section dev = section("device");
+  TomlSection dev = section("device");
   if (!root.get("device")) dev.fail("name", "missing: every profile names its device");
   p.name = dev.text("name", "");
   if (p.name.empty()) dev.fail("name", "must not be empty");
@@ -201,7 +126,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   d.area_max_y_pu = static_cast<std::int64_t>(std::floor(max_y * d.units_per_mm_y));
   dev.reject_unknown();
 
-  Section h = section("hpgl");
+  TomlSection h = section("hpgl");
   d.init = h.text("init", "IN;");
   d.finish = h.text("finish", "PU;SP0;");
   for (const auto& [key, value] : {std::pair{"init", d.init}, std::pair{"finish", d.finish}}) {
@@ -224,23 +149,50 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   d.max_pairs_per_command = h.integer("max_pairs_per_command", 64, 1, 4096);
   h.reject_unknown();
 
-  Section t = section("transport");
-  p.transport.uri = t.text("default", "file:job.hpgl");
+  TomlSection t = section("transport");
+  p.transport.uri = t.text("default", "");  // no guess: `popcut cut` asks for --device
   p.transport.baud = t.integer("baud", 9600, 300, 4000000);
   p.transport.flow = static_cast<FlowControl>(t.choice("flow_control", 0, kFlowNames));
   p.transport.buffer_bytes = static_cast<std::size_t>(t.integer("buffer_bytes", 1024, 64, 1 << 26));
   p.transport.timeout_ms = t.integer("timeout_ms", 5000, 10, 600000);
   p.transport.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
+  p.transport.data_bits = t.integer("data_bits", 8, 5, 8);
+  p.transport.parity = static_cast<Parity>(t.choice("parity", 0, std::array<const char*, 3>{"none", "odd", "even"}));
+  p.transport.stop_bits = t.integer("stop_bits", 1, 1, 2);
+  p.transport.drain_query = static_cast<DrainQuery>(
+      t.choice("drain_query", p.transport.flow == FlowControl::esc_b ? 1 : 0, kDrainNames));
+  p.transport.abort = t.text("abort", "", 64);
+  for (char c : p.transport.abort) {
+    // ESC plus printable HP-GL: anything else is a typo that a device would take as data.
+    if (c != '\x1b' && c != '\r' && c != '\n' && (c < 0x20 || c > 0x7e)) {
+      t.fail("abort", "only ESC (\\u001b), CR, LF and printable ASCII are allowed");
+    }
+  }
+  {
+    std::string upper;
+    for (char c : p.transport.abort) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (upper.find("PD") != std::string::npos) t.fail("abort", "must not lower the knife (PD): it is sent to stop a job");
+  }
+  if (const toml::array* ids = t.array("usb_ids")) {
+    for (const toml::node& n : *ids) {
+      const std::string id = n.value<std::string>().value_or("");
+      if (!usb_id_text(id)) t.fail("usb_ids", "\"" + id + "\" is not a USB id like \"0b4d:110a\" (hex vendor:product)");
+      std::string lower;
+      for (char c : id) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      p.transport.usb_ids.push_back(lower);
+    }
+  }
+  p.transport.usb_chunk_bytes = static_cast<std::size_t>(t.integer("usb_chunk_bytes", 4096, 8, 1 << 20));
   t.reject_unknown();
 
-  Section k = section("kinematics");
+  TomlSection k = section("kinematics");
   p.kinematics.travel_speed_mm_s = k.number("travel_speed_cm_s", 30, 0.1, 500) * 10;
   p.kinematics.accel_mm_s2 = k.number("accel_mm_s2", 2000, 1, 100000);
   p.kinematics.knife_up_s = k.number("knife_up_s", 0.03, 0, 10);
   p.kinematics.knife_down_s = k.number("knife_down_s", 0.03, 0, 10);
   k.reject_unknown();
 
-  Section pl = section("plan");
+  TomlSection pl = section("plan");
   p.plan.fold_gap_mm = pl.number("fold_gap_mm", 0.5, 0, 20);
   p.plan.max_turn_deg = pl.optional_number("max_turn_deg", 1, 180);
   p.plan.optimise_work = static_cast<std::uint64_t>(pl.integer("optimise_work", static_cast<int>(kDefaultOptimiseWork), 0, 1000000000));
@@ -280,7 +232,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
     const std::string name = std::string("tool.") + kKindNames[i];
     const toml::node* n = tools ? tools->as_table()->get(kKindNames[i]) : nullptr;
     if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
-    Section s(n ? n->as_table() : nullptr, name, source);
+    TomlSection s(n ? n->as_table() : nullptr, name, source);
     ToolSetting& tool = p.tools[i];
     KindPlan& kp = p.plan.kinds[i];
     const bool fold = i < 2;

@@ -12,6 +12,7 @@ const char* to_string(TransportError error) {
     case TransportError::bad_argument: return "bad_argument";
     case TransportError::not_found: return "not_found";
     case TransportError::permission: return "permission";
+    case TransportError::busy: return "busy";
     case TransportError::timeout: return "timeout";
     case TransportError::disconnected: return "disconnected";
     case TransportError::unsupported: return "unsupported";
@@ -28,6 +29,7 @@ TransportStatus status_from_errno(int err, const std::string& what) {
     case ETIMEDOUT: case EAGAIN: kind = TransportError::timeout; break;
     case EPIPE: case EIO: case ECONNRESET: kind = TransportError::disconnected; break;
     case EINVAL: case EBADF: case EISDIR: kind = TransportError::bad_argument; break;
+    case EBUSY: kind = TransportError::busy; break;
     default: break;
   }
   return {kind, err, what + ": " + std::strerror(err)};

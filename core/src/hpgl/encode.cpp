@@ -1,4 +1,5 @@
 // HP-GL encoder: rounds every point once to absolute plotter units, then writes the dialect.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -25,17 +26,27 @@ std::array<double, 2> along_axes(Point2 p, const Rect& sheet, const HpglDialect&
 class Writer {
  public:
   explicit Writer(const HpglDialect& d) : d_(d) {}
-  void raw(const std::string& s) { out_ += s; }
+  void raw(const std::string& s) {
+    out_ += s;
+    mark();
+  }
   void cmd(const std::string& s) {
     out_ += s;
     out_ += d_.terminator;
     if (d_.newline) out_ += '\n';
+    mark();
   }
+  std::size_t size() const { return out_.size(); }
   std::string take() { return std::move(out_); }
+  std::vector<std::size_t> take_ends() { return std::move(ends_); }
 
  private:
+  void mark() {
+    if (ends_.empty() || ends_.back() != out_.size()) ends_.push_back(out_.size());
+  }
   const HpglDialect& d_;
   std::string out_;
+  std::vector<std::size_t> ends_;
 };
 
 std::string pairs(const std::vector<std::array<std::int64_t, 2>>& pts, std::size_t from, std::size_t to) {
@@ -126,7 +137,22 @@ std::array<std::int64_t, 2> to_plotter(Point2 pt, const Rect& sheet, const Place
   return {d.flip_x ? p.origin_x_pu - x : p.origin_x_pu + x, d.flip_y ? p.origin_y_pu - y : p.origin_y_pu + y};
 }
 
+std::size_t EncodedJob::last_stroke_within(std::size_t bytes_sent) const {
+  const auto it = std::upper_bound(stroke_end.begin(), stroke_end.end(), bytes_sent);
+  return first_stroke - 1 + static_cast<std::size_t>(it - stroke_end.begin());
+}
+
+std::size_t EncodedJob::command_boundary_at_or_after(std::size_t offset) const {
+  if (offset == 0) return 0;  // before the first command
+  const auto it = std::lower_bound(command_end.begin(), command_end.end(), offset);
+  return it == command_end.end() ? bytes.size() : *it;
+}
+
 std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std::array<ToolSetting, 4>& tools) {
+  return encode_job(plan, d, tools).bytes;
+}
+
+EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::array<ToolSetting, 4>& tools, std::size_t from_stroke) {
   const Rect frame = plan.extent();
   const Placement placement = place_sheet(frame, d);
   Writer w(d);
@@ -180,10 +206,15 @@ std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std:
     }
   };
 
+  EncodedJob job;
+  job.first_stroke = from_stroke;
+  std::size_t number = 0;  // of the stroke at hand, as users count them
   for (const Stroke& s : plan.strokes) {
     // The same rounding as plan_in_plotter_units: a stroke that rounds to one point is not sent.
     const PlotterPath pts = rounded(s, frame, placement, d);
     if (pts.size() < 2) continue;
+    // Strokes before from_stroke leave no trace: tool, position and mode state start afresh.
+    if (++number < from_stroke) continue;
     const std::size_t k = index_of(s.kind);
     if (k != kind) {
       kind = k;
@@ -196,9 +227,18 @@ std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std:
     }
     move(false, {pts.front()});
     move(true, PlotterPath(pts.begin() + 1, pts.end()));
+    job.stroke_end.push_back(w.size());
+  }
+  if (from_stroke < 1 || from_stroke > std::max<std::size_t>(number, 1)) {
+    throw Error(ErrorCode::invalid_input, "", "resume",
+                "cannot start from stroke " + std::to_string(from_stroke) + ": the job has " + std::to_string(number) +
+                    " strokes, numbered from 1");
   }
   w.raw(d.finish);
-  return w.take();
+  job.total_strokes = number;
+  job.bytes = w.take();
+  job.command_end = w.take_ends();
+  return job;
 }
 
 }  // namespace popcut

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -69,8 +70,38 @@ std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const Hpg
 // cut_mm and travel_mm are recomputed from what is left. Throws like plan_in_plotter_units.
 StrokePlan drop_below_resolution(const StrokePlan& plan, const HpglDialect& dialect);
 
-// The job: init, per kind tool selection, every stroke, finish. Throws popcut::Error when a
-// point would leave the usable area (never sent).
+// Stroke numbers, the one numbering users see (progress, errors, --resume-from): stroke N is the
+// N-th path of plan_in_plotter_units(plan, dialect), counted from 1 — the knife-down paths
+// actually sent, in cutting order. Strokes that round to a single point are not numbered.
+//
+// A job's bytes together with where its commands and strokes end, so that "bytes the device has
+// received" translates into "strokes fully sent", and a sender can stop between commands.
+struct EncodedJob {
+  std::string bytes;
+  std::size_t first_stroke = 1;   // number of the first stroke these bytes carry
+  std::size_t total_strokes = 0;  // strokes in the whole plan (numbers 1..total_strokes)
+  // stroke_end[i]: offset just past the last command of stroke first_stroke + i.
+  std::vector<std::size_t> stroke_end;
+  // Offsets just past every command (init and finish count as one each), ascending; the last is
+  // bytes.size(). A sender that stops at one of these leaves no command half-sent.
+  std::vector<std::size_t> command_end;
+
+  // Number of the last stroke whose commands lie entirely within the first `bytes_sent` bytes;
+  // first_stroke - 1 when none does (0 for a job from the start).
+  std::size_t last_stroke_within(std::size_t bytes_sent) const;
+  // The first command boundary at or after `offset` (0 is one; bytes.size() past the end).
+  std::size_t command_boundary_at_or_after(std::size_t offset) const;
+};
+
+// The job from stroke `from_stroke` on: init, per kind tool selection, strokes from_stroke..total,
+// finish. From a later stroke the job re-sends init and the tool setup of that stroke's kind and
+// travels to it with the knife up (every stroke starts with a pen-up move), so `--resume-from N`
+// cuts exactly strokes N.. . Throws popcut::Error when a point would leave the usable area (never
+// sent), and invalid_input ("resume") when from_stroke is 0 or past the last stroke.
+EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& dialect, const std::array<ToolSetting, 4>& tools,
+                      std::size_t from_stroke = 1);
+
+// The whole job's bytes: encode_job(plan, dialect, tools).bytes.
 std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& dialect, const std::array<ToolSetting, 4>& tools);
 
 }  // namespace popcut

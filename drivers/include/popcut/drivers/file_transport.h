@@ -21,6 +21,7 @@ class FileTransport final : public Transport {
   TransportStatus drain(std::chrono::milliseconds timeout) override;
   void close() override;
   std::string describe() const override { return "file:" + path_; }
+  bool answers() const override { return false; }
 
  private:
   std::string path_;

@@ -1,15 +1,27 @@
-// Streams a job to a Transport, pacing it by the profile's flow control, with progress callbacks.
+// Streams a job to a Transport, pacing it by the profile's flow control, with progress, cancel and drain.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <string_view>
 
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/transport.h"
+#include "popcut/hpgl/hpgl.h"
 
 namespace popcut::drivers {
+
+// Where a job stands; strokes are numbered as users see them (see EncodedJob in hpgl.h).
+struct SendProgress {
+  std::size_t bytes_sent = 0;
+  std::size_t bytes_total = 0;
+  std::size_t last_stroke_sent = 0;  // last stroke whose commands all went out (0: none yet)
+  std::size_t first_stroke = 1;      // where this transmission started (--resume-from)
+  std::size_t total_strokes = 0;
+};
 
 struct SendOptions {
   FlowControl flow = FlowControl::none;
@@ -18,19 +30,46 @@ struct SendOptions {
   // How long the device may hold us off (XOFF, or a full buffer under ESC.B) while it cuts: a
   // full buffer can take minutes of motion to drain.
   std::chrono::milliseconds hold_timeout{120000};
-  std::function<void(std::size_t sent, std::size_t total)> progress;  // after every chunk
+  // How to learn that the device has executed everything once the last byte is out.
+  DrainQuery drain_query = DrainQuery::none;
+  // With no query: how long the whole job's motion takes (the plan's estimate). The sender waits
+  // the share of it that a full device buffer holds before calling the job done.
+  std::chrono::milliseconds job_motion_estimate{0};
+  // Sent on cancel, after the last complete command: the profile's abort sequence, then knife up.
+  std::string abort_bytes = "PU;";
+  // Set (from any thread, e.g. a signal handler) to stop the job safely. Checked between chunks
+  // and while waiting; the sender finishes the command in flight first.
+  const std::atomic<bool>* cancel = nullptr;
+  std::function<void(const SendProgress&)> progress;  // after every chunk
 };
 
 struct SendResult {
-  std::size_t bytes_sent = 0;
+  std::size_t bytes_sent = 0;        // job bytes the transport accepted (abort bytes not counted)
+  std::size_t first_stroke = 1;
+  std::size_t last_stroke_sent = 0;  // last stroke fully sent (first_stroke - 1: none)
+  std::size_t total_strokes = 0;
+  bool cancelled = false;
+  bool abort_sent = false;           // the abort sequence and knife up reached the transport
+  // After a cancel or a failure: bytes the device may still hold and go on cutting. Exact when
+  // the device answered ESC.B (buffer_known), else an upper bound (its buffer, or what was sent).
+  std::size_t buffered_bytes = 0;
+  bool buffer_known = false;
+  // On success: how the end was confirmed ("esc_b", "esc_o", "estimate", "none" for a file).
+  std::string drained_by;
   int xoff_pauses = 0;     // times the device said XOFF and we waited for XON
   int buffer_queries = 0;  // ESC.B round trips
-  TransportStatus status;
+  TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
+  bool complete() const { return status.ok() && !cancelled; }
 };
 
+// Flow, buffer, timeouts, drain query and abort sequence from the profile.
 SendOptions send_options(const DeviceProfile& profile);
 
-// Writes `job`; stops at the first transport error (reported with the bytes that got through).
+// Writes `job`, chunked on command boundaries; stops at the first transport error (reported with
+// the bytes and strokes that got through) or at a cancel. A transport that cannot answer
+// (Transport::answers() false) is never asked for XON/XOFF or ESC.B.
+SendResult send_job(Transport& transport, const EncodedJob& job, const SendOptions& options);
+// Raw bytes with no stroke information (tests, hand-written jobs).
 SendResult send_job(Transport& transport, std::string_view job, const SendOptions& options);
 
 }  // namespace popcut::drivers

@@ -4,20 +4,37 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "popcut/hpgl/hpgl.h"
 #include "popcut/plan/plan.h"
 
 namespace popcut::drivers {
 
-// How the host keeps the device's input buffer from overflowing.
-enum class FlowControl { none, xon_xoff, rts_cts, esc_b };  // esc_b: ask ESC.B for free space
+// How the host keeps the device's input buffer from overflowing. xon_xoff and esc_b are paced by
+// popcut itself; rts_cts and dtr_dsr by the serial port's hardware lines.
+enum class FlowControl { none, xon_xoff, rts_cts, esc_b, dtr_dsr };  // esc_b: ask ESC.B for free space
 const char* to_string(FlowControl flow);
 
+// How to ask a device whether it has executed everything (HP-GL device-control queries).
+enum class DrainQuery { none, esc_b, esc_o };  // esc_b: whole buffer free; esc_o: status bit 3
+const char* to_string(DrainQuery query);
+
+enum class Parity { none, odd, even };
+
 struct TransportDefaults {
-  std::string uri;  // e.g. "sim", "file:/dev/usb/lp0", "serial:/dev/ttyUSB0"
+  std::string uri;  // [transport] default: e.g. "sim", "file:/dev/usb/lp0", "serial:/dev/ttyUSB0"
   int baud = 9600;
+  int data_bits = 8;
+  Parity parity = Parity::none;
+  int stop_bits = 1;
   FlowControl flow = FlowControl::none;
+  DrainQuery drain_query = DrainQuery::none;  // default: esc_b when flow is esc_b
+  // Device-specific bytes sent on cancel before the knife goes up (e.g. ESC.K: discard the buffer).
+  std::string abort;
+  // USB ids ("vvvv:pppp", lower-case hex) of the devices this profile is for.
+  std::vector<std::string> usb_ids;
+  std::size_t usb_chunk_bytes = 4096;  // one bulk OUT transfer
   std::size_t buffer_bytes = 1024;  // the device's input buffer
   int timeout_ms = 5000;        // one write or one reply
   int hold_timeout_ms = 120000; // the device holding the host off while it cuts

@@ -10,7 +10,8 @@
 namespace popcut::drivers {
 
 // Error classes a user can act on; os_error keeps errno (or the library's code) for the log.
-enum class TransportError { none, bad_argument, not_found, permission, timeout, disconnected, unsupported, io };
+// busy: another program holds the port (a lock or an exclusive open).
+enum class TransportError { none, bad_argument, not_found, permission, busy, timeout, disconnected, unsupported, io };
 const char* to_string(TransportError error);
 
 struct TransportStatus {
@@ -37,6 +38,8 @@ class Transport {
   virtual TransportStatus drain(std::chrono::milliseconds timeout) = 0;
   virtual void close() = 0;
   virtual std::string describe() const = 0;
+  // Whether the far end can talk back (XON/XOFF, ESC.B answers); a file or printer node cannot.
+  virtual bool answers() const { return true; }
 };
 
 // Builds a status from an errno value, classifying it.

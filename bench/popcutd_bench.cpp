@@ -1,0 +1,174 @@
+// popcutd under load on loopback: submissions per second, API latency p50/p99, memory with 10,000 jobs queued.
+#include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "bench_table.h"
+#include "popcutd_process.h"
+
+namespace {
+
+using popcut::testing::PopcutdProcess;
+using popcut::testing::TempDir;
+using popcut::testing::read_file;
+
+const std::string kSource = POPCUT_SOURCE_DIR;
+const std::string kKiosk = "kiosk-0123456789abcdef";
+const std::string kAdmin = "admin-0123456789abcdef";
+
+
+// Two paused sim cutters: jobs are planned and wait, so the figures are the API's and the queue's.
+std::string config(const TempDir& dir) {
+  return dir.write("bench.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = 16\n[limits]\nqueue_length = 1000000\n"
+                                 "[[device]]\nname = \"a\"\nprofile = \"" + kSource + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                 "[[device]]\nname = \"b\"\nprofile = \"" + kSource + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                 "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"
+                                 "[[token]]\nname = \"admin\"\ntoken = \"" + kAdmin + "\"\nrole = \"admin\"\n");
+}
+
+double rss_mb(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0;
+}
+
+struct Load {
+  double seconds = 0;
+  std::vector<double> latency_ms;
+  int failures = 0;
+};
+
+// `count` requests from `threads` clients at once; `request(client, i)` returns success.
+Load run_load(const PopcutdProcess& d, int threads, int count, const std::function<bool(httplib::Client&, int)>& request) {
+  Load load;
+  std::mutex m;
+  std::atomic<int> next{0};
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&] {
+      httplib::Client c = d.client(kKiosk);
+      c.set_keep_alive(true);
+      std::vector<double> mine;
+      int failed = 0;
+      for (int i = next++; i < count; i = next++) {
+        const auto s = std::chrono::steady_clock::now();
+        if (!request(c, i)) ++failed;
+        mine.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
+      }
+      std::lock_guard lock(m);
+      load.latency_ms.insert(load.latency_ms.end(), mine.begin(), mine.end());
+      load.failures += failed;
+    });
+  }
+  for (auto& t : pool) t.join();
+  load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::sort(load.latency_ms.begin(), load.latency_ms.end());
+  return load;
+}
+
+double percentile(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) return 0;
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
+}
+
+void report(benchmark::State& state, const Load& l, int count) {
+  state.counters["per_s"] = count / l.seconds;
+  state.counters["p50_ms"] = percentile(l.latency_ms, 0.50);
+  state.counters["p99_ms"] = percentile(l.latency_ms, 0.99);
+  state.counters["failures"] = l.failures;
+  if (l.failures) state.SkipWithError("requests failed");
+}
+
+std::string submission(int i) {
+  static const std::string box = read_file(kSource + "/examples/voxel/box.json");
+  return "{\"profile\": \"sim\", \"name\": \"bench-" + std::to_string(i) + "\", \"model\": " + box + "}";
+}
+
+struct Daemon {
+  TempDir dir{"popcutd-bench"};
+  PopcutdProcess process{POPCUTD, config(dir), (dir.path() / "data").string()};
+  Daemon() {
+    httplib::Client admin = process.client(kAdmin);
+    admin.Post("/api/v1/devices/a/pause", "", "application/json");
+    admin.Post("/api/v1/devices/b/pause", "", "application/json");
+  }
+};
+
+// args: concurrent clients, submissions
+void BM_Submit(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0)), count = static_cast<int>(state.range(1));
+  for (auto _ : state) {
+    Daemon d;
+    const Load l = run_load(d.process, threads, count, [](httplib::Client& c, int i) {
+      const httplib::Result r = c.Post("/api/v1/jobs", submission(i), "application/json");
+      return r && r->status == 201;
+    });
+    report(state, l, count);
+  }
+}
+BENCHMARK(BM_Submit)->Args({1, 200})->Args({1, 2000})->Args({8, 2000})->Args({32, 2000})->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// GET one job (its place in line and ETA computed) with 1000 jobs queued.
+void BM_GetJob(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0)), count = static_cast<int>(state.range(1));
+  for (auto _ : state) {
+    Daemon d;
+    run_load(d.process, 8, 1000, [](httplib::Client& c, int i) { return c.Post("/api/v1/jobs", submission(i), "application/json")->status == 201; });
+    const Load l = run_load(d.process, threads, count, [](httplib::Client& c, int i) {
+      const httplib::Result r = c.Get(("/api/v1/jobs/" + std::to_string(1 + i % 1000)).c_str());
+      return r && r->status == 200;
+    });
+    report(state, l, count);
+  }
+}
+BENCHMARK(BM_GetJob)->Args({1, 2000})->Args({8, 4000})->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// Resident memory of popcutd before and after 10,000 jobs are queued (and planned: ready).
+void BM_Memory(benchmark::State& state) {
+  const int count = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    Daemon d;
+    const double before = rss_mb(d.process.pid());
+    const Load l = run_load(d.process, 8, count, [](httplib::Client& c, int i) {
+      const httplib::Result r = c.Post("/api/v1/jobs", submission(i), "application/json");
+      return r && r->status == 201;
+    });
+    httplib::Client admin = d.process.client(kAdmin);
+    // Wait for the planner to reach the last job, so the figure includes planning's footprint.
+    while (admin.Get(("/api/v1/jobs/" + std::to_string(count)).c_str())->body.find("\"ready\"") == std::string::npos) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    state.counters["rss_mb_empty"] = before;
+    state.counters["rss_mb_queued"] = rss_mb(d.process.pid());
+    state.counters["jobs"] = count;
+    report(state, l, count);
+  }
+}
+BENCHMARK(BM_Memory)->Arg(10000)->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return popcut::bench::run_with_table(argc, argv, [](const popcut::bench::CollectingReporter& r) {
+    std::printf("\npopcutd on loopback (box model, devices paused so jobs stay queued)\n");
+    std::printf("%-26s %12s %10s %10s %12s %14s\n", "case", "per second", "p50 ms", "p99 ms", "RSS empty MB", "RSS queued MB");
+    for (const popcut::bench::Row& row : r.rows()) {
+      const auto c = [&](const char* k) { return row.counters.count(k) ? row.counters.at(k) : 0.0; };
+      std::printf("%-26s %12.0f %10.2f %10.2f %12.1f %14.1f\n", row.name.c_str(), c("per_s"), c("p50_ms"), c("p99_ms"),
+                  c("rss_mb_empty"), c("rss_mb_queued"));
+    }
+  });
+}

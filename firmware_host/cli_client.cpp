@@ -1,0 +1,162 @@
+// popcut's client commands: JSON over HTTP to popcutd, its error codes shown and mapped to exit codes.
+#include "cli_client.h"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "cli_commands.h"
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+
+namespace popcut::cli {
+namespace {
+
+using nlohmann::json;
+
+// What went wrong talking to the daemon, with the exit code it maps to.
+struct ClientFailure {
+  int exit_code;
+  std::string message;
+};
+
+std::string env_or(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? v : fallback;
+}
+
+class Connection {
+ public:
+  Connection(const std::string& server, const std::string& token) : server_(server), client_(check(server)) {
+    if (!token.empty()) client_.set_default_headers({{"Authorization", "Bearer " + token}});
+    client_.set_connection_timeout(5);
+    client_.set_read_timeout(60);
+    client_.set_tcp_nodelay(true);
+  }
+  json request(const std::string& method, const std::string& path, const std::string& body = "") {
+    httplib::Result r = method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json");
+    if (!r) throw ClientFailure{kCannotWrite, "cannot reach popcutd at " + server_ + ": " + httplib::to_string(r.error())};
+    json j;
+    try {
+      j = json::parse(r->body);
+    } catch (const json::exception&) {
+      throw ClientFailure{kInternal, "popcutd answered " + std::to_string(r->status) + " with a body that is not JSON"};
+    }
+    if (r->status >= 400) {
+      const json e = j.value("error", json::object());
+      std::string msg = "popcutd refused (" + std::to_string(r->status) + " " + e.value("code", "?") + "): " + e.value("message", "");
+      if (e.contains("field")) msg += " [" + e["field"].get<std::string>() + "]";
+      const int code = r->status == 503 ? kCannotWrite : (r->status >= 500 ? kInternal : kBadInput);
+      throw ClientFailure{code, msg};
+    }
+    return j;
+  }
+
+ private:
+  static std::string check(const std::string& server) {
+    if (server.rfind("http://", 0) != 0 && server.rfind("https://", 0) != 0) {
+      throw ClientFailure{kBadInput, "--server " + server + ": expected http://HOST:PORT"};
+    }
+    return server;
+  }
+  std::string server_;
+  httplib::Client client_;
+};
+
+void print_job_line(const json& j) {
+  std::cout << j["id"] << "  " << j["state"].get<std::string>() << "  " << j["name"].get<std::string>() << "  on "
+            << (j["cut_on"].is_string() ? j["cut_on"].get<std::string>()
+                                        : (j["device"].is_string() ? j["device"].get<std::string>() : "profile " + j["profile"].get<std::string>()))
+            << "  strokes " << j["strokes_sent"] << "/" << j["strokes_total"];
+  if (j["place_in_line"].is_number()) std::cout << "  place " << j["place_in_line"];
+  if (j.contains("error")) std::cout << "  (" << j["error"].value("code", "") << ": " << j["error"].value("message", "") << ")";
+  std::cout << "\n";
+}
+
+int run(const ClientCommands& s, const std::function<int(Connection&)>& body) {
+  try {
+    Connection c(!s.server.empty() ? s.server : env_or("POPCUT_SERVER", "http://127.0.0.1:8742"),
+                 !s.token.empty() ? s.token : env_or("POPCUT_TOKEN", ""));
+    return body(c);
+  } catch (const ClientFailure& f) {
+    std::cerr << "popcut: error: " << f.message << "\n";
+    if (s.json_out) print_json_line({{"error", {{"message", f.message}, {"exit_code", f.exit_code}}}});
+    return f.exit_code;
+  }
+}
+
+int submit(const ClientCommands& s, Connection& c) {
+  if (s.device.empty() == s.profile.empty()) throw ClientFailure{kBadInput, "name exactly one of --device NAME or --profile PROFILE"};
+  json model;
+  try {
+    model = json::parse(read_text_file(s.model_path));
+  } catch (const json::exception& e) {
+    throw ClientFailure{kBadInput, s.model_path + ": not JSON: " + e.what()};
+  } catch (const Error& e) {
+    throw ClientFailure{kBadInput, e.what()};
+  }
+  json body = {{"model", model}};
+  if (!s.device.empty()) body["device"] = s.device;
+  if (!s.profile.empty()) body["profile"] = s.profile;
+  if (!s.name.empty()) body["name"] = s.name;
+  json job = c.request("POST", "/api/v1/jobs", body.dump());
+  if (!s.json_out) std::cerr << "queued job " << job["id"] << " (" << job["name"].get<std::string>() << "), place " << job["place_in_line"] << " in line\n";
+  while (s.wait && (job["state"] == "queued" || job["state"] == "planning" || job["state"] == "ready" || job["state"] == "cutting")) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    job = c.request("GET", "/api/v1/jobs/" + std::to_string(job["id"].get<long long>()));
+  }
+  if (s.json_out) print_json_line(job);
+  else print_job_line(job);
+  return s.wait && job["state"] != "done" ? kCannotWrite : kOk;
+}
+
+}  // namespace
+
+void add_client_commands(CLI::App& app, ClientCommands& s) {
+  const auto common = [&](CLI::App* sub) {
+    sub->add_option("--server", s.server, "popcutd's address (default $POPCUT_SERVER or http://127.0.0.1:8742)");
+    sub->add_option("--token", s.token, "Access token (default $POPCUT_TOKEN)");
+    sub->add_flag("--json", s.json_out, "Print the daemon's answer as JSON");
+  };
+  s.submit = app.add_subcommand("submit", "Queue a model on popcutd for a device (or any device with a profile).\n"
+                                          "Exit 2 if refused, 3 if popcutd cannot be reached (or with --wait: the job did not finish).");
+  s.submit->add_option("MODEL", s.model_path, "Model file (popcut.voxel.v1 or popcut.faces.v1)")->required();
+  s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
+  s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
+  s.submit->add_option("--name", s.name, "A label for the job");
+  s.submit->add_flag("--wait", s.wait, "Wait until the job is done, failed, cancelled or interrupted");
+  common(s.submit);
+  s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
+  s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
+  common(s.jobs);
+  s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.");
+  s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(CLI::PositiveNumber);
+  common(s.cancel);
+}
+
+std::optional<int> run_client_commands(const ClientCommands& s) {
+  if (s.submit && *s.submit) return run(s, [&](Connection& c) { return submit(s, c); });
+  if (s.jobs && *s.jobs) {
+    return run(s, [&](Connection& c) {
+      const json r = c.request("GET", std::string("/api/v1/jobs?limit=") + (s.all ? "10000" : "100"));
+      if (s.json_out) print_json_line(r);
+      else for (const json& j : r["jobs"]) print_job_line(j);
+      return kOk;
+    });
+  }
+  if (s.cancel && *s.cancel) {
+    return run(s, [&](Connection& c) {
+      const json j = c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/cancel");
+      if (s.json_out) print_json_line(j);
+      else print_job_line(j);
+      return kOk;
+    });
+  }
+  return std::nullopt;
+}
+
+}  // namespace popcut::cli

@@ -1,0 +1,26 @@
+// popcut submit / jobs / cancel: the command-line client of popcutd's HTTP API.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+namespace popcut::cli {
+
+struct ClientCommands {
+  CLI::App* submit = nullptr;
+  CLI::App* jobs = nullptr;
+  CLI::App* cancel = nullptr;
+  std::string server, token, model_path, device, profile, name;
+  long long job_id = 0;
+  bool json_out = false, wait = false, all = false;
+};
+
+void add_client_commands(CLI::App& app, ClientCommands& state);
+
+// Runs whichever was chosen; nullopt when none was. Exit codes: 0 ok; 2 the daemon refused the
+// request (4xx: bad model, unknown id or device, bad token ...) or bad usage; 3 the daemon could
+// not be reached, was full (503), or with --wait the job ended other than done; 4 internal (5xx).
+std::optional<int> run_client_commands(const ClientCommands& state);
+
+}  // namespace popcut::cli

@@ -1,0 +1,146 @@
+// popcutd.toml loader: each section read through drivers' typed, range-checked TOML getters.
+#include "config.h"
+
+#include <filesystem>
+#include <set>
+#include <toml++/toml.h>
+
+#include "popcut/drivers/device.h"
+#include "popcut/drivers/toml_section.h"
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+
+#ifndef POPCUT_KIOSK_DIR
+#define POPCUT_KIOSK_DIR "firmware_host/kiosk"
+#endif
+#ifndef POPCUT_EXAMPLES_DIR
+#define POPCUT_EXAMPLES_DIR "examples"
+#endif
+
+namespace popcut::daemon {
+namespace {
+
+using drivers::TomlSection;
+using drivers::parse_toml;
+
+// Relative paths in the file mean: next to the file, so a config and its profiles travel together.
+std::string resolve(const std::string& path, const std::string& source) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (std::filesystem::path(source).parent_path() / p).lexically_normal().string();
+}
+
+}  // namespace
+
+const char* to_string(Role role) { return role == Role::admin ? "admin" : "kiosk"; }
+
+bool is_safe_name(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == ' ' || name.back() == ' ') return false;
+  for (const char ch : name) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (!(std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == ' ')) return false;
+  }
+  return name.find("..") == std::string::npos;
+}
+
+DaemonConfig parse_daemon_config(const std::string& text, const std::string& source) {
+  const toml::table root = parse_toml(text, source);
+  for (const auto& [k, v] : root) {
+    const std::string key(k.str());
+    if (key != "server" && key != "limits" && key != "device" && key != "token") {
+      throw Error(ErrorCode::invalid_input, source, "[" + key + "]", "unknown section (expected server, limits, [[device]], [[token]])");
+    }
+  }
+  const auto table = [&](const std::string& name) {
+    const toml::node* n = root.get(name);
+    if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
+    return TomlSection(n ? n->as_table() : nullptr, name, source);
+  };
+  // [[device]] and [[token]]: arrays of tables, each entry a section of its own.
+  const auto entries = [&](const std::string& name) {
+    std::vector<TomlSection> out;
+    const toml::node* n = root.get(name);
+    if (!n) return out;
+    if (!n->is_array_of_tables()) throw Error(ErrorCode::invalid_input, source, "[[" + name + "]]", "expected [[" + name + "]] tables");
+    std::size_t i = 0;
+    for (const toml::node& e : *n->as_array()) out.emplace_back(e.as_table(), name + "." + std::to_string(i++), source);
+    return out;
+  };
+
+  DaemonConfig c;
+  c.source = source;
+  TomlSection s = table("server");
+  c.listen = s.text("listen", "127.0.0.1", 64);
+  if (c.listen.empty()) s.fail("listen", "must not be empty (127.0.0.1 for this machine only)");
+  c.port = s.integer("port", 8742, 0, 65535);
+  const std::string data_dir = s.text("data_dir", "", 4096);
+  if (data_dir.empty()) s.fail("data_dir", "missing: where the job database and job files live");
+  c.data_dir = resolve(data_dir, source);
+  const std::string kiosk_dir = s.text("kiosk_dir", "", 4096);
+  c.kiosk_dir = kiosk_dir.empty() ? std::string(POPCUT_KIOSK_DIR) : resolve(kiosk_dir, source);
+  const std::string examples_dir = s.text("examples_dir", "", 4096);
+  c.examples_dir = examples_dir.empty() ? std::string(POPCUT_EXAMPLES_DIR) : resolve(examples_dir, source);
+  c.http_threads = s.integer("http_threads", 8, 1, 256);
+  c.planners = s.integer("planners", 1, 1, 64);
+  s.reject_unknown();
+
+  TomlSection l = table("limits");
+  c.limits.upload_bytes = static_cast<std::size_t>(l.integer("upload_bytes", 1 << 20, 1024, 1 << 30));
+  c.limits.model_cells = l.integer("model_cells", 100000, 1, 100000000);
+  c.limits.pattern_faces = l.integer("pattern_faces", 5000, 1, 10000000);
+  c.limits.queue_length = l.integer("queue_length", 10000, 1, 10000000);
+  l.reject_unknown();
+
+  std::set<std::string> names;
+  for (TomlSection& d : entries("device")) {
+    DeviceConfig dev;
+    dev.name = d.text("name", "", 64);
+    if (!is_safe_name(dev.name) || dev.name.find(' ') != std::string::npos) {
+      d.fail("name", "\"" + dev.name + "\": 1 to 64 letters, digits, '-', '_' or '.', not starting with '.'");
+    }
+    if (!names.insert(dev.name).second) d.fail("name", "\"" + dev.name + "\" is used by another device");
+    const std::string profile = d.text("profile", "", 4096);
+    if (profile.empty()) d.fail("profile", "missing: the device profile (e.g. devices/sim.toml)");
+    dev.profile_path = resolve(profile, source);
+    dev.transport = d.text("transport", "", 4096);
+    drivers::DeviceAddress address;
+    if (const drivers::TransportStatus st = drivers::parse_device(dev.transport, address); !st.ok()) d.fail("transport", st.message);
+    if (address.kind == drivers::DeviceKind::file) dev.transport = "file:" + resolve(address.path, source);
+    dev.sim_slowdown = d.number("sim_slowdown", 1, 1, 100000);
+    dev.sim_time_scale = d.number("sim_time_scale", 0, 0, 100);
+    if (address.kind != drivers::DeviceKind::sim && (d.node("sim_slowdown") || d.node("sim_time_scale"))) {
+      d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
+    }
+    d.reject_unknown();
+    try {
+      dev.profile = drivers::load_profile(dev.profile_path);
+    } catch (const Error& e) {
+      d.fail("profile", e.what());  // names both files: the config's entry and the profile's problem
+    }
+    c.devices.push_back(std::move(dev));
+  }
+  if (c.devices.empty()) throw Error(ErrorCode::invalid_input, source, "[[device]]", "no devices: add at least one [[device]]");
+
+  std::set<std::string> secrets, token_names;
+  for (TomlSection& t : entries("token")) {
+    TokenConfig tok;
+    tok.name = t.text("name", "", 64);
+    if (!is_safe_name(tok.name)) t.fail("name", "\"" + tok.name + "\": 1 to 64 letters, digits, '-', '_', '.'");
+    if (!token_names.insert(tok.name).second) t.fail("name", "\"" + tok.name + "\" is used by another token");
+    tok.token = t.text("token", "", 256);
+    if (tok.token.size() < 16) t.fail("token", "must be at least 16 characters");
+    for (const char ch : tok.token) {
+      if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127) t.fail("token", "printable ASCII without spaces only");
+    }
+    if (!secrets.insert(tok.token).second) t.fail("token", "the same secret is used by another token");
+    tok.role = t.choice("role", 0, std::array<const char*, 2>{"kiosk", "admin"}) == 0 ? Role::kiosk : Role::admin;
+    t.reject_unknown();
+    c.tokens.push_back(std::move(tok));
+  }
+  if (c.tokens.empty()) throw Error(ErrorCode::invalid_input, source, "[[token]]", "no tokens: add at least one [[token]]");
+  return c;
+}
+
+DaemonConfig load_daemon_config(const std::string& path) { return parse_daemon_config(read_text_file(path, 1 << 20), path); }
+
+}  // namespace popcut::daemon

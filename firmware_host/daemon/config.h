@@ -1,0 +1,63 @@
+// popcutd's configuration (popcutd.toml): listen address, data directory, devices, tokens, limits.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "popcut/drivers/profile.h"
+
+namespace popcut::daemon {
+
+enum class Role { kiosk, admin };
+const char* to_string(Role role);
+
+struct DeviceConfig {
+  std::string name;          // [A-Za-z0-9_-], unique
+  std::string profile_path;  // resolved against the config file's directory
+  drivers::DeviceProfile profile;
+  std::string transport;     // a device string: sim, file:PATH, serial:..., usb:... (drivers/device.h)
+  // sim only: the simulated motion takes this many times longer, and each simulated second takes
+  // sim_time_scale wall-clock seconds (0: as fast as the host can go). A slow sim device gives
+  // tests and demos a cut long enough to watch, cancel or kill.
+  double sim_slowdown = 1;
+  double sim_time_scale = 0;
+};
+
+struct TokenConfig {
+  std::string name;   // who: jobs are owned by this name
+  std::string token;  // the bearer secret, at least 16 characters
+  Role role = Role::kiosk;
+};
+
+struct Limits {
+  std::size_t upload_bytes = 1 << 20;  // request bodies
+  int model_cells = 100000;            // voxel models: width x depth x height
+  int pattern_faces = 5000;            // face models: edits (or faces); every model: faces of its pattern
+  int queue_length = 10000;            // jobs not yet finished (queued .. cutting, interrupted)
+};
+
+struct DaemonConfig {
+  std::string source;  // the file read
+  std::string listen = "127.0.0.1";
+  int port = 8742;  // 0: any free port (popcutd prints the one it bound)
+  std::string data_dir;
+  std::string kiosk_dir;     // the kiosk page's files; default: the source tree's firmware_host/kiosk
+  std::string examples_dir;  // example models offered by the kiosk; default: the source tree's examples
+  int http_threads = 8;
+  int planners = 1;
+  std::vector<DeviceConfig> devices;
+  std::vector<TokenConfig> tokens;
+  Limits limits;
+};
+
+// Reads and checks the whole file; throws popcut::Error(invalid_input) naming the file,
+// "[section] key" and what was expected. Device profiles are loaded (and checked) too.
+DaemonConfig parse_daemon_config(const std::string& text, const std::string& source);
+DaemonConfig load_daemon_config(const std::string& path);
+
+// Names of devices and jobs: letters, digits, '-', '_', '.', ' ' (not leading), 1..64 bytes;
+// nothing a path or a shell could take as structure.
+bool is_safe_name(const std::string& name);
+
+}  // namespace popcut::daemon

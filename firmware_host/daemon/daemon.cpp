@@ -1,0 +1,258 @@
+// popcutd's threads: planners turn queued models into encoded-ready plans; each device worker
+// claims ready jobs for its device and cuts them, committing every state change first.
+#include "daemon.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include "cut_job.h"
+#include "device_link.h"
+#include "log.h"
+#include "model_limits.h"
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+#include "popcut/hpgl/hpgl.h"
+#include "popcut/io/pattern_io.h"
+
+namespace popcut::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string open_data_dir(const DaemonConfig& c) {
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(c.data_dir) / "jobs", ec);
+  if (ec) throw Error(ErrorCode::io, c.data_dir, "[server] data_dir", "cannot create the data directory: " + ec.message());
+  return (std::filesystem::path(c.data_dir) / "jobs.db").string();
+}
+
+}  // namespace
+
+Daemon::Daemon(DaemonConfig config) : config_(std::move(config)), store_(open_data_dir(config_)) {
+  recovered_ = store_.recover();
+  for (int i = 0; i < config_.planners; ++i) planners_.emplace_back([this] { plan_loop(); });
+  for (const DeviceConfig& d : config_.devices) {
+    auto w = std::make_unique<Worker>();
+    w->device = &d;
+    workers_.push_back(std::move(w));
+  }
+  for (auto& w : workers_) w->thread = std::thread([this, wp = w.get()] { device_loop(*wp); });
+}
+
+Daemon::~Daemon() { shutdown(); }
+
+void Daemon::notify() {
+  {
+    std::lock_guard lock(mutex_);
+    ++generation_;
+  }
+  wake_.notify_all();
+}
+
+bool Daemon::wait_for_work() {
+  std::unique_lock lock(mutex_);
+  const std::uint64_t seen = generation_;
+  // The timeout covers changes made by another process on the same database (none today) and
+  // keeps a lost wake-up from stalling a queue.
+  wake_.wait_for(lock, 1s, [&] { return stopping_ || generation_ != seen; });
+  return !stopping_;
+}
+
+void Daemon::shutdown() {
+  if (stopping_.exchange(true)) return;
+  for (auto& w : workers_) w->stop_cut = true;
+  wake_.notify_all();
+  for (auto& t : planners_) t.join();
+  for (auto& w : workers_) w->thread.join();
+}
+
+std::string Daemon::profile_key(const DeviceConfig& d) { return std::filesystem::path(d.profile_path).stem().string(); }
+
+bool Daemon::has_profile(const std::string& key) const {
+  for (const DeviceConfig& d : config_.devices) {
+    if (profile_key(d) == key) return true;
+  }
+  return false;
+}
+
+const DeviceConfig* Daemon::device(const std::string& name) const {
+  for (const DeviceConfig& d : config_.devices) {
+    if (d.name == name) return &d;
+  }
+  return nullptr;
+}
+
+std::string Daemon::job_dir(std::int64_t id) const {
+  return (std::filesystem::path(config_.data_dir) / "jobs" / std::to_string(id)).string();
+}
+
+CancelResult Daemon::cancel(std::int64_t id) {
+  const CancelResult r = store_.cancel(id);
+  if (r == CancelResult::requested) {
+    std::lock_guard lock(mutex_);
+    for (auto& w : workers_) {
+      if (w->job == id) {
+        w->user_cancel = true;
+        w->stop_cut = true;
+      }
+    }
+  }
+  return r;
+}
+
+void Daemon::set_paused(const std::string& device, bool paused) {
+  store_.set_paused(device, paused);
+  notify();
+}
+
+std::vector<DeviceStatus> Daemon::devices() {
+  std::vector<DeviceStatus> out;
+  for (auto& w : workers_) {
+    out.push_back({w->device->name, profile_key(*w->device), w->device->transport, store_.paused(w->device->name), w->job.load()});
+  }
+  return out;
+}
+
+void Daemon::plan_loop() {
+  while (!stopping_) {
+    std::optional<Job> job = store_.claim_for_planning();
+    if (!job) {
+      wait_for_work();
+      continue;
+    }
+    plan_one(*job);
+    notify();
+  }
+}
+
+// The profile a job is planned for: its device's, or the one it names (every device with that
+// profile cuts the same bytes).
+static const DeviceConfig* planning_device(const DaemonConfig& c, const Job& job) {
+  for (const DeviceConfig& d : c.devices) {
+    if (job.target_device.empty() ? Daemon::profile_key(d) == job.target_profile : d.name == job.target_device) return &d;
+  }
+  return nullptr;
+}
+
+void Daemon::plan_one(const Job& job) {
+  try {
+    const DeviceConfig* dev = planning_device(config_, job);
+    if (!dev) throw Error(ErrorCode::invalid_input, "job", "device", "no configured device for this job any more");
+    const std::optional<std::string> text = store_.model_json(job.id);
+    if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
+    const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
+    const StrokePlan plan = plan_strokes(pattern, dev->profile.plan);
+    // Throws when the sheet does not fit the device; refused now, not at the cutter.
+    const EncodedJob check = encode_job(plan, dev->profile.dialect, dev->profile.tools);
+    const TimeEstimate t = estimate_time(plan, dev->profile.kinematics, dev->profile.cut_speed_mm_s());
+    const std::filesystem::path dir = job_dir(job.id);
+    std::filesystem::create_directories(dir);
+    write_text_file((dir / "pattern.svg").string(), [&](std::ostream& o) { write_pattern_svg(o, pattern, {true}); });
+    write_text_file((dir / "plan.json").string(), [&](std::ostream& o) { o << plan_to_json(plan); });
+    // Committed last: a job is ready only once its files are on disk.
+    store_.set_planned(job.id, static_cast<std::int64_t>(check.total_strokes), t.total_s);
+  } catch (const Error& e) {
+    const bool user = e.code() == ErrorCode::invalid_input || e.code() == ErrorCode::limit;
+    store_.finish(job.id, JobState::failed, to_string(user ? (e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model)
+                                                          : ApiError::internal),
+                  e.what());
+    log_line("job ", job.id, ": planning failed: ", e.what());
+  } catch (const std::exception& e) {
+    store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());
+    log_line("job ", job.id, ": planning failed: ", e.what());
+  }
+}
+
+void Daemon::device_loop(Worker& w) {
+  const std::string profile = profile_key(*w.device);
+  while (!stopping_) {
+    std::optional<Job> job;
+    if (!store_.paused(w.device->name)) job = store_.claim_for_device(w.device->name, profile);
+    if (!job) {
+      wait_for_work();
+      continue;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      w.job = job->id;
+      w.user_cancel = false;
+      w.stop_cut = stopping_.load();
+    }
+    // A cancel that arrived between the claim and now is in the database only.
+    if (store_.cancel_requested(job->id)) {
+      std::lock_guard lock(mutex_);
+      w.user_cancel = true;
+      w.stop_cut = true;
+    }
+    cut_one(w, *job);
+    {
+      std::lock_guard lock(mutex_);
+      w.job = 0;
+    }
+    notify();
+  }
+}
+
+void Daemon::cut_one(Worker& w, const Job& job) {
+  const DeviceConfig& dev = *w.device;
+  try {
+    const std::string plan_path = (std::filesystem::path(job_dir(job.id)) / "plan.json").string();
+    const StrokePlan plan = plan_from_json(read_text_file(plan_path, std::size_t{1} << 30), plan_path);
+    // resume_from strokes were fully sent by an earlier run: this one starts at the next.
+    const std::size_t done_before = static_cast<std::size_t>(job.resume_from);
+    if (done_before >= static_cast<std::size_t>(job.strokes_total)) {
+      // Killed after the last byte went out but before the drain was confirmed: nothing to send.
+      store_.finish(job.id, JobState::done, "", "every stroke had been sent before the restart");
+      return;
+    }
+    const EncodedJob cut = encode_job(plan, dev.profile.dialect, dev.profile.tools, done_before + 1);
+    log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
+    const std::unique_ptr<DeviceLink> link = make_device_link(dev);
+    const double share = cut.total_strokes ? 1.0 - static_cast<double>(done_before) / static_cast<double>(cut.total_strokes) : 1.0;
+    const CutOutcome out = link->cut(cut, job.est_time_s * share, w.stop_cut, [&](std::size_t last) {
+      store_.set_progress(job.id, static_cast<std::int64_t>(last));
+    });
+    store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
+    bool user_cancel;
+    {
+      std::lock_guard lock(mutex_);
+      user_cancel = w.user_cancel;
+    }
+    switch (out.kind) {
+      case CutOutcome::Kind::complete: {
+        // Held against the whole plan from the resumed stroke on, worked out apart from the
+        // bytes sent: a resume that started at the wrong stroke shows here.
+        bool match = false;
+        if (out.sim_cut) {
+          std::vector<PlotterPath> expected = plan_in_plotter_units(plan, dev.profile.dialect);
+          expected.erase(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(std::min(done_before, expected.size())));
+          match = !drivers::first_difference(expected, *out.sim_cut);
+        }
+        store_.finish(job.id, JobState::done, "", "", match);
+        ++cuts_completed_;
+        break;
+      }
+      case CutOutcome::Kind::stopped:
+        // An empty error: the abort bytes and knife-up reached the device.
+        if (user_cancel) {
+          store_.finish(job.id, JobState::cancelled, out.error.empty() ? "" : to_string(ApiError::device_error),
+                        out.error.empty() ? "cancelled during the cut; the knife was lifted" : out.error);
+        } else {
+          store_.finish(job.id, JobState::interrupted, out.error.empty() ? "" : to_string(ApiError::device_error),
+                        out.error.empty() ? "popcutd stopped during the cut; the knife was lifted" : out.error);
+        }
+        break;
+      case CutOutcome::Kind::failed:
+        // The cutter may be fixed and the job resumed from the last stroke fully sent.
+        store_.finish(job.id, JobState::interrupted, to_string(ApiError::device_error), out.error);
+        log_line("job ", job.id, ": ", dev.name, " failed: ", out.error);
+        break;
+    }
+  } catch (const std::exception& e) {
+    store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());
+    log_line("job ", job.id, ": ", e.what());
+  }
+}
+
+}  // namespace popcut::daemon

@@ -1,0 +1,82 @@
+// popcutd's engine: the job store, planner threads and one worker thread per device.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "config.h"
+#include "store.h"
+
+namespace popcut::daemon {
+
+struct DeviceStatus {
+  std::string name, profile, transport;
+  bool paused = false;
+  std::int64_t job = 0;  // the job cutting, 0 = idle
+};
+
+class Daemon {
+ public:
+  // Opens data_dir/jobs.db, recovers after a crash (cutting -> interrupted), starts the threads.
+  explicit Daemon(DaemonConfig config);
+  ~Daemon();
+  Daemon(const Daemon&) = delete;
+  Daemon& operator=(const Daemon&) = delete;
+
+  const DaemonConfig& config() const { return config_; }
+  JobStore& store() { return store_; }
+
+  // Wakes planners and workers: a job was queued or resumed, or a device resumed.
+  void notify();
+  // Cancel: queued..ready/interrupted at once; cutting: the device stops at a command boundary,
+  // lifts the knife, and the worker records `cancelled`.
+  CancelResult cancel(std::int64_t id);
+  void set_paused(const std::string& device, bool paused);
+  std::vector<DeviceStatus> devices();
+  const DeviceConfig* device(const std::string& name) const;
+  // Profile key: the profile file's stem ("sim" for devices/sim.toml).
+  static std::string profile_key(const DeviceConfig& d);
+  bool has_profile(const std::string& key) const;
+
+  std::string job_dir(std::int64_t id) const;
+
+  // SIGTERM: stop planning, stop every cut safely (it becomes `interrupted`, resumable), join.
+  void shutdown();
+  int recovered() const { return recovered_; }
+  std::uint64_t cuts_completed() const { return cuts_completed_; }
+
+ private:
+  struct Worker {
+    const DeviceConfig* device = nullptr;
+    std::thread thread;
+    std::atomic<std::int64_t> job{0};
+    std::atomic<bool> stop_cut{false};
+    bool user_cancel = false;  // guarded by mutex_: why stop_cut was set
+  };
+  void plan_loop();
+  void plan_one(const Job& job);
+  void device_loop(Worker& w);
+  void cut_one(Worker& w, const Job& job);
+  bool wait_for_work();
+
+  DaemonConfig config_;
+  JobStore store_;
+  int recovered_ = 0;
+  std::atomic<bool> stopping_{false};
+  std::atomic<std::uint64_t> cuts_completed_{0};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::uint64_t generation_ = 0;  // bumped by notify(): a wait that saw it change has work to look at
+  std::vector<std::thread> planners_;
+  std::vector<std::unique_ptr<Worker>> workers_;
+};
+
+}  // namespace popcut::daemon

@@ -1,0 +1,114 @@
+// DeviceLink over popcut_drivers' seam: make_transport for the device string, send_job with its
+// cancel flag and stroke progress; a simulated cutter can be paced to wall-clock time.
+#include "device_link.h"
+
+#include <chrono>
+#include <thread>
+
+#include "popcut/drivers/device.h"
+#include "popcut/drivers/job_sender.h"
+
+namespace popcut::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+using drivers::IoResult;
+using drivers::TransportStatus;
+
+// A simulated cutter runs on a virtual clock. This keeps wall-clock time `time_scale` times it,
+// in short sleeps so a stop request is seen promptly: a watchable (or killable) simulated cut.
+class PacedTransport final : public drivers::Transport {
+ public:
+  PacedTransport(drivers::Transport& inner, const drivers::SimCutter& sim, double time_scale, const std::atomic<bool>& stop)
+      : inner_(inner), sim_(sim), time_scale_(time_scale), stop_(stop), start_(std::chrono::steady_clock::now()) {}
+
+  TransportStatus open() override { return inner_.open(); }
+  IoResult write(std::span<const std::uint8_t> data, std::chrono::milliseconds timeout) override {
+    IoResult r = inner_.write(data, timeout);
+    pace();
+    return r;
+  }
+  IoResult read(std::span<std::uint8_t> buffer, std::chrono::milliseconds timeout) override { return inner_.read(buffer, timeout); }
+  TransportStatus drain(std::chrono::milliseconds timeout) override { return inner_.drain(timeout); }
+  void close() override { inner_.close(); }
+  std::string describe() const override { return inner_.describe(); }
+  bool answers() const override { return inner_.answers(); }
+
+ private:
+  void pace() {
+    const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                  std::chrono::duration<double>(sim_.report().clock_s * time_scale_));
+    while (!stop_ && std::chrono::steady_clock::now() < due) {
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(due - std::chrono::steady_clock::now(), 50ms));
+    }
+  }
+  drivers::Transport& inner_;
+  const drivers::SimCutter& sim_;
+  double time_scale_;
+  const std::atomic<bool>& stop_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+class DriversLink final : public DeviceLink {
+ public:
+  explicit DriversLink(const DeviceConfig& d) : device_(d) {}
+
+  CutOutcome cut(const EncodedJob& job, double est_motion_s, const std::atomic<bool>& stop,
+                 const std::function<void(std::size_t)>& progress) override {
+    const drivers::DeviceProfile& profile = device_.profile;
+    drivers::SimFaults faults;
+    faults.slowdown = device_.sim_slowdown;
+    drivers::MadeTransport made = drivers::make_transport(device_.transport, profile, faults);
+    CutOutcome out;
+    out.last_stroke_sent = job.first_stroke - 1;
+    if (!made.status.ok()) {
+      out.error = device_.transport + ": " + made.status.message;
+      return out;
+    }
+    std::unique_ptr<PacedTransport> paced;
+    if (made.sim && device_.sim_time_scale > 0) paced = std::make_unique<PacedTransport>(*made.transport, *made.sim, device_.sim_time_scale, stop);
+    drivers::Transport& t = paced ? static_cast<drivers::Transport&>(*paced) : *made.transport;
+    if (const TransportStatus st = t.open(); !st.ok()) {
+      out.error = t.describe() + ": " + st.message;
+      return out;
+    }
+    drivers::SendOptions opts = drivers::send_options(profile);
+    opts.cancel = &stop;
+    // A real device holds up to a buffer of motion after the last byte; the simulator's virtual
+    // clock is run to its end below instead.
+    if (!made.sim) opts.job_motion_estimate = std::chrono::milliseconds(static_cast<long>(est_motion_s * 1000));
+    std::size_t reported = out.last_stroke_sent;
+    opts.progress = [&](const drivers::SendProgress& p) {
+      if (p.last_stroke_sent != reported) progress(reported = p.last_stroke_sent);
+    };
+    const drivers::SendResult r = drivers::send_job(t, job, opts);
+    t.close();
+    out.last_stroke_sent = r.last_stroke_sent;
+    if (r.complete()) {
+      out.kind = CutOutcome::Kind::complete;
+    } else if (r.cancelled) {
+      out.kind = CutOutcome::Kind::stopped;
+      if (!r.abort_sent) out.error = "the knife-up after the stop did not reach the device: " + r.status.message;
+    } else {
+      out.error = t.describe() + ": " + r.status.message + " after stroke " + std::to_string(r.last_stroke_sent) + " of " +
+                  std::to_string(job.total_strokes);
+    }
+    if (made.sim && out.kind == CutOutcome::Kind::complete) {
+      // A cutter that lost bytes, stalled or left its area did not cut the job, whatever it drew.
+      const drivers::SimReport& rep = made.sim->report();
+      const bool clean = made.sim->run_to_end() && rep.overflow_bytes == 0 && !rep.outside_area && rep.errors.empty();
+      out.sim_cut = clean ? made.sim->strokes() : std::vector<drivers::SimStroke>{};
+    }
+    return out;
+  }
+  std::string describe() const override { return device_.transport; }
+
+ private:
+  DeviceConfig device_;
+};
+
+}  // namespace
+
+std::unique_ptr<DeviceLink> make_device_link(const DeviceConfig& device) { return std::make_unique<DriversLink>(device); }
+
+}  // namespace popcut::daemon

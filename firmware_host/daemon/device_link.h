@@ -1,0 +1,42 @@
+// The daemon's one seam to a cutter: send a job from a stroke on, report strokes fully sent, stop safely on request.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config.h"
+#include "popcut/drivers/sim_cutter.h"
+#include "popcut/hpgl/hpgl.h"
+
+namespace popcut::daemon {
+
+struct CutOutcome {
+  enum class Kind { complete, stopped, failed } kind = Kind::failed;
+  std::size_t last_stroke_sent = 0;  // stroke number (from 1) of the last stroke fully sent
+  std::string error;                 // failed: what the transport said
+  // sim devices: the knife-down paths the simulated cutter made (complete cuts only), for the
+  // caller to hold against its plan
+  std::optional<std::vector<drivers::SimStroke>> sim_cut;
+};
+
+class DeviceLink {
+ public:
+  virtual ~DeviceLink() = default;
+  // Sends `job`; `progress` whenever another stroke is fully sent. When `stop` becomes true the
+  // command in flight is completed, the profile's abort bytes and a knife-up follow, and the
+  // outcome is `stopped`.
+  virtual CutOutcome cut(const EncodedJob& job, double est_motion_s, const std::atomic<bool>& stop,
+                         const std::function<void(std::size_t last_stroke_sent)>& progress) = 0;
+  virtual std::string describe() const = 0;
+};
+
+// Any device string drivers::make_transport takes (sim, file:PATH, serial:..., usb:...); a sim
+// device gets a fresh simulated cutter per job, optionally paced to wall-clock time.
+std::unique_ptr<DeviceLink> make_device_link(const DeviceConfig& device);
+
+}  // namespace popcut::daemon

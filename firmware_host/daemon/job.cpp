@@ -1,0 +1,62 @@
+// Names and HTTP statuses of job states and API error codes: the strings docs/api.md documents.
+#include "job.h"
+
+#include <array>
+
+namespace popcut::daemon {
+namespace {
+constexpr std::array<const char*, 8> kStates = {"queued", "planning", "ready", "cutting", "done", "failed", "cancelled", "interrupted"};
+}  // namespace
+
+const char* to_string(JobState state) { return kStates[static_cast<std::size_t>(state)]; }
+
+std::optional<JobState> parse_job_state(const std::string& text) {
+  for (std::size_t i = 0; i < kStates.size(); ++i) {
+    if (text == kStates[i]) return static_cast<JobState>(i);
+  }
+  return std::nullopt;
+}
+
+bool is_terminal(JobState s) { return s == JobState::done || s == JobState::failed || s == JobState::cancelled; }
+
+const char* to_string(ApiError e) {
+  switch (e) {
+    case ApiError::bad_json: return "bad_json";
+    case ApiError::bad_request: return "bad_request";
+    case ApiError::bad_model: return "bad_model";
+    case ApiError::model_too_complex: return "model_too_complex";
+    case ApiError::too_large: return "too_large";
+    case ApiError::bad_name: return "bad_name";
+    case ApiError::unauthorized: return "unauthorized";
+    case ApiError::forbidden: return "forbidden";
+    case ApiError::not_found: return "not_found";
+    case ApiError::conflict: return "conflict";
+    case ApiError::queue_full: return "queue_full";
+    case ApiError::no_device: return "no_device";
+    case ApiError::device_error: return "device_error";
+    case ApiError::internal: return "internal";
+  }
+  return "internal";
+}
+
+int http_status(ApiError e) {
+  switch (e) {
+    case ApiError::bad_json:
+    case ApiError::bad_request:
+    case ApiError::bad_name: return 400;
+    case ApiError::unauthorized: return 401;
+    case ApiError::forbidden: return 403;
+    case ApiError::not_found: return 404;
+    case ApiError::conflict: return 409;
+    case ApiError::too_large:
+    case ApiError::model_too_complex: return 413;
+    case ApiError::bad_model:
+    case ApiError::no_device: return 422;
+    case ApiError::queue_full: return 503;
+    case ApiError::device_error:
+    case ApiError::internal: return 500;
+  }
+  return 500;
+}
+
+}  // namespace popcut::daemon

@@ -1,0 +1,52 @@
+// Job records, their documented states and the API's error-code catalogue (docs/api.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace popcut::daemon {
+
+// Life of a job (docs/api.md "Job states"). Terminal: done, failed, cancelled.
+enum class JobState { queued, planning, ready, cutting, done, failed, cancelled, interrupted };
+const char* to_string(JobState state);
+std::optional<JobState> parse_job_state(const std::string& text);
+bool is_terminal(JobState state);
+
+// Stable error codes (grbl-style catalogue): HTTP answers and failed jobs carry one of these.
+enum class ApiError {
+  bad_json,          // 400: the body is not JSON
+  bad_request,       // 400: a field is missing, of the wrong type or out of range
+  bad_model,         // 422: the model is not a valid popcut model (message names the field)
+  model_too_complex, // 413: the model exceeds [limits] model_cells or pattern_faces
+  too_large,         // 413: the body exceeds [limits] upload_bytes
+  bad_name,          // 400: a job or device name with path or shell structure in it
+  unauthorized,      // 401: no token, or a token the daemon does not know
+  forbidden,         // 403: the token may not do this (another's job, an admin action)
+  not_found,         // 404: no such job, device or file
+  conflict,          // 409: the job is not in a state that allows this (e.g. resume a done job)
+  queue_full,        // 503: [limits] queue_length unfinished jobs already
+  no_device,         // 422: no device of that name, or none with that profile
+  device_error,      // job only: the transport failed mid-cut
+  internal,          // 500: a bug in popcutd
+};
+const char* to_string(ApiError error);
+int http_status(ApiError error);
+
+struct Job {
+  std::int64_t id = 0;
+  std::string owner;          // token name that submitted it
+  std::string name;           // the user's label
+  std::string target_device;  // empty: any device with target_profile
+  std::string target_profile; // the profile's device name (DeviceProfile::name)
+  std::string device;         // the device that cut (or is cutting) it
+  JobState state = JobState::queued;
+  std::string error_code, error_message;
+  std::int64_t strokes_total = 0, strokes_sent = 0;  // strokes_sent: fully sent to the device
+  std::int64_t resume_from = 0;                      // the stroke the next cut starts at
+  double est_time_s = 0;
+  double created_at = 0, started_at = 0, finished_at = 0;  // unix seconds; 0 = not yet
+  bool sim_match = false;  // sim devices: what it cut equals the plan (strokes from resume_from on)
+};
+
+}  // namespace popcut::daemon

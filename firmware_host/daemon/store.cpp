@@ -1,0 +1,329 @@
+// SQLite job store: schema, WAL with synchronous=FULL, and each transition as one guarded UPDATE.
+#include "store.h"
+
+#include <sqlite3.h>
+
+#include <chrono>
+
+#include "popcut/error.h"
+
+namespace popcut::daemon {
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// One prepared statement; binds by position from 1, steps, finalises on scope exit.
+class Stmt {
+ public:
+  Stmt(sqlite3* db, const char* sql) : db_(db) {
+    if (sqlite3_prepare_v2(db, sql, -1, &st_, nullptr) != SQLITE_OK) fail("prepare");
+  }
+  ~Stmt() { sqlite3_finalize(st_); }
+  Stmt(const Stmt&) = delete;
+  Stmt& operator=(const Stmt&) = delete;
+
+  Stmt& bind(int i, std::int64_t v) {
+    sqlite3_bind_int64(st_, i, v);
+    return *this;
+  }
+  Stmt& bind(int i, double v) {
+    sqlite3_bind_double(st_, i, v);
+    return *this;
+  }
+  Stmt& bind(int i, const std::string& v) {
+    sqlite3_bind_text(st_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  // True while there is a row.
+  bool step() {
+    const int rc = sqlite3_step(st_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc != SQLITE_DONE) fail("step");
+    return false;
+  }
+  std::int64_t integer(int col) const { return sqlite3_column_int64(st_, col); }
+  double real(int col) const { return sqlite3_column_double(st_, col); }
+  std::string text(int col) const {
+    const unsigned char* t = sqlite3_column_text(st_, col);
+    return t ? std::string(reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(st_, col))) : "";
+  }
+
+ private:
+  [[noreturn]] void fail(const char* what) const {
+    throw Error(ErrorCode::io, "job database", what, sqlite3_errmsg(db_));
+  }
+  sqlite3* db_;
+  sqlite3_stmt* st_ = nullptr;
+};
+
+constexpr const char* kJobColumns =
+    "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
+    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match";
+
+Job read_job(const Stmt& s) {
+  Job j;
+  j.id = s.integer(0);
+  j.owner = s.text(1);
+  j.name = s.text(2);
+  j.target_device = s.text(3);
+  j.target_profile = s.text(4);
+  j.device = s.text(5);
+  j.state = parse_job_state(s.text(6)).value_or(JobState::failed);
+  j.error_code = s.text(7);
+  j.error_message = s.text(8);
+  j.strokes_total = s.integer(9);
+  j.strokes_sent = s.integer(10);
+  j.resume_from = s.integer(11);
+  j.est_time_s = s.real(12);
+  j.created_at = s.real(13);
+  j.started_at = s.real(14);
+  j.finished_at = s.real(15);
+  j.sim_match = s.integer(16) != 0;
+  return j;
+}
+
+std::string select_jobs(const std::string& where) { return std::string("SELECT ") + kJobColumns + " FROM jobs " + where; }
+
+}  // namespace
+
+JobStore::JobStore(const std::string& path) : path_(path) {
+  if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr) != SQLITE_OK) {
+    const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    sqlite3_close(db_);
+    throw Error(ErrorCode::io, path, "", "cannot open the job database: " + msg);
+  }
+  sqlite3_busy_timeout(db_, 5000);
+  try {
+    exec("PRAGMA journal_mode=WAL");
+    // FULL: a commit survives power loss, not only a crash of popcutd (which NORMAL survives).
+    exec("PRAGMA synchronous=FULL");
+    exec("CREATE TABLE IF NOT EXISTS jobs ("
+         " id INTEGER PRIMARY KEY AUTOINCREMENT, owner TEXT NOT NULL, name TEXT NOT NULL,"
+         " target_device TEXT NOT NULL, target_profile TEXT NOT NULL, device TEXT NOT NULL DEFAULT '',"
+         " state TEXT NOT NULL, error_code TEXT NOT NULL DEFAULT '', error_message TEXT NOT NULL DEFAULT '',"
+         " strokes_total INTEGER NOT NULL DEFAULT 0, strokes_sent INTEGER NOT NULL DEFAULT 0,"
+         " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
+         " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
+         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0)");
+    exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
+    exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
+    exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
+    exec("CREATE INDEX IF NOT EXISTS jobs_owner ON jobs(owner, id)");
+  } catch (...) {
+    sqlite3_close(db_);
+    throw;
+  }
+}
+
+JobStore::~JobStore() { sqlite3_close(db_); }
+
+void JobStore::exec(const char* sql) {
+  char* err = nullptr;
+  if (sqlite3_exec(db_, sql, nullptr, nullptr, &err) != SQLITE_OK) {
+    const std::string msg = err ? err : "unknown error";
+    sqlite3_free(err);
+    throw Error(ErrorCode::io, path_, sql, msg);
+  }
+}
+
+int JobStore::recover() {
+  std::lock_guard lock(mutex_);
+  exec("BEGIN IMMEDIATE");
+  Stmt(db_, "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0 WHERE state='cutting'").step();
+  int n = sqlite3_changes(db_);
+  Stmt(db_, "UPDATE jobs SET state='queued' WHERE state='planning'").step();
+  n += sqlite3_changes(db_);
+  exec("COMMIT");
+  return n;
+}
+
+std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length) {
+  std::lock_guard lock(mutex_);
+  exec("BEGIN IMMEDIATE");
+  try {
+    Stmt count(db_, "SELECT COUNT(*) FROM jobs WHERE state IN ('queued','planning','ready','cutting','interrupted')");
+    count.step();
+    if (count.integer(0) >= queue_length) {
+      exec("ROLLBACK");
+      return std::nullopt;
+    }
+    Stmt ins(db_, "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES (?,?,?,?,'queued',?)");
+    ins.bind(1, nj.owner).bind(2, nj.name).bind(3, nj.target_device).bind(4, nj.target_profile).bind(5, now_s()).step();
+    const std::int64_t id = sqlite3_last_insert_rowid(db_);
+    Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();
+    exec("COMMIT");
+    return id;
+  } catch (...) {
+    exec("ROLLBACK");
+    throw;
+  }
+}
+
+std::optional<Job> JobStore::get(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, select_jobs("WHERE id=?").c_str());
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  return read_job(s);
+}
+
+std::optional<std::string> JobStore::model_json(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, "SELECT model FROM models WHERE id=?");
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  return s.text(0);
+}
+
+std::vector<Job> JobStore::list(const std::string& owner, int limit) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, select_jobs(owner.empty() ? "WHERE ?1='' ORDER BY id DESC LIMIT ?2" : "WHERE owner=?1 ORDER BY id DESC LIMIT ?2").c_str());
+  s.bind(1, owner).bind(2, static_cast<std::int64_t>(limit));
+  std::vector<Job> out;
+  while (s.step()) out.push_back(read_job(s));
+  return out;
+}
+
+// Same targets: a job naming device D competes with jobs naming D and with jobs naming D's
+// profile; approximated by equal target device, or equal profile when either names none.
+static const char* kAheadWhere =
+    " WHERE id < ?1 AND state IN ('queued','planning','ready') AND"
+    " ((?2 <> '' AND target_device = ?2) OR target_profile = ?3)";
+
+int JobStore::place_in_line(const Job& j) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, (std::string("SELECT COUNT(*) FROM jobs") + kAheadWhere).c_str());
+  s.bind(1, j.id).bind(2, j.target_device).bind(3, j.target_profile);
+  s.step();
+  return static_cast<int>(s.integer(0));
+}
+
+double JobStore::work_ahead_s(const Job& j) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, (std::string("SELECT COALESCE(SUM(est_time_s),0) FROM jobs") + kAheadWhere).c_str());
+  s.bind(1, j.id).bind(2, j.target_device).bind(3, j.target_profile);
+  s.step();
+  return s.real(0);
+}
+
+std::optional<Job> JobStore::claim_for_planning() {
+  std::lock_guard lock(mutex_);
+  exec("BEGIN IMMEDIATE");
+  try {
+    Stmt s(db_, select_jobs("WHERE state='queued' ORDER BY id LIMIT 1").c_str());
+    if (!s.step()) {
+      exec("COMMIT");
+      return std::nullopt;
+    }
+    Job j = read_job(s);
+    Stmt(db_, "UPDATE jobs SET state='planning' WHERE id=?").bind(1, j.id).step();
+    exec("COMMIT");
+    j.state = JobState::planning;
+    return j;
+  } catch (...) {
+    exec("ROLLBACK");
+    throw;
+  }
+}
+
+void JobStore::set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "UPDATE jobs SET state='ready', strokes_total=?, est_time_s=? WHERE id=? AND state='planning'")
+      .bind(1, strokes_total).bind(2, est_time_s).bind(3, id).step();
+}
+
+std::optional<Job> JobStore::claim_for_device(const std::string& device, const std::string& profile_name) {
+  std::lock_guard lock(mutex_);
+  exec("BEGIN IMMEDIATE");
+  try {
+    Stmt s(db_, select_jobs("WHERE state='ready' AND (target_device=?1 OR (target_device='' AND target_profile=?2)) ORDER BY id LIMIT 1").c_str());
+    s.bind(1, device).bind(2, profile_name);
+    if (!s.step()) {
+      exec("COMMIT");
+      return std::nullopt;
+    }
+    Job j = read_job(s);
+    j.started_at = j.started_at > 0 ? j.started_at : now_s();
+    Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=? WHERE id=?").bind(1, device).bind(2, j.started_at).bind(3, j.id).step();
+    exec("COMMIT");
+    j.state = JobState::cutting;
+    j.device = device;
+    return j;
+  } catch (...) {
+    exec("ROLLBACK");
+    throw;
+  }
+}
+
+void JobStore::set_progress(std::int64_t id, std::int64_t strokes_sent) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "UPDATE jobs SET strokes_sent=? WHERE id=? AND state='cutting'").bind(1, strokes_sent).bind(2, id).step();
+}
+
+void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message, bool sim_match) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
+            " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END"
+            " WHERE id=? AND state IN ('planning','cutting')")
+      .bind(1, std::string(to_string(state))).bind(2, code).bind(3, message)
+      .bind(4, is_terminal(state) ? now_s() : 0.0).bind(5, static_cast<std::int64_t>(sim_match)).bind(6, id).step();
+}
+
+CancelResult JobStore::cancel(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "UPDATE jobs SET state='cancelled', finished_at=? WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
+      .bind(1, now_s()).bind(2, id).step();
+  if (sqlite3_changes(db_) > 0) return CancelResult::cancelled;
+  Stmt(db_, "UPDATE jobs SET cancel_requested=1 WHERE id=? AND state='cutting'").bind(1, id).step();
+  if (sqlite3_changes(db_) > 0) return CancelResult::requested;
+  Stmt s(db_, "SELECT 1 FROM jobs WHERE id=?");
+  s.bind(1, id);
+  return s.step() ? CancelResult::already_final : CancelResult::not_found;
+}
+
+bool JobStore::cancel_requested(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, "SELECT cancel_requested FROM jobs WHERE id=?");
+  s.bind(1, id);
+  return s.step() && s.integer(0) != 0;
+}
+
+bool JobStore::resume(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "UPDATE jobs SET state='ready', resume_from=strokes_sent, error_code='', error_message='' WHERE id=? AND state='interrupted'")
+      .bind(1, id).step();
+  return sqlite3_changes(db_) > 0;
+}
+
+void JobStore::set_paused(const std::string& device, bool paused) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "INSERT INTO devices (name, paused) VALUES (?,?) ON CONFLICT(name) DO UPDATE SET paused=excluded.paused")
+      .bind(1, device).bind(2, static_cast<std::int64_t>(paused)).step();
+}
+
+bool JobStore::paused(const std::string& device) {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, "SELECT paused FROM devices WHERE name=?");
+  s.bind(1, device);
+  return s.step() && s.integer(0) != 0;
+}
+
+std::map<std::string, std::int64_t> JobStore::count_by_state() {
+  std::lock_guard lock(mutex_);
+  std::map<std::string, std::int64_t> out;
+  for (int i = 0; i <= static_cast<int>(JobState::interrupted); ++i) out[to_string(static_cast<JobState>(i))] = 0;
+  Stmt s(db_, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
+  while (s.step()) out[s.text(0)] = s.integer(1);
+  return out;
+}
+
+std::int64_t JobStore::count_submitted() {
+  std::lock_guard lock(mutex_);
+  Stmt s(db_, "SELECT COALESCE(MAX(id),0) FROM jobs");
+  s.step();
+  return s.integer(0);
+}
+
+}  // namespace popcut::daemon

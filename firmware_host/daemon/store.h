@@ -1,0 +1,76 @@
+// The job queue in SQLite (WAL): every state change is one committed transaction before anyone acts on it.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "job.h"
+
+struct sqlite3;
+
+namespace popcut::daemon {
+
+struct NewJob {
+  std::string owner, name, target_device, target_profile;
+  std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
+};
+
+enum class CancelResult { cancelled, requested, already_final, not_found };
+
+class JobStore {
+ public:
+  // Opens (creating) the database; throws popcut::Error(io) naming the file.
+  explicit JobStore(const std::string& path);
+  ~JobStore();
+  JobStore(const JobStore&) = delete;
+  JobStore& operator=(const JobStore&) = delete;
+
+  // After a crash: a job that was cutting becomes interrupted (its strokes_sent stands), one
+  // that was planning goes back to queued (planning is repeatable). Returns the jobs touched.
+  int recover();
+
+  // nullopt when `queue_length` unfinished jobs exist already.
+  std::optional<std::int64_t> insert(const NewJob& job, int queue_length);
+  std::optional<Job> get(std::int64_t id);
+  std::optional<std::string> model_json(std::int64_t id);
+  // Newest first; owner empty = everyone's.
+  std::vector<Job> list(const std::string& owner, int limit);
+  // Jobs waiting ahead of this one for the same device or profile (queued, planning, ready).
+  int place_in_line(const Job& job);
+  // Seconds of cutting ahead of this one on its targets (planned jobs' estimates).
+  double work_ahead_s(const Job& job);
+
+  // queued -> planning, oldest first.
+  std::optional<Job> claim_for_planning();
+  // planning -> ready (unless cancelled meanwhile).
+  void set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s);
+  // ready -> cutting on `device`, oldest first among jobs naming it or its profile.
+  std::optional<Job> claim_for_device(const std::string& device, const std::string& profile_name);
+  void set_progress(std::int64_t id, std::int64_t strokes_sent);
+  // cutting/planning -> a final state (or interrupted); error code and message may be empty.
+  void finish(std::int64_t id, JobState state, const std::string& error_code, const std::string& error_message,
+              bool sim_match = false);
+  // queued/planning/ready/interrupted -> cancelled at once; cutting -> cancel requested (the
+  // device worker stops the cut and records it).
+  CancelResult cancel(std::int64_t id);
+  bool cancel_requested(std::int64_t id);
+  // interrupted -> ready, continuing at the last stroke fully sent. False if not interrupted.
+  bool resume(std::int64_t id);
+
+  void set_paused(const std::string& device, bool paused);
+  bool paused(const std::string& device);
+  std::map<std::string, std::int64_t> count_by_state();
+  std::int64_t count_submitted();
+
+ private:
+  void exec(const char* sql);
+  sqlite3* db_ = nullptr;
+  std::string path_;
+  std::mutex mutex_;  // one connection, serialised: SQLite's own locking then never waits
+};
+
+}  // namespace popcut::daemon

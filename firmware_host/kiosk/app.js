@@ -1,0 +1,152 @@
+// popcut kiosk logic: talks to popcutd's /api/v1 with the kiosk token from ?token= (kept in localStorage).
+'use strict';
+
+const params = new URLSearchParams(location.search);
+if (params.get('token')) localStorage.setItem('popcut-token', params.get('token'));
+const token = localStorage.getItem('popcut-token') || '';
+const $ = (id) => document.getElementById(id);
+let model = null;        // the chosen model's JSON text
+let previewTimer = null;
+const urls = {};         // object URLs in use, freed when replaced
+
+async function api(method, path, body, type) {
+  const headers = { Authorization: 'Bearer ' + token };
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const res = await fetch(path, { method, headers, body: body === undefined ? (method === 'POST' ? '' : undefined) : body });
+  if (!res.ok) {
+    let message = res.status + ' ' + res.statusText;
+    try { const e = (await res.json()).error; message = e.message + ' (' + e.code + ')'; } catch (_) { /* not JSON */ }
+    throw new Error(message);
+  }
+  return type === 'blob' ? res.blob() : res.json();
+}
+
+function showImage(id, blob) {
+  if (urls[id]) URL.revokeObjectURL(urls[id]);
+  urls[id] = URL.createObjectURL(blob);
+  $(id).src = urls[id];
+}
+
+function showError(id, err) {
+  $(id).hidden = !err;
+  $(id).textContent = err ? String(err.message || err) : '';
+}
+
+async function useModel(text, label) {
+  showError('model-error', null);
+  model = null;
+  $('queue').disabled = true;
+  try {
+    JSON.parse(text);
+  } catch (e) {
+    showError('model-error', 'not a JSON model: ' + e.message);
+    return;
+  }
+  try {
+    showImage('pattern', await api('POST', '/api/v1/render/pattern.svg', text, 'blob'));
+    model = text;
+    $('model-name').textContent = label;
+    $('name').value = label.replace(/[^A-Za-z0-9 _.-]/g, '').slice(0, 64) || 'my card';
+    await renderPreview();
+    $('queue').disabled = !$('device').value;
+  } catch (e) {
+    showError('model-error', e);
+  }
+}
+
+async function renderPreview() {
+  if (!model) return;
+  const angle = $('angle').value;
+  $('angle-value').textContent = angle;
+  try {
+    showImage('preview', await api('POST', '/api/v1/render/preview.png?angle=' + angle, model, 'blob'));
+  } catch (e) {
+    showError('model-error', e);
+  }
+}
+
+async function loadChoices() {
+  const ex = await api('GET', '/api/v1/examples');
+  for (const name of ex.examples) {
+    const o = document.createElement('option');
+    o.value = o.textContent = name;
+    $('example').appendChild(o);
+  }
+  const dev = await api('GET', '/api/v1/devices');
+  for (const d of dev.devices) {
+    const o = document.createElement('option');
+    o.value = d.name;
+    o.textContent = d.name + ' (' + d.model + ')' + (d.paused ? ' — paused' : '');
+    $('device').appendChild(o);
+  }
+}
+
+function jobItem(j) {
+  let li = document.querySelector('#jobs [data-id="' + j.id + '"]');
+  if (!li) {
+    li = document.createElement('li');
+    li.className = 'job';
+    li.dataset.id = j.id;
+    li.innerHTML = '<span class="title"></span><button class="cancel">Cancel</button>' +
+                   '<span class="state"></span><span class="where"></span><progress max="1" value="0"></progress>';
+    li.querySelector('.cancel').addEventListener('click', async () => {
+      try { await api('POST', '/api/v1/jobs/' + j.id + '/cancel'); } catch (e) { alert(e.message); }
+      refreshJobs();
+    });
+    $('jobs').prepend(li);
+  }
+  li.querySelector('.title').textContent = '#' + j.id + ' ' + j.name;
+  li.querySelector('.state').textContent = j.state;
+  li.dataset.state = j.state;
+  let where = j.cut_on ? 'on ' + j.cut_on : (j.device ? 'for ' + j.device : 'any ' + j.profile);
+  if (j.place_in_line !== null) where += ' · ' + (j.place_in_line === 0 ? 'next' : j.place_in_line + ' ahead');
+  if (j.eta_s !== null) where += ' · about ' + Math.ceil(j.eta_s) + ' s';
+  if (j.state === 'cutting' || j.state === 'done') where += ' · ' + j.strokes_sent + '/' + j.strokes_total + ' strokes';
+  if (j.error) where += ' · ' + j.error.message;
+  li.querySelector('.where').textContent = where;
+  li.querySelector('progress').value = j.progress;
+  li.querySelector('.cancel').hidden = ['done', 'failed', 'cancelled'].includes(j.state);
+}
+
+async function refreshJobs() {
+  try {
+    const r = await api('GET', '/api/v1/jobs?limit=20');
+    for (const j of r.jobs.slice().reverse()) jobItem(j);
+  } catch (e) { /* the next poll tries again */ }
+}
+
+$('example').addEventListener('change', async () => {
+  const name = $('example').value;
+  if (!name) return;
+  $('upload').value = '';
+  try {
+    useModel(JSON.stringify(await api('GET', '/api/v1/examples/' + encodeURIComponent(name))), name);
+  } catch (e) { showError('model-error', e); }
+});
+$('upload').addEventListener('change', async () => {
+  const f = $('upload').files[0];
+  if (!f) return;
+  $('example').value = '';
+  useModel(await f.text(), f.name.replace(/\.json$/i, ''));
+});
+$('angle').addEventListener('input', () => {
+  $('angle-value').textContent = $('angle').value;
+  clearTimeout(previewTimer);
+  previewTimer = setTimeout(renderPreview, 150);  // while the slider moves, one picture at a time
+});
+$('queue').addEventListener('click', async () => {
+  showError('queue-error', null);
+  $('queue').disabled = true;
+  try {
+    const body = JSON.stringify({ device: $('device').value, name: $('name').value, model: JSON.parse(model) });
+    jobItem(await api('POST', '/api/v1/jobs', body));
+  } catch (e) {
+    showError('queue-error', e);
+  }
+  $('queue').disabled = !model;
+});
+
+$('who').textContent = token ? '' : 'no token: open this page with ?token=...';
+loadChoices().catch((e) => showError('model-error', e));
+refreshJobs();
+setInterval(refreshJobs, 500);

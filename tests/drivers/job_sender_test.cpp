@@ -1,0 +1,259 @@
+// Streaming seam: stroke-numbered jobs, resume, cancel with abort, drain, and device strings.
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "popcut/drivers/device.h"
+#include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/sim_cutter.h"
+#include "popcut/error.h"
+#include "popcut/io/model_io.h"
+#include "shipped_profiles.h"
+
+namespace popcut::drivers {
+namespace {
+
+std::string config(const std::string& name) { return std::string(POPCUT_SOURCE_DIR) + "/configs/devices/" + name; }
+
+StrokePlan townhouse_plan(const DeviceProfile& p) {
+  const std::string path = std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json";
+  PlanOptions o = p.plan;
+  o.optimise_work = 1000;  // a small work budget: these tests are about sending, not ordering
+  return plan_strokes(make_pattern(load_model(path)), o);
+}
+
+// Sends `job` to a fresh simulator of `p`; returns what it cut.
+struct SimRun {
+  SendResult sent;
+  std::vector<SimStroke> strokes;
+  SimReport report;
+};
+SimRun run_on_sim(const DeviceProfile& p, const EncodedJob& job, SendOptions o) {
+  auto cutter = std::make_shared<SimCutter>(p);
+  SimTransport t(cutter);
+  EXPECT_TRUE(t.open().ok());
+  SimRun r;
+  r.sent = send_job(t, job, o);
+  EXPECT_TRUE(cutter->run_to_end()) << "the simulator finishes what it got";
+  r.strokes = cutter->strokes();
+  r.report = cutter->report();
+  return r;
+}
+
+TEST(EncodedJob, StrokeEndsFollowTheBytes) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = load_profile(file);
+    const StrokePlan plan = townhouse_plan(p);
+    const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+    EXPECT_EQ(job.bytes, encode_hpgl(plan, p.dialect, p.tools)) << file << ": encode_hpgl is the whole job";
+    EXPECT_EQ(job.total_strokes, plan_in_plotter_units(plan, p.dialect).size()) << file << ": strokes are the sent paths";
+    ASSERT_EQ(job.stroke_end.size(), job.total_strokes) << file;
+    ASSERT_FALSE(job.command_end.empty()) << file;
+    EXPECT_EQ(job.command_end.back(), job.bytes.size()) << file << ": the last command ends the job";
+    EXPECT_TRUE(std::is_sorted(job.stroke_end.begin(), job.stroke_end.end())) << file;
+    for (std::size_t i = 0; i < job.stroke_end.size(); ++i) {
+      EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), job.stroke_end[i]))
+          << file << ": stroke " << i + 1 << " ends on a command boundary";
+      EXPECT_EQ(job.last_stroke_within(job.stroke_end[i]), i + 1) << file << ": its last byte completes stroke " << i + 1;
+      EXPECT_EQ(job.last_stroke_within(job.stroke_end[i] - 1), i) << file << ": one byte short it is not complete";
+    }
+  }
+}
+
+TEST(EncodedJob, ResumeSendsExactlyTheMissingStrokesKnifeUp) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = load_profile(file);
+    const StrokePlan plan = townhouse_plan(p);
+    const auto planned = plan_in_plotter_units(plan, p.dialect);
+    ASSERT_GT(planned.size(), 10u) << file;
+    for (std::size_t from : {std::size_t{2}, planned.size() / 2, planned.size()}) {
+      const EncodedJob job = encode_job(plan, p.dialect, p.tools, from);
+      EXPECT_EQ(job.first_stroke, from) << file;
+      EXPECT_EQ(job.bytes.rfind(p.dialect.init, 0), 0u) << file << " from " << from << ": re-sends init";
+      const SimRun r = run_on_sim(p, job, send_options(p));
+      ASSERT_TRUE(r.sent.complete()) << file << " from " << from << ": " << r.sent.status.message;
+      EXPECT_EQ(r.sent.last_stroke_sent, planned.size()) << file << " from " << from;
+      const std::vector<PlotterPath> missing(planned.begin() + static_cast<std::ptrdiff_t>(from - 1), planned.end());
+      const auto diff = first_difference(missing, r.strokes);
+      EXPECT_FALSE(diff.has_value()) << file << " from " << from << ": cut " << r.strokes.size() << " strokes for "
+                                     << missing.size() << " missing, first difference at " << diff.value_or(0);
+      EXPECT_EQ(r.report.knife_downs, static_cast<int>(missing.size()))
+          << file << " from " << from << ": the knife goes down once per stroke, never on the way to the first";
+      if (!r.strokes.empty()) {
+        EXPECT_GT(r.strokes.front().pen, 0) << file << " from " << from << ": tool setup re-sent before the first stroke";
+      }
+    }
+    EXPECT_THROW(encode_job(plan, p.dialect, p.tools, 0), Error) << file << ": strokes are numbered from 1";
+    EXPECT_THROW(encode_job(plan, p.dialect, p.tools, planned.size() + 1), Error) << file << ": past the last stroke";
+  }
+}
+
+TEST(SendJob, CancelStopsOnACommandBoundaryAndLiftsTheKnife) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.abort = "\x1b.K";
+  const StrokePlan plan = townhouse_plan(p);
+  const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+  const auto planned = plan_in_plotter_units(plan, p.dialect);
+  std::atomic<bool> cancel{false};
+  SendOptions o = send_options(p);
+  EXPECT_EQ(o.abort_bytes, "\x1b.KPU;") << "profile abort, then knife up in the dialect";
+  o.cancel = &cancel;
+  int chunks = 0;
+  o.progress = [&](const SendProgress&) {
+    if (++chunks == 7) cancel = true;
+  };
+  const SimRun r = run_on_sim(p, job, o);
+  EXPECT_TRUE(r.sent.cancelled) << "the flag was seen";
+  EXPECT_FALSE(r.sent.complete());
+  EXPECT_TRUE(r.sent.abort_sent) << r.sent.status.message;
+  EXPECT_LT(r.sent.bytes_sent, job.bytes.size()) << "it stopped early";
+  EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), r.sent.bytes_sent))
+      << "stopped at a command boundary: byte " << r.sent.bytes_sent;
+  EXPECT_EQ(r.sent.last_stroke_sent, job.last_stroke_within(r.sent.bytes_sent));
+  EXPECT_EQ(r.report.bytes_received, r.sent.bytes_sent + o.abort_bytes.size()) << "job bytes, then exactly the abort";
+  EXPECT_LE(r.sent.buffered_bytes, p.transport.buffer_bytes) << "an honest bound: at most the device's buffer";
+  // Everything cut is a prefix of the plan (ESC.K may have discarded some of it).
+  ASSERT_LE(r.strokes.size(), r.sent.last_stroke_sent + 1);
+  for (std::size_t i = 0; i + 1 < r.strokes.size(); ++i) {
+    EXPECT_EQ(r.strokes[i].points_pu, planned[i]) << "stroke " << i + 1 << " as planned";
+  }
+}
+
+TEST(SendJob, CancelWithoutAbortKeyStillLiftsTheKnife) {
+  const DeviceProfile p = load_profile(config("generic-hpgl.toml"));
+  const StrokePlan plan = townhouse_plan(p);
+  const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+  std::atomic<bool> cancel{true};  // before the first byte
+  SendOptions o = send_options(p);
+  o.cancel = &cancel;
+  const SimRun r = run_on_sim(p, job, o);
+  EXPECT_TRUE(r.sent.cancelled);
+  EXPECT_EQ(r.sent.bytes_sent, 0u) << "nothing of the job was sent";
+  EXPECT_EQ(r.sent.last_stroke_sent, 0u);
+  EXPECT_EQ(r.report.bytes_received, 3u) << "only PU;";
+  EXPECT_EQ(r.report.knife_downs, 0);
+}
+
+TEST(SendJob, WaitsForTheDeviceToDrainByQuery) {
+  const DeviceProfile secabo = load_profile(config("secabo.toml"));
+  EXPECT_EQ(secabo.transport.drain_query, DrainQuery::esc_b) << "ESC.B pacing implies an ESC.B drain check";
+  const EncodedJob job = encode_job(townhouse_plan(secabo), secabo.dialect, secabo.tools);
+  auto cutter = std::make_shared<SimCutter>(secabo);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const SendResult r = send_job(t, job, send_options(secabo));
+  ASSERT_TRUE(r.complete()) << r.status.message;
+  EXPECT_EQ(r.drained_by, "esc_b");
+  EXPECT_EQ(cutter->buffer_used(), 0u) << "done means the device's buffer is empty";
+
+  DeviceProfile esc_o = load_profile(config("sim.toml"));
+  esc_o.transport.drain_query = DrainQuery::esc_o;
+  auto c2 = std::make_shared<SimCutter>(esc_o);
+  SimTransport t2(c2);
+  ASSERT_TRUE(t2.open().ok());
+  const SendResult r2 = send_job(t2, encode_job(townhouse_plan(esc_o), esc_o.dialect, esc_o.tools), send_options(esc_o));
+  ASSERT_TRUE(r2.complete()) << r2.status.message;
+  EXPECT_EQ(r2.drained_by, "esc_o");
+  EXPECT_EQ(c2->buffer_used(), 0u) << "ESC.O said buffer empty";
+}
+
+TEST(SendJob, ADroppedLineNamesTheLastStrokeFullySent) {
+  const DeviceProfile p = load_profile(config("sim.toml"));
+  const StrokePlan plan = townhouse_plan(p);
+  const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, job.stroke_end[4] + 3, 1});
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const SendResult r = send_job(t, job, send_options(p));
+  EXPECT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
+  EXPECT_EQ(r.last_stroke_sent, 5u) << "stroke 5 ended 3 bytes before the drop";
+}
+
+TEST(DeviceString, ParsesEveryForm) {
+  DeviceAddress a;
+  ASSERT_TRUE(parse_device("sim", a).ok());
+  EXPECT_EQ(a.kind, DeviceKind::sim);
+  ASSERT_TRUE(parse_device("file:/tmp/x.hpgl", a).ok());
+  EXPECT_EQ(a.kind, DeviceKind::file);
+  EXPECT_EQ(a.path, "/tmp/x.hpgl");
+  ASSERT_TRUE(parse_device("serial:/dev/ttyUSB0", a).ok());
+  EXPECT_EQ(a.kind, DeviceKind::serial);
+  EXPECT_EQ(a.path, "/dev/ttyUSB0");
+  ASSERT_TRUE(parse_device("serial:0403:6001:A50285BI", a).ok());
+  EXPECT_EQ(a.kind, DeviceKind::serial);
+  EXPECT_EQ(*a.vid, 0x0403);
+  EXPECT_EQ(*a.pid, 0x6001);
+  EXPECT_EQ(a.serial_number, "A50285BI");
+  ASSERT_TRUE(parse_device("usb:0B4D:110a", a).ok());
+  EXPECT_EQ(a.kind, DeviceKind::usb);
+  EXPECT_EQ(usb_id_string(*a.vid, *a.pid), "0b4d:110a") << "ids are case-insensitive hex";
+  EXPECT_TRUE(a.serial_number.empty());
+}
+
+TEST(DeviceString, MalformedStringsSayWhatWasExpected) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"", "empty"},
+      {"ttyUSB0", "unknown device"},
+      {"tcp:host:9100", "unknown scheme 'tcp:'"},
+      {"file:", "file: needs a path"},
+      {"serial:", "serial: needs a port"},
+      {"serial:ttyUSB0", "expected VID:PID"},
+      {"usb:", "usb: needs VID:PID"},
+      {"usb:0b4d", "expected VID:PID"},
+      {"usb:0b4:110a", "vendor id '0b4' is not four hex digits"},
+      {"usb:0b4d:11g0", "product id '11g0' is not four hex digits"},
+      {"usb:0b4d:110a:", "empty serial number"},
+      {"usb:0b4d:110a:A B", "printable characters only"},
+  };
+  for (const auto& [text, expect] : cases) {
+    DeviceAddress a;
+    const TransportStatus st = parse_device(text, a);
+    EXPECT_EQ(st.error, TransportError::bad_argument) << "'" << text << "' is refused";
+    EXPECT_NE(st.message.find(expect), std::string::npos) << "'" << text << "': " << st.message;
+    EXPECT_NE(st.message.find(std::string("'") + text + "'"), std::string::npos) << "names the string: " << st.message;
+  }
+  const MadeTransport m = make_transport("usb:zzzz:0000", load_profile(config("sim.toml")));
+  EXPECT_EQ(m.status.error, TransportError::bad_argument) << "the factory parses first";
+  EXPECT_EQ(m.transport, nullptr);
+}
+
+TEST(DeviceString, FactoryBuildsSimAndFile) {
+  const DeviceProfile p = load_profile(config("sim.toml"));
+  const MadeTransport sim = make_transport("sim", p);
+  ASSERT_TRUE(sim.status.ok()) << sim.status.message;
+  EXPECT_NE(sim.sim, nullptr) << "sim exposes the simulated device";
+  EXPECT_EQ(sim.transport->describe(), "sim");
+  const MadeTransport file = make_transport("file:/nonexistent-dir/x.hpgl", p);
+  ASSERT_TRUE(file.status.ok());
+  EXPECT_FALSE(file.transport->answers()) << "a file cannot answer queries";
+  EXPECT_EQ(file.transport->open().error, TransportError::not_found) << "open reports the missing directory";
+}
+
+TEST(Profile, AbortAndTransportKeysAreValidated) {
+  const std::string base = "[device]\nname = \"x\"\n[transport]\n";
+  const std::pair<const char*, const char*> cases[] = {
+      {"abort = \"PU;PD;\"", "must not lower the knife"},
+      {"abort = \"\\u0007\"", "only ESC"},
+      {"parity = \"mark\"", "is not one of"},
+      {"data_bits = 9", "out of range"},
+      {"flow_control = \"cts\"", "is not one of"},
+      {"drain_query = \"esc_x\"", "is not one of"},
+      {"usb_ids = [\"0b4d-110a\"]", "is not a USB id"},
+  };
+  for (const auto& [line, expect] : cases) {
+    try {
+      parse_profile(base + line + "\n", "t.toml");
+      ADD_FAILURE() << line << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << line << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find("[transport]"), std::string::npos) << "names the section: " << e.what();
+    }
+  }
+  const DeviceProfile ok = parse_profile(base + "abort = \"\\u001b.K\"\nflow_control = \"dtr_dsr\"\nusb_ids = [\"0B4D:110A\"]\n", "t.toml");
+  EXPECT_EQ(ok.transport.abort, "\x1b.K");
+  EXPECT_EQ(ok.transport.flow, FlowControl::dtr_dsr);
+  EXPECT_EQ(ok.transport.usb_ids, std::vector<std::string>{"0b4d:110a"});
+}
+
+}  // namespace
+}  // namespace popcut::drivers

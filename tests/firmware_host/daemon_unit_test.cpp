@@ -1,0 +1,164 @@
+// popcutd's parts without processes: configuration checks, the job store's transitions, stroke-boundary encoding.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "config.h"
+#include "cut_job.h"
+#include "popcut/drivers/profile.h"
+#include "popcut/error.h"
+#include "popcut/io/files.h"
+#include "popcut/io/model_io.h"
+#include "popcutd_process.h"
+#include "store.h"
+
+namespace {
+namespace fs = std::filesystem;
+using namespace popcut;
+using namespace popcut::daemon;
+
+const std::string kSrc = POPCUT_SOURCE_DIR;
+
+// The error a config text raises, or "" when it loads.
+std::string config_error(const std::string& text) {
+  try {
+    parse_daemon_config(text, kSrc + "/configs/test.toml");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kGood = R"(
+[server]
+data_dir = "/tmp/x"
+[[device]]
+name = "a"
+profile = "devices/sim.toml"
+transport = "sim"
+[[token]]
+name = "k"
+token = "0123456789abcdef"
+)";
+
+TEST(DaemonConfig, SampleConfigLoads) {
+  const DaemonConfig c = load_daemon_config(kSrc + "/configs/popcutd.toml");
+  EXPECT_EQ(c.listen, "127.0.0.1") << "the sample listens on loopback only";
+  ASSERT_EQ(c.devices.size(), 2u) << "the sample has two simulated cutters";
+  EXPECT_EQ(c.devices[0].profile.name, "popcut simulated cutter") << "profiles load relative to the config file";
+  EXPECT_EQ(c.tokens.size(), 2u) << "a kiosk and an admin token";
+  EXPECT_EQ(c.tokens[1].role, Role::admin) << "the second token is the admin's";
+  EXPECT_EQ(config_error(kGood), "") << "the minimal config loads";
+}
+
+TEST(DaemonConfig, ErrorsNameFileSectionAndKey) {
+  struct Case {
+    std::string text, expect;
+  };
+  const std::string good = kGood;
+  const std::vector<Case> cases = {
+      {good + "[bogus]\n", "[bogus]"},
+      {"[server]\nport = \"80\"\n", "[server] port: expected a whole number"},
+      {"[server]\nport = 70000\ndata_dir=\"/x\"\n", "[server] port: 70000 is out of range 0 to 65535"},
+      {"[server]\nlisten = \"\"\n", "[server] listen"},
+      {"[server]\nport = 1\n", "[server] data_dir: missing"},
+      {"[server]\ndata_dir = \"/x\"\n[[token]]\nname=\"k\"\ntoken=\"0123456789abcdef\"\n", "no devices"},
+      {"[server]\ndata_dir = \"/x\"\nspeed = 1\n" + good.substr(good.find("[[device]]")), "[server] speed: unknown key"},
+      {good + "[[device]]\nname = \"a\"\nprofile = \"devices/sim.toml\"\ntransport = \"sim\"\n", "[device.1] name: \"a\" is used by another device"},
+      {good + "[[device]]\nname = \"../b\"\nprofile = \"devices/sim.toml\"\ntransport = \"sim\"\n", "[device.1] name"},
+      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/sim.toml\"\ntransport = \"telnet:x\"\n", "[device.1] transport"},
+      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/none.toml\"\ntransport = \"sim\"\n", "none.toml"},
+      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/sim.toml\"\ntransport = \"file:x\"\nsim_slowdown = 2\n", "sim_* settings"},
+      {good + "[[token]]\nname = \"j\"\ntoken = \"short\"\n", "[token.1] token: must be at least 16"},
+      {good + "[[token]]\nname = \"j\"\ntoken = \"0123456789abcdef\"\n", "[token.1] token: the same secret"},
+      {good + "[[token]]\nname = \"j\"\ntoken = \"0123456789abcdefg\"\nrole = \"root\"\n", "[token.1] role"},
+      {good + "[limits]\nupload_bytes = 10\n", "[limits] upload_bytes: 10 is out of range"},
+      {"[server\n", "line 1"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = config_error(c.text);
+    EXPECT_NE(e.find("test.toml"), std::string::npos) << "the error names the file: " << e << "\nfor:\n" << c.text;
+    EXPECT_NE(e.find(c.expect), std::string::npos) << "expected '" << c.expect << "' in: " << e << "\nfor:\n" << c.text;
+  }
+}
+
+TEST(DaemonConfig, SafeNames) {
+  for (const char* ok : {"card", "my card 2", "a-b_c.d"}) EXPECT_TRUE(is_safe_name(ok)) << ok << " is a fine name";
+  for (const char* bad : {"", "..", "../etc/passwd", "a/b", ".hidden", "a\\b", "x..y", " lead", "a;rm", "%2e%2e"}) {
+    EXPECT_FALSE(is_safe_name(bad)) << "'" << bad << "' must be refused";
+  }
+  EXPECT_FALSE(is_safe_name(std::string(65, 'a'))) << "names are at most 64 bytes";
+}
+
+class Store : public ::testing::Test {
+ protected:
+  popcut::testing::TempDir dir_{"popcut-store"};
+  std::string db() const { return (dir_.path() / "jobs.db").string(); }
+  static NewJob job(const std::string& device, const std::string& profile = "sim") { return {"kiosk", "card", device, profile, "{}"}; }
+};
+
+TEST_F(Store, TransitionsAreGuardedAndSurviveReopen) {
+  std::int64_t a = 0, b = 0, c = 0;
+  {
+    JobStore s(db());
+    a = *s.insert(job("dev1"), 100);
+    b = *s.insert(job(""), 100);
+    c = *s.insert(job("dev2"), 100);
+    EXPECT_EQ(s.claim_for_planning()->id, a) << "planning takes the oldest queued job";
+    s.set_planned(a, 10, 5.0);
+    EXPECT_FALSE(s.claim_for_device("dev2", "other").has_value()) << "dev2 with another profile may not take a job for dev1";
+    const std::optional<Job> got = s.claim_for_device("dev1", "sim");
+    ASSERT_TRUE(got.has_value()) << "dev1 takes its ready job";
+    EXPECT_EQ(got->state, JobState::cutting) << "claimed jobs are cutting";
+    s.set_progress(a, 4);
+    EXPECT_EQ(s.claim_for_planning()->id, b) << "the next queued job is planned";
+    // A crash here: a is cutting (4 strokes sent), b is planning.
+  }
+  JobStore s(db());
+  EXPECT_EQ(s.recover(), 2) << "one cutting and one planning job are recovered";
+  const Job ja = *s.get(a);
+  EXPECT_EQ(ja.state, JobState::interrupted) << "a cutting job becomes interrupted after a crash";
+  EXPECT_EQ(ja.strokes_sent, 4) << "strokes fully sent survive the crash";
+  EXPECT_EQ(ja.resume_from, 4) << "it will resume at the first stroke not fully sent";
+  EXPECT_EQ(s.get(b)->state, JobState::queued) << "a planning job goes back to the queue";
+  EXPECT_FALSE(s.claim_for_device("dev1", "sim").has_value()) << "an interrupted job is not cut again unasked";
+  EXPECT_TRUE(s.resume(a)) << "an interrupted job resumes when asked";
+  EXPECT_FALSE(s.resume(a)) << "a ready job cannot resume again";
+  EXPECT_EQ(s.claim_for_device("dev1", "sim")->id, a) << "the resumed job is ready for its device";
+  EXPECT_EQ(s.cancel(a), CancelResult::requested) << "cancelling a cutting job asks the worker";
+  EXPECT_TRUE(s.cancel_requested(a)) << "the request is recorded";
+  s.finish(a, JobState::cancelled, "", "");
+  EXPECT_EQ(s.cancel(a), CancelResult::already_final) << "a cancelled job stays cancelled";
+  EXPECT_EQ(s.cancel(c), CancelResult::cancelled) << "a queued job is cancelled at once";
+  EXPECT_EQ(s.cancel(999), CancelResult::not_found) << "unknown ids are reported";
+  s.finish(c, JobState::done, "", "");
+  EXPECT_EQ(s.get(c)->state, JobState::cancelled) << "finish never overwrites a job that is not planning or cutting";
+}
+
+TEST_F(Store, QueueLengthLimit) {
+  JobStore s(db());
+  EXPECT_TRUE(s.insert(job("d"), 2).has_value()) << "first job fits";
+  EXPECT_TRUE(s.insert(job("d"), 2).has_value()) << "second job fits";
+  EXPECT_FALSE(s.insert(job("d"), 2).has_value()) << "a third unfinished job exceeds queue_length 2";
+  s.cancel(1);
+  EXPECT_TRUE(s.insert(job("d"), 2).has_value()) << "finished jobs do not count against the queue";
+}
+
+StrokePlan castle_plan(const drivers::DeviceProfile& p) {
+  const Pattern pattern = make_pattern(parse_model(read_text_file(kSrc + "/examples/voxel/castle.json"), "castle"));
+  return plan_strokes(pattern, p.plan);
+}
+
+TEST(CutJob, PlanJsonRoundTrips) {
+  const drivers::DeviceProfile p = drivers::load_profile(kSrc + "/configs/devices/sim.toml");
+  const StrokePlan plan = castle_plan(p);
+  const StrokePlan back = plan_from_json(plan_to_json(plan), "plan.json");
+  EXPECT_EQ(back.sheet, plan.sheet) << "sheet survives";
+  EXPECT_EQ(back.strokes, plan.strokes) << "strokes survive bit for bit";
+  EXPECT_EQ(encode_job(back, p.dialect, p.tools, 7).bytes, encode_job(plan, p.dialect, p.tools, 7).bytes)
+      << "a resumed job re-read from its file sends the same bytes";
+  EXPECT_THROW(plan_from_json("{\"format\":\"x\"}", "p"), Error) << "a foreign file is refused";
+}
+
+}  // namespace

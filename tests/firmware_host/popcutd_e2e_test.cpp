@@ -1,0 +1,376 @@
+// popcutd end to end on loopback: real daemon processes, simulated cutters, crashes, load and bad requests.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <atomic>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+
+#include "popcutd_process.h"
+
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using popcut::testing::PopcutdProcess;
+using popcut::testing::Reply;
+using popcut::testing::TempDir;
+using popcut::testing::read_file;
+using popcut::testing::get_json;
+using popcut::testing::post_json;
+using popcut::testing::wait_until;
+
+const std::string kSrc = POPCUT_SOURCE_DIR;
+const std::string kKiosk = "kiosk-change-me-0123456789";   // configs/popcutd.toml's tokens
+const std::string kAdmin = "admin-change-me-0123456789";
+
+
+std::string example(const std::string& rel) { return read_file(kSrc + "/examples/" + rel); }
+
+std::string submission(const std::string& model, const std::string& target_key, const std::string& target, const std::string& name) {
+  return json{{"model", json::parse(model)}, {target_key, target}, {"name", name}}.dump();
+}
+
+// A config like the sample with one device whose simulated cut runs in wall-clock time, slowed:
+// the castle then takes minutes, so a test can act in the middle of it without racing it.
+std::string slow_config(const TempDir& dir, double time_scale, double slowdown) {
+  std::ostringstream o;
+  o << "[server]\ndata_dir = \"unused\"\n"
+    << "[[device]]\nname = \"slow\"\nprofile = \"" << kSrc << "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+    << "sim_time_scale = " << time_scale << "\nsim_slowdown = " << slowdown << "\n"
+    << "[[token]]\nname = \"kiosk\"\ntoken = \"" << kKiosk << "\"\n"
+    << "[[token]]\nname = \"other\"\ntoken = \"other-kiosk-0123456789\"\n"
+    << "[[token]]\nname = \"admin\"\ntoken = \"" << kAdmin << "\"\nrole = \"admin\"\n";
+  return dir.write(time_scale > 0 ? "slow.toml" : "fast.toml", o.str());
+}
+
+class Popcutd : public ::testing::Test {
+ protected:
+  TempDir dir_{"popcutd-test"};
+  std::string data_ = (dir_.path() / "data").string();
+  std::unique_ptr<PopcutdProcess> start(const std::string& config) {
+    return std::make_unique<PopcutdProcess>(POPCUTD, config, data_);
+  }
+  static json job(httplib::Client& c, std::int64_t id) { return get_json(c, "/api/v1/jobs/" + std::to_string(id)).body; }
+  static bool final_state(const json& j) {
+    const std::string s = j.value("state", "");
+    return s == "done" || s == "failed" || s == "cancelled" || s == "interrupted";
+  }
+  static std::int64_t submit(httplib::Client& c, const std::string& body) {
+    const Reply r = post_json(c, "/api/v1/jobs", body);
+    EXPECT_EQ(r.status, 201) << "submission accepted: " << r.body.dump();
+    return r.body.value("id", std::int64_t{0});
+  }
+};
+
+TEST_F(Popcutd, TwoDevicesManyJobsInOrder) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  httplib::Client c = d->client(kKiosk);
+  const std::vector<std::string> models = {"voxel/box.json", "voxel/pyramid.json", "faces/porch.json", "voxel/townhouse.json"};
+  std::vector<std::int64_t> ids;
+  std::map<std::int64_t, std::string> target;
+  for (int i = 0; i < 12; ++i) {
+    const std::string model = example(models[static_cast<std::size_t>(i) % models.size()]);
+    const bool by_profile = i % 3 == 2;
+    const std::string dev = i % 2 ? "sim-b" : "sim-a";
+    ids.push_back(submit(c, submission(model, by_profile ? "profile" : "device", by_profile ? "sim" : dev, "job" + std::to_string(i))));
+    target[ids.back()] = by_profile ? "" : dev;
+  }
+  ASSERT_TRUE(wait_until([&] {
+    for (std::int64_t id : ids) {
+      if (!final_state(job(c, id))) return false;
+    }
+    return true;
+  })) << "every job finishes; log:\n" << d->log();
+  std::map<std::string, std::vector<std::pair<double, std::int64_t>>> starts;  // device -> (started_at, id)
+  for (std::int64_t id : ids) {
+    const json j = job(c, id);
+    EXPECT_EQ(j["state"], "done") << "job " << id << " is done: " << j.dump();
+    EXPECT_EQ(j.value("sim_match", false), true) << "job " << id << ": the simulated cutter cut exactly the plan";
+    EXPECT_EQ(j["strokes_sent"], j["strokes_total"]) << "job " << id << ": every stroke sent";
+    if (!target[id].empty()) {
+      EXPECT_EQ(j["cut_on"], target[id]) << "job " << id << " was cut on the device it named";
+    }
+    starts[j["cut_on"].get<std::string>()].push_back({j["started_at"].get<double>(), id});
+  }
+  EXPECT_EQ(starts.size(), 2u) << "both devices cut";
+  for (auto& [dev, list] : starts) {
+    std::sort(list.begin(), list.end());
+    for (std::size_t i = 1; i < list.size(); ++i) {
+      EXPECT_LT(list[i - 1].second, list[i].second) << dev << " cut its jobs in the order they were queued";
+    }
+  }
+  httplib::Client admin = d->client(kAdmin);
+  const Reply devices = get_json(admin, "/api/v1/devices");
+  ASSERT_EQ(devices.body["devices"].size(), 2u) << "two devices listed";
+  EXPECT_EQ(devices.body["devices"][0]["state"], "idle") << "idle after the queue drained";
+  EXPECT_EQ(d->stop(SIGTERM), 0) << "SIGTERM with nothing cutting exits 0";
+}
+
+TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
+  const std::string slow = slow_config(dir_, 1.0, 20.0);
+  const std::string castle = example("voxel/castle.json");
+  std::int64_t id = 0, seen = 0, total = 0;
+  {
+    const auto d = start(slow);
+    httplib::Client c = d->client(kKiosk);
+    id = submit(c, submission(castle, "device", "slow", "castle"));
+    // The castle's 93 strokes take about ten minutes on this device: a few strokes in, kill it.
+    ASSERT_TRUE(wait_until([&] {
+      const json j = job(c, id);
+      seen = j.value("strokes_sent", std::int64_t{0});
+      total = j.value("strokes_total", std::int64_t{0});
+      return j["state"] == "cutting" && seen >= 2;
+    })) << "the cut starts; log:\n" << d->log();
+    EXPECT_EQ(d->stop(SIGKILL), 128 + SIGKILL) << "popcutd dies of SIGKILL";
+  }
+  const auto d = start(slow_config(dir_, 0, 1));
+  httplib::Client c = d->client(kKiosk);
+  json j = job(c, id);
+  EXPECT_EQ(j["state"], "interrupted") << "after kill -9 the cutting job is interrupted: " << j.dump();
+  const std::int64_t sent = j.value("strokes_sent", std::int64_t{0});
+  EXPECT_GE(sent, seen) << "no stroke reported sent is forgotten";
+  EXPECT_LT(sent, total) << "the kill came mid-cut (else this test proves nothing)";
+  EXPECT_EQ(j["resume_from"], sent) << "it will resume at the first stroke not fully sent";
+  EXPECT_NE(d->log().find("recovered 1 jobs"), std::string::npos) << "the restart says it recovered the job";
+  // The device goes on with other work while the interrupted job waits to be asked.
+  const std::int64_t other = submit(c, submission(example("voxel/box.json"), "device", "slow", "box"));
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, other)); })) << "the next job is cut";
+  EXPECT_EQ(job(c, other)["state"], "done") << "the device cut the next job";
+  EXPECT_EQ(job(c, id)["state"], "interrupted") << "the interrupted job is not resumed unasked";
+  const Reply r = post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "");
+  EXPECT_EQ(r.status, 202) << "resume accepted: " << r.body.dump();
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << "the resumed job finishes";
+  j = job(c, id);
+  EXPECT_EQ(j["state"], "done") << "the resumed job is done: " << j.dump();
+  EXPECT_EQ(j["strokes_sent"], total) << "every stroke sent in the end";
+  EXPECT_EQ(j["resume_from"], sent) << "the second cut started at the first stroke not fully sent";
+  EXPECT_EQ(j.value("sim_match", false), true) << "the resumed cut is exactly the plan's remaining strokes";
+  EXPECT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "").body["error"]["code"], "conflict")
+      << "a done job does not resume";
+}
+
+TEST_F(Popcutd, SigtermStopsTheCutSafelyAndCancelStopsAJob) {
+  const std::string slow = slow_config(dir_, 1.0, 20.0);
+  const std::string castle = example("voxel/castle.json");
+  std::int64_t a = 0, b = 0;
+  {
+    const auto d = start(slow);
+    httplib::Client c = d->client(kKiosk);
+    a = submit(c, submission(castle, "device", "slow", "a"));
+    b = submit(c, submission(castle, "device", "slow", "b"));
+    ASSERT_TRUE(wait_until([&] { return job(c, a)["state"] == "cutting" && job(c, a)["strokes_sent"] >= 1; })) << "a is cutting";
+    EXPECT_EQ(job(c, b)["place_in_line"], 0) << "b is next in line";
+    const Reply cancel = post_json(c, "/api/v1/jobs/" + std::to_string(a) + "/cancel", "");
+    EXPECT_EQ(cancel.status, 202) << "cancel accepted: " << cancel.body.dump();
+    ASSERT_TRUE(wait_until([&] { return final_state(job(c, a)); })) << "the cancelled cut stops";
+    EXPECT_EQ(job(c, a)["state"], "cancelled") << "a was cancelled mid-cut";
+    EXPECT_LT(job(c, a)["strokes_sent"], job(c, a)["strokes_total"]) << "a stopped before its end";
+    ASSERT_TRUE(wait_until([&] { return job(c, b)["state"] == "cutting" && job(c, b)["strokes_sent"] >= 1; })) << "b is cutting next";
+    EXPECT_EQ(d->stop(SIGTERM), 0) << "SIGTERM during a cut exits 0 once the cut is stopped";
+  }
+  const auto d = start(slow);
+  httplib::Client c = d->client(kKiosk);
+  const json j = job(c, b);
+  EXPECT_EQ(j["state"], "interrupted") << "SIGTERM leaves the cut interrupted, resumable: " << j.dump();
+  EXPECT_NE(j["error"]["message"].get<std::string>().find("knife was lifted"), std::string::npos) << "it says the knife was lifted";
+  EXPECT_EQ(d->log().find("recovered"), std::string::npos) << "a clean stop leaves nothing to recover";
+}
+
+TEST_F(Popcutd, HundredConcurrentSubmissionsNoneLostOrDuplicated) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  const std::string box = example("voxel/box.json");
+  std::vector<std::thread> threads;
+  std::mutex m;
+  std::vector<std::int64_t> ids;
+  std::atomic<int> refused{0};
+  for (int t = 0; t < 10; ++t) {
+    threads.emplace_back([&, t] {
+      httplib::Client c = d->client(kKiosk);
+      for (int i = 0; i < 10; ++i) {
+        const Reply r = post_json(c, "/api/v1/jobs", submission(box, "profile", "sim", "load-" + std::to_string(t) + "-" + std::to_string(i)));
+        if (r.status != 201) {
+          ++refused;
+          continue;
+        }
+        std::lock_guard lock(m);
+        ids.push_back(r.body["id"].get<std::int64_t>());
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(refused, 0) << "every submission accepted";
+  EXPECT_EQ(std::set<std::int64_t>(ids.begin(), ids.end()).size(), 100u) << "100 distinct ids";
+  httplib::Client admin = d->client(kAdmin);
+  ASSERT_TRUE(wait_until([&] {
+    const json all = get_json(admin, "/api/v1/jobs?limit=1000").body["jobs"];
+    return std::all_of(all.begin(), all.end(), [](const json& j) { return final_state(j); });
+  })) << "all jobs finish";
+  const json all = get_json(admin, "/api/v1/jobs?limit=1000").body["jobs"];
+  ASSERT_EQ(all.size(), 100u) << "exactly 100 jobs in the store";
+  std::set<std::string> names;
+  for (const json& j : all) {
+    names.insert(j["name"].get<std::string>());
+    EXPECT_EQ(j["state"], "done") << "job " << j["id"] << " done";
+    EXPECT_EQ(j.value("sim_match", false), true) << "job " << j["id"] << " cut as planned";
+  }
+  EXPECT_EQ(names.size(), 100u) << "each submission is one job";
+  const std::string metrics = d->client("").Get("/metrics")->body;
+  EXPECT_NE(metrics.find("popcutd_jobs{state=\"done\"} 100"), std::string::npos) << "metrics count 100 done jobs:\n" << metrics;
+}
+
+TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  httplib::Client c = d->client(kKiosk);
+  httplib::Client none = d->client("");
+  httplib::Client wrong = d->client("wrong-token-0123456789");
+  const std::string box = example("voxel/box.json");
+  const std::int64_t mine = submit(c, submission(box, "device", "sim-a", "mine"));
+  struct Case {
+    httplib::Client* client;
+    std::string method, path, body;
+    int status;
+    std::string code;
+  };
+  const std::string big(2 << 20, ' ');
+  const std::vector<Case> cases = {
+      {&c, "POST", "/api/v1/jobs", "{not json", 400, "bad_json"},
+      {&c, "POST", "/api/v1/jobs", "[1,2]", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": 5, "model": {}})", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a"})", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": "box"})", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "profile": "sim", "model": {}})", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {}, "colour": 1})", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "heights": "x"}})", 422, "bad_model"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-z", "model": {}})", 422, "no_device"},
+      {&c, "POST", "/api/v1/jobs", R"({"profile": "roland", "model": {}})", 422, "no_device"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "../sim-a", "model": {}})", 400, "bad_name"},
+      {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "../../etc/passwd"), 400, "bad_name"},
+      {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "a/b"), 400, "bad_name"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "voxel_mm": 1, "grid": {"width": 100, "depth": 100, "height": 100}, "heights": [[1]]}})", 413, "model_too_complex"},
+      {&c, "POST", "/api/v1/jobs", big, 413, "too_large"},
+      {&none, "GET", "/api/v1/jobs", "", 401, "unauthorized"},
+      {&wrong, "GET", "/api/v1/jobs", "", 401, "unauthorized"},
+      {&wrong, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "x"), 401, "unauthorized"},
+      {&c, "GET", "/api/v1/jobs/999999", "", 404, "not_found"},
+      {&c, "GET", "/api/v1/jobs/99999999999999999999", "", 404, "not_found"},
+      {&c, "GET", "/api/v1/jobs/abc", "", 404, "not_found"},
+      {&c, "GET", "/api/v1/jobs?limit=-1", "", 400, "bad_request"},
+      {&c, "GET", "/api/v1/jobs/" + std::to_string(mine) + "/preview.png?angle=270", "", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs/999999/cancel", "", 404, "not_found"},
+      {&c, "POST", "/api/v1/devices/sim-a/pause", "", 403, "forbidden"},
+      {&c, "GET", "/api/v1/examples/..%2F..%2Fconfigs%2Fpopcutd.toml", "", 404, "not_found"},
+      {&c, "GET", "/kiosk/../../configs/popcutd.toml", "", 404, "not_found"},
+      {&c, "GET", "/api/v1/nothing", "", 404, "not_found"},
+  };
+  for (const Case& k : cases) {
+    const Reply r = k.method == "GET" ? get_json(*k.client, k.path) : post_json(*k.client, k.path, k.body);
+    EXPECT_EQ(r.status, k.status) << k.method << " " << k.path << " " << k.body.substr(0, 120) << " -> " << r.body.dump();
+    EXPECT_EQ(r.body.is_object() && r.body.contains("error") ? r.body["error"].value("code", "") : "", k.code)
+        << k.method << " " << k.path << " " << k.body.substr(0, 120) << " answers with the documented code: " << r.body.dump();
+  }
+  httplib::Client admin = d->client(kAdmin);
+  EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/pause", "").status, 200) << "the admin pauses a device";
+  const std::int64_t held = submit(c, submission(box, "device", "sim-a", "held"));
+  EXPECT_EQ(post_json(admin, "/api/v1/jobs/" + std::to_string(held) + "/cancel", "").status, 202) << "the admin cancels anyone's job";
+  EXPECT_EQ(job(c, held)["state"], "cancelled") << "a job waiting on a paused device is cancelled at once";
+  const std::int64_t waiting = submit(c, submission(box, "device", "sim-a", "waiting"));
+  ASSERT_TRUE(wait_until([&] { return job(c, waiting)["state"] == "ready"; })) << "planned while the device is paused";
+  EXPECT_EQ(get_json(admin, "/api/v1/devices").body["devices"][0]["state"], "paused") << "the device says it is paused";
+  EXPECT_EQ(job(c, waiting)["state"], "ready") << "a paused device takes no job";
+  EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/resume", "").status, 200) << "the admin resumes the device";
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, waiting)); })) << "the waiting job is cut once the device resumes";
+  EXPECT_EQ(job(c, waiting)["state"], "done") << "and it is done";
+  EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon still serves after every bad request";
+  EXPECT_EQ(d->stop(SIGTERM), 0) << "and stops cleanly";
+}
+
+TEST_F(Popcutd, KioskTokensSeeOnlyTheirOwnJobs) {
+  const auto d = start(slow_config(dir_, 0, 1));
+  httplib::Client a = d->client(kKiosk);
+  httplib::Client b = d->client("other-kiosk-0123456789");
+  httplib::Client admin = d->client(kAdmin);
+  const std::int64_t id = submit(a, submission(example("voxel/box.json"), "device", "slow", "mine"));
+  EXPECT_EQ(get_json(b, "/api/v1/jobs/" + std::to_string(id)).status, 404) << "another kiosk cannot see the job";
+  EXPECT_EQ(post_json(b, "/api/v1/jobs/" + std::to_string(id) + "/cancel", "").status, 404) << "nor cancel it";
+  EXPECT_TRUE(get_json(b, "/api/v1/jobs").body["jobs"].empty()) << "nor list it";
+  EXPECT_EQ(get_json(a, "/api/v1/jobs").body["jobs"].size(), 1u) << "its owner lists it";
+  EXPECT_EQ(get_json(admin, "/api/v1/jobs/" + std::to_string(id)).status, 200) << "the admin sees it";
+  ASSERT_TRUE(wait_until([&] { return final_state(job(a, id)); })) << "it finishes";
+  const httplib::Result svg = a.Get(("/api/v1/jobs/" + std::to_string(id) + "/pattern.svg").c_str());
+  ASSERT_TRUE(svg) << "pattern answered";
+  EXPECT_NE(svg->body.find("<svg"), std::string::npos) << "the job's pattern is SVG";
+  const httplib::Result png = a.Get(("/api/v1/jobs/" + std::to_string(id) + "/preview.png?angle=45").c_str());
+  ASSERT_TRUE(png) << "preview answered";
+  EXPECT_EQ(png->body.substr(1, 3), "PNG") << "the preview is a PNG";
+}
+
+TEST_F(Popcutd, BadConfigExitsTwoNamingTheKey) {
+  const std::string cfg = dir_.write("bad.toml", "[server]\ndata_dir = \"x\"\nport = \"eighty\"\n");
+  EXPECT_THROW(start(cfg), std::runtime_error) << "popcutd refuses the config";
+  const std::string cmd = std::string(POPCUTD) + " --config " + cfg + " 2>" + (dir_.path() / "err").string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 2) << "bad config is exit 2";
+  EXPECT_NE(read_file((dir_.path() / "err").string()).find("bad.toml: [server] port: expected a whole number"), std::string::npos)
+      << "the message names file, section and key: " << read_file((dir_.path() / "err").string());
+}
+
+}  // namespace
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+class PopcutClient : public Popcutd {
+ protected:
+  CliRun cli(const std::string& args) {
+    const std::string out = (dir_.path() / "cli.out").string(), err = (dir_.path() / "cli.err").string();
+    const int status = std::system((std::string(POPCUT_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
+  }
+};
+
+TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
+  const auto d = start(slow_config(dir_, 1.0, 20.0));
+  const std::string server = "--server http://127.0.0.1:" + std::to_string(d->port()) + " --token " + kKiosk;
+  CliRun r = cli("submit " + kSrc + "/examples/voxel/castle.json --device slow --name castle --json " + server);
+  ASSERT_EQ(r.code, 0) << "submit exits 0: " << r.err;
+  const json job = json::parse(r.out);
+  EXPECT_EQ(job["name"], "castle") << "--json prints the job";
+  r = cli("jobs " + server);
+  EXPECT_EQ(r.code, 0) << "jobs exits 0: " << r.err;
+  EXPECT_NE(r.out.find("castle"), std::string::npos) << "jobs lists it: " << r.out;
+  r = cli("cancel " + std::to_string(job["id"].get<int>()) + " " + server);
+  EXPECT_EQ(r.code, 0) << "cancel exits 0: " << r.err;
+  httplib::Client c = d->client(kKiosk);
+  ASSERT_TRUE(wait_until([&] { return final_state(Popcutd::job(c, job["id"].get<std::int64_t>())); })) << "the job ends";
+  EXPECT_EQ(Popcutd::job(c, job["id"].get<std::int64_t>())["state"], "cancelled") << "cancelled through the CLI";
+
+  r = cli("cancel " + std::to_string(job["id"].get<int>()) + " " + server);
+  EXPECT_EQ(r.code, 2) << "cancelling a cancelled job is refused: exit 2";
+  EXPECT_NE(r.err.find("409 conflict"), std::string::npos) << "the daemon's code is shown: " << r.err;
+  r = cli("cancel 4242 " + server);
+  EXPECT_EQ(r.code, 2) << "unknown id: exit 2";
+  EXPECT_NE(r.err.find("404 not_found"), std::string::npos) << "the daemon's code is shown: " << r.err;
+  r = cli("submit " + kSrc + "/examples/voxel/castle.json --device nowhere " + server);
+  EXPECT_EQ(r.code, 2) << "unknown device: exit 2";
+  EXPECT_NE(r.err.find("no_device"), std::string::npos) << "named: " << r.err;
+  r = cli("submit " + kSrc + "/README.md --device slow " + server);
+  EXPECT_EQ(r.code, 2) << "a file that is not JSON: exit 2";
+  r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + " --token not-a-known-token-at-all");
+  EXPECT_EQ(r.code, 2) << "wrong token: exit 2";
+  EXPECT_NE(r.err.find("401 unauthorized"), std::string::npos) << "named: " << r.err;
+  const int port = d->port();
+  EXPECT_EQ(d->stop(SIGTERM), 0) << "daemon stopped";
+  r = cli("jobs --server http://127.0.0.1:" + std::to_string(port) + " --token " + kKiosk);
+  EXPECT_EQ(r.code, 3) << "no daemon: exit 3";
+  EXPECT_NE(r.err.find("cannot reach popcutd"), std::string::npos) << "said so: " << r.err;
+}
+
+}  // namespace

@@ -1,0 +1,117 @@
+// Starting, talking to and stopping real popcutd processes for the daemon tests and benchmarks.
+#include "popcutd_process.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+namespace popcut::testing {
+
+TempDir::TempDir(const std::string& prefix) {
+  std::string tmpl = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
+  if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed for " + tmpl);
+  path_ = tmpl;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+std::string TempDir::write(const std::string& name, const std::string& content) const {
+  const std::filesystem::path p = path_ / name;
+  std::ofstream(p) << content;
+  return p.string();
+}
+
+PopcutdProcess::PopcutdProcess(const std::string& binary, const std::string& config, const std::string& data_dir) {
+  log_path_ = data_dir + ".log";
+  int out[2];
+  if (::pipe(out) != 0) throw std::runtime_error("pipe failed");
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {
+    ::dup2(out[1], STDOUT_FILENO);
+    const int err = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    if (err >= 0) ::dup2(err, STDERR_FILENO);
+    ::close(out[0]);
+    ::close(out[1]);
+    ::execl(binary.c_str(), binary.c_str(), "--config", config.c_str(), "--data-dir", data_dir.c_str(), "--port", "0",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  // The first line says where it listens; EOF first means it exited (bad config, cannot bind).
+  std::string line;
+  char ch;
+  while (::read(out[0], &ch, 1) == 1 && ch != '\n') line += ch;
+  ::close(out[0]);
+  const std::size_t colon = line.rfind(':');
+  if (line.find("listening on") == std::string::npos || colon == std::string::npos) {
+    const int status = stop(SIGKILL);
+    throw std::runtime_error("popcutd did not start (status " + std::to_string(status) + "): " + log());
+  }
+  port_ = std::atoi(line.c_str() + colon + 1);
+}
+
+PopcutdProcess::~PopcutdProcess() {
+  if (pid_ > 0) stop(SIGKILL);
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string PopcutdProcess::log() const { return read_file(log_path_); }
+
+int PopcutdProcess::stop(int sig) {
+  if (pid_ <= 0) return -1;
+  ::kill(pid_, sig);
+  int status = 0;
+  ::waitpid(pid_, &status, 0);
+  pid_ = -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+httplib::Client PopcutdProcess::client(const std::string& token) const {
+  httplib::Client c("127.0.0.1", port_);
+  if (!token.empty()) c.set_default_headers({{"Authorization", "Bearer " + token}});
+  c.set_read_timeout(120);
+  c.set_tcp_nodelay(true);
+  return c;
+}
+
+static Reply reply_of(const httplib::Result& r) {
+  Reply out;
+  if (!r) return out;
+  out.status = r->status;
+  out.body = nlohmann::json::parse(r->body, nullptr, false);
+  return out;
+}
+
+Reply get_json(httplib::Client& c, const std::string& path) { return reply_of(c.Get(path.c_str())); }
+Reply post_json(httplib::Client& c, const std::string& path, const std::string& body) {
+  return reply_of(c.Post(path.c_str(), body, "application/json"));
+}
+
+bool wait_until(const std::function<bool()>& condition, double give_up_s) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(give_up_s);
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+}  // namespace popcut::testing

@@ -1,0 +1,67 @@
+// A real popcutd process for tests and benchmarks: started on a free loopback port, killed and reaped on scope exit.
+#pragma once
+
+#include <httplib.h>
+#include <sys/types.h>
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace popcut::testing {
+
+// A temporary directory removed with everything in it when the object goes.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix);
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string write(const std::string& name, const std::string& content) const;
+
+ private:
+  std::filesystem::path path_;
+};
+
+class PopcutdProcess {
+ public:
+  // Runs `binary --config config --data-dir data_dir --port 0` and reads the port it prints;
+  // throws std::runtime_error (with its standard error) if it exits first.
+  PopcutdProcess(const std::string& binary, const std::string& config, const std::string& data_dir);
+  ~PopcutdProcess();  // SIGKILL if still running, then reaped
+  PopcutdProcess(const PopcutdProcess&) = delete;
+  PopcutdProcess& operator=(const PopcutdProcess&) = delete;
+
+  int port() const { return port_; }
+  pid_t pid() const { return pid_; }
+  std::string log() const;  // its standard error so far
+  // Sends `sig` and waits for the exit; returns the exit status (128 + signal if killed).
+  int stop(int sig);
+
+  httplib::Client client(const std::string& token) const;
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+  std::string log_path_;
+};
+
+// A whole file as text ("" when it cannot be read).
+std::string read_file(const std::string& path);
+
+struct Reply {
+  int status = 0;  // 0: no answer at all
+  nlohmann::json body;
+};
+Reply get_json(httplib::Client& c, const std::string& path);
+Reply post_json(httplib::Client& c, const std::string& path, const std::string& body);
+
+// Polls `condition` every 20 ms until true; false only if popcutd stopped answering or
+// `give_up_s` passed (a safety net so a broken daemon fails the test instead of hanging it).
+bool wait_until(const std::function<bool()>& condition, double give_up_s = 300);
+
+}  // namespace popcut::testing
