@@ -1,6 +1,7 @@
 // popcut subcommands: pattern, validate, repair, fold, render, import — load a model, run core, write files and reports.
 #include "cli_commands.h"
 #include "cli_cut.h"
+#include "cli_sim_plotter.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -271,10 +272,15 @@ int run(int argc, char** argv) {
   // Stroke planning and cutting (issue 5): their options and handlers live in cli_cut.cpp.
   CutCommands cut_commands;
   add_cut_commands(app, cut_commands);
+  // Cutters (issue 6): what is attached, and a simulated one behind a pseudo-terminal.
+  DevicesCommand devices_command;
+  add_devices_command(app, devices_command);
+  SimPlotterCommand sim_plotter_command;
+  add_sim_plotter_command(app, sim_plotter_command);
 
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan or cut)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan, cut, devices or sim-plotter)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -294,6 +300,8 @@ int run(int argc, char** argv) {
   }
 
   if (const std::optional<int> rc = run_cut_commands(cut_commands)) return *rc;
+  if (const std::optional<int> rc = run_devices_command(devices_command)) return *rc;
+  if (const std::optional<int> rc = run_sim_plotter_command(sim_plotter_command)) return *rc;
   if (*pattern) {
     return guarded(json_out, [&] {
       const std::string ext = out_path == "-" ? ".json" : require_extension(out_path, {".json", ".svg"}, "output type");

@@ -165,6 +165,19 @@ class Sender {
         }
         if (more.bytes == 0) held += kSlice;
       }
+    } else if (flow_ == FlowControl::none && !t_.backpressure() && o_.job_motion_estimate.count() > 0) {
+      // No handshake at all: keep at most half a buffer ahead of where the device should be,
+      // assuming it works through the job's bytes at the pace of its estimated motion.
+      const double rate_bytes_s = static_cast<double>(job_.bytes.size()) /
+                                  (static_cast<double>(o_.job_motion_estimate.count()) / 1000.0);
+      for (;;) {
+        const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        const double allowed = rate_bytes_s * elapsed_s + static_cast<double>(o_.buffer_bytes) / 2;
+        if (static_cast<double>(r_.bytes_sent + n) <= allowed || cancel_requested()) break;
+        const auto wait = std::chrono::milliseconds(
+            1 + static_cast<long>((static_cast<double>(r_.bytes_sent + n) - allowed) / rate_bytes_s * 1000));
+        if (!idle(std::min(kSlice, wait))) return false;
+      }
     } else if (flow_ == FlowControl::esc_b && credit_ < n) {
       // Ask for free space; poll again (letting the device work, backing off) while there is
       // too little. The answer is credit for the next chunks: the device only drains meanwhile.
@@ -280,6 +293,7 @@ class Sender {
   DrainQuery query_;
   SendResult r_;
   bool paused_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::size_t credit_ = 0;  // ESC.B: bytes the device last said it could take, less those sent since
 };
 
