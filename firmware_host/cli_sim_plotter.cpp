@@ -64,6 +64,7 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
           {"xoff_sent", r.xoff_sent},
           {"queries_answered", r.queries_answered},
           {"knife_downs", r.knife_downs},
+          {"knife_down_at_end", c.knife_down()},
           {"cut_mm", r.knife_down_mm},
           {"motion_time_s", r.motion_time_s},
           {"unknown_commands", unknown},

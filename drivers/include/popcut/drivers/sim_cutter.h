@@ -76,6 +76,7 @@ class SimCutter {
   const DeviceProfile& profile() const { return profile_; }
   std::size_t buffer_used() const;
   bool frozen() const;
+  bool knife_down() const { return pen_down_; }
 
   // What it cut, one colour per pen, over the usable area.
   void write_svg(std::ostream& out) const;
