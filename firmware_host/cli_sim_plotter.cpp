@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "cli_commands.h"
+#include "popcut/drivers/posix_baud.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/error.h"
@@ -28,18 +29,6 @@ using nlohmann::json;
 
 std::atomic<bool> g_stop{false};
 extern "C" void on_stop(int) { g_stop = true; }
-
-int baud_of(speed_t s) {
-  static const std::pair<speed_t, int> kRates[] = {
-      {B300, 300},       {B600, 600},       {B1200, 1200},     {B2400, 2400},     {B4800, 4800},
-      {B9600, 9600},     {B19200, 19200},   {B38400, 38400},   {B57600, 57600},   {B115200, 115200},
-      {B230400, 230400}, {B460800, 460800}, {B921600, 921600}, {B1000000, 1000000}, {B2000000, 2000000},
-      {B4000000, 4000000}};
-  for (const auto& [c, rate] : kRates) {
-    if (c == s) return rate;
-  }
-  return 0;
-}
 
 json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, const std::string& ended) {
   const drivers::SimReport& r = c.report();
@@ -160,7 +149,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         slave = -1;
       }
       termios host{};
-      if (::tcgetattr(master, &host) == 0) host_baud = baud_of(::cfgetospeed(&host));
+      if (::tcgetattr(master, &host) == 0) host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
       if (host_baud != 0 && host_baud != profile.transport.baud) {
         // A UART at the wrong rate sees framing errors, not the bytes that were sent.
         for (ssize_t i = 0; i < n; ++i) buf[i] = static_cast<std::uint8_t>(buf[i] ^ 0x5a);

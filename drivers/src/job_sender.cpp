@@ -43,6 +43,7 @@ class Sender {
       }
       std::size_t n = std::min(chunk, limit - r_.bytes_sent);
       if (!pace(n, chunk)) return fail_tail();
+      if (!r_.cancelled && cancel_requested()) continue;  // noticed while waiting: stop properly
       n = on_boundary(n);
       const IoResult w = t_.write(bytes_of(std::string_view(job_.bytes).substr(r_.bytes_sent, n)), o_.timeout);
       r_.bytes_sent += w.bytes;
@@ -69,6 +70,10 @@ class Sender {
 
  private:
   bool cancel_requested() const { return o_.cancel && o_.cancel->load(); }
+  // A cancel while the device holds us off: stop waiting unless a command is half sent.
+  bool at_boundary_and_cancelled() const {
+    return cancel_requested() && job_.command_boundary_at_or_after(r_.bytes_sent) == r_.bytes_sent;
+  }
 
   void report_progress() {
     if (!o_.progress) return;
@@ -152,6 +157,7 @@ class Sender {
       }
       std::chrono::milliseconds held{0};
       while (paused_) {
+        if (at_boundary_and_cancelled()) return true;  // no need to wait for XON to stop
         if (held >= o_.hold_timeout) {
           r_.status = {TransportError::timeout, 0, "device held the line (XOFF) for longer than " +
                                                        std::to_string(o_.hold_timeout.count()) + " ms"};
@@ -191,6 +197,7 @@ class Sender {
           n = credit_;
           break;
         }
+        if (at_boundary_and_cancelled()) return true;
         if (waited_ms > o_.hold_timeout.count()) {
           r_.status = {TransportError::timeout, 0, "device buffer stayed full for longer than " +
                                                        std::to_string(o_.hold_timeout.count()) + " ms"};

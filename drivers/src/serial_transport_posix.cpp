@@ -17,26 +17,12 @@
 
 #include "backends.h"
 #include "popcut/drivers/ports.h"
+#include "popcut/drivers/posix_baud.h"
 
 namespace popcut::drivers {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-bool baud_constant(int baud, speed_t& out) {
-  static const std::pair<int, speed_t> kRates[] = {
-      {300, B300},       {600, B600},       {1200, B1200},     {2400, B2400},     {4800, B4800},
-      {9600, B9600},     {19200, B19200},   {38400, B38400},   {57600, B57600},   {115200, B115200},
-      {230400, B230400}, {460800, B460800}, {921600, B921600}, {1000000, B1000000}, {2000000, B2000000},
-      {4000000, B4000000}};
-  for (const auto& [rate, constant] : kRates) {
-    if (rate == baud) {
-      out = constant;
-      return true;
-    }
-  }
-  return false;
-}
 
 class SerialTransport final : public Transport {
  public:
@@ -76,12 +62,12 @@ class SerialTransport final : public Transport {
     termios tio{};
     if (::tcgetattr(fd_, &tio) != 0) return fail(status_from_errno(errno, "cannot read the settings of " + path_));
     ::cfmakeraw(&tio);
-    speed_t speed = B9600;
-    if (!baud_constant(settings_.baud, speed)) {
+    const std::optional<speed_t> speed = speed_of_baud(settings_.baud);
+    if (!speed) {
       return fail({TransportError::unsupported, 0, std::to_string(settings_.baud) + " baud is not a standard rate this port can be set to"});
     }
-    ::cfsetispeed(&tio, speed);
-    ::cfsetospeed(&tio, speed);
+    ::cfsetispeed(&tio, *speed);
+    ::cfsetospeed(&tio, *speed);
     tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
     static const tcflag_t kSize[] = {CS5, CS6, CS7, CS8};
     tio.c_cflag |= kSize[settings_.data_bits - 5] | CLOCAL | CREAD;
