@@ -139,7 +139,13 @@ gboolean handle_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* client) {
       }
       g_object_ref(data);
       Device::Urb u{data, buffer};
-      if (urb->endpoint & 0x80) {
+      if (urb->type == USBDEVFS_URB_TYPE_CONTROL) {
+        // Endpoint 0 (string descriptors): this cutter stalls them, as devices without strings do.
+        urb->actual_length = 0;
+        urb->status = -EPIPE;
+        umockdev_ioctl_data_update(data, 0, data->data, data->data_len);
+        d.done.push_back(u);
+      } else if (urb->endpoint & 0x80) {
         d.pending.push_back(u);
       } else {
         std::size_t n = static_cast<std::size_t>(urb->buffer_length);
@@ -285,6 +291,9 @@ TEST_F(UsbMock, AJobGoesOutOverBulkOutPacedByBulkInAnswers) {
   ASSERT_EQ(device_.cutter->strokes().size(), planned.size()) << "every stroke arrived";
   for (std::size_t i = 0; i < planned.size(); ++i) EXPECT_EQ(device_.cutter->strokes()[i].points_pu, planned[i]) << "stroke " << i + 1;
   EXPECT_EQ(device_.cutter->report().overflow_bytes, 0u);
+  EXPECT_TRUE(device_.cutter->report().unknown.empty()) << "only the job reached the cutter (no control-transfer bytes)";
+  EXPECT_EQ(device_.cutter->report().bytes_received, j.bytes.size() + 3 * static_cast<std::size_t>(r.buffer_queries))
+      << "the job and the ESC.B queries, nothing else";
 }
 
 TEST_F(UsbMock, UnplugMidJobIsDisconnectedWithTheLastStroke) {
