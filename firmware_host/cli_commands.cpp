@@ -2,6 +2,7 @@
 #include "cli_commands.h"
 #include "cli_client.h"
 #include "cli_cut.h"
+#include "cli_sim_plotter.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -281,9 +282,15 @@ int run(int argc, char** argv) {
   ClientCommands client_commands;
   add_client_commands(app, client_commands);
 
+  // Cutters (issue 6): what is attached, and a simulated one behind a pseudo-terminal.
+  DevicesCommand devices_command;
+  add_devices_command(app, devices_command);
+  SimPlotterCommand sim_plotter_command;
+  add_sim_plotter_command(app, sim_plotter_command);
+
   // A first word that is no subcommand is named as such, not reported as "subcommand required".
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* sub) { return sub->get_name() == argv[1]; }).empty()) {
-    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan, cut, submit, jobs or cancel)\n"
+    std::cerr << "popcut: error: unknown command '" << argv[1] << "' (expected pattern, validate, repair, fold, render, import, plan, cut, submit, jobs, cancel, devices or sim-plotter)\n"
               << "Run 'popcut --help' for usage.\n";
     return kBadInput;
   }
@@ -304,6 +311,8 @@ int run(int argc, char** argv) {
 
   if (const std::optional<int> rc = run_cut_commands(cut_commands)) return *rc;
   if (const std::optional<int> rc = run_client_commands(client_commands)) return *rc;
+  if (const std::optional<int> rc = run_devices_command(devices_command)) return *rc;
+  if (const std::optional<int> rc = run_sim_plotter_command(sim_plotter_command)) return *rc;
   if (*pattern) {
     return guarded(json_out, [&] {
       const std::string ext = out_path == "-" ? ".json" : require_extension(out_path, {".json", ".svg"}, "output type");

@@ -19,4 +19,7 @@ std::string find_config_file(const std::string& relative, const std::vector<std:
 // The same for this process: its environment and /proc/self/exe.
 std::string find_config_file(const std::string& relative);
 
+// A directory (e.g. "devices") found the same way.
+std::string find_config_dir(const std::string& relative);
+
 }  // namespace popcut::cli

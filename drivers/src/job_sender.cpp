@@ -43,6 +43,7 @@ class Sender {
       }
       std::size_t n = std::min(chunk, limit - r_.bytes_sent);
       if (!pace(n, chunk)) return fail_tail();
+      if (!r_.cancelled && cancel_requested()) continue;  // noticed while waiting: stop properly
       n = on_boundary(n);
       const IoResult w = t_.write(bytes_of(std::string_view(job_.bytes).substr(r_.bytes_sent, n)), o_.timeout);
       r_.bytes_sent += w.bytes;
@@ -69,6 +70,10 @@ class Sender {
 
  private:
   bool cancel_requested() const { return o_.cancel && o_.cancel->load(); }
+  // A cancel while the device holds us off: stop waiting unless a command is half sent.
+  bool at_boundary_and_cancelled() const {
+    return cancel_requested() && job_.command_boundary_at_or_after(r_.bytes_sent) == r_.bytes_sent;
+  }
 
   void report_progress() {
     if (!o_.progress) return;
@@ -152,6 +157,7 @@ class Sender {
       }
       std::chrono::milliseconds held{0};
       while (paused_) {
+        if (at_boundary_and_cancelled()) return true;  // no need to wait for XON to stop
         if (held >= o_.hold_timeout) {
           r_.status = {TransportError::timeout, 0, "device held the line (XOFF) for longer than " +
                                                        std::to_string(o_.hold_timeout.count()) + " ms"};
@@ -164,6 +170,19 @@ class Sender {
           return false;
         }
         if (more.bytes == 0) held += kSlice;
+      }
+    } else if (flow_ == FlowControl::none && !t_.backpressure() && o_.job_motion_estimate.count() > 0) {
+      // No handshake at all: keep at most half a buffer ahead of where the device should be,
+      // assuming it works through the job's bytes at the pace of its estimated motion.
+      const double rate_bytes_s = static_cast<double>(job_.bytes.size()) /
+                                  (static_cast<double>(o_.job_motion_estimate.count()) / 1000.0);
+      for (;;) {
+        const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        const double allowed = rate_bytes_s * elapsed_s + static_cast<double>(o_.buffer_bytes) / 2;
+        if (static_cast<double>(r_.bytes_sent + n) <= allowed || cancel_requested()) break;
+        const auto wait = std::chrono::milliseconds(
+            1 + static_cast<long>((static_cast<double>(r_.bytes_sent + n) - allowed) / rate_bytes_s * 1000));
+        if (!idle(std::min(kSlice, wait))) return false;
       }
     } else if (flow_ == FlowControl::esc_b && credit_ < n) {
       // Ask for free space; poll again (letting the device work, backing off) while there is
@@ -178,6 +197,7 @@ class Sender {
           n = credit_;
           break;
         }
+        if (at_boundary_and_cancelled()) return true;
         if (waited_ms > o_.hold_timeout.count()) {
           r_.status = {TransportError::timeout, 0, "device buffer stayed full for longer than " +
                                                        std::to_string(o_.hold_timeout.count()) + " ms"};
@@ -280,6 +300,7 @@ class Sender {
   DrainQuery query_;
   SendResult r_;
   bool paused_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::size_t credit_ = 0;  // ESC.B: bytes the device last said it could take, less those sent since
 };
 

@@ -119,6 +119,47 @@ TEST(SendJob, CancelStopsOnACommandBoundaryAndLiftsTheKnife) {
   }
 }
 
+// Passes bytes to the simulator; presses "cancel" the moment the device says XOFF.
+class CancelOnXoff final : public Transport {
+ public:
+  CancelOnXoff(std::shared_ptr<SimCutter> c, std::atomic<bool>& cancel) : sim_(std::move(c)), cancel_(cancel) {}
+  TransportStatus open() override { return sim_.open(); }
+  IoResult write(std::span<const std::uint8_t> d, std::chrono::milliseconds t) override { return sim_.write(d, t); }
+  IoResult read(std::span<std::uint8_t> b, std::chrono::milliseconds t) override {
+    const IoResult r = sim_.read(b, t);
+    for (std::size_t i = 0; i < r.bytes; ++i) {
+      if (b[i] == 0x13) cancel_ = true;
+    }
+    return r;
+  }
+  TransportStatus drain(std::chrono::milliseconds t) override { return sim_.drain(t); }
+  void close() override { sim_.close(); }
+  std::string describe() const override { return "cancel-on-xoff"; }
+
+ private:
+  SimTransport sim_;
+  std::atomic<bool>& cancel_;
+};
+
+TEST(SendJob, CancelDoesNotWaitForXonFromADeviceHoldingTheLine) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.buffer_bytes = 256;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  // The device says XOFF and then stops answering: it would hold the host for hold_timeout.
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{230, std::nullopt, 1});
+  std::atomic<bool> cancel{false};
+  CancelOnXoff t(cutter, cancel);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.cancel = &cancel;
+  const SendResult r = send_job(t, job, o);
+  EXPECT_EQ(r.xoff_pauses, 1) << "the cancel came while the device held the line";
+  EXPECT_TRUE(r.cancelled) << r.status.message;
+  EXPECT_NE(r.status.error, TransportError::timeout) << "the cancel ended the wait, not the hold timeout: " << r.status.message;
+  EXPECT_TRUE(r.abort_sent);
+  EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), r.bytes_sent)) << "at a command boundary";
+}
+
 TEST(SendJob, CancelWithoutAbortKeyStillLiftsTheKnife) {
   const DeviceProfile p = load_profile(config("generic-hpgl.toml"));
   const StrokePlan plan = townhouse_plan(p);

@@ -66,12 +66,17 @@ class SimCutter {
   IoResult reply(std::uint8_t* data, std::size_t size, double max_wait_s);
   // Runs every buffered command (the host waiting for the device to finish); false if stuck.
   bool run_to_end();
+  // The simulator's clock, for a host that runs it in real time (popcut sim-plotter): advance()
+  // executes what the clock reaches; receive() moves it by each byte's line time.
+  double now_s() const { return now_s_; }
+  void advance(double t_s) { advance_to(t_s); }
 
   const std::vector<SimStroke>& strokes() const { return strokes_; }
   const SimReport& report() const { return report_; }
   const DeviceProfile& profile() const { return profile_; }
   std::size_t buffer_used() const;
   bool frozen() const;
+  bool knife_down() const { return pen_down_; }
 
   // What it cut, one colour per pen, over the usable area.
   void write_svg(std::ostream& out) const;

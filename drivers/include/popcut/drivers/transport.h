@@ -40,6 +40,9 @@ class Transport {
   virtual std::string describe() const = 0;
   // Whether the far end can talk back (XON/XOFF, ESC.B answers); a file or printer node cannot.
   virtual bool answers() const { return true; }
+  // Whether the far end holds popcut off by itself when full (line flow control, USB NAKs, a
+  // blocking printer node); when not, the sender paces by the job's estimated motion time.
+  virtual bool backpressure() const { return true; }
 };
 
 // Builds a status from an errno value, classifying it.

@@ -1,0 +1,150 @@
+// Streaming over a real pseudo-terminal (popcut sim-plotter) as a fraction of line rate; encoder bytes per cut mm.
+#include <benchmark/benchmark.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_table.h"
+#include "popcut/drivers/device.h"
+#include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/profile.h"
+#include "popcut/hpgl/hpgl.h"
+#include "popcut/io/model_io.h"
+#include "popcut/plan/plan.h"
+#include "shipped_profiles.h"
+
+namespace {
+
+using namespace popcut;
+namespace fs = std::filesystem;
+const std::string kSource = POPCUT_SOURCE_DIR;
+
+StrokePlan plan_of(const std::string& model, const drivers::DeviceProfile& p) {
+  PlanOptions o = p.plan;
+  o.optimise_work = 10000;  // ordering quality does not matter for streaming
+  return plan_strokes(make_pattern(load_model(kSource + "/examples/voxel/" + model)), o);
+}
+
+// `popcut sim-plotter` in its own process; its port from the first line of its output.
+class Plotter {
+ public:
+  Plotter(int baud, long buffer) {
+    out_ = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + ".port");
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const int fd = ::open(out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(fd, 1);
+      const int null = ::open("/dev/null", O_WRONLY);
+      ::dup2(null, 2);
+      const std::string b = std::to_string(baud), buf = std::to_string(buffer);
+      ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--baud", b.c_str(), "--buffer", buf.c_str(), "--slowdown", "0.0001",
+              static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    for (int i = 0; i < 500 && port_.empty(); ++i) {
+      std::ifstream in(out_);
+      std::getline(in, port_);
+      if (port_.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  ~Plotter() {
+    ::kill(pid_, SIGTERM);
+    ::waitpid(pid_, nullptr, 0);
+    fs::remove(out_);
+  }
+  Plotter(const Plotter&) = delete;
+  Plotter& operator=(const Plotter&) = delete;
+  const std::string& port() const { return port_; }
+
+ private:
+  pid_t pid_ = -1;
+  fs::path out_;
+  std::string port_;
+};
+
+// Sends a job of at least 2 s of line time; reports achieved bytes/s against the line's.
+void BM_Stream(benchmark::State& state) {
+  const int baud = static_cast<int>(state.range(0));
+  const long buffer = state.range(1);
+  drivers::DeviceProfile p = drivers::load_profile(kSource + "/configs/devices/sim.toml");
+  p.transport.baud = baud;
+  p.transport.buffer_bytes = static_cast<std::size_t>(buffer);
+  p.transport.drain_query = drivers::DrainQuery::none;
+  const EncodedJob one = encode_job(plan_of("pyramid.json", p), p.dialect, p.tools);
+  EncodedJob job = one;
+  while (static_cast<double>(job.bytes.size()) * 10 / baud < 2.0) {  // repeat the strokes, never the init
+    job.bytes += one.bytes;
+    job.command_end.push_back(job.bytes.size());
+  }
+  double fraction = 0;
+  for (auto _ : state) {
+    Plotter plotter(baud, buffer);
+    drivers::MadeTransport t = drivers::make_transport("serial:" + plotter.port(), p);
+    if (!t.status.ok() || !t.transport->open().ok()) {
+      state.SkipWithError("cannot open the sim-plotter's port");
+      return;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const drivers::SendResult r = drivers::send_job(*t.transport, job, drivers::send_options(p));
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(s);
+    if (!r.complete()) state.SkipWithError(r.status.message.c_str());
+    fraction = static_cast<double>(r.bytes_sent) * 10 / baud / s;
+    t.transport->close();
+  }
+  state.counters["baud"] = baud;
+  state.counters["buffer"] = static_cast<double>(buffer);
+  state.counters["bytes"] = static_cast<double>(job.bytes.size());
+  state.counters["line_fraction"] = fraction;
+}
+
+void BM_BytesPerMm(benchmark::State& state) {
+  const std::vector<std::string> files = testing::shipped_profiles();
+  const drivers::DeviceProfile p = drivers::load_profile(files[static_cast<std::size_t>(state.range(0))]);
+  const StrokePlan plan = plan_of("townhouse.json", p);
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    const EncodedJob j = encode_job(plan, p.dialect, p.tools);
+    bytes = j.bytes.size();
+    benchmark::DoNotOptimize(j);
+  }
+  state.SetLabel(fs::path(files[static_cast<std::size_t>(state.range(0))]).stem().string());
+  state.counters["bytes"] = static_cast<double>(bytes);
+  state.counters["cut_mm"] = plan.total().cut_mm;
+  state.counters["bytes_per_cut_mm"] = static_cast<double>(bytes) / plan.total().cut_mm;
+}
+
+BENCHMARK(BM_Stream)->Args({9600, 1024})->Args({115200, 1024})->Args({115200, 256})->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BytesPerMm)->DenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return popcut::bench::run_with_table(argc, argv, [](const popcut::bench::CollectingReporter& rep) {
+    std::printf("\nstreaming over a pseudo-terminal to popcut sim-plotter (target >= 95%% of line rate)\n");
+    std::printf("%-8s %-8s %-8s %-10s\n", "baud", "buffer", "bytes", "of line");
+    for (const auto& r : rep.rows()) {
+      if (r.name.rfind("BM_Stream", 0) != 0) continue;
+      std::printf("%-8.0f %-8.0f %-8.0f %5.1f %%\n", r.counters.at("baud"), r.counters.at("buffer"), r.counters.at("bytes"),
+                  100 * r.counters.at("line_fraction"));
+    }
+    std::printf("\nencoder: bytes per cut mm, townhouse, per profile\n%-16s %-8s %-8s %-8s\n", "profile", "bytes", "cut mm", "B/mm");
+    const std::vector<std::string> files = popcut::testing::shipped_profiles();
+    for (const auto& r : rep.rows()) {
+      if (r.name.rfind("BM_BytesPerMm", 0) != 0) continue;
+      const std::size_t i = static_cast<std::size_t>(std::stoi(r.name.substr(r.name.find('/') + 1)));
+      std::printf("%-16s %-8.0f %-8.0f %-8.2f\n", fs::path(files[i]).stem().c_str(), r.counters.at("bytes"), r.counters.at("cut_mm"),
+                  r.counters.at("bytes_per_cut_mm"));
+    }
+  });
+}

@@ -1,0 +1,207 @@
+// popcut sim-plotter: the simulated cutter behind a pseudo-terminal, in real time, as a stand-in serial cutter.
+#include "cli_sim_plotter.h"
+#include "config_dir.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pty.h>
+#include <signal.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "cli_commands.h"
+#include "popcut/drivers/posix_baud.h"
+#include "popcut/drivers/profile.h"
+#include "popcut/drivers/sim_cutter.h"
+#include "popcut/error.h"
+
+namespace popcut::cli {
+namespace {
+
+using nlohmann::json;
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_stop(int) { g_stop = true; }
+
+json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, const std::string& ended) {
+  const drivers::SimReport& r = c.report();
+  json strokes = json::array();
+  for (const drivers::SimStroke& s : c.strokes()) {
+    json pts = json::array();
+    for (const auto& p : s.points_pu) pts.push_back({p[0], p[1]});
+    strokes.push_back({{"pen", s.pen}, {"force", s.force}, {"speed_cm_s", s.speed_cm_s}, {"points_pu", pts}});
+  }
+  json unknown = json::array();
+  for (const auto& u : r.unknown) unknown.push_back({{"offset", u.offset}, {"command", u.command}});
+  return {{"format", "popcut.sim-plotter.v1"},
+          {"port", path},
+          {"ended", ended},
+          {"device_baud", c.profile().transport.baud},
+          {"host_baud", host_baud},
+          {"bytes_received", r.bytes_received},
+          {"commands", r.commands},
+          {"overflow_bytes", r.overflow_bytes},
+          {"max_buffer_used", r.max_buffer_used},
+          {"buffer_bytes", c.profile().transport.buffer_bytes},
+          {"xoff_sent", r.xoff_sent},
+          {"queries_answered", r.queries_answered},
+          {"knife_downs", r.knife_downs},
+          {"knife_down_at_end", c.knife_down()},
+          {"cut_mm", r.knife_down_mm},
+          {"motion_time_s", r.motion_time_s},
+          {"unknown_commands", unknown},
+          {"errors", r.errors.size()},
+          {"strokes", strokes}};
+}
+
+int run_sim_plotter(const SimPlotterCommand& s) {
+  return run_guarded(false, [&] {
+    drivers::DeviceProfile profile = drivers::load_profile(
+        s.profile_path.empty() ? find_config_file("devices/sim.toml") : s.profile_path);
+    if (s.baud > 0) profile.transport.baud = s.baud;
+    if (s.buffer_bytes > 0) profile.transport.buffer_bytes = static_cast<std::size_t>(s.buffer_bytes);
+    drivers::SimFaults faults;
+    faults.slowdown = s.slowdown;
+    if (s.drop_after >= 0) faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
+    if (s.stop_after >= 0) faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_after);
+    drivers::SimCutter cutter(profile, faults);
+
+    int master = -1, slave = -1;
+    if (::openpty(&master, &slave, nullptr, nullptr, nullptr) != 0) {
+      throw Error(ErrorCode::io, "", "output", std::string("cannot create a pseudo-terminal: ") + std::strerror(errno));
+    }
+    termios tio{};
+    ::tcgetattr(slave, &tio);
+    ::cfmakeraw(&tio);  // no echo of our replies back to us, no line editing
+    ::tcsetattr(slave, TCSANOW, &tio);
+    ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
+    ::fcntl(master, F_SETFD, FD_CLOEXEC);
+    ::fcntl(slave, F_SETFD, FD_CLOEXEC);
+    const std::string path = ::ttyname(slave);
+    if (!s.link.empty()) {
+      std::error_code ec;
+      std::filesystem::remove(s.link, ec);
+      std::filesystem::create_symlink(path, s.link, ec);
+      if (ec) throw Error(ErrorCode::io, s.link, "output", "cannot create the link: " + ec.message());
+    }
+    std::cout << path << std::endl;  // the first line: where to point --device serial:
+    std::cerr << "sim-plotter: " << profile.name << " on " << path << " at " << profile.transport.baud << " baud, "
+              << profile.transport.buffer_bytes << "-byte buffer, flow " << drivers::to_string(profile.transport.flow)
+              << "; stops when the host closes the port (or on Ctrl-C)\n";
+
+    struct sigaction sa {};
+    sa.sa_handler = on_stop;
+    ::sigaction(SIGINT, &sa, nullptr);
+    ::sigaction(SIGTERM, &sa, nullptr);
+
+    const auto start = std::chrono::steady_clock::now();
+    const auto now_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    const bool held = profile.transport.flow == drivers::FlowControl::none || profile.transport.flow == drivers::FlowControl::rts_cts;
+    const std::size_t cap = profile.transport.buffer_bytes;
+    // Bytes per read: about 4 ms of line, so replies (XOFF) go out within a few characters.
+    const std::size_t slice = std::max<std::size_t>(1, static_cast<std::size_t>(profile.transport.baud / 10 / 250));
+    int host_baud = 0;
+    std::string ended = "stopped";
+    bool seen_host = false;
+    std::uint8_t buf[4096];
+    while (!g_stop) {
+      const double t = now_s();
+      // Replies first: XOFF must not wait behind anything.
+      const drivers::IoResult rep = cutter.reply(buf, sizeof buf, 0);
+      if (rep.bytes > 0 && ::write(master, buf, rep.bytes) < 0 && errno != EAGAIN) break;
+      if (cutter.now_s() > t) {
+        // The line is still busy with bytes already taken: they arrive at the baud rate.
+        std::this_thread::sleep_for(std::chrono::duration<double>(std::min(cutter.now_s() - t, 0.004)));
+        continue;
+      }
+      std::size_t room = slice;
+      if (held) room = std::min(room, cap - std::min(cap, cutter.buffer_used()));  // hardware flow: stop reading
+      if (room == 0) {
+        cutter.advance(t);
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        continue;
+      }
+      pollfd p{master, POLLIN, 0};
+      ::poll(&p, 1, 4);
+      const ssize_t n = ::read(master, buf, room);
+      if (n < 0 && errno == EIO) {
+        if (seen_host) {
+          ended = "host closed the port";
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));  // nobody has opened it yet
+        continue;
+      }
+      if (n <= 0) {
+        cutter.advance(std::max(t, cutter.now_s()));
+        continue;
+      }
+      if (!seen_host) {
+        seen_host = true;
+        ::close(slave);  // from now on the host closing the port ends the session
+        slave = -1;
+      }
+      termios host{};
+      if (::tcgetattr(master, &host) == 0) host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
+      if (host_baud != 0 && host_baud != profile.transport.baud) {
+        // A UART at the wrong rate sees framing errors, not the bytes that were sent.
+        for (ssize_t i = 0; i < n; ++i) buf[i] = static_cast<std::uint8_t>(buf[i] ^ 0x5a);
+      }
+      // Bytes that waited in the pseudo-terminal were on the line meanwhile: the clock stays
+      // where the line left it, so they arrive (and interleave with motion) at the baud rate.
+      const drivers::IoResult got = cutter.receive(buf, static_cast<std::size_t>(n), 0);
+      if (got.status.error == drivers::TransportError::disconnected) {
+        ended = "dropped the line (fault)";
+        break;
+      }
+    }
+    ::close(master);  // the host sees a hang-up
+    if (slave >= 0) ::close(slave);
+    cutter.run_to_end();  // a device goes on cutting what it holds
+    if (!s.link.empty()) {
+      std::error_code ec;
+      std::filesystem::remove(s.link, ec);
+    }
+    const json report = report_json(cutter, path, host_baud, ended);
+    if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << report.dump(2) << "\n"; });
+    if (!s.svg_path.empty()) write_cli_output(s.svg_path, [&](std::ostream& o) { cutter.write_svg(o); });
+    std::cerr << "sim-plotter: " << ended << "; received " << cutter.report().bytes_received << " bytes, cut "
+              << cutter.strokes().size() << " strokes, " << cutter.report().overflow_bytes << " bytes lost to overflow\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+}  // namespace
+
+void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
+  s.app = app.add_subcommand("sim-plotter",
+                             "Run the simulated cutter on the far side of a pseudo-terminal, in real time: prints the port\n"
+                             "(e.g. /dev/pts/3) on the first line, then serves one session; point `popcut cut --device\n"
+                             "serial:PORT` at it. Writes what it cut on exit (--report JSON, --svg).");
+  s.app->add_option("--profile", s.profile_path, "Device profile it behaves like (default: configs/devices/sim.toml)");
+  s.app->add_option("--baud", s.baud, "Line rate (default: the profile's); a host at another rate sends garbage")
+      ->check(CLI::Range(300, 4000000));
+  s.app->add_option("--buffer", s.buffer_bytes, "Input buffer in bytes (default: the profile's)")->check(CLI::Range(64, 1 << 26));
+  s.app->add_option("--slowdown", s.slowdown, "Motion takes this many times longer (below 1: faster than the profile)")
+      ->check(CLI::Range(0.0001, 1000.0));
+  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes")->check(CLI::NonNegativeNumber);
+  s.app->add_option("--stop-after", s.stop_after, "Stop answering (and cutting) after N bytes")->check(CLI::NonNegativeNumber);
+  s.app->add_option("--link", s.link, "Also make PATH a symlink to the port while running");
+  s.app->add_option("--report", s.report_path, "Write what it received and cut as JSON (popcut.sim-plotter.v1)");
+  s.app->add_option("--svg", s.svg_path, "Write what it cut as SVG");
+}
+
+std::optional<int> run_sim_plotter_command(const SimPlotterCommand& s) {
+  if (s.app && *s.app) return run_sim_plotter(s);
+  return std::nullopt;
+}
+
+}  // namespace popcut::cli

@@ -1,0 +1,31 @@
+// The sim-plotter and devices subcommands: a stand-in serial cutter, and the cutters attached.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+namespace popcut::cli {
+
+struct SimPlotterCommand {
+  CLI::App* app = nullptr;
+  std::string profile_path, link, report_path, svg_path;
+  int baud = 0;
+  long buffer_bytes = 0;
+  double slowdown = 1;
+  long drop_after = -1, stop_after = -1;
+};
+
+void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& state);
+std::optional<int> run_sim_plotter_command(const SimPlotterCommand& state);
+
+struct DevicesCommand {
+  CLI::App* app = nullptr;
+  bool json_out = false;
+  bool all_usb = false;
+};
+
+void add_devices_command(CLI::App& app, DevicesCommand& state);
+std::optional<int> run_devices_command(const DevicesCommand& state);
+
+}  // namespace popcut::cli

@@ -1,0 +1,287 @@
+// Serial cutting for real: `popcut cut --device serial:` against `popcut sim-plotter` on a pseudo-terminal.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "popcut/drivers/profile.h"
+#include "popcut/drivers/sim_cutter.h"
+
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A child process with its stdout and stderr in files; killed (and reaped) when dropped.
+class Child {
+ public:
+  Child(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(o, 1);
+      ::dup2(e, 2);
+      std::vector<char*> argv;
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+  }
+  ~Child() {
+    if (pid_ > 0 && !done_) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  void signal(int sig) const { ::kill(pid_, sig); }
+  // Exit code, waiting at most `limit` (then -1: a hang is a failure, not a stuck test).
+  int wait(std::chrono::seconds limit = std::chrono::seconds(120)) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        done_ = true;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool done_ = false;
+};
+
+class SerialPty : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("popcut-pty-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    // The host's profile: the simulator's, with a small buffer, ESC.O to learn the end, short timeouts.
+    std::string p = slurp(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/sim.toml");
+    replace(p, "buffer_bytes = 1024", "buffer_bytes = 256\ndrain_query = \"esc_o\"");
+    replace(p, "timeout_ms = 5000", "timeout_ms = 3000");
+    profile_ = (dir_ / "host.toml").string();
+    std::ofstream(profile_) << p;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static void replace(std::string& s, const std::string& from, const std::string& to) {
+    const std::size_t at = s.find(from);
+    ASSERT_NE(at, std::string::npos) << "sim.toml has " << from;
+    s.replace(at, from.size(), to);
+  }
+
+  // Starts a sim-plotter (small buffer, XON/XOFF) and returns its port.
+  std::unique_ptr<Child> plotter(const std::string& name, const std::vector<std::string>& extra, std::string& port) {
+    std::vector<std::string> args = {POPCUT_CLI, "sim-plotter", "--buffer", "256", "--report", (dir_ / (name + ".json")).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto c = std::make_unique<Child>(args, dir_ / (name + ".out"), dir_ / (name + ".err"));
+    for (int i = 0; i < 500 && port.empty(); ++i) {
+      const std::string out = slurp(dir_ / (name + ".out"));
+      if (out.find('\n') != std::string::npos) port = out.substr(0, out.find('\n'));
+      else std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_EQ(port.rfind("/dev/pts/", 0), 0u) << "sim-plotter prints its port first: " << slurp(dir_ / (name + ".err"));
+    return c;
+  }
+
+  struct Cut {
+    int code;
+    std::string err;
+    json report;
+  };
+  Cut cut(const std::string& model, const std::string& device, const std::string& extra = "", const std::string& name = "cut") {
+    Child c({"/bin/sh", "-c",
+             std::string(POPCUT_CLI) + " cut " + std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/" + model + " --profile " + profile_ +
+                 " --device " + device + " --out " + (dir_ / name).string() + " " + extra},
+            dir_ / (name + ".stdout"), dir_ / (name + ".stderr"));
+    Cut r{c.wait(), "", {}};
+    r.err = slurp(dir_ / (name + ".stderr"));
+    if (fs::exists(dir_ / name / "report.json")) r.report = json::parse(slurp(dir_ / name / "report.json"));
+    return r;
+  }
+
+  // The strokes a device cuts from `hpgl`, by the in-process simulator (the reference).
+  std::vector<popcut::PlotterPath> strokes_of(const std::string& hpgl) const {
+    popcut::drivers::DeviceProfile p = popcut::drivers::load_profile(profile_);
+    p.transport.flow = popcut::drivers::FlowControl::none;  // held line: nothing lost, whatever the size
+    p.transport.buffer_bytes = 1 << 20;
+    popcut::drivers::SimCutter c(p);
+    c.receive(reinterpret_cast<const std::uint8_t*>(hpgl.data()), hpgl.size(), 1e9);
+    c.run_to_end();
+    std::vector<popcut::PlotterPath> out;
+    for (const auto& s : c.strokes()) out.push_back(s.points_pu);
+    return out;
+  }
+  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) {
+    std::vector<popcut::PlotterPath> out;
+    for (const auto& s : plotter_report["strokes"]) {
+      popcut::PlotterPath p;
+      for (const auto& q : s["points_pu"]) p.push_back({q[0].get<std::int64_t>(), q[1].get<std::int64_t>()});
+      out.push_back(p);
+    }
+    return out;
+  }
+  json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
+
+  fs::path dir_;
+  std::string profile_;
+};
+
+TEST_F(SerialPty, WholeJobArrivesIntactAndTheBufferNeverOverflows) {
+  std::string port;
+  auto plot = plotter("p", {"--slowdown", "0.1"}, port);
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << "the plotter ends when the host closes the port: " << slurp(dir_ / "p.err");
+  const json pr = plotter_report("p");
+  const std::string job = slurp(dir_ / "cut" / "job.hpgl");
+  EXPECT_EQ(r.report["sent"]["bytes"], job.size()) << "every byte went out";
+  EXPECT_GE(pr["bytes_received"].get<std::size_t>(), job.size()) << "and arrived (with the host's ESC.O queries)";
+  EXPECT_EQ(pr["overflow_bytes"], 0) << "the host honoured XOFF over a real line";
+  EXPECT_LE(pr["max_buffer_used"].get<int>(), 256) << "the 256-byte buffer was never exceeded";
+  EXPECT_GT(pr["xoff_sent"].get<int>(), 0) << "a device slower than the line held the host off";
+  EXPECT_EQ(strokes_of(pr), strokes_of(job)) << "the device cut exactly the job";
+  EXPECT_EQ(r.report["sent"]["drained_by"], "esc_o") << "done once the device said its buffer was empty";
+  EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
+}
+
+TEST_F(SerialPty, ADroppedLineNamesTheLastStrokeAndResumeCutsExactlyTheRest) {
+  std::string port;
+  auto plot = plotter("p1", {"--slowdown", "0.05", "--drop-after", "900"}, port);
+  const Cut first = cut("townhouse.json", "serial:" + port, "", "first");
+  EXPECT_EQ(first.code, 3) << "the job did not get through: " << first.err;
+  EXPECT_EQ(first.report["sent"]["error"], "disconnected") << first.report.dump();
+  const std::size_t last = first.report["sent"]["last_stroke_sent"].get<std::size_t>();
+  const std::size_t total = first.report["sent"]["total_strokes"].get<std::size_t>();
+  ASSERT_GT(last, 0u);
+  ASSERT_LT(last, total);
+  EXPECT_NE(first.err.find("last stroke fully sent " + std::to_string(last) + " of " + std::to_string(total)), std::string::npos)
+      << first.err;
+  EXPECT_NE(first.err.find("--resume-from " + std::to_string(last + 1)), std::string::npos) << "says how to finish: " << first.err;
+  ASSERT_EQ(plot->wait(), 0);
+  const auto planned = strokes_of(slurp(dir_ / "first" / "job.hpgl"));
+  ASSERT_EQ(planned.size(), total);
+  const auto cut1 = strokes_of(plotter_report("p1"));
+  ASSERT_GE(cut1.size(), last) << "every fully sent stroke was cut";
+  for (std::size_t i = 0; i < last; ++i) EXPECT_EQ(cut1[i], planned[i]) << "stroke " << i + 1 << " before the drop";
+
+  std::string port2;
+  auto plot2 = plotter("p2", {"--slowdown", "0.05"}, port2);
+  const Cut second = cut("townhouse.json", "serial:" + port2, "--resume-from " + std::to_string(last + 1), "second");
+  ASSERT_EQ(second.code, 0) << second.err;
+  ASSERT_EQ(plot2->wait(), 0);
+  const auto cut2 = strokes_of(plotter_report("p2"));
+  EXPECT_EQ(cut2, std::vector<popcut::PlotterPath>(planned.begin() + static_cast<std::ptrdiff_t>(last), planned.end()))
+      << "the resumed job cut exactly strokes " << last + 1 << ".." << total;
+  EXPECT_EQ(plotter_report("p2")["knife_downs"].get<std::size_t>(), total - last) << "no knife-down on the way to the first";
+}
+
+TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwice) {
+  std::string port;
+  auto plot = plotter("p", {"--slowdown", "1"}, port);  // 27 s of motion: the job is surely running
+  Child c({POPCUT_CLI, "cut", std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json", "--profile", profile_, "--device",
+           "serial:" + port, "--out", (dir_ / "cut").string()},
+          dir_ / "cut.stdout", dir_ / "cut.stderr");
+  // Wait until bytes flow (the job file is written before the port opens), then interrupt twice.
+  for (int i = 0; i < 500 && !fs::exists(dir_ / "cut" / "job.hpgl"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  c.signal(SIGINT);
+  c.signal(SIGINT);
+  const int code = c.wait(std::chrono::seconds(60));
+  const std::string err = slurp(dir_ / "cut.stderr");
+  EXPECT_EQ(code, 3) << "a cancelled job did not get through: " << err;
+  EXPECT_NE(err.find("cancelled"), std::string::npos) << err;
+  EXPECT_NE(err.find("lifted the knife"), std::string::npos) << err;
+  ASSERT_EQ(plot->wait(), 0);
+  const json pr = plotter_report("p");
+  const json rep = json::parse(slurp(dir_ / "cut" / "report.json"));
+  EXPECT_TRUE(rep["sent"]["cancelled"].get<bool>());
+  EXPECT_LT(rep["sent"]["bytes"].get<std::size_t>(), rep["sent"]["bytes_total"].get<std::size_t>()) << "stopped early";
+  EXPECT_EQ(pr["bytes_received"].get<std::size_t>(), rep["sent"]["bytes"].get<std::size_t>() + 6)
+      << "the job up to a command boundary, then ESC.K and PU; (6 bytes)";
+  EXPECT_FALSE(pr["knife_down_at_end"].get<bool>()) << "the knife is up";
+  EXPECT_EQ(pr["overflow_bytes"], 0);
+}
+
+TEST_F(SerialPty, BadPortsAndBaudsAreReported) {
+  const Cut missing = cut("box.json", "serial:/dev/popcut-no-such-port");
+  EXPECT_EQ(missing.code, 3) << missing.err;
+  EXPECT_NE(missing.err.find("No such file"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("popcut devices"), std::string::npos) << "points to the listing: " << missing.err;
+
+  const Cut by_id = cut("box.json", "serial:0403:6001:POPCUT-NONE", "", "byid");
+  EXPECT_EQ(by_id.code, 3) << by_id.err;
+  EXPECT_NE(by_id.err.find("no serial port belongs to USB 0403:6001 with serial number POPCUT-NONE"), std::string::npos) << by_id.err;
+
+  const Cut notty = cut("box.json", "serial:/dev/null", "", "notty");
+  EXPECT_EQ(notty.code, 2) << "not a serial port is a bad --device: " << notty.err;
+  EXPECT_NE(notty.err.find("not a serial port"), std::string::npos) << notty.err;
+
+  for (const char* bad : {"serial:", "serial:ttyUSB0", "usb:0b4d", "usb:xyzw:110a", "tcp:1.2.3.4"}) {
+    const Cut r = cut("box.json", bad, "", "bad");
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--device"), std::string::npos) << bad << ": " << r.err;
+  }
+
+  {  // Busy: another program holds the port's lock.
+    std::string port;
+    auto plot = plotter("busy", {}, port);
+    const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    const Cut busy = cut("box.json", "serial:" + port, "", "busycut");
+    EXPECT_EQ(busy.code, 3) << busy.err;
+    EXPECT_NE(busy.err.find("is busy"), std::string::npos) << busy.err;
+    ::close(fd);
+    plot->signal(SIGTERM);
+    EXPECT_EQ(plot->wait(), 0);
+  }
+  {  // Wrong baud: a device at 9600 hears garbage from a host at 115200 and never answers.
+    std::string p = slurp(profile_);
+    replace(p, "flow_control = \"xon_xoff\"", "flow_control = \"esc_b\"");
+    std::ofstream(profile_) << p;
+    std::string port;
+    auto plot = plotter("baud", {"--baud", "9600"}, port);
+    const Cut wrong = cut("box.json", "serial:" + port, "", "wrongbaud");
+    EXPECT_EQ(wrong.code, 3) << wrong.err;
+    EXPECT_NE(wrong.err.find("no answer to ESC.B (is the baud rate right?)"), std::string::npos) << wrong.err;
+    ASSERT_EQ(plot->wait(), 0);
+    EXPECT_EQ(plotter_report("baud")["host_baud"], 115200) << "the plotter saw the host's rate";
+    EXPECT_EQ(plotter_report("baud")["strokes"].size(), 0u) << "and cut nothing from the garbage";
+  }
+}
+
+TEST_F(SerialPty, AUsbProfileRefusesAnotherDevice) {
+  const std::string graphtec = std::string(POPCUT_SOURCE_DIR) + "/configs/devices/graphtec-ce.toml";
+  Child c({"/bin/sh", "-c",
+           std::string(POPCUT_CLI) + " cut " + std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json --profile " + graphtec +
+               " --device usb:1234:5678 --out " + (dir_ / "o").string()},
+          dir_ / "o.stdout", dir_ / "o.stderr");
+  EXPECT_EQ(c.wait(), 2) << slurp(dir_ / "o.stderr");
+  EXPECT_NE(slurp(dir_ / "o.stderr").find("the profile is for USB 0b4d:110a"), std::string::npos) << slurp(dir_ / "o.stderr");
+}
+
+}  // namespace
