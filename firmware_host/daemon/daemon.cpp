@@ -2,7 +2,13 @@
 // claims ready jobs for its device and cuts them, committing every state change first.
 #include "daemon.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -20,16 +26,31 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string open_data_dir(const DaemonConfig& c) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(c.data_dir) / "jobs", ec);
-  if (ec) throw Error(ErrorCode::io, c.data_dir, "[server] data_dir", "cannot create the data directory: " + ec.message());
-  return (std::filesystem::path(c.data_dir) / "jobs.db").string();
-}
+std::string jobs_db(const DaemonConfig& c) { return (std::filesystem::path(c.data_dir) / "jobs.db").string(); }
 
 }  // namespace
 
-Daemon::Daemon(DaemonConfig config) : config_(std::move(config)), store_(open_data_dir(config_)) {
+Daemon::DataDirLock::DataDirLock(const std::string& data_dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(data_dir) / "jobs", ec);
+  if (ec) throw Error(ErrorCode::io, data_dir, "[server] data_dir", "cannot create the data directory: " + ec.message());
+  const std::string path = (std::filesystem::path(data_dir) / "popcutd.lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw Error(ErrorCode::io, path, "[server] data_dir", std::string("cannot open the lock file: ") + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    ::close(fd_);
+    throw Error(ErrorCode::io, data_dir, "[server] data_dir",
+                err == EWOULDBLOCK ? "in use by another popcutd (it holds " + path + "); stop it or give another --data-dir"
+                                   : std::string("cannot lock ") + path + ": " + std::strerror(err));
+  }
+}
+
+Daemon::DataDirLock::~DataDirLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+}
+
+Daemon::Daemon(DaemonConfig config) : config_(std::move(config)), lock_(config_.data_dir), store_(jobs_db(config_)) {
   recovered_ = store_.recover();
   for (int i = 0; i < config_.planners; ++i) planners_.emplace_back([this] { plan_loop(); });
   for (const DeviceConfig& d : config_.devices) {

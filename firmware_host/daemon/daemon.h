@@ -67,7 +67,21 @@ class Daemon {
   void cut_one(Worker& w, const Job& job);
   bool wait_for_work();
 
+  // Held for the daemon's life: a second popcutd on the same data_dir would take over (and
+  // mark interrupted) jobs this one is cutting.
+  class DataDirLock {
+   public:
+    explicit DataDirLock(const std::string& data_dir);
+    ~DataDirLock();
+    DataDirLock(const DataDirLock&) = delete;
+    DataDirLock& operator=(const DataDirLock&) = delete;
+
+   private:
+    int fd_ = -1;
+  };
+
   DaemonConfig config_;
+  DataDirLock lock_;
   JobStore store_;
   int recovered_ = 0;
   std::atomic<bool> stopping_{false};

@@ -1,6 +1,8 @@
 // popcutd startup: read and check the config, recover the queue, serve HTTP, stop cleanly on SIGTERM.
 #include "popcutd.h"
 
+#include <sys/socket.h>
+
 #include <csignal>
 #include <iostream>
 #include <string>
@@ -91,6 +93,12 @@ int run_popcutd(int argc, char** argv) {
   server.new_task_queue = [n = config.http_threads] { return new httplib::ThreadPool(static_cast<std::size_t>(n)); };
   // Small JSON answers: without TCP_NODELAY, Nagle and delayed ACKs add ~40 ms to each.
   server.set_tcp_nodelay(true);
+  // SO_REUSEADDR only: httplib's default also sets SO_REUSEPORT, which lets a second popcutd bind
+  // the same port and take half of the requests.
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   HttpApi api(server, *daemon);
   int bound = config.port;
   if (config.port == 0) {

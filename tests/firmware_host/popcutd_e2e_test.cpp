@@ -318,6 +318,27 @@ TEST_F(Popcutd, BadConfigExitsTwoNamingTheKey) {
       << "the message names file, section and key: " << read_file((dir_.path() / "err").string());
 }
 
+// A second popcutd must not share a live one's data dir (it would mark the jobs being cut as
+// interrupted and cut on the same devices) nor its port (SO_REUSEPORT would split the requests).
+TEST_F(Popcutd, SecondDaemonOnTheSameDataDirOrPortExitsThree) {
+  const std::string cfg = slow_config(dir_, 0, 1);
+  auto first = start(cfg);
+  const std::string err = (dir_.path() / "second.err").string();
+  const auto run_second = [&](const std::string& data_dir, int port) {
+    // Bounded: a second daemon that wrongly starts would otherwise serve forever.
+    const std::string cmd = "timeout -s KILL 30 " + std::string(POPCUTD) + " --config " + cfg + " --data-dir " + data_dir + " --port " +
+                            std::to_string(port) + " >/dev/null 2>" + err;
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(run_second(data_, 0), 3) << "same data dir: " << read_file(err);
+  EXPECT_NE(read_file(err).find("in use by another popcutd"), std::string::npos) << "says why: " << read_file(err);
+  EXPECT_EQ(run_second((dir_.path() / "other-data").string(), first->port()), 3) << "same port: " << read_file(err);
+  EXPECT_NE(read_file(err).find("cannot listen"), std::string::npos) << "says why: " << read_file(err);
+  httplib::Client c = first->client(kKiosk);
+  EXPECT_EQ(get_json(c, "/healthz").status, 200) << "the first daemon keeps serving";
+}
+
 }  // namespace
 
 namespace {
