@@ -39,12 +39,14 @@ class Connection {
   }
   json request(const std::string& method, const std::string& path, const std::string& body = "") {
     httplib::Result r = method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json");
-    if (!r) throw ClientFailure{kCannotWrite, "cannot reach popcutd at " + server_ + ": " + httplib::to_string(r.error())};
+    if (!r) throw ClientFailure{kCannotWrite, "cannot reach popcutd at " + server_ + ": " + why(r.error())};
     json j;
     try {
       j = json::parse(r->body);
     } catch (const json::exception&) {
-      throw ClientFailure{kInternal, "popcutd answered " + std::to_string(r->status) + " with a body that is not JSON"};
+      // Something answers there, but not popcutd (every popcutd answer is JSON): a wrong address.
+      throw ClientFailure{kCannotWrite, server_ + " answered " + std::to_string(r->status) +
+                                            " with a body that is not JSON: is popcutd listening there?"};
     }
     if (r->status >= 400) {
       const json e = j.value("error", json::object());
@@ -57,6 +59,16 @@ class Connection {
   }
 
  private:
+  // httplib names its errors in one word ("Connection"); say what it means for the user.
+  static std::string why(httplib::Error e) {
+    switch (e) {
+      case httplib::Error::Connection: return "no connection (is popcutd running and listening at that address?)";
+      case httplib::Error::ConnectionTimeout: return "the connection timed out (is the address reachable?)";
+      case httplib::Error::Read: return "the connection closed before the answer was complete (did popcutd stop?)";
+      case httplib::Error::Write: return "the connection closed while sending the request (did popcutd stop?)";
+      default: return "the request failed (" + httplib::to_string(e) + ")";
+    }
+  }
   static std::string check(const std::string& server) {
     if (server.rfind("http://", 0) != 0 && server.rfind("https://", 0) != 0) {
       throw ClientFailure{kBadInput, "--server " + server + ": expected http://HOST:PORT"};
@@ -123,7 +135,8 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
     sub->add_flag("--json", s.json_out, "Print the daemon's answer as JSON");
   };
   s.submit = app.add_subcommand("submit", "Queue a model on popcutd for a device (or any device with a profile).\n"
-                                          "Exit 2 if refused, 3 if popcutd cannot be reached (or with --wait: the job did not finish).");
+                                          "Exit 2 if refused, 3 if popcutd cannot be reached or its queue is full (or with --wait: the job did not\n"
+                                          "finish), 4 if popcutd failed inside.");
   s.submit->add_option("MODEL", s.model_path, "Model file (popcut.voxel.v1 or popcut.faces.v1)")->required();
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
