@@ -163,8 +163,10 @@ void Daemon::plan_one(const Job& job) {
     const std::optional<std::string> text = store_.model_json(job.id);
     if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
-    const StrokePlan plan = plan_strokes(pattern, dev->profile.plan);
-    // Throws when the sheet does not fit the device; refused now, not at the cutter.
+    // As `popcut cut` does: figures and the time estimate count only what is sent (strokes that
+    // round to one plotter point are not). Throws when the sheet does not fit the device; refused
+    // now, not at the cutter.
+    const StrokePlan plan = drop_below_resolution(plan_strokes(pattern, dev->profile.plan), dev->profile.dialect);
     const EncodedJob check = encode_job(plan, dev->profile.dialect, dev->profile.tools);
     const TimeEstimate t = estimate_time(plan, dev->profile.kinematics, dev->profile.cut_speed_mm_s());
     const std::filesystem::path dir = job_dir(job.id);
