@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <unistd.h>
 
 #include "popcut/error.h"
 #include "popcut/fold/fold.h"
@@ -46,7 +48,8 @@ json rect(const Rect& r) { return {{"min", point(r.min)}, {"max", point(r.max)}}
 
 std::string mm(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
+  // -0.04 would print as "-0.0": a designer reads that as a bug, not as a rounding.
+  std::snprintf(buf, sizeof buf, "%.1f", std::abs(v) < 0.05 ? 0.0 : v);
   return buf;
 }
 
@@ -161,14 +164,15 @@ std::string extension(const std::string& path) {
 }
 
 // The output's extension, lower-case, when it is one of `allowed`; else a bad-input error.
-std::string require_extension(const std::string& path, std::initializer_list<const char*> allowed, const char* what) {
+std::string require_extension(const std::string& path, std::initializer_list<const char*> allowed, const char* what,
+                              const char* option = "-o") {
   const std::string ext = extension(path);
   std::string list;
   for (const char* a : allowed) {
     if (ext == a) return ext;
     list += std::string(list.empty() ? "" : " or ") + a;
   }
-  throw Error(ErrorCode::invalid_input, path, "-o", std::string("unknown ") + what + " '" + ext + "': use " + list);
+  throw Error(ErrorCode::invalid_input, path, option, std::string("unknown ") + what + " '" + ext + "': use " + list);
 }
 
 // Runs a command body, turning popcut errors into messages and exit codes.
@@ -177,7 +181,9 @@ int guarded(bool json_errors, Body body) {
   try {
     return body();
   } catch (const Error& e) {
-    std::cerr << "popcut: error: " << e.what() << "\n";
+    // An error in a command-line option names the option; there is no file to blame.
+    const bool option_error = e.source().empty() && e.location().rfind("--", 0) == 0;
+    std::cerr << "popcut: error: " << (option_error ? e.location() + ": " + e.message() : std::string(e.what())) << "\n";
     if (json_errors) {
       print_json({{"error", {{"code", to_string(e.code())}, {"source", e.source()}, {"location", e.location()},
                              {"message", e.message()}}}});
@@ -381,6 +387,7 @@ int run(int argc, char** argv) {
       std::vector<CardMesh> meshes;
       for (double a : angles) meshes.push_back(fold_card(p, a));
       const ViewBox box = view_box(meshes);  // one frame for every picture, so the animation holds still
+      const bool progress_on_tty = ::isatty(STDERR_FILENO) != 0;
       const std::filesystem::path out(out_path);
       for (std::size_t i = 0; i < meshes.size(); ++i) {
         std::string path = out_path;
@@ -393,14 +400,13 @@ int run(int argc, char** argv) {
           const double px_per_mm = width_px / (box.max_x - box.min_x);
           write_output(path, [&](std::ostream& o) { write_render_svg(o, meshes[i], box, px_per_mm); });
         } else {
-          if (!std::filesystem::is_directory(out.parent_path().empty() ? "." : out.parent_path())) {
-            throw Error(ErrorCode::io, path, "output", "cannot write: the directory does not exist");
-          }
-          write_render_png(path, meshes[i], box, width_px);
+          const std::string png = render_png(meshes[i], box, width_px);
+          write_output(path, [&](std::ostream& o) { o.write(png.data(), static_cast<std::streamsize>(png.size())); });
         }
-        if (frames > 1) std::cerr << "\r" << (i + 1) << "/" << frames << " frames" << std::flush;
+        // A counter redrawn with \r only makes sense on a terminal; in a log it would be one long line.
+        if (frames > 1 && progress_on_tty) std::cerr << "\r" << (i + 1) << "/" << frames << " frames" << std::flush;
       }
-      if (frames > 1) std::cerr << "\n";
+      if (frames > 1 && progress_on_tty) std::cerr << "\n";
       std::cerr << "wrote " << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : out_path)
                 << " (folded to " << angle_deg << "°)\n";
       return kOk;
@@ -463,7 +469,7 @@ int run(int argc, char** argv) {
       import_opt.depth = depth_method == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
       if (out_path != "-") require_extension(out_path, {".json"}, "model type");
       std::string pattern_ext;
-      if (!pattern_path.empty()) pattern_ext = require_extension(pattern_path, {".svg", ".json"}, "pattern type");
+      if (!pattern_path.empty()) pattern_ext = require_extension(pattern_path, {".svg", ".json"}, "pattern type", "--pattern");
       if (out_path == "-" && json_out) {
         throw Error(ErrorCode::invalid_input, model_path, "--json", "cannot print a summary when the model itself goes to standard output");
       }

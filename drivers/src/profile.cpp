@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 #include <vector>
 
+#include "popcut/drivers/device.h"
 #include "popcut/drivers/hpgl_reader.h"
 #include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
@@ -151,6 +152,12 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
 
   TomlSection t = section("transport");
   p.transport.uri = t.text("default", "");  // no guess: `popcut cut` asks for --device
+  if (!p.transport.uri.empty()) {
+    // Checked here so a bad default is blamed on the profile, not on a --device flag never given.
+    DeviceAddress address;
+    const TransportStatus parsed = parse_device(p.transport.uri, address);
+    if (!parsed.ok()) t.fail("default", parsed.message);
+  }
   p.transport.baud = t.integer("baud", 9600, 300, 4000000);
   p.transport.flow = static_cast<FlowControl>(t.choice("flow_control", 0, kFlowNames));
   p.transport.buffer_bytes = static_cast<std::size_t>(t.integer("buffer_bytes", 1024, 64, 1 << 26));

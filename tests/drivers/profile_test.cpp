@@ -84,6 +84,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[plan]\nprecut_mm = 1\n", "[plan] precut_mm", "set blade_offset_mm"},
       {"[device]\nname = \"x\"\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 9\n", "[plan] precut_mm", "out of range 0 to 5"},
       {"[device]\nname = \n", "line 2", ""},
+      {"[device]\nname = \"x\"\n[transport]\ndefault = \"bogus:thing\"\n", "[transport] default", "unknown scheme"},
+      {"[device]\nname = \"x\"\n[transport]\ndefault = \"usb:0b4:110a\"\n", "[transport] default", "four hex digits"},
   };
   for (const Bad& b : cases) {
     try {
@@ -101,6 +103,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       << "set-up sequences, Roland commands, newlines and a ';' + newline terminator are fine";
   EXPECT_NO_THROW(parse_profile(ok + "negative_coords = true\narea_min_x_mm = -5\n", "ok.toml"))
       << "negative coordinates when the device allows them";
+  EXPECT_NO_THROW(parse_profile(ok + "[transport]\ndefault = \"serial:/dev/ttyUSB0\"\n", "ok.toml"))
+      << "a well-formed default device";
 }
 
 }  // namespace

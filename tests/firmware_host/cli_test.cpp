@@ -297,6 +297,49 @@ TEST_F(Cli, RenderPicturesAndFrames) {
   EXPECT_EQ(run("render " + model + " --frames 0 -o " + (dir_ / "x.svg").string()).code, 2) << "frames out of range";
   EXPECT_EQ(run("render " + model + " -o " + (dir_ / "x.gif").string()).code, 2) << "unknown picture format";
   EXPECT_EQ(run("render " + model + " -o " + (dir_ / "nodir" / "x.png").string()).code, 3) << "unwritable PNG";
+  // A full disk: the PNG writer must notice the short write, not print "wrote".
+  fs::create_symlink("/dev/full", dir_ / "full.png");
+  const Result full = run("render " + model + " -o " + (dir_ / "full.png").string());
+  EXPECT_EQ(full.code, 3) << "a PNG that did not fit is a write failure: " << full.err;
+  EXPECT_EQ(full.err.find("wrote"), std::string::npos) << "no success message after a failed write: " << full.err;
+  EXPECT_EQ(anim.err.find("frames"), anim.err.rfind("frames")) << "no \\r frame counter when stderr is a file: " << anim.err;
+}
+
+TEST_F(Cli, OutputThroughASymlinkUpdatesItsTarget) {
+  const std::string model = file("box.json", kBox);
+  const std::string target = file("target.svg", "old");
+  fs::create_symlink("target.svg", dir_ / "link.svg");
+  const Result r = run("pattern " + model + " -o " + (dir_ / "link.svg").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir_ / "link.svg"))) << "the link stays a link";
+  EXPECT_NE(slurp(target).find("<svg"), std::string::npos) << "the pattern went to the link's target";
+}
+
+TEST_F(Cli, OptionErrorsNameTheOption) {
+  const std::string model = file("box.json", kBox);
+  const Result r = run("fold " + model + " --angle 200 -o " + (dir_ / "f.obj").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err.find("<input>"), std::string::npos) << "an option error is not blamed on '<input>': " << r.err;
+  EXPECT_NE(r.err.find("--angle"), std::string::npos) << "names the option: " << r.err;
+  const Result p = run("import " + std::string(POPCUT_SOURCE_DIR) + "/examples/meshes/house.obj -o " + (dir_ / "c.json").string() +
+                       " --pattern " + (dir_ / "p.png").string());
+  EXPECT_EQ(p.code, 2) << p.err;
+  EXPECT_NE(p.err.find("--pattern"), std::string::npos) << "the pattern's own option is blamed, not -o: " << p.err;
+}
+
+// The models shown in docs/formats.md are the first a user copies: they must be valid cards.
+TEST_F(Cli, FormatDocExamplesPopUp) {
+  const std::string doc = slurp(fs::path(POPCUT_SOURCE_DIR) / "docs" / "formats.md");
+  int checked = 0;
+  for (std::size_t at = doc.find("```json\n"); at != std::string::npos; at = doc.find("```json\n", at + 1)) {
+    const std::size_t start = at + 8, end = doc.find("```", start);
+    const std::string block = doc.substr(start, end - start);
+    if (block.find("\"popcut.voxel.v1\"") == std::string::npos && block.find("\"popcut.faces.v1\"") == std::string::npos) continue;
+    const std::string path = file("doc" + std::to_string(checked++) + ".json", block);
+    const Result r = run("validate " + path);
+    EXPECT_EQ(r.code, 0) << "docs/formats.md example:\n" << block << "\n" << r.out << r.err;
+  }
+  EXPECT_GE(checked, 2) << "the voxel and the face model examples were found";
 }
 
 TEST_F(Cli, FaceModels) {

@@ -10,6 +10,7 @@
 #include <ostream>
 
 #include "popcut/error.h"
+#include "popcut/io/files.h"
 
 namespace popcut {
 namespace {
@@ -117,7 +118,7 @@ void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, 
   out << "</svg>\n";
 }
 
-void write_render_png(const std::string& path, const CardMesh& m, const ViewBox& box, int width_px) {
+std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
   const int ss = 2;  // supersampling
   const double scale = width_px * ss / (box.max_x - box.min_x);
   const int W = width_px * ss;
@@ -168,9 +169,19 @@ void write_render_png(const std::string& path, const CardMesh& m, const ViewBox&
       }
     }
   }
-  if (!stbi_write_png(path.c_str(), w, std::max(h, 1), 3, image.data(), w * 3)) {
-    throw Error(ErrorCode::io, path, "output", "cannot write the PNG");
+  // Encoded in memory: stbi's own file writer ignores short writes, so a full disk would go unnoticed.
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &png, w, std::max(h, 1), 3, image.data(), w * 3)) {
+    throw Error(ErrorCode::internal, "", "", "PNG encoding failed");
   }
+  return png;
+}
+
+void write_render_png(const std::string& path, const CardMesh& m, const ViewBox& box, int width_px) {
+  write_text_file(path, render_png(m, box, width_px));
 }
 
 }  // namespace popcut

@@ -92,6 +92,20 @@ class FdBuf : public std::streambuf {
   char buf_[1 << 16];
 };
 
+// The file a write to `path` should replace: a symbolic link is followed (as `>` in a shell would),
+// so renaming the temporary file over it updates the link's target instead of replacing the link.
+fs::path final_target(const std::string& path) {
+  fs::path p(path);
+  for (int hops = 0; hops < 40; ++hops) {
+    std::error_code ec;
+    if (!fs::is_symlink(fs::symlink_status(p, ec)) || ec) return p;
+    const fs::path next = fs::read_symlink(p, ec);
+    if (ec) return p;
+    p = next.is_absolute() ? next : p.parent_path() / next;
+  }
+  throw Error(ErrorCode::io, path, "", "cannot write: too many levels of symbolic links");
+}
+
 }  // namespace
 
 void write_text_file(const std::string& path, const std::string& content) {
@@ -105,7 +119,7 @@ void write_text_file(const std::string& path, const std::function<void(std::ostr
     if (!std::cout) throw Error(ErrorCode::io, "<stdout>", "", "write failed");
     return;
   }
-  const fs::path target(path);
+  const fs::path target = final_target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw Error(ErrorCode::io, path, "", "cannot write: directory " + dir.string() + " does not exist");
@@ -138,7 +152,7 @@ void write_text_file(const std::string& path, const std::function<void(std::ostr
     ::unlink(tmp.c_str());
     throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+  if (std::rename(tmp.c_str(), target.c_str()) != 0) {
     const int err = errno;
     ::unlink(tmp.c_str());
     throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(err));

@@ -295,8 +295,8 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
     }
     const FT sheet_area = (s->max_x - s->min_x) * (s->max_v - s->min_v);
     if (area != sheet_area) {
-      fail(source, "faces", "cover " + std::to_string(CGAL::to_double(area)) + " mm² of a " +
-                                std::to_string(CGAL::to_double(sheet_area)) + " mm² sheet: faces must cover it exactly (eq. 4)");
+      fail(source, "faces", "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
+                                format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
     }
     return 0;
   });
