@@ -302,6 +302,7 @@ TEST_F(Cli, RenderPicturesAndFrames) {
   const Result full = run("render " + model + " -o " + (dir_ / "full.png").string());
   EXPECT_EQ(full.code, 3) << "a PNG that did not fit is a write failure: " << full.err;
   EXPECT_EQ(full.err.find("wrote"), std::string::npos) << "no success message after a failed write: " << full.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/full")) << "a device behind a link is written in place, never replaced by a file";
   EXPECT_EQ(anim.err.find("frames"), anim.err.rfind("frames")) << "no \\r frame counter when stderr is a file: " << anim.err;
 }
 

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <streambuf>
 #include <system_error>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -106,6 +107,23 @@ fs::path final_target(const std::string& path) {
   throw Error(ErrorCode::io, path, "", "cannot write: too many levels of symbolic links");
 }
 
+void write_in_place(const std::string& path, const fs::path& target, const std::function<void(std::ostream&)>& write) {
+  const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
+  FdBuf buf(fd);
+  std::ostream out(&buf);
+  try {
+    write(out);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  out.flush();
+  const int err = buf.error() ? buf.error() : (!out ? EIO : 0);
+  if (::close(fd) != 0 && err == 0) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
+  if (err) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
+}
+
 }  // namespace
 
 void write_text_file(const std::string& path, const std::string& content) {
@@ -120,8 +138,16 @@ void write_text_file(const std::string& path, const std::function<void(std::ostr
     return;
   }
   const fs::path target = final_target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
+  const auto target_status = fs::status(target, ec);
+  if (fs::is_directory(target_status)) throw Error(ErrorCode::io, path, "", "cannot write: it is a directory");
+  if (fs::exists(target_status) && !fs::is_regular_file(target_status)) {
+    // A device or a pipe (/dev/null, /dev/lp0, a FIFO) is written in place: renaming a temporary
+    // file over it would replace the device node itself.
+    write_in_place(path, target, write);
+    return;
+  }
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec)) throw Error(ErrorCode::io, path, "", "cannot write: directory " + dir.string() + " does not exist");
   std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
   const int fd = ::mkstemp(tmp.data());
