@@ -43,6 +43,13 @@ class Transport {
   // Whether the far end holds popcut off by itself when full (line flow control, USB NAKs, a
   // blocking printer node); when not, the sender paces by the job's estimated motion time.
   virtual bool backpressure() const { return true; }
+  // Whether the OS applies XON/XOFF itself (a tty with IXON): writes then block while the device
+  // holds the line and popcut never reads XON/XOFF; otherwise popcut honours them (the simulator).
+  virtual bool os_flow_control() const { return false; }
+  // Bytes write() accepted that the device cannot yet be shown to have received: the OS output
+  // queue, and data a UART or adapter may still hold. 0 where a write's count is the device's own
+  // (USB bulk actual_length, a file, the in-process simulator).
+  virtual std::size_t in_flight() { return 0; }
 };
 
 // Builds a status from an errno value, classifying it.
