@@ -132,7 +132,12 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
       }
-      std::size_t room = slice;
+      // Bytes per read: a slice, and what the line carried while this process was not running
+      // (a loaded machine), so the device keeps up with the line rate.
+      const double behind_s = std::max(0.0, t - cutter.now_s());
+      std::size_t room = std::min(sizeof buf, slice + static_cast<std::size_t>(behind_s * profile.transport.baud / 10));
+      // A host stopping on XOFF: never more than XOFF's headroom at once, so XOFF goes out in time.
+      if (xon_xoff && host_ixon) room = std::min(room, std::max(slice, cap * 3 / 4 - std::min(cap * 3 / 4, cutter.buffer_used())));
       if (held) room = std::min(room, cap - std::min(cap, cutter.buffer_used()));  // hardware flow: stop reading
       // After XOFF a transmitter stopped by its OS sends nothing: bytes waiting in the pty are
       // still the host's, not on the line. A host doing XON/XOFF itself already put them on the

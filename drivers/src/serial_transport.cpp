@@ -12,8 +12,10 @@
 #include <sys/stat.h>
 #include <termios.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <thread>
 
@@ -96,7 +98,11 @@ class SerialTransport final : public Transport {
     IoResult r;
     if (!open_) return {0, {TransportError::bad_argument, 0, describe() + ": write before open"}};
     const auto deadline = Clock::now() + timeout;
-    last_write_ = 0;
+    if (request_done_) {
+      // A new request (not the rest of one a held line cut short): the previous one moves back.
+      prev_request_ = cur_request_;
+      cur_request_ = 0;
+    }
     while (r.bytes < data.size()) {
       if (hung_up()) {
         r.status = lost(EIO, "write to " + path_);
@@ -112,19 +118,21 @@ class SerialTransport final : public Transport {
         return r;
       }
       r.bytes += static_cast<std::size_t>(n);
-      last_write_ += static_cast<std::size_t>(n);
+      cur_request_ += static_cast<std::size_t>(n);
       line_free_at_ = std::max(line_free_at_, Clock::now()) +
                       std::chrono::duration_cast<Clock::duration>(char_time_ * static_cast<double>(n));
       if (r.bytes < data.size() && Clock::now() >= deadline) {
+        request_done_ = false;
         r.status = {TransportError::timeout, ETIMEDOUT, "cannot write to " + path_ + " within " + std::to_string(timeout.count()) +
                                                             " ms (the device holds the line: XOFF, or CTS/DSR low)"};
         return r;
       }
     }
-    // Return once the bytes are on the wire, as a UART would have sent them: the kernel queue is
-    // empty and their line time has passed. A pseudo-terminal would otherwise take kilobytes at
-    // once, and what popcut could claim the device received would be a guess.
-    r.status = wait_line_free(deadline);
+    // Return once the OS queue is empty and the line is at most this write's bytes behind, as a
+    // UART would be: one chunk stays in flight (the line never idles while popcut prepares the
+    // next), and a pseudo-terminal, which would take kilobytes at once, is held to the line rate.
+    r.status = wait_line_free(deadline, data.size());
+    request_done_ = r.status.ok();
     return r;
   }
 
@@ -164,7 +172,7 @@ class SerialTransport final : public Transport {
 
   TransportStatus drain(std::chrono::milliseconds timeout) override {
     if (!open_) return {TransportError::bad_argument, 0, describe() + ": drain before open"};
-    if (TransportStatus st = wait_line_free(Clock::now() + timeout); !st.ok()) return st;
+    if (TransportStatus st = wait_line_free(Clock::now() + timeout, 0); !st.ok()) return st;
     // The queue is empty: tcdrain now only waits for the UART's last characters.
     if (const sp_return rc = sp_drain(port_); rc != SP_OK) return lost(sp_last_error_code(), "drain " + path_);
     return TransportStatus::success();
@@ -173,9 +181,12 @@ class SerialTransport final : public Transport {
   std::size_t in_flight() override {
     if (!open_) return 0;
     const sp_return queued = sp_output_waiting(port_);
-    // The last write's bytes may still sit in a UART FIFO or a USB adapter's buffer, or on a
-    // line that drops: they count as received only once the device confirms them.
-    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + last_write_;
+    // Besides the OS queue: the last two requests' bytes (a write returns with one of them still
+    // on the line, and a UART FIFO, a USB adapter or a pty may hold them), or more if their line
+    // time has not passed yet (a pty's buffer is not in the OS queue).
+    const double on_line_s = std::chrono::duration<double>(line_free_at_ - Clock::now()).count();
+    const auto by_time = static_cast<std::size_t>(std::max(0.0, std::ceil(on_line_s / char_time_.count())));
+    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, by_time);
   }
 
   void close() override {
@@ -268,18 +279,20 @@ class SerialTransport final : public Transport {
     return st;
   }
 
-  // Until the OS output queue is empty and the line time of what was written has passed.
-  TransportStatus wait_line_free(Clock::time_point deadline) {
+  // Until the OS output queue is empty and the line time of what was written has passed, but
+  // for `behind_bytes` of it.
+  TransportStatus wait_line_free(Clock::time_point deadline, std::size_t behind_bytes) {
+    const auto target = line_free_at_ - std::chrono::duration_cast<Clock::duration>(char_time_ * static_cast<double>(behind_bytes));
     for (;;) {
       const sp_return queued = sp_output_waiting(port_);
       const auto now = Clock::now();
-      if (queued <= 0 && now >= line_free_at_) return TransportStatus::success();
+      if (queued <= 0 && now >= target) return TransportStatus::success();
       if (hung_up()) return lost(EIO, "serial port " + path_);
       if (now >= deadline) {
         return {TransportError::timeout, ETIMEDOUT, path_ + ": " + std::to_string(queued) +
                                                         " bytes still queued for the line (the device holds it: XOFF, or CTS/DSR low)"};
       }
-      const auto until = queued > 0 ? now + std::chrono::milliseconds(2) : std::min(line_free_at_, deadline);
+      const auto until = queued > 0 ? now + std::chrono::milliseconds(2) : std::min(target, deadline);
       std::this_thread::sleep_until(std::min(until, deadline));
     }
   }
@@ -291,7 +304,10 @@ class SerialTransport final : public Transport {
   sp_port* port_ = nullptr;
   bool open_ = false;
   int fd_ = -1;
-  std::size_t last_write_ = 0;
+  // Bytes moved by the current write request (possibly over several calls while the line is
+  // held) and by the one before: what may still be between popcut and the device.
+  std::size_t cur_request_ = 0, prev_request_ = 0;
+  bool request_done_ = true;
   Clock::time_point line_free_at_{};
 };
 

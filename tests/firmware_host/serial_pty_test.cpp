@@ -274,6 +274,32 @@ TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAndAStopMidJobExits3) {
   EXPECT_LE(stuck.report["sent"]["bytes_received"].get<std::size_t>(), 1500u) << "never more than the device took before it stopped";
 }
 
+TEST_F(SerialPty, WithoutAStatusQueryAHeldLineIsAStallWithHonestNumbers) {
+  // A profile whose device cannot be asked: popcut counts what the port reports gone.
+  std::string p = slurp(profile_);
+  replace(p, "drain_query = \"esc_o\"", "drain_query = \"none\"");
+  replace(p, "hold_timeout_ms = 8000", "hold_timeout_ms = 3000");
+  std::ofstream(profile_) << p;
+  std::string port;
+  std::vector<std::string> args = {"--slowdown", "1000"};  // it says XOFF and takes ages to say XON
+  auto plot = plotter("held", args, port);
+  const Cut held = cut("townhouse.json", "serial:" + port, "", "held");
+  EXPECT_EQ(held.code, 3) << held.err;
+  EXPECT_NE(held.err.find("the device held popcut off for 3 s without taking a byte"), std::string::npos) << held.err;
+  EXPECT_EQ(held.report["sent"]["error"], "timeout") << held.report.dump();
+  EXPECT_FALSE(held.report["sent"]["received_confirmed_by_device"].get<bool>()) << "nothing to ask: the port's count";
+  const std::size_t m = held.report["sent"]["last_stroke_sent"].get<std::size_t>();
+  const std::size_t n = held.report["sent"]["last_stroke_written"].get<std::size_t>();
+  EXPECT_LE(m, n);
+  EXPECT_NE(held.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos) << held.err;
+  ASSERT_EQ(plot->wait(), 0);
+  const auto planned = strokes_of(slurp(dir_ / "held" / "job.hpgl"));
+  const auto got = strokes_of(plotter_report("held"));
+  ASSERT_GE(got.size(), m) << "every stroke claimed received reached the device (it cuts what it holds)";
+  for (std::size_t i = 0; i < m; ++i) EXPECT_EQ(got[i], planned[i]) << "stroke " << i + 1;
+  EXPECT_EQ(plotter_report("held")["overflow_bytes"], 0);
+}
+
 TEST_F(SerialPty, BadPortsAndBaudsAreReported) {
   const Cut missing = cut("box.json", "serial:/dev/popcut-no-such-port");
   EXPECT_EQ(missing.code, 3) << missing.err;
