@@ -281,7 +281,7 @@ int run_cut(const CutCommands& s) {
                       {"message", sent.status.message},
                       {"first_stroke", sent.first_stroke},
                       {"bytes_received", sent.bytes_received},
-                      {"received_confirmed_by_device", sent.received_confirmed_by_device},
+                      {"received_counted_by", sent.received_counted_by},
                       {"last_stroke_sent", sent.last_stroke_sent},
                       {"last_stroke_written", sent.last_stroke_written},
                       {"total_strokes", sent.total_strokes},
@@ -331,7 +331,9 @@ int run_cut(const CutCommands& s) {
     // Resuming from M + 1 skips nothing; strokes M+1..N may be cut twice, and the user is told so.
     const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
     std::string where = "last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
-                        " (" + (sent.received_confirmed_by_device ? "confirmed by the device" : "sent, less what the port still held") +
+                        " (" + (sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
+                                 : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
+                                                                         : std::string("taken by the device")) +
                         "), last stroke written " + std::to_string(n);
     std::string resume;
     if (m < sent.total_strokes) {

@@ -36,7 +36,7 @@ class Sender {
     r_.last_stroke_sent = job.first_stroke - 1;
     r_.last_stroke_written = job.first_stroke - 1;
     r_.total_strokes = job.total_strokes;
-    r_.received_confirmed_by_device = query_ != DrainQuery::none;
+    r_.received_counted_by = t.writes_acknowledged() ? "transport" : query_ != DrainQuery::none ? "status_answers" : "os_queue";
   }
 
   SendResult run() {
@@ -86,9 +86,11 @@ class Sender {
     return cancel_requested() && job_.command_boundary_at_or_after(r_.bytes_sent) == r_.bytes_sent;
   }
 
-  // What the device can be shown to have received: its answers where it is asked, else what the
-  // transport says has left (written, less its OS queue and last chunk).
+  // What the device can be shown to have received: what it took, where the transport's count says
+  // so; else its answers where it is asked; else what the port says has left (written, less its
+  // OS queue and what may still be in flight).
   std::size_t received() {
+    if (t_.writes_acknowledged()) return r_.bytes_sent;
     if (query_ != DrainQuery::none) return std::min(confirmed_, r_.bytes_sent);
     return r_.bytes_sent - std::min(r_.bytes_sent, t_.in_flight());
   }

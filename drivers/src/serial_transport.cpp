@@ -178,6 +178,7 @@ class SerialTransport final : public Transport {
     return TransportStatus::success();
   }
 
+  bool writes_acknowledged() const override { return false; }
   std::size_t in_flight() override {
     if (!open_) return 0;
     const sp_return queued = sp_output_waiting(port_);

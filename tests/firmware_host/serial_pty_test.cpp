@@ -184,7 +184,7 @@ TEST_F(SerialPty, ADroppedLineNeverOverClaimsAndResumeFromTheAdvisedStrokeCovers
   const std::size_t total = first.report["sent"]["total_strokes"].get<std::size_t>();
   ASSERT_LT(m, total);
   EXPECT_LE(m, n) << "received never exceeds written";
-  EXPECT_TRUE(first.report["sent"]["received_confirmed_by_device"].get<bool>()) << "the sim profile answers ESC.O";
+  EXPECT_EQ(first.report["sent"]["received_counted_by"], "status_answers") << "the sim profile answers ESC.O";
   EXPECT_NE(first.err.find("last stroke certainly received " + std::to_string(m) + " of " + std::to_string(total)), std::string::npos)
       << first.err;
   EXPECT_NE(first.err.find("last stroke written " + std::to_string(n)), std::string::npos) << first.err;
@@ -287,17 +287,19 @@ TEST_F(SerialPty, WithoutAStatusQueryAHeldLineIsAStallWithHonestNumbers) {
   EXPECT_EQ(held.code, 3) << held.err;
   EXPECT_NE(held.err.find("the device held popcut off for 3 s without taking a byte"), std::string::npos) << held.err;
   EXPECT_EQ(held.report["sent"]["error"], "timeout") << held.report.dump();
-  EXPECT_FALSE(held.report["sent"]["received_confirmed_by_device"].get<bool>()) << "nothing to ask: the port's count";
+  EXPECT_EQ(held.report["sent"]["received_counted_by"], "os_queue") << "nothing to ask: the port's count";
   const std::size_t m = held.report["sent"]["last_stroke_sent"].get<std::size_t>();
   const std::size_t n = held.report["sent"]["last_stroke_written"].get<std::size_t>();
   EXPECT_LE(m, n);
   EXPECT_NE(held.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos) << held.err;
+  EXPECT_LT(held.report["sent"]["bytes_received"].get<std::size_t>(), held.report["sent"]["bytes"].get<std::size_t>())
+      << "what may still be between popcut and the device is not counted received";
   ASSERT_EQ(plot->wait(), 0);
-  const auto planned = strokes_of(slurp(dir_ / "held" / "job.hpgl"));
-  const auto got = strokes_of(plotter_report("held"));
-  ASSERT_GE(got.size(), m) << "every stroke claimed received reached the device (it cuts what it holds)";
-  for (std::size_t i = 0; i < m; ++i) EXPECT_EQ(got[i], planned[i]) << "stroke " << i + 1;
   EXPECT_EQ(plotter_report("held")["overflow_bytes"], 0);
+  // Whether the port's count matched what this plotter pulled is not asserted: a pty reports no
+  // output queue, so how far the plotter lags popcut is scheduling, not the line. The counting
+  // itself is tested deterministically in job_sender_test (BytesStillInTheOsQueue...), and
+  // device-confirmed counts against this plotter above.
 }
 
 TEST_F(SerialPty, BadPortsAndBaudsAreReported) {

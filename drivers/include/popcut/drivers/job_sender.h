@@ -51,10 +51,11 @@ struct SendOptions {
   std::function<void(const SendProgress&)> progress;  // after every chunk
 };
 
-// Never over-claims: bytes written into a port may still sit in the OS queue, a UART FIFO or a
-// pseudo-terminal when the line drops. bytes_received counts what the device confirmed (its
-// answer to a status query sent after those bytes) or, for a device that cannot be asked, what
-// the transport reports gone (written, less the OS output queue and the last chunk in flight).
+// Never over-claims: bytes written into a serial port may still sit in the OS queue, a UART FIFO
+// or a pseudo-terminal when the line drops. bytes_received counts what the device took (USB
+// bulk actual_length), what it confirmed (its answer to a status query sent after those bytes)
+// or, for a device that cannot be asked, what the port reports gone (written, less the OS output
+// queue and what may still be in flight).
 // Resuming from last_stroke_sent + 1 therefore never skips a stroke; strokes
 // last_stroke_sent + 1 .. last_stroke_written may have been cut already and are cut again.
 struct SendResult {
@@ -64,7 +65,10 @@ struct SendResult {
   std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (first_stroke - 1: none)
   std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
   std::size_t total_strokes = 0;
-  bool received_confirmed_by_device = false;  // bytes_received from status answers, not the OS queue
+  // How bytes_received was counted: "transport" (a write's count is what the device took: USB,
+  // a file, the simulator), "status_answers" (serial, device answers queries) or "os_queue"
+  // (serial, device cannot be asked: written less the OS queue and what may still be in flight).
+  std::string received_counted_by;
   bool cancelled = false;
   bool abort_sent = false;           // the abort sequence and knife up reached the transport
   // After a cancel or a failure: bytes the device may still hold and go on cutting. Exact when
@@ -78,8 +82,8 @@ struct SendResult {
   // On success: how the end was confirmed ("esc_b", "esc_o", "estimate", "none" for a file).
   std::string drained_by;
   int xoff_pauses = 0;     // times the device said XOFF and we waited for XON
-  int buffer_queries = 0;  // ESC.B round trips
-  int status_queries = 0;  // ESC.B/ESC.O sent to learn how far the device got (incl. the first one)
+  int buffer_queries = 0;  // ESC.B round trips to pace the job (ESC.B flow control)
+  int status_queries = 0;  // every ESC.B/ESC.O sent: before the job, pacing, confirmations, drain
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
   bool complete() const { return status.ok() && !cancelled; }
 };

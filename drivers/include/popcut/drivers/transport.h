@@ -46,9 +46,11 @@ class Transport {
   // Whether the OS applies XON/XOFF itself (a tty with IXON): writes then block while the device
   // holds the line and popcut never reads XON/XOFF; otherwise popcut honours them (the simulator).
   virtual bool os_flow_control() const { return false; }
-  // Bytes write() accepted that the device cannot yet be shown to have received: the OS output
-  // queue, and data a UART or adapter may still hold. 0 where a write's count is the device's own
-  // (USB bulk actual_length, a file, the in-process simulator).
+  // Whether a write's byte count is what the device took (USB bulk actual_length, a file, the
+  // simulator); a serial port's is only what the OS took.
+  virtual bool writes_acknowledged() const { return true; }
+  // Where writes are not acknowledged: bytes write() accepted that the device cannot yet be shown
+  // to have received (the OS output queue, and data a UART, an adapter or a pty may still hold).
   virtual std::size_t in_flight() { return 0; }
 };
 
