@@ -3,12 +3,11 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <deque>
-#include <utility>
 #include <cstdint>
 #include <cstdlib>
-#include <optional>
+#include <deque>
 #include <string>
+#include <utility>
 
 namespace popcut::drivers {
 namespace {
@@ -128,14 +127,17 @@ class Sender {
       held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
       if (held >= o_.hold_timeout) {
         r_.status = {TransportError::timeout, w.status.os_error,
-                     "the device held popcut off for " + std::to_string(o_.hold_timeout.count() / 1000) +
-                         " s without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
+                     "the device held popcut off for " + duration_text(o_.hold_timeout) + " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
         return false;
       }
       if (at_boundary_and_cancelled()) return true;
       if (!take_replies(std::chrono::milliseconds(0))) return false;
     }
     return true;
+  }
+
+  static std::string duration_text(std::chrono::milliseconds d) {
+    return d.count() % 1000 == 0 ? std::to_string(d.count() / 1000) + " s" : std::to_string(d.count()) + " ms";
   }
 
   // Ends a chunk of up to n bytes on the last command boundary inside it, when there is one.
@@ -160,7 +162,7 @@ class Sender {
       r_.status = w.status;
       return false;
     }
-    pending_.push_back({r_.bytes_sent, std::chrono::steady_clock::now()});
+    pending_.push_back(r_.bytes_sent);
     ++r_.status_queries;
     return true;
   }
@@ -214,7 +216,7 @@ class Sender {
                        ", not a status number: " + check_line_hint()};
       return false;
     }
-    confirmed_ = std::max(confirmed_, pending_.front().position);
+    confirmed_ = std::max(confirmed_, pending_.front());
     pending_.pop_front();
     last_answer_ = std::strtol(text.c_str(), nullptr, 10);
     return true;
@@ -415,11 +417,6 @@ class Sender {
     return done < last && bytes > done_end ? done + 1 : done;
   }
 
-  struct Pending {
-    std::size_t position;  // job bytes written before the query
-    std::chrono::steady_clock::time_point sent;
-  };
-
   Transport& t_;
   const EncodedJob& job_;
   const SendOptions& o_;
@@ -432,7 +429,7 @@ class Sender {
   std::size_t status_every_ = 0;
   std::size_t last_ping_ = 0;
   std::size_t confirmed_ = 0;  // job bytes written before the last answered query
-  std::deque<Pending> pending_;
+  std::deque<std::size_t> pending_;  // queries awaiting an answer: job bytes written before each
   std::string line_;
   long last_answer_ = 0;
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far
