@@ -127,8 +127,12 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       }
       // The host's line settings (a pty's master sees the slave's termios): its rate, and whether
       // its OS stops transmitting on XOFF (IXON), as a UART driver does within a character.
+      // Once the host has closed the port its settings are gone: keep the last ones it used (a
+      // transmitter stopped by XOFF sends nothing more after the close either).
+      pollfd closed{master, 0, 0};
+      const bool host_gone = ::poll(&closed, 1, 0) > 0 && (closed.revents & POLLHUP);
       termios host{};
-      if (seen_host && ::tcgetattr(master, &host) == 0) {
+      if (seen_host && !host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
       }
@@ -144,8 +148,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       // line, and they arrive (and overflow a full buffer) whether it stops or not.
       if (xon_xoff && host_ixon && cutter.holding_off()) room = 0;
       if (room == 0) {
-        pollfd hup{master, 0, 0};
-        if (seen_host && ::poll(&hup, 1, 0) > 0 && (hup.revents & POLLHUP)) {
+        if (seen_host && host_gone) {
           ended = "host closed the port";
           break;
         }
@@ -173,7 +176,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         ::close(slave);  // from now on the host closing the port ends the session
         slave = -1;
       }
-      if (::tcgetattr(master, &host) == 0) {
+      if (!host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
       }

@@ -140,8 +140,9 @@ class SerialTransport final : public Transport {
     IoResult r;
     if (!open_) return {0, {TransportError::bad_argument, 0, describe() + ": read before open"}};
     if (buffer.empty() || timeout.count() == 0) {
-      // Only let time pass (or take what is there), noticing a hang-up.
-      pollfd p{fd_, POLLIN, 0};
+      // Only let time pass (or take what is there), noticing a hang-up. With nothing to read
+      // into, incoming bytes must not cut the wait short: the caller counts it as time passed.
+      pollfd p{fd_, static_cast<short>(buffer.empty() ? 0 : POLLIN), 0};
       const int got = ::poll(&p, 1, static_cast<int>(timeout.count()));
       if (got > 0 && (p.revents & (POLLHUP | POLLERR)) && !(p.revents & POLLIN)) {
         r.status = lost(EIO, "serial port " + path_);
