@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -79,7 +80,7 @@ void BM_Stream(benchmark::State& state) {
   drivers::DeviceProfile p = drivers::load_profile(kSource + "/configs/devices/sim.toml");
   p.transport.baud = baud;
   p.transport.buffer_bytes = static_cast<std::size_t>(buffer);
-  p.transport.drain_query = drivers::DrainQuery::none;
+  // The profile's ESC.O status queries stay on: they are what a real job carries.
   const EncodedJob one = encode_job(plan_of("pyramid.json", p), p.dialect, p.tools);
   EncodedJob job = one;
   while (static_cast<double>(job.bytes.size()) * 10 / baud < 2.0) {  // repeat the strokes, never the init
@@ -130,6 +131,15 @@ BENCHMARK(BM_BytesPerMm)->DenseRange(0, static_cast<int>(testing::shipped_profil
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The serial transport is libserialport, which opens a pty only under the test shim: run
+  // again with it preloaded (as the pty tests run popcut).
+  const char* preload = std::getenv("LD_PRELOAD");
+  if (!preload || std::string(preload).find(POPCUT_PTY_PRELOAD) == std::string::npos) {
+    ::setenv("LD_PRELOAD", POPCUT_PTY_PRELOAD, 1);
+    ::execv("/proc/self/exe", argv);
+    std::perror("transport_bench: cannot re-run itself with the pty shim");
+    return 1;
+  }
   return popcut::bench::run_with_table(argc, argv, [](const popcut::bench::CollectingReporter& rep) {
     std::printf("\nstreaming over a pseudo-terminal to popcut sim-plotter (target >= 95%% of line rate)\n");
     std::printf("%-8s %-8s %-8s %-10s\n", "baud", "buffer", "bytes", "of line");

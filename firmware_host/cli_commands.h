@@ -17,6 +17,7 @@ enum ExitCode : int {
   kBadInput = 2,       // unreadable or invalid input, or a bad command line
   kCannotWrite = 3,    // an output file could not be written; cut: the job did not reach the cutter
   kInternal = 4,       // a bug in popcut
+  kCancelled = 130,    // cut: stopped by Ctrl-C or SIGTERM (the shell's code for SIGINT)
 };
 
 int run(int argc, char** argv);

@@ -113,7 +113,7 @@ class Progress {
     }
     std::cerr << "\rcutting [" << std::string(static_cast<std::size_t>(filled), '#')
               << std::string(static_cast<std::size_t>(30 - filled), '.') << "] " << pct << "% " << p.bytes_sent << "/"
-              << p.bytes_total << " bytes, stroke " << p.last_stroke_sent << "/" << p.total_strokes << " sent, ETA " << eta
+              << p.bytes_total << " bytes, stroke " << p.last_stroke_written << "/" << p.total_strokes << " sent, ETA " << eta
               << "   " << std::flush;
   }
   void done() {
@@ -280,10 +280,16 @@ int run_cut(const CutCommands& s) {
                       {"error", sent.status.ok() ? "" : std::string(drivers::to_string(sent.status.error))},
                       {"message", sent.status.message},
                       {"first_stroke", sent.first_stroke},
+                      {"bytes_received", sent.bytes_received},
+                      {"received_counted_by", sent.received_counted_by},
                       {"last_stroke_sent", sent.last_stroke_sent},
+                      {"last_stroke_written", sent.last_stroke_written},
                       {"total_strokes", sent.total_strokes},
                       {"buffered_bytes", sent.buffered_bytes},
                       {"buffer_known", sent.buffer_known},
+                      {"buffered_strokes", sent.buffered_bytes == 0 ? json(nullptr)
+                                                                    : json::array({sent.buffered_first_stroke, sent.buffered_last_stroke})},
+                      {"status_queries", sent.status_queries},
                       {"drained_by", sent.drained_by},
                       {"xoff_pauses", sent.xoff_pauses},
                       {"buffer_queries", sent.buffer_queries}};
@@ -321,22 +327,38 @@ int run_cut(const CutCommands& s) {
     }
     write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << report.dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
-    const std::string strokes = std::to_string(sent.last_stroke_sent) + " of " + std::to_string(sent.total_strokes);
-    const std::string resume = sent.last_stroke_sent < sent.total_strokes
-                                   ? "; to finish, run the same command with --resume-from " + std::to_string(sent.last_stroke_sent + 1)
-                                   : "";
+    // Honest numbers: M = the last stroke the device certainly received, N = the last written.
+    // Resuming from M + 1 skips nothing; strokes M+1..N may be cut twice, and the user is told so.
+    const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
+    std::string where = "last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
+                        " (" + (sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
+                                 : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
+                                                                         : std::string("taken by the device")) +
+                        "), last stroke written " + std::to_string(n);
+    std::string resume;
+    if (m < sent.total_strokes) {
+      resume = "; to finish, run the same command with --resume-from " + std::to_string(m + 1);
+      if (n > m) {
+        resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
+                  " may have been cut already and are then cut a second time)";
+      }
+    }
     if (sent.cancelled) {
-      std::cerr << "popcut: cancelled on " << transport.describe() << ": last stroke fully sent " << strokes << "; "
+      std::string left = "nothing more";
+      if (sent.buffered_bytes > 0) {
+        left = (sent.buffer_known ? "" : "up to ") + std::to_string(sent.buffered_bytes) + " bytes (strokes " +
+               std::to_string(sent.buffered_first_stroke) + ".." + std::to_string(sent.buffered_last_stroke) + ")";
+      }
+      std::cerr << "popcut: cancelled on " << transport.describe() << ": "
                 << (sent.abort_sent ? "sent the abort sequence and lifted the knife" : "could NOT send the abort sequence: " + sent.status.message)
-                << "; the device " << (sent.buffer_known ? "holds " : "may still hold up to ") << sent.buffered_bytes
-                << " bytes it can go on cutting" << (j.profile.transport.abort.empty() ? "" : " unless it honours the abort sequence") << resume
-                << "\n";
-      return static_cast<int>(kCannotWrite);
+                << "; the device may still cut " << left << " from its buffer"
+                << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 ? "" : " unless it honours the abort sequence") << "; " << where
+                << resume << "\n";
+      return static_cast<int>(kCancelled);
     }
     if (!sent.status.ok()) {
       std::cerr << "popcut: error: the job did not reach the cutter (" << transport.describe() << "): " << sent.status.message
-                << " after " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " bytes; last stroke fully sent " << strokes
-                << resume << "\n";
+                << " after " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " bytes; " << where << resume << "\n";
       return static_cast<int>(kCannotWrite);
     }
     if (cutter && !match) {
@@ -366,9 +388,13 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
 
   s.cut = app.add_subcommand("cut", "Plan, encode and send a job to a cutter: the simulated one (sim) or a file/device node.\n"
-                                    "Writes DIR/job.hpgl (the bytes sent), DIR/report.json and, on sim, DIR/cut.svg. Ctrl-C cancels safely.\n"
-                                    "Exit 3 if the job does not get through (cancel, disconnect, timeout): the message names the last\n"
-                                    "stroke fully sent and the --resume-from that finishes the job.");
+                                    "Writes DIR/job.hpgl (the bytes sent), DIR/report.json and, on sim, DIR/cut.svg.\n"
+                                    "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
+                                    "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
+                                    "message names the last stroke the device certainly received (M), the last written (N), and\n"
+                                    "--resume-from M+1, which finishes the job (strokes M+1..N may then be cut twice).\n"
+                                    "Exit 130: cancelled by Ctrl-C or SIGTERM; the knife is lifted and the message says how much the\n"
+                                    "device may still cut from its buffer (bytes and strokes).");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
   s.cut->add_option("--device", s.device,
                     "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"

@@ -31,7 +31,7 @@ using nlohmann::json;
 std::atomic<bool> g_stop{false};
 extern "C" void on_stop(int) { g_stop = true; }
 
-json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, const std::string& ended) {
+json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, bool host_ixon, const std::string& ended) {
   const drivers::SimReport& r = c.report();
   json strokes = json::array();
   for (const drivers::SimStroke& s : c.strokes()) {
@@ -46,6 +46,7 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
           {"ended", ended},
           {"device_baud", c.profile().transport.baud},
           {"host_baud", host_baud},
+          {"host_xon_xoff_in_os", host_ixon},
           {"bytes_received", r.bytes_received},
           {"commands", r.commands},
           {"overflow_bytes", r.overflow_bytes},
@@ -105,6 +106,8 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     const auto start = std::chrono::steady_clock::now();
     const auto now_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     const bool held = profile.transport.flow == drivers::FlowControl::none || profile.transport.flow == drivers::FlowControl::rts_cts;
+    const bool xon_xoff = profile.transport.flow == drivers::FlowControl::xon_xoff;
+    bool host_ixon = false;
     const std::size_t cap = profile.transport.buffer_bytes;
     // Bytes per read: about 4 ms of line, so replies (XOFF) go out within a few characters.
     const std::size_t slice = std::max<std::size_t>(1, static_cast<std::size_t>(profile.transport.baud / 10 / 250));
@@ -122,9 +125,33 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         std::this_thread::sleep_for(std::chrono::duration<double>(std::min(cutter.now_s() - t, 0.004)));
         continue;
       }
-      std::size_t room = slice;
+      // The host's line settings (a pty's master sees the slave's termios): its rate, and whether
+      // its OS stops transmitting on XOFF (IXON), as a UART driver does within a character.
+      // Once the host has closed the port its settings are gone: keep the last ones it used (a
+      // transmitter stopped by XOFF sends nothing more after the close either).
+      pollfd closed{master, 0, 0};
+      const bool host_gone = ::poll(&closed, 1, 0) > 0 && (closed.revents & POLLHUP);
+      termios host{};
+      if (seen_host && !host_gone && ::tcgetattr(master, &host) == 0) {
+        host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
+        host_ixon = (host.c_iflag & IXON) != 0;
+      }
+      // Bytes per read: a slice, and what the line carried while this process was not running
+      // (a loaded machine), so the device keeps up with the line rate.
+      const double behind_s = std::max(0.0, t - cutter.now_s());
+      std::size_t room = std::min(sizeof buf, slice + static_cast<std::size_t>(behind_s * profile.transport.baud / 10));
+      // A host stopping on XOFF: never more than XOFF's headroom at once, so XOFF goes out in time.
+      if (xon_xoff && host_ixon) room = std::min(room, std::max(slice, cap * 3 / 4 - std::min(cap * 3 / 4, cutter.buffer_used())));
       if (held) room = std::min(room, cap - std::min(cap, cutter.buffer_used()));  // hardware flow: stop reading
+      // After XOFF a transmitter stopped by its OS sends nothing: bytes waiting in the pty are
+      // still the host's, not on the line. A host doing XON/XOFF itself already put them on the
+      // line, and they arrive (and overflow a full buffer) whether it stops or not.
+      if (xon_xoff && host_ixon && cutter.holding_off()) room = 0;
       if (room == 0) {
+        if (seen_host && host_gone) {
+          ended = "host closed the port";
+          break;
+        }
         cutter.advance(t);
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         continue;
@@ -149,8 +176,10 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         ::close(slave);  // from now on the host closing the port ends the session
         slave = -1;
       }
-      termios host{};
-      if (::tcgetattr(master, &host) == 0) host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
+      if (!host_gone && ::tcgetattr(master, &host) == 0) {
+        host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
+        host_ixon = (host.c_iflag & IXON) != 0;
+      }
       if (host_baud != 0 && host_baud != profile.transport.baud) {
         // A UART at the wrong rate sees framing errors, not the bytes that were sent.
         for (ssize_t i = 0; i < n; ++i) buf[i] = static_cast<std::uint8_t>(buf[i] ^ 0x5a);
@@ -170,7 +199,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       std::error_code ec;
       std::filesystem::remove(s.link, ec);
     }
-    const json report = report_json(cutter, path, host_baud, ended);
+    const json report = report_json(cutter, path, host_baud, host_ixon, ended);
     if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << report.dump(2) << "\n"; });
     if (!s.svg_path.empty()) write_cli_output(s.svg_path, [&](std::ostream& o) { cutter.write_svg(o); });
     std::cerr << "sim-plotter: " << ended << "; received " << cutter.report().bytes_received << " bytes, cut "

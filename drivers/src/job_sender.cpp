@@ -2,10 +2,12 @@
 #include "popcut/drivers/job_sender.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstdlib>
-#include <optional>
+#include <deque>
 #include <string>
+#include <utility>
 
 namespace popcut::drivers {
 namespace {
@@ -22,15 +24,25 @@ std::span<const std::uint8_t> bytes_of(std::string_view s) {
 class Sender {
  public:
   Sender(Transport& t, const EncodedJob& job, const SendOptions& o) : t_(t), job_(job), o_(o) {
+    // XON/XOFF is popcut's to read only where the transport does not do it (the simulator); a
+    // serial port stops its transmitter in the OS, which then blocks popcut's writes.
     flow_ = t.answers() ? o.flow : FlowControl::none;
+    if (flow_ == FlowControl::xon_xoff && t.os_flow_control()) flow_ = FlowControl::none;
     query_ = t.answers() ? o.drain_query : DrainQuery::none;
+    if (flow_ == FlowControl::esc_b && query_ == DrainQuery::none) query_ = DrainQuery::esc_b;
+    status_every_ = o.status_every_bytes ? o.status_every_bytes : std::max<std::size_t>(64, o.buffer_bytes / 4);
     r_.first_stroke = job.first_stroke;
     r_.last_stroke_sent = job.first_stroke - 1;
+    r_.last_stroke_written = job.first_stroke - 1;
     r_.total_strokes = job.total_strokes;
+    r_.received_counted_by = t.writes_acknowledged() ? "transport" : query_ != DrainQuery::none ? "status_answers" : "os_queue";
   }
 
   SendResult run() {
-    // Small chunks under XON/XOFF: the device says XOFF at 3/4 full, so one chunk in flight must
+    // Before the first byte: a device that should answer and does not is on the wrong port or
+    // baud, or is off; nothing of the job has gone out yet.
+    if (query_ != DrainQuery::none && !ask_status("before sending")) return fail_tail();
+    // Small chunks: under XON/XOFF the device says XOFF at 3/4 full, so one chunk in flight must
     // fit in the last quarter.
     const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(256, o_.buffer_bytes / 8));
     std::size_t limit = job_.bytes.size();
@@ -45,15 +57,9 @@ class Sender {
       if (!pace(n, chunk)) return fail_tail();
       if (!r_.cancelled && cancel_requested()) continue;  // noticed while waiting: stop properly
       n = on_boundary(n);
-      const IoResult w = t_.write(bytes_of(std::string_view(job_.bytes).substr(r_.bytes_sent, n)), o_.timeout);
-      r_.bytes_sent += w.bytes;
-      credit_ -= std::min(credit_, w.bytes);
-      r_.last_stroke_sent = job_.last_stroke_within(r_.bytes_sent);
-      report_progress();
-      if (!w.status.ok()) {
-        r_.status = w.status;
-        return fail_tail();
-      }
+      if (!write_job_bytes(n)) return fail_tail();
+      if (r_.cancelled && r_.bytes_sent >= limit) break;
+      if (!ping_if_due()) return fail_tail();
     }
     if (!r_.cancelled) {
       if (const TransportStatus st = t_.drain(o_.timeout); !st.ok()) {
@@ -62,7 +68,11 @@ class Sender {
       }
       wait_until_drained();
       if (!r_.status.ok()) return fail_tail();
-      if (!r_.cancelled) return r_;
+      if (!r_.cancelled) {
+        confirmed_ = r_.bytes_sent;  // the device said it has executed everything (or the estimate passed)
+        settle_counts();
+        return r_;
+      }
     }
     send_abort();
     return r_;
@@ -75,9 +85,59 @@ class Sender {
     return cancel_requested() && job_.command_boundary_at_or_after(r_.bytes_sent) == r_.bytes_sent;
   }
 
+  // What the device can be shown to have received: what it took, where the transport's count says
+  // so; else its answers where it is asked; else what the port says has left (written, less its
+  // OS queue and what may still be in flight).
+  std::size_t received() {
+    if (t_.writes_acknowledged()) return r_.bytes_sent;
+    if (query_ != DrainQuery::none) return std::min(confirmed_, r_.bytes_sent);
+    return r_.bytes_sent - std::min(r_.bytes_sent, t_.in_flight());
+  }
+
+  void settle_counts() {
+    r_.bytes_received = received();
+    r_.last_stroke_sent = job_.last_stroke_within(r_.bytes_received);
+    r_.last_stroke_written = job_.last_stroke_within(r_.bytes_sent);
+  }
+
   void report_progress() {
     if (!o_.progress) return;
-    o_.progress({r_.bytes_sent, job_.bytes.size(), r_.last_stroke_sent, job_.first_stroke, job_.total_strokes});
+    settle_counts();
+    o_.progress({r_.bytes_sent, job_.bytes.size(), r_.last_stroke_sent, r_.last_stroke_written, job_.first_stroke,
+                 job_.total_strokes});
+  }
+
+  // Writes the next n job bytes. A device holding the line (XOFF or CTS in the OS, USB NAKs)
+  // blocks the write: that is waited out up to hold_timeout in short slices, so a cancel is
+  // noticed. False with r_.status set.
+  bool write_job_bytes(std::size_t n) {
+    const std::size_t end = r_.bytes_sent + n;
+    const auto slice = t_.backpressure() ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
+    std::chrono::milliseconds held{0};
+    while (r_.bytes_sent < end) {
+      const IoResult w = t_.write(bytes_of(std::string_view(job_.bytes).substr(r_.bytes_sent, end - r_.bytes_sent)), slice);
+      r_.bytes_sent += w.bytes;
+      credit_ -= std::min(credit_, w.bytes);
+      report_progress();
+      if (w.status.ok()) continue;
+      if (w.status.error != TransportError::timeout || !t_.backpressure()) {
+        r_.status = w.status;
+        return false;
+      }
+      held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
+      if (held >= o_.hold_timeout) {
+        r_.status = {TransportError::timeout, w.status.os_error,
+                     "the device held popcut off for " + duration_text(o_.hold_timeout) + " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
+        return false;
+      }
+      if (at_boundary_and_cancelled()) return true;
+      if (!take_replies(std::chrono::milliseconds(0))) return false;
+    }
+    return true;
+  }
+
+  static std::string duration_text(std::chrono::milliseconds d) {
+    return d.count() % 1000 == 0 ? std::to_string(d.count() / 1000) + " s" : std::to_string(d.count()) + " ms";
   }
 
   // Ends a chunk of up to n bytes on the last command boundary inside it, when there is one.
@@ -91,41 +151,55 @@ class Sender {
     return *it > r_.bytes_sent ? *it - r_.bytes_sent : n;
   }
 
-  // One ESC.B round trip: the device's free buffer bytes, or nullopt with r_.status set.
-  std::optional<std::size_t> query_free() {
-    const IoResult w = t_.write(bytes_of("\x1b.B"), o_.timeout);
+  const char* query_bytes(DrainQuery q) const { return q == DrainQuery::esc_b ? "\x1b.B" : "\x1b.O"; }
+  const char* query_name(DrainQuery q) const { return q == DrainQuery::esc_b ? "ESC.B" : "ESC.O"; }
+
+  // Sends a status query without waiting for its answer: when it comes, every job byte written
+  // before the query has reached the device (answers come back in order).
+  bool send_query(DrainQuery q) {
+    const IoResult w = t_.write(bytes_of(query_bytes(q)), o_.timeout);
     if (!w.status.ok()) {
       r_.status = w.status;
-      return std::nullopt;
+      return false;
     }
-    ++r_.buffer_queries;
-    const std::optional<std::string> answer = read_answer("ESC.B");
-    if (!answer) return std::nullopt;
-    return static_cast<std::size_t>(std::max(0L, std::strtol(answer->c_str(), nullptr, 10)));
+    pending_.push_back(r_.bytes_sent);
+    ++r_.status_queries;
+    return true;
   }
 
-  // One reply line ending in CR. XON/XOFF bytes in between are flow control, not the answer.
-  std::optional<std::string> read_answer(const char* what) {
-    std::string answer;
-    std::uint8_t b = 0;
-    while (answer.find('\r') == std::string::npos) {
-      const IoResult got = t_.read(std::span<std::uint8_t>(&b, 1), o_.timeout);
-      if (!got.status.ok()) {
-        r_.status = {got.status.error, got.status.os_error,
-                     std::string("no answer to ") + what + " (is the baud rate right?): " + got.status.message};
-        return std::nullopt;
-      }
-      if (got.bytes == 1 && b != kXon && b != kXoff) answer.push_back(static_cast<char>(b));
+  // Every status_every_bytes, at a command boundary, a pipelined query that costs no round trip.
+  bool ping_if_due() {
+    if (query_ == DrainQuery::none || flow_ == FlowControl::esc_b) return take_replies(std::chrono::milliseconds(0));
+    if (r_.bytes_sent - last_ping_ >= status_every_ && job_.command_boundary_at_or_after(r_.bytes_sent) == r_.bytes_sent) {
+      last_ping_ = r_.bytes_sent;
+      if (!send_query(query_)) return false;
     }
-    return answer;
+    return take_replies(std::chrono::milliseconds(0));
   }
 
-  // Lets the device work for `wait` (the transport's clock: real, or the simulator's), noting
-  // XON/XOFF; false on a transport error other than silence.
-  bool idle(std::chrono::milliseconds wait) {
+  // Reads what the device said within `wait`: XON/XOFF (the simulator) and answer lines, each of
+  // which confirms the oldest query outstanding. False with r_.status set on a transport error or
+  // an answer that is not a number.
+  bool take_replies(std::chrono::milliseconds wait) {
+    if (!t_.answers() && wait.count() == 0) return true;
+    // Nothing expected: only let the time pass (a transport may have nothing to read from).
+    const bool expect = flow_ == FlowControl::xon_xoff || !pending_.empty();
     std::uint8_t buf[64];
-    const IoResult got = t_.read(std::span<std::uint8_t>(buf, flow_ == FlowControl::xon_xoff ? sizeof buf : 0), wait);
-    note_flow(buf, got.bytes);
+    const IoResult got = t_.read(std::span<std::uint8_t>(buf, expect && t_.answers() ? sizeof buf : 0), wait);
+    bytes_heard_ += got.bytes;
+    for (std::size_t i = 0; i < got.bytes; ++i) {
+      const std::uint8_t b = buf[i];
+      if (b == kXoff && !paused_) {
+        paused_ = true;
+        ++r_.xoff_pauses;
+      } else if (b == kXon) {
+        paused_ = false;
+      } else if (b == '\r') {
+        if (!answer_line()) return false;
+      } else if (b != kXoff && b != '\n') {
+        line_.push_back(static_cast<char>(b));
+      }
+    }
     if (!got.status.ok() && got.status.error != TransportError::timeout) {
       r_.status = got.status;
       return false;
@@ -133,28 +207,75 @@ class Sender {
     return true;
   }
 
-  void note_flow(const std::uint8_t* buf, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (buf[i] == kXoff && !paused_) {
-        paused_ = true;
-        ++r_.xoff_pauses;
-      } else if (buf[i] == kXon) {
-        paused_ = false;
+  bool answer_line() {
+    const std::string text = std::exchange(line_, std::string());
+    const bool number = !text.empty() && text.size() <= 12 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (pending_.empty() || !number) {
+      r_.status = {TransportError::io, 0,
+                   "the device answered " + printable(text) + (pending_.empty() ? " unasked" : std::string(" to ") + query_name(query_)) +
+                       ", not a status number: " + check_line_hint()};
+      return false;
+    }
+    confirmed_ = std::max(confirmed_, pending_.front());
+    pending_.pop_front();
+    last_answer_ = std::strtol(text.c_str(), nullptr, 10);
+    return true;
+  }
+
+  std::string check_line_hint() const {
+    if (t_.describe().rfind("serial:", 0) != 0) return "check the cable and that the device is on and is the one the profile is for";
+    return "check the cable, the port and the baud rate" +
+           (o_.baud > 0 ? " (the profile says " + std::to_string(o_.baud) + " baud)" : std::string());
+  }
+
+  static std::string printable(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u >= 0x20 && u < 0x7f) out += c;
+      else {
+        static const char kHex[] = "0123456789abcdef";
+        out += std::string("\\x") + kHex[u >> 4] + kHex[u & 15];
       }
     }
+    return out + "'";
   }
+
+  // One status round trip: sends the query and waits (up to the timeout, on the transport's
+  // clock: real, or the simulator's) until it and every one before it are answered; the answer
+  // in last_answer_. False with r_.status set.
+  bool ask(DrainQuery q, const std::string& when) {
+    if (!send_query(q)) return false;
+    const auto deadline = std::chrono::steady_clock::now() + o_.timeout;
+    std::chrono::milliseconds left = o_.timeout;
+    while (!pending_.empty()) {
+      const std::size_t before = bytes_heard_;
+      if (!take_replies(left)) return false;
+      if (bytes_heard_ == before) break;  // silence for the whole of `left`
+      left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) break;  // chatter, but no answer
+    }
+    if (!pending_.empty()) {
+      r_.status = {TransportError::timeout, ETIMEDOUT,
+                   "the device did not answer " + std::string(query_name(q)) + " " + when + " within " +
+                       std::to_string(o_.timeout.count()) + " ms" + (line_.empty() ? "" : " (it sent " + printable(line_) + ")") +
+                       ": " + check_line_hint()};
+      return false;
+    }
+    return true;
+  }
+
+  bool ask_status(const std::string& when) { return ask(query_, when); }
+
+  // Lets the device work for `wait` (the transport's clock: real, or the simulator's), taking
+  // what it says; false on a transport error other than silence.
+  bool idle(std::chrono::milliseconds wait) { return take_replies(wait); }
 
   // Waits until `n` bytes may go out; may shrink n (ESC.B credit). False with r_.status set.
   bool pace(std::size_t& n, std::size_t chunk) {
     if (flow_ == FlowControl::xon_xoff) {
       // Take what the device said so far; wait for XON while it holds us off.
-      std::uint8_t buf[64];
-      const IoResult got = t_.read(buf, std::chrono::milliseconds(0));
-      note_flow(buf, got.bytes);
-      if (!got.status.ok() && got.status.error != TransportError::timeout) {
-        r_.status = got.status;
-        return false;
-      }
+      if (!take_replies(std::chrono::milliseconds(0))) return false;
       std::chrono::milliseconds held{0};
       while (paused_) {
         if (at_boundary_and_cancelled()) return true;  // no need to wait for XON to stop
@@ -163,13 +284,8 @@ class Sender {
                                                        std::to_string(o_.hold_timeout.count()) + " ms"};
           return false;
         }
-        const IoResult more = t_.read(buf, kSlice);
-        note_flow(buf, more.bytes);
-        if (!more.status.ok() && more.status.error != TransportError::timeout) {
-          r_.status = more.status;
-          return false;
-        }
-        if (more.bytes == 0) held += kSlice;
+        if (!take_replies(kSlice)) return false;
+        held += kSlice;
       }
     } else if (flow_ == FlowControl::none && !t_.backpressure() && o_.job_motion_estimate.count() > 0) {
       // No handshake at all: keep at most half a buffer ahead of where the device should be,
@@ -189,9 +305,9 @@ class Sender {
       // too little. The answer is credit for the next chunks: the device only drains meanwhile.
       long waited_ms = 0;
       for (int polls = 0;; ++polls) {
-        const std::optional<std::size_t> free_bytes = query_free();
-        if (!free_bytes) return false;
-        credit_ = *free_bytes;
+        if (!ask(DrainQuery::esc_b, "while sending")) return false;
+        ++r_.buffer_queries;
+        credit_ = static_cast<std::size_t>(std::max(0L, last_answer_));
         if (credit_ >= n) break;
         if (credit_ >= chunk / 2) {
           n = credit_;
@@ -241,19 +357,10 @@ class Sender {
         r_.cancelled = true;
         return;
       }
-      if (query_ == DrainQuery::esc_b) {
-        const std::optional<std::size_t> free_bytes = query_free();
-        if (!free_bytes) return;
-        if (*free_bytes >= o_.buffer_bytes) break;
-      } else {
-        const IoResult w = t_.write(bytes_of("\x1b.O"), o_.timeout);
-        if (!w.status.ok()) {
-          r_.status = w.status;
-          return;
-        }
-        const std::optional<std::string> answer = read_answer("ESC.O");
-        if (!answer) return;
-        if (std::strtol(answer->c_str(), nullptr, 10) & 8) break;  // bit 3: buffer empty
+      if (!ask_status("after the last byte")) return;
+      if (query_ == DrainQuery::esc_b ? static_cast<std::size_t>(std::max(0L, last_answer_)) >= o_.buffer_bytes
+                                      : (last_answer_ & 8) != 0) {  // ESC.O bit 3: buffer empty
+        break;
       }
       if (waited >= o_.hold_timeout) {
         r_.status = {TransportError::timeout, 0, "device still busy " + std::to_string(o_.hold_timeout.count()) +
@@ -269,8 +376,9 @@ class Sender {
 
   // Cancel: the profile's abort sequence and knife up, then how much the device may still hold.
   void send_abort() {
-    // The abort goes out even under XOFF: a few bytes fit the quarter the device keeps free.
-    const IoResult w = t_.write(bytes_of(o_.abort_bytes), o_.timeout);
+    // Under XON/XOFF in the OS the abort waits for XON like any byte, up to the hold timeout:
+    // the device is cutting its buffer meanwhile, and the abort is what stops it.
+    const IoResult w = t_.write(bytes_of(o_.abort_bytes), t_.backpressure() ? std::max(o_.timeout, o_.hold_timeout) : o_.timeout);
     r_.abort_sent = w.status.ok() && w.bytes == o_.abort_bytes.size();
     if (!w.status.ok()) r_.status = w.status;
     estimate_buffered();
@@ -282,15 +390,31 @@ class Sender {
   }
 
   void estimate_buffered() {
-    r_.buffered_bytes = std::min(o_.buffer_bytes, r_.bytes_sent);
+    if (r_.status.ok()) take_replies(std::chrono::milliseconds(0));  // answers already on their way
+    settle_counts();
+    // What the device may still cut: its buffer plus what is on its way to it.
+    r_.buffered_bytes = std::min(r_.bytes_sent, o_.buffer_bytes + (r_.bytes_sent - r_.bytes_received));
     r_.buffer_known = false;
-    if (!t_.answers() || flow_ != FlowControl::esc_b || !r_.status.ok()) return;
-    const TransportStatus keep = r_.status;
-    if (const std::optional<std::size_t> free_bytes = query_free()) {
-      r_.buffered_bytes = o_.buffer_bytes - std::min(o_.buffer_bytes, *free_bytes);
-      r_.buffer_known = true;
+    if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
+      const TransportStatus keep = r_.status;
+      if (ask(DrainQuery::esc_b, "after the cancel")) {
+        r_.buffered_bytes = o_.buffer_bytes - std::min<std::size_t>(o_.buffer_bytes, static_cast<std::size_t>(std::max(0L, last_answer_)));
+        r_.buffer_known = true;
+      }
+      r_.status = keep;
     }
-    r_.status = keep;
+    r_.buffered_first_stroke = job_.last_stroke_within(r_.bytes_sent - r_.buffered_bytes) + 1;
+    r_.buffered_last_stroke = stroke_touched_by(r_.bytes_sent);
+    if (r_.buffered_bytes == 0) r_.buffered_first_stroke = r_.buffered_last_stroke + 1;
+  }
+
+  // The last stroke the first `bytes` touch: the last complete one, or the next one when some of
+  // its commands went out (a cancel stops it at a command boundary).
+  std::size_t stroke_touched_by(std::size_t bytes) const {
+    const std::size_t done = job_.last_stroke_within(bytes);
+    const std::size_t last = job_.first_stroke + job_.stroke_end.size() - 1;
+    const std::size_t done_end = done >= job_.first_stroke ? job_.stroke_end[done - job_.first_stroke] : 0;
+    return done < last && bytes > done_end ? done + 1 : done;
   }
 
   Transport& t_;
@@ -302,6 +426,13 @@ class Sender {
   bool paused_ = false;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::size_t credit_ = 0;  // ESC.B: bytes the device last said it could take, less those sent since
+  std::size_t status_every_ = 0;
+  std::size_t last_ping_ = 0;
+  std::size_t confirmed_ = 0;  // job bytes written before the last answered query
+  std::deque<std::size_t> pending_;  // queries awaiting an answer: job bytes written before each
+  std::string line_;
+  long last_answer_ = 0;
+  std::size_t bytes_heard_ = 0;  // bytes read from the device so far
 };
 
 }  // namespace
@@ -313,6 +444,7 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.timeout = std::chrono::milliseconds(profile.transport.timeout_ms);
   o.hold_timeout = std::chrono::milliseconds(profile.transport.hold_timeout_ms);
   o.drain_query = profile.transport.drain_query;
+  o.baud = profile.transport.baud;
   const HpglDialect& d = profile.dialect;
   o.abort_bytes = profile.transport.abort + "PU" + d.terminator + (d.newline ? "\n" : "");
   return o;

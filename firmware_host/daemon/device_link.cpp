@@ -90,8 +90,9 @@ class DriversLink final : public DeviceLink {
       out.kind = CutOutcome::Kind::stopped;
       if (!r.abort_sent) out.error = "the knife-up after the stop did not reach the device: " + r.status.message;
     } else {
-      out.error = t.describe() + ": " + r.status.message + " after stroke " + std::to_string(r.last_stroke_sent) + " of " +
-                  std::to_string(job.total_strokes);
+      // Both numbers: strokes after the first may have been cut and are cut again on resume.
+      out.error = t.describe() + ": " + r.status.message + "; last stroke certainly received " + std::to_string(r.last_stroke_sent) +
+                  " of " + std::to_string(job.total_strokes) + ", last written " + std::to_string(r.last_stroke_written);
     }
     if (made.sim && out.kind == CutOutcome::Kind::complete) {
       // A cutter that lost bytes, stalled or left its area did not cut the job, whatever it drew.

@@ -1,7 +1,11 @@
 // Streaming seam: stroke-numbered jobs, resume, cancel with abort, drain, and device strings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <utility>
+#include <vector>
 
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/job_sender.h"
@@ -109,9 +113,13 @@ TEST(SendJob, CancelStopsOnACommandBoundaryAndLiftsTheKnife) {
   EXPECT_LT(r.sent.bytes_sent, job.bytes.size()) << "it stopped early";
   EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), r.sent.bytes_sent))
       << "stopped at a command boundary: byte " << r.sent.bytes_sent;
-  EXPECT_EQ(r.sent.last_stroke_sent, job.last_stroke_within(r.sent.bytes_sent));
-  EXPECT_EQ(r.report.bytes_received, r.sent.bytes_sent + o.abort_bytes.size()) << "job bytes, then exactly the abort";
-  EXPECT_LE(r.sent.buffered_bytes, p.transport.buffer_bytes) << "an honest bound: at most the device's buffer";
+  EXPECT_EQ(r.sent.last_stroke_written, job.last_stroke_within(r.sent.bytes_sent));
+  EXPECT_LE(r.sent.last_stroke_sent, r.sent.last_stroke_written) << "received never exceeds written";
+  EXPECT_EQ(r.report.bytes_received, r.sent.bytes_sent + 3 * static_cast<std::size_t>(r.sent.status_queries) + o.abort_bytes.size())
+      << "job bytes and ESC.O status queries, then exactly the abort";
+  EXPECT_LE(r.sent.buffered_bytes, p.transport.buffer_bytes + r.sent.bytes_sent - r.sent.bytes_received)
+      << "an honest bound: at most the device's buffer and what was on its way";
+  EXPECT_GE(r.sent.buffered_last_stroke, r.sent.last_stroke_written) << "the strokes it may still cut run to the last one sent";
   // Everything cut is a prefix of the plan (ESC.K may have discarded some of it).
   ASSERT_LE(r.strokes.size(), r.sent.last_stroke_sent + 1);
   for (std::size_t i = 0; i + 1 < r.strokes.size(); ++i) {
@@ -135,6 +143,7 @@ class CancelOnXoff final : public Transport {
   TransportStatus drain(std::chrono::milliseconds t) override { return sim_.drain(t); }
   void close() override { sim_.close(); }
   std::string describe() const override { return "cancel-on-xoff"; }
+  bool backpressure() const override { return sim_.backpressure(); }
 
  private:
   SimTransport sim_;
@@ -152,6 +161,7 @@ TEST(SendJob, CancelDoesNotWaitForXonFromADeviceHoldingTheLine) {
   ASSERT_TRUE(t.open().ok());
   SendOptions o = send_options(p);
   o.cancel = &cancel;
+  o.drain_query = DrainQuery::none;  // 230 bytes of job exactly: no status queries in between
   const SendResult r = send_job(t, job, o);
   EXPECT_EQ(r.xoff_pauses, 1) << "the cancel came while the device held the line";
   EXPECT_TRUE(r.cancelled) << r.status.message;
@@ -198,16 +208,153 @@ TEST(SendJob, WaitsForTheDeviceToDrainByQuery) {
   EXPECT_EQ(c2->buffer_used(), 0u) << "ESC.O said buffer empty";
 }
 
-TEST(SendJob, ADroppedLineNamesTheLastStrokeFullySent) {
-  const DeviceProfile p = load_profile(config("sim.toml"));
+TEST(SendJob, ADroppedLineNamesTheLastStrokeReceivedAndTheLastWritten) {
+  DeviceProfile p = load_profile(config("sim.toml"));
   const StrokePlan plan = townhouse_plan(p);
   const EncodedJob job = encode_job(plan, p.dialect, p.tools);
-  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, job.stroke_end[4] + 3, 1});
-  SimTransport t(cutter);
+  {  // A device that cannot be asked: what the transport took (the simulator's count is exact).
+    p.transport.drain_query = DrainQuery::none;
+    auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, job.stroke_end[4] + 3, 1});
+    SimTransport t(cutter);
+    ASSERT_TRUE(t.open().ok());
+    const SendResult r = send_job(t, job, send_options(p));
+    EXPECT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
+    EXPECT_EQ(r.last_stroke_sent, 5u) << "stroke 5 ended 3 bytes before the drop";
+    EXPECT_EQ(r.last_stroke_written, 5u);
+    EXPECT_EQ(r.received_counted_by, "transport");
+  }
+}
+
+// A serial-like line: each write's bytes reach the device only with the next write or while the
+// host waits for an answer (they sit in an OS queue meanwhile); the line drops after
+// `drop_after` bytes have reached it.
+class QueuedLine final : public Transport {
+ public:
+  QueuedLine(std::shared_ptr<SimCutter> c, std::size_t drop_after) : sim_(std::move(c)), drop_after_(drop_after) {}
+  TransportStatus open() override { return sim_.open(); }
+  IoResult write(std::span<const std::uint8_t> d, std::chrono::milliseconds t) override {
+    // The queued bytes go on the line, up to the drop; the queue itself stays counted in flight.
+    const std::size_t take = std::min(queue_.size(), drop_after_ - std::min(drop_after_, delivered_));
+    delivered_ += sim_.write(std::span<const std::uint8_t>(queue_.data(), take), t).bytes;
+    if (delivered_ >= drop_after_) return {0, {TransportError::disconnected, EIO, "line dropped"}};
+    queue_.assign(d.begin(), d.end());
+    return {d.size(), {}};
+  }
+  // Waiting for an answer lets the line carry the queue (up to the drop).
+  IoResult read(std::span<std::uint8_t> b, std::chrono::milliseconds t) override {
+    if (!b.empty()) {
+      const std::size_t take = std::min(queue_.size(), drop_after_ - std::min(drop_after_, delivered_));
+      delivered_ += sim_.write(std::span<const std::uint8_t>(queue_.data(), take), t).bytes;
+      queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(take));
+    }
+    return sim_.read(b, t);
+  }
+  TransportStatus drain(std::chrono::milliseconds t) override {
+    const IoResult r = sim_.write(std::exchange(queue_, {}), t);
+    delivered_ += r.bytes;
+    return r.status;
+  }
+  void close() override { sim_.close(); }
+  std::string describe() const override { return "queued-line"; }
+  bool backpressure() const override { return sim_.backpressure(); }
+  bool writes_acknowledged() const override { return false; }
+  std::size_t in_flight() override { return queue_.size(); }
+  std::size_t delivered() const { return delivered_; }
+
+ private:
+  SimTransport sim_;
+  std::size_t drop_after_;
+  std::vector<std::uint8_t> queue_;
+  std::size_t delivered_ = 0;
+};
+
+TEST(SendJob, BytesStillInTheOsQueueAreNotClaimedReceived) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.drain_query = DrainQuery::none;  // nothing to ask: the queue is all popcut knows
+  p.transport.flow = FlowControl::none;
+  p.transport.buffer_bytes = 1 << 20;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p);
+  QueuedLine t(cutter, job.stroke_end[20] + 5);
   ASSERT_TRUE(t.open().ok());
   const SendResult r = send_job(t, job, send_options(p));
-  EXPECT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
-  EXPECT_EQ(r.last_stroke_sent, 5u) << "stroke 5 ended 3 bytes before the drop";
+  ASSERT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
+  EXPECT_LE(r.bytes_received, t.delivered()) << "received counts only what reached the device";
+  EXPECT_GT(r.bytes_sent, r.bytes_received) << "a chunk was still queued when the line dropped";
+  EXPECT_EQ(r.last_stroke_sent, job.last_stroke_within(r.bytes_received));
+  ASSERT_GT(r.last_stroke_sent, 0u) << "some strokes got through before the drop";
+  EXPECT_LE(job.stroke_end[r.last_stroke_sent - 1], t.delivered()) << "stroke " << r.last_stroke_sent << " really arrived";
+  EXPECT_GE(r.last_stroke_written, r.last_stroke_sent);
+}
+
+TEST(SendJob, OverASerialLineOnlyTheDevicesAnswersCountAsReceived) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  ASSERT_EQ(p.transport.drain_query, DrainQuery::esc_o) << "the simulated device answers ESC.O";
+  p.transport.buffer_bytes = 1 << 20;  // no XOFF: this is about counting
+  p.transport.flow = FlowControl::none;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  SendOptions o = send_options(p);
+  o.status_every_bytes = 256;
+  auto cutter = std::make_shared<SimCutter>(p);
+  QueuedLine t(cutter, job.stroke_end[29] + 3);
+  ASSERT_TRUE(t.open().ok());
+  const SendResult r = send_job(t, job, o);
+  ASSERT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
+  EXPECT_EQ(r.received_counted_by, "status_answers");
+  EXPECT_GT(r.status_queries, 1) << "queried while sending, not only before";
+  EXPECT_LE(r.bytes_received, t.delivered()) << "never more than the device got";
+  EXPECT_GT(r.last_stroke_sent, 0u) << "the answers confirmed some strokes";
+  EXPECT_GT(r.last_stroke_written, r.last_stroke_sent) << "written runs ahead of what the answers confirm";
+}
+
+// Answers every status query with `answer`.
+class Answering final : public Transport {
+ public:
+  explicit Answering(std::string answer) : answer_(std::move(answer)) {}
+  TransportStatus open() override { return {}; }
+  IoResult write(std::span<const std::uint8_t> d, std::chrono::milliseconds) override {
+    for (const std::uint8_t b : d) {
+      if (b == 0x1b) replies_ += answer_;
+    }
+    return {d.size(), {}};
+  }
+  IoResult read(std::span<std::uint8_t> b, std::chrono::milliseconds) override {
+    const std::size_t n = std::min(b.size(), replies_.size());
+    std::copy_n(replies_.begin(), n, b.begin());
+    replies_.erase(0, n);
+    if (n == 0) return {0, {TransportError::timeout, ETIMEDOUT, "silence"}};
+    return {n, {}};
+  }
+  TransportStatus drain(std::chrono::milliseconds) override { return {}; }
+  void close() override {}
+  std::string describe() const override { return "serial:/dev/answering"; }
+
+ private:
+  std::string answer_, replies_;
+};
+
+TEST(SendJob, SilenceOrGarbageInsteadOfAnAnswerStopsBeforeTheJob) {
+  const DeviceProfile p = load_profile(config("sim.toml"));
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  SendOptions o = send_options(p);
+  o.timeout = std::chrono::milliseconds(200);
+  Answering silent("");
+  const SendResult r = send_job(silent, job, o);
+  EXPECT_EQ(r.status.error, TransportError::timeout) << r.status.message;
+  EXPECT_NE(r.status.message.find("did not answer ESC.O before sending within 200 ms"), std::string::npos) << r.status.message;
+  EXPECT_NE(r.status.message.find("the profile says 115200 baud"), std::string::npos) << r.status.message;
+  EXPECT_EQ(r.bytes_sent, 0u) << "no byte of the job went out";
+
+  Answering garbage("\xe7x!\r");
+  const SendResult g = send_job(garbage, job, o);
+  EXPECT_EQ(g.status.error, TransportError::io) << g.status.message;
+  EXPECT_NE(g.status.message.find("answered '\\xe7x!'"), std::string::npos) << "shows what came back: " << g.status.message;
+  EXPECT_EQ(g.bytes_sent, 0u);
+
+  Answering fine("8\r");
+  const SendResult ok = send_job(fine, job, o);
+  EXPECT_TRUE(ok.complete()) << ok.status.message;
+  EXPECT_EQ(ok.bytes_received, job.bytes.size()) << "all confirmed at the end";
 }
 
 TEST(DeviceString, ParsesEveryForm) {

@@ -156,7 +156,8 @@ TEST(SimCutter, FaultsShowUpAsTransportErrors) {
     ASSERT_TRUE(t.open().ok());
     const SendResult r = send_job(t, job, send_options(p));
     EXPECT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
-    EXPECT_EQ(r.bytes_sent, 500u) << "exactly the bytes before the drop got through";
+    EXPECT_EQ(r.bytes_sent + 3 * static_cast<std::size_t>(r.status_queries), 500u)
+        << "exactly the bytes before the drop got through (the job's and the ESC.O status queries')";
   }
   {
     auto c = std::make_shared<SimCutter>(p, SimFaults{700, std::nullopt, 1});

@@ -292,7 +292,7 @@ TEST_F(UsbMock, AJobGoesOutOverBulkOutPacedByBulkInAnswers) {
   for (std::size_t i = 0; i < planned.size(); ++i) EXPECT_EQ(device_.cutter->strokes()[i].points_pu, planned[i]) << "stroke " << i + 1;
   EXPECT_EQ(device_.cutter->report().overflow_bytes, 0u);
   EXPECT_TRUE(device_.cutter->report().unknown.empty()) << "only the job reached the cutter (no control-transfer bytes)";
-  EXPECT_EQ(device_.cutter->report().bytes_received, j.bytes.size() + 3 * static_cast<std::size_t>(r.buffer_queries))
+  EXPECT_EQ(device_.cutter->report().bytes_received, j.bytes.size() + 3 * static_cast<std::size_t>(r.status_queries))
       << "the job and the ESC.B queries, nothing else";
 }
 

@@ -460,8 +460,13 @@ TEST_F(Cli, CutReportsADroppedConnectionWithExit3) {
   const fs::path out = dir_ / "cut";
   const Result r = run("cut " + example("voxel/townhouse.json") + " --device sim --sim-drop-after 300 --out " + out.string());
   EXPECT_EQ(r.code, 3) << r.err;
-  EXPECT_NE(r.err.find("after 300 of"), std::string::npos) << "says how far it got: " << r.err;
   const auto j = nlohmann::json::parse(slurp(out / "report.json"));
+  // 300 bytes reached the device: the job's, and 3 for each ESC.O status query.
+  EXPECT_EQ(j["sent"]["bytes"].get<std::size_t>() + 3 * j["sent"]["status_queries"].get<std::size_t>(), 300u) << j.dump();
+  EXPECT_NE(r.err.find("after " + std::to_string(j["sent"]["bytes"].get<std::size_t>()) + " of"), std::string::npos)
+      << "says how far it got: " << r.err;
+  EXPECT_NE(r.err.find("--resume-from " + std::to_string(j["sent"]["last_stroke_sent"].get<std::size_t>() + 1)), std::string::npos)
+      << r.err;
   EXPECT_FALSE(j["sent"]["complete"].get<bool>());
   EXPECT_EQ(j["sent"]["error"], "disconnected");
 }

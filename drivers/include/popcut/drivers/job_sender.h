@@ -15,10 +15,13 @@
 namespace popcut::drivers {
 
 // Where a job stands; strokes are numbered as users see them (see EncodedJob in hpgl.h).
+// "Received" counts only what the device can be shown to hold (see SendResult); "written" what
+// the transport accepted.
 struct SendProgress {
   std::size_t bytes_sent = 0;
   std::size_t bytes_total = 0;
-  std::size_t last_stroke_sent = 0;  // last stroke whose commands all went out (0: none yet)
+  std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (0: none yet)
+  std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
   std::size_t first_stroke = 1;      // where this transmission started (--resume-from)
   std::size_t total_strokes = 0;
 };
@@ -30,8 +33,13 @@ struct SendOptions {
   // How long the device may hold us off (XOFF, or a full buffer under ESC.B) while it cuts: a
   // full buffer can take minutes of motion to drain.
   std::chrono::milliseconds hold_timeout{120000};
-  // How to learn that the device has executed everything once the last byte is out.
+  // How to learn that the device has executed everything once the last byte is out. Not none:
+  // the device answers that query, so popcut asks it once before sending (silence or garbage: a
+  // wrong port, cable or baud, reported before any byte of the job goes out) and every
+  // status_every_bytes while sending, and counts as received only what an answer confirms.
   DrainQuery drain_query = DrainQuery::none;
+  std::size_t status_every_bytes = 0;  // 0: a quarter of buffer_bytes
+  int baud = 0;                         // named in the "did not answer" message of a serial line
   // With no query: how long the whole job's motion takes (the plan's estimate). The sender waits
   // the share of it that a full device buffer holds before calling the job done.
   std::chrono::milliseconds job_motion_estimate{0};
@@ -43,21 +51,39 @@ struct SendOptions {
   std::function<void(const SendProgress&)> progress;  // after every chunk
 };
 
+// Never over-claims: bytes written into a serial port may still sit in the OS queue, a UART FIFO
+// or a pseudo-terminal when the line drops. bytes_received counts what the device took (USB
+// bulk actual_length), what it confirmed (its answer to a status query sent after those bytes)
+// or, for a device that cannot be asked, what the port reports gone (written, less the OS output
+// queue and what may still be in flight).
+// Resuming from last_stroke_sent + 1 therefore never skips a stroke; strokes
+// last_stroke_sent + 1 .. last_stroke_written may have been cut already and are cut again.
 struct SendResult {
-  std::size_t bytes_sent = 0;        // job bytes the transport accepted (abort bytes not counted)
+  std::size_t bytes_sent = 0;        // job bytes the transport accepted (abort and queries not counted)
+  std::size_t bytes_received = 0;    // job bytes the device can be shown to have received (<= bytes_sent)
   std::size_t first_stroke = 1;
-  std::size_t last_stroke_sent = 0;  // last stroke fully sent (first_stroke - 1: none)
+  std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (first_stroke - 1: none)
+  std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
   std::size_t total_strokes = 0;
+  // How bytes_received was counted: "transport" (a write's count is what the device took: USB,
+  // a file, the simulator), "status_answers" (serial, device answers queries) or "os_queue"
+  // (serial, device cannot be asked: written less the OS queue and what may still be in flight).
+  std::string received_counted_by;
   bool cancelled = false;
   bool abort_sent = false;           // the abort sequence and knife up reached the transport
   // After a cancel or a failure: bytes the device may still hold and go on cutting. Exact when
-  // the device answered ESC.B (buffer_known), else an upper bound (its buffer, or what was sent).
+  // the device answered ESC.B (buffer_known), else an upper bound (its buffer plus what is still
+  // on its way, at most what was sent); they carry strokes buffered_first_stroke..last written
+  // (or the stroke cut short by the cancel).
   std::size_t buffered_bytes = 0;
   bool buffer_known = false;
+  std::size_t buffered_first_stroke = 0;
+  std::size_t buffered_last_stroke = 0;
   // On success: how the end was confirmed ("esc_b", "esc_o", "estimate", "none" for a file).
   std::string drained_by;
   int xoff_pauses = 0;     // times the device said XOFF and we waited for XON
-  int buffer_queries = 0;  // ESC.B round trips
+  int buffer_queries = 0;  // ESC.B round trips to pace the job (ESC.B flow control)
+  int status_queries = 0;  // every ESC.B/ESC.O sent: before the job, pacing, confirmations, drain
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
   bool complete() const { return status.ok() && !cancelled; }
 };

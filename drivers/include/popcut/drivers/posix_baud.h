@@ -1,9 +1,8 @@
-// The standard POSIX line rates and their termios constants, both ways (serial transport, sim-plotter).
+// POSIX line rates by termios constant: the sim-plotter reads the rate its host set on the pty.
 #pragma once
 
 #include <termios.h>
 
-#include <optional>
 #include <utility>
 
 namespace popcut::drivers {
@@ -13,14 +12,6 @@ inline constexpr std::pair<int, speed_t> kPosixBauds[] = {
     {9600, B9600},     {19200, B19200},   {38400, B38400},   {57600, B57600},     {115200, B115200},
     {230400, B230400}, {460800, B460800}, {921600, B921600}, {1000000, B1000000}, {2000000, B2000000},
     {4000000, B4000000}};
-
-// B9600 for 9600; nullopt for a rate termios cannot set.
-inline std::optional<speed_t> speed_of_baud(int baud) {
-  for (const auto& [rate, constant] : kPosixBauds) {
-    if (rate == baud) return constant;
-  }
-  return std::nullopt;
-}
 
 // 9600 for B9600; 0 for an unknown constant.
 inline int baud_of_speed(speed_t speed) {

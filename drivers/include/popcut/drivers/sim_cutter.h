@@ -77,6 +77,9 @@ class SimCutter {
   std::size_t buffer_used() const;
   bool frozen() const;
   bool knife_down() const { return pen_down_; }
+  // XON/XOFF: it has said XOFF and not yet XON (a host stopping its transmitter in the OS sends
+  // nothing meanwhile).
+  bool holding_off() const { return xoff_; }
 
   // What it cut, one colour per pen, over the usable area.
   void write_svg(std::ostream& out) const;

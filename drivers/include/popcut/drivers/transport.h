@@ -43,6 +43,15 @@ class Transport {
   // Whether the far end holds popcut off by itself when full (line flow control, USB NAKs, a
   // blocking printer node); when not, the sender paces by the job's estimated motion time.
   virtual bool backpressure() const { return true; }
+  // Whether the OS applies XON/XOFF itself (a tty with IXON): writes then block while the device
+  // holds the line and popcut never reads XON/XOFF; otherwise popcut honours them (the simulator).
+  virtual bool os_flow_control() const { return false; }
+  // Whether a write's byte count is what the device took (USB bulk actual_length, a file, the
+  // simulator); a serial port's is only what the OS took.
+  virtual bool writes_acknowledged() const { return true; }
+  // Where writes are not acknowledged: bytes write() accepted that the device cannot yet be shown
+  // to have received (the OS output queue, and data a UART, an adapter or a pty may still hold).
+  virtual std::size_t in_flight() { return 0; }
 };
 
 // Builds a status from an errno value, classifying it.
