@@ -5,11 +5,17 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <map>
 #include <numeric>
 #include <unordered_map>
 
+#include "plan/line_graph.h"
+
 namespace popcut {
+
+using plan_detail::build_graph;
+using plan_detail::components;
+using plan_detail::Graph;
+
 namespace {
 
 constexpr double kEps = 1e-7;  // mm: pattern coordinates are exact to far better than this
@@ -21,18 +27,6 @@ double dist(Point2 a, Point2 b) {
   return std::sqrt(dx * dx + dv * dv);
 }
 bool same(Point2 a, Point2 b) { return dist(a, b) <= kEps; }
-
-// Vertices are identified on a 1e-6 mm lattice so endpoints computed twice still meet.
-struct Key {
-  std::int64_t x, v;
-  friend bool operator==(const Key&, const Key&) = default;
-};
-struct KeyHash {
-  std::size_t operator()(const Key& k) const {
-    return std::hash<std::int64_t>()(k.x) ^ (std::hash<std::int64_t>()(k.v) * 0x9e3779b97f4a7c15ULL);
-  }
-};
-Key key_of(Point2 p) { return {std::llround(p.x_mm * 1e6), std::llround(p.v_mm * 1e6)}; }
 
 // A uniform grid over item bounding boxes: the spatial index for junctions and nearest neighbours.
 class Grid {
@@ -97,56 +91,6 @@ double turn_deg(Point2 a, Point2 b, Point2 c) {
   const double n = std::hypot(ux, uv) * std::hypot(wx, wv);
   if (n <= 0) return 0;
   return std::acos(std::clamp((ux * wx + uv * wv) / n, -1.0, 1.0)) * 180 / kPi;
-}
-
-struct Graph {
-  std::vector<Point2> pos;
-  std::vector<std::pair<int, int>> edges;
-  std::vector<std::vector<std::pair<int, int>>> adj;  // (edge, other vertex)
-};
-
-Graph build_graph(const std::vector<std::pair<Point2, Point2>>& segs) {
-  Graph g;
-  std::unordered_map<Key, int, KeyHash> ids;
-  const auto vid = [&](Point2 p) {
-    const auto [it, fresh] = ids.try_emplace(key_of(p), static_cast<int>(g.pos.size()));
-    if (fresh) {
-      g.pos.push_back(p);
-      g.adj.emplace_back();
-    }
-    return it->second;
-  };
-  for (const auto& [a, b] : segs) {
-    if (same(a, b)) continue;  // zero-length: nothing to cut
-    const int u = vid(a), w = vid(b);
-    const int e = static_cast<int>(g.edges.size());
-    g.edges.emplace_back(u, w);
-    g.adj[static_cast<std::size_t>(u)].emplace_back(e, w);
-    g.adj[static_cast<std::size_t>(w)].emplace_back(e, u);
-  }
-  return g;
-}
-
-std::vector<int> components(const Graph& g, int& count) {
-  std::vector<int> comp(g.pos.size(), -1);
-  count = 0;
-  for (std::size_t s = 0; s < g.pos.size(); ++s) {
-    if (comp[s] >= 0) continue;
-    std::vector<std::size_t> stack{s};
-    comp[s] = count;
-    while (!stack.empty()) {
-      const std::size_t v = stack.back();
-      stack.pop_back();
-      for (const auto& [e, w] : g.adj[v]) {
-        if (comp[static_cast<std::size_t>(w)] < 0) {
-          comp[static_cast<std::size_t>(w)] = count;
-          stack.push_back(static_cast<std::size_t>(w));
-        }
-      }
-    }
-    ++count;
-  }
-  return comp;
 }
 
 std::vector<std::vector<Point2>> split_at_turns(std::vector<Point2> path, double max_deg) {
@@ -524,6 +468,69 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
   }
   return out;
 }
+
+namespace plan_detail {
+namespace {
+
+// Vertices are identified on a 1e-6 mm lattice so endpoints computed twice still meet.
+struct Key {
+  std::int64_t x, v;
+  friend bool operator==(const Key&, const Key&) = default;
+};
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    return std::hash<std::int64_t>()(k.x) ^ (std::hash<std::int64_t>()(k.v) * 0x9e3779b97f4a7c15ULL);
+  }
+};
+Key key_of(Point2 p) { return {std::llround(p.x_mm * 1e6), std::llround(p.v_mm * 1e6)}; }
+
+}  // namespace
+
+Graph build_graph(const std::vector<std::pair<Point2, Point2>>& segs) {
+  Graph g;
+  std::unordered_map<Key, int, KeyHash> ids;
+  const auto vid = [&](Point2 p) {
+    const auto [it, fresh] = ids.try_emplace(key_of(p), static_cast<int>(g.pos.size()));
+    if (fresh) {
+      g.pos.push_back(p);
+      g.adj.emplace_back();
+    }
+    return it->second;
+  };
+  for (const auto& [a, b] : segs) {
+    if (same(a, b)) continue;  // zero-length: nothing to cut
+    const int u = vid(a), w = vid(b);
+    const int e = static_cast<int>(g.edges.size());
+    g.edges.emplace_back(u, w);
+    g.adj[static_cast<std::size_t>(u)].emplace_back(e, w);
+    g.adj[static_cast<std::size_t>(w)].emplace_back(e, u);
+  }
+  return g;
+}
+
+std::vector<int> components(const Graph& g, int& count) {
+  std::vector<int> comp(g.pos.size(), -1);
+  count = 0;
+  for (std::size_t s = 0; s < g.pos.size(); ++s) {
+    if (comp[s] >= 0) continue;
+    std::vector<std::size_t> stack{s};
+    comp[s] = count;
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      for (const auto& [e, w] : g.adj[v]) {
+        if (comp[static_cast<std::size_t>(w)] < 0) {
+          comp[static_cast<std::size_t>(w)] = count;
+          stack.push_back(static_cast<std::size_t>(w));
+        }
+      }
+    }
+    ++count;
+  }
+  return comp;
+}
+
+}  // namespace plan_detail
 
 namespace {
 
@@ -939,85 +946,6 @@ std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> pa
   std::vector<std::vector<Point2>> tour = greedy_order(std::move(paths), start);
   if (work_budget == 0) return tour;
   return TourSearch(std::move(tour), start, work_budget).run();
-}
-
-double travel_lower_bound_mm(const std::vector<std::pair<Point2, Point2>>& edges, std::optional<Point2> start) {
-  const Graph g = build_graph(edges);
-  int count = 0;
-  const std::vector<int> comp = components(g, count);
-  std::vector<int> odd(static_cast<std::size_t>(count), 0);
-  for (std::size_t v = 0; v < g.pos.size(); ++v) {
-    if (g.adj[v].size() % 2 == 1) ++odd[static_cast<std::size_t>(comp[v])];
-  }
-  // Where a stroke of a minimal plan may begin or end: an odd vertex (each ends exactly one
-  // stroke), or any vertex of a component without odd vertices (one closed stroke, entered and
-  // left at the same vertex). The start is a component of its own.
-  struct Port {
-    Point2 at;
-    int comp;
-    bool loop;
-  };
-  std::vector<Port> ports;
-  for (std::size_t v = 0; v < g.pos.size(); ++v) {
-    const int c = comp[v];
-    if (g.adj[v].empty()) continue;
-    const bool loop = odd[static_cast<std::size_t>(c)] == 0;
-    if (loop || g.adj[v].size() % 2 == 1) ports.push_back({g.pos[v], c, loop});
-  }
-  if (start) ports.push_back({*start, count, false});
-  const std::size_t n = ports.size();
-  if (n < 2) return 0;
-  // Matching bound: each knife-up move (u, w) is at least as long as the larger of u's and w's
-  // distance to the nearest port it could be joined to (another port; for a loop, one outside it).
-  std::vector<double> nearest(n, 1e300);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; j < n; ++j) {
-      if (i == j || (ports[i].loop && ports[i].comp == ports[j].comp) || (ports[j].loop && ports[i].comp == ports[j].comp)) continue;
-      nearest[i] = std::min(nearest[i], dist(ports[i].at, ports[j].at));
-    }
-    if (nearest[i] > 1e299) nearest[i] = 0;
-  }
-  std::vector<double> w;  // one value per end of a knife-up move
-  std::map<int, double> loop_w;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!ports[i].loop) {
-      w.push_back(nearest[i]);
-    } else {
-      const auto [it, fresh] = loop_w.try_emplace(ports[i].comp, nearest[i]);
-      if (!fresh) it->second = std::min(it->second, nearest[i]);
-    }
-  }
-  for (const auto& [c, d] : loop_w) w.insert(w.end(), {d, d});  // a loop is entered and left
-  std::sort(w.begin(), w.end());
-  // The first stroke's start (unless `start` is given) and the last stroke's end join no move.
-  const std::size_t free_ends = start ? 1 : 2;
-  double matching = 0;
-  for (std::size_t i = 0; i + free_ends < w.size(); ++i) matching += w[i];
-  matching /= 2;
-  // Tree bound: the moves join all components (and the start) into one walk, so they are at
-  // least a minimum spanning tree over components, components apart by their nearest ports.
-  const std::size_t comps = static_cast<std::size_t>(count) + (start ? 1 : 0);
-  std::vector<double> key(comps, 1e300);
-  std::vector<char> in_tree(comps, 0);
-  double tree = 0;
-  key[static_cast<std::size_t>(ports[0].comp)] = 0;
-  for (std::size_t added = 0; added < comps; ++added) {
-    std::size_t best = comps;
-    for (std::size_t c = 0; c < comps; ++c) {
-      if (!in_tree[c] && key[c] < 1e299 && (best == comps || key[c] < key[best])) best = c;
-    }
-    if (best == comps) break;  // components without ports (none): nothing more to join
-    in_tree[best] = 1;
-    tree += key[best];
-    for (const Port& p : ports) {
-      if (static_cast<std::size_t>(p.comp) != best) continue;
-      for (const Port& q : ports) {
-        const auto qc = static_cast<std::size_t>(q.comp);
-        if (!in_tree[qc]) key[qc] = std::min(key[qc], dist(p.at, q.at));
-      }
-    }
-  }
-  return std::max(matching, tree);
 }
 
 StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <random>
@@ -9,6 +10,7 @@
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "popcut/plan/plan.h"
+#include "popcut/plan/travel_bound.h"
 #include "random_models.h"
 
 namespace popcut {
@@ -221,24 +223,125 @@ TEST(Order, FixesWhatGreedyGetsWrong) {
   EXPECT_LE(sum_ratio / 30, 1.03) << "on average within 3 % of the best order";
 }
 
-TEST(TravelBound, NeverAbovePlansAndTightOnSimpleCases) {
+// The least knife-up cost of any plan at the Euler bound that cuts `edges` (one kind) from
+// `home`, strokes starting at vertices: a DP over (edges cut, strokes begun, knife position).
+double exhaustive_knife_up(const Edges& edges, Point2 home, const std::function<double(double)>& cost) {
+  std::vector<Point2> pos;
+  const auto vid = [&](Point2 p) {
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      if (dist(pos[i], p) < 1e-9) return i;
+    }
+    pos.push_back(p);
+    return pos.size() - 1;
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> e;
+  for (const auto& [a, b] : edges) e.emplace_back(vid(a), vid(b));
+  pos.push_back(home);  // the last "vertex": the knife's start, where no stroke begins
+  const std::size_t m = e.size(), n = pos.size(), full = (std::size_t{1} << m) - 1;
+  const auto strokes = static_cast<std::size_t>(euler_bound(edges));
+  // dp[mask][s][v]: least cost with `mask` cut, s strokes begun, knife (down after s >= 1) at v.
+  std::vector<double> dp((full + 1) * (strokes + 1) * n, 1e300);
+  const auto at = [&](std::size_t mask, std::size_t s, std::size_t v) -> double& { return dp[(mask * (strokes + 1) + s) * n + v]; };
+  at(0, 0, n - 1) = 0;
+  for (std::size_t mask = 0; mask <= full; ++mask) {
+    for (std::size_t s = 0; s <= strokes; ++s) {
+      for (std::size_t v = 0; v < n; ++v) {
+        const double c = at(mask, s, v);
+        if (c >= 1e300) continue;
+        if (s < strokes) {  // lift, move, lower at a vertex: the next stroke
+          for (std::size_t u = 0; u + 1 < n; ++u) at(mask, s + 1, u) = std::min(at(mask, s + 1, u), c + cost(dist(pos[v], pos[u])));
+        }
+        if (s == 0) continue;
+        for (std::size_t k = 0; k < m; ++k) {  // cut on along an edge
+          if (mask >> k & 1) continue;
+          const auto [a, b] = e[k];
+          if (a == v) at(mask | std::size_t{1} << k, s, b) = std::min(at(mask | std::size_t{1} << k, s, b), c);
+          if (b == v) at(mask | std::size_t{1} << k, s, a) = std::min(at(mask | std::size_t{1} << k, s, a), c);
+        }
+      }
+    }
+  }
+  double best = 1e300;
+  for (std::size_t v = 0; v < n; ++v) best = std::min(best, at(full, strokes, v));
+  return best;
+}
+
+const std::function<double(double)> kLength = [](double mm) { return mm; };
+
+TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   const Edges two = {{{0, 0}, {10, 0}}, {{0, 3}, {10, 3}}};
-  EXPECT_NEAR(travel_lower_bound_mm(two, std::nullopt), 3, 1e-9) << "two parallel strokes 3 mm apart: one 3 mm move";
-  EXPECT_NEAR(travel_lower_bound_mm(two, Point2{-4, 0}), 7, 1e-9) << "from 4 mm before the first stroke: 4 + 3";
+  EXPECT_NEAR(knife_up_lower_bound({two}, {-4, 0}, kLength, 100).value, 7, 1e-6) << "4 mm to the first stroke, 3 mm to the second";
   const Edges square = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
-  EXPECT_EQ(travel_lower_bound_mm(square, std::nullopt), 0) << "one closed loop needs no knife-up move";
+  EXPECT_NEAR(knife_up_lower_bound({square}, {-5, 0}, kLength, 100).value, 5, 1e-6) << "one closed loop: only the way there";
+  EXPECT_NEAR(knife_up_lower_bound({square}, {5, -3}, kLength, 100).value, 3, 1e-6)
+      << "a loop may start mid-side: the bound takes the nearest point of the loop, not of its corners";
+  const Edges dashes = {{{0, 0}, {1, 0}}, {{2, 0}, {3, 0}}, {{4, 0}, {5, 0}}};
+  EXPECT_NEAR(knife_up_lower_bound({dashes}, {0, 0}, kLength, 100).value, 2, 1e-6) << "three dashes in a row: the two gaps";
+  // Two crosses 100 mm apart: each is two strokes. Matching alone pairs each cross's ends among
+  // themselves (3 √2, never leaving the first cross); the cuts force the 98 mm trip over.
+  const auto cross_at = [](double x) {
+    return Edges{{{x - 1, 0}, {x, 0}}, {{x + 1, 0}, {x, 0}}, {{x, 1}, {x, 0}}, {{x, -1}, {x, 0}}};
+  };
+  Edges crosses = cross_at(0);
+  for (const auto& s : cross_at(100)) crosses.push_back(s);
+  const KnifeUpBound b = knife_up_lower_bound({crosses}, {-1, 0}, kLength, 200);
+  EXPECT_NEAR(b.matching, 3 * std::sqrt(2.0), 1e-5) << "the plain matching bound";
+  EXPECT_NEAR(b.value, 100 + std::sqrt(2.0), 1e-3) << "2 mm across the first cross, 98 mm over, √2 across the second";
+  EXPECT_NEAR(exhaustive_knife_up(crosses, {-1, 0}, kLength), 100 + std::sqrt(2.0), 1e-9) << "which is the optimum";
+  // Kinds are cut in order: A and C are one kind, B the next, so the knife goes A, C, then back to B.
+  const Edges a = {{{0, 0}, {10, 0}}}, bk = {{{0, 50}, {10, 50}}}, c = {{{0, 100}, {10, 100}}};
+  Edges ac = a;
+  ac.push_back(c.front());
+  EXPECT_NEAR(knife_up_lower_bound({ac, bk}, {0, 0}, kLength, 1000).value, 150, 1e-6) << "A, C (100 mm), then B (50 mm)";
+  EXPECT_NEAR(knife_up_lower_bound({a, bk}, {0, 0}, kLength, 1000).value, 50, 1e-6) << "the second kind starts where the first ended";
+  EXPECT_EQ(knife_up_lower_bound({{}, {}}, {0, 0}, kLength, 0).value, 0) << "nothing to cut, nothing to travel";
+}
+
+TEST(TravelBound, NeverAboveTheOptimumOnSmallGraphs) {
+  // Random subsets of a 3 × 3 lattice's edges (5 mm apart): branches, loops, several components.
+  std::vector<std::pair<Point2, Point2>> lattice;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (i < 2) lattice.push_back({{5.0 * i, 5.0 * j}, {5.0 * (i + 1), 5.0 * j}});
+      if (j < 2) lattice.push_back({{5.0 * i, 5.0 * j}, {5.0 * i, 5.0 * (j + 1)}});
+    }
+  }
+  const Kinematics k;
+  const std::function<double(double)> seconds = [&](double mm) { return move_time_s(mm, k.travel_speed_mm_s, k.accel_mm_s2); };
+  std::mt19937_64 rng(21);
+  int tight = 0;
+  for (int n = 0; n < 60; ++n) {
+    std::vector<std::pair<Point2, Point2>> pool = lattice;
+    std::shuffle(pool.begin(), pool.end(), rng);
+    pool.resize(4 + static_cast<std::size_t>(n % 6));
+    const Point2 home{std::uniform_real_distribution<double>(-5, 15)(rng), std::uniform_real_distribution<double>(-5, 15)(rng)};
+    for (const auto* cost : {&kLength, &seconds}) {
+      const double opt = exhaustive_knife_up(pool, home, *cost);
+      const KnifeUpBound b = knife_up_lower_bound({pool}, home, *cost, opt);
+      EXPECT_LE(b.value, opt + 1e-9) << "case " << n << (cost == &kLength ? " mm" : " s") << ": a bound, never above the best plan";
+      EXPECT_GE(b.value, b.matching - 1e-9) << "case " << n << ": connectivity only adds";
+      tight += b.value >= opt - 1e-5;
+    }
+  }
+  EXPECT_GE(tight, 100) << "the bound meets the optimum on most of these small cases (118 of 120 when written)";
+}
+
+TEST(TravelBound, NeverAbovePlannedTravelOnRandomModels) {
   std::mt19937_64 rng(17);
-  for (int n = 0; n < 40; ++n) {
+  for (int n = 0; n < 8; ++n) {
     const Pattern p = make_pattern(testing::random_model(rng, {}));
     const PlanOptions o;
     const StrokePlan plan = plan_strokes(p, o);
-    for (PlanKind kind : kAllPlanKinds) {
+    std::vector<Edges> kinds;
+    for (PlanKind kind : o.order) {
       Edges edges;
       for (const Segment& s : kind_lines(p, kind, o.fold_gap_mm)) edges.emplace_back(s.a, s.b);
-      const double bound = travel_lower_bound_mm(split_at_junctions(edges), std::nullopt);
-      // The kind's own travel includes the move from the previous kind, which the bound leaves out.
-      EXPECT_LE(bound, plan.kinds[index_of(kind)].travel_mm + 1e-9) << "model " << n << " " << to_string(kind) << ": a bound, not an estimate";
+      kinds.push_back(split_at_junctions(edges));
     }
+    const double planned = plan.total().travel_mm;
+    const KnifeUpBound b = knife_up_lower_bound(kinds, plan.home, kLength, planned);
+    EXPECT_LE(b.value, planned + 1e-9) << "model " << n << ": a bound, not an estimate";
+    EXPECT_GT(b.value, 0.5 * planned) << "model " << n << ": and not a trivial one";
   }
 }
 
