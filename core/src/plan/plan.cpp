@@ -125,6 +125,27 @@ void rotate_loop(std::vector<Point2>& p, std::size_t i) {
   p = std::move(r);
 }
 
+// Where a closed loop starts and ends: on its segment `seg` (from vertex seg to seg + 1), the
+// fraction t of the way along (t = 0: at the vertex).
+struct LoopStart {
+  std::size_t seg = 0;
+  double t = 0;
+  friend bool operator==(const LoopStart&, const LoopStart&) = default;
+};
+
+Point2 loop_point(const std::vector<Point2>& p, LoopStart at) { return at.t == 0 ? p[at.seg] : lerp(p[at.seg], p[at.seg + 1], at.t); }
+
+// Rotates a closed loop to start (and end) at `at`, which becomes a vertex when mid-segment.
+void rotate_loop(std::vector<Point2>& p, LoopStart at) {
+  if (at.t == 0) return rotate_loop(p, at.seg);
+  const Point2 q = loop_point(p, at);
+  std::vector<Point2> r{q};
+  r.insert(r.end(), p.begin() + static_cast<long>(at.seg) + 1, p.end() - 1);
+  r.insert(r.end(), p.begin(), p.begin() + static_cast<long>(at.seg) + 1);
+  r.push_back(q);
+  p = std::move(r);
+}
+
 // Pieces of `path` that the knife cuts when perforating: off, on, off, ..., on, off, with the
 // off gaps stretched evenly so both ends are uncut.
 std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, double on_mm, double off_mm) {
@@ -614,7 +635,7 @@ class TourSearch {
     std::iota(order_.begin(), order_.end(), 0);
     pos_.assign(order_.begin(), order_.end());
     flip_.assign(paths_.size(), 0);
-    loop_at_.assign(paths_.size(), 0);
+    loop_at_.assign(paths_.size(), LoopStart{});
     closed_.resize(paths_.size());
     for (std::size_t s = 0; s < paths_.size(); ++s) closed_[s] = is_closed(paths_[s]);
     build_neighbours();
@@ -655,6 +676,8 @@ class TourSearch {
  private:
   static constexpr double kGain = 1e-9;  // mm: smaller gains are rounding, not improvement
   static constexpr std::size_t kNeighbours = 8;
+  static constexpr int kLoopSearchSteps = 30;     // golden-section steps per segment: 1e-6 of its length
+  static constexpr double kLoopSplitGain = 0.01;  // mm: a loop starts mid-segment only to save more
 
   // An anchor is a place a path may be entered or left: an open path's ends, a loop's vertices,
   // and the start (owner -1).
@@ -669,14 +692,14 @@ class TourSearch {
   Point2 entry(long i) const {
     const int s = path_at(i);
     const auto& p = paths_[static_cast<std::size_t>(s)];
-    if (closed_[static_cast<std::size_t>(s)]) return p[loop_at_[static_cast<std::size_t>(s)]];
+    if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
     return flip_[static_cast<std::size_t>(s)] ? p.back() : p.front();
   }
   Point2 exit(long i) const {
     if (i < 0) return start_;
     const int s = path_at(i);
     const auto& p = paths_[static_cast<std::size_t>(s)];
-    if (closed_[static_cast<std::size_t>(s)]) return p[loop_at_[static_cast<std::size_t>(s)]];
+    if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
     return flip_[static_cast<std::size_t>(s)] ? p.front() : p.back();
   }
   // Knife-up move into position i (none past the end).
@@ -686,13 +709,13 @@ class TourSearch {
   bool is_entry(const Anchor& a) const {
     if (a.owner < 0) return false;
     const auto s = static_cast<std::size_t>(a.owner);
-    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s];
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
     return (a.vertex == 0) != static_cast<bool>(flip_[s]);
   }
   bool is_exit(const Anchor& a) const {
     if (a.owner < 0) return true;
     const auto s = static_cast<std::size_t>(a.owner);
-    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s];
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
     return (a.vertex == 0) == static_cast<bool>(flip_[s]);
   }
   long position(const Anchor& a) const { return a.owner < 0 ? -1 : pos_[static_cast<std::size_t>(a.owner)]; }
@@ -841,19 +864,33 @@ class TourSearch {
     return place_loop_start(i);
   }
 
-  // A closed loop starts at the vertex nearest to both its knife-up links.
+  // A closed loop starts at the point of it nearest to both its knife-up links: a vertex, or a
+  // point inside a segment (which then becomes a vertex of the stroke) when that saves more than
+  // kLoopSplitGain. Along a segment the two links' sum is convex: golden-section search.
   bool place_loop_start(long i) {
     const auto s = static_cast<std::size_t>(path_at(i));
     if (!closed_[s]) return false;
     const auto& p = paths_[s];
     const Point2 from = exit(i - 1);
-    const auto cost = [&](std::size_t k) { return dist(from, p[k]) + (i + 1 < n_ ? dist(p[k], entry(i + 1)) : 0); };
-    std::size_t best = loop_at_[s];
-    double best_d = cost(best);
+    const bool last = i + 1 >= n_;
+    const Point2 to = last ? from : entry(i + 1);
+    const auto cost = [&](Point2 q) { return dist(from, q) + (last ? 0 : dist(q, to)); };
+    LoopStart best = loop_at_[s];
+    double best_d = cost(loop_point(p, best));
     for (std::size_t k = 0; k + 1 < p.size(); ++k) {
-      if (cost(k) < best_d - kGain) best_d = cost(k), best = k;
+      if (const double d = cost(p[k]); d < best_d - kGain) best_d = d, best = {k, 0};
+      constexpr double kGolden = 0.6180339887498949;
+      double lo = 0, hi = 1;
+      for (int step = 0; step < kLoopSearchSteps; ++step) {
+        const double a = hi - kGolden * (hi - lo), b = lo + kGolden * (hi - lo);
+        if (cost(lerp(p[k], p[k + 1], a)) < cost(lerp(p[k], p[k + 1], b))) hi = b;
+        else lo = a;
+      }
+      const double t = (lo + hi) / 2, len = dist(p[k], p[k + 1]);
+      if (t * len <= kLoopSplitGain || (1 - t) * len <= kLoopSplitGain) continue;  // a vertex: tried above
+      if (const double d = cost(lerp(p[k], p[k + 1], t)); d < best_d - kLoopSplitGain) best_d = d, best = {k, t};
     }
-    work_ += p.size();
+    work_ += p.size() * (2 * kLoopSearchSteps + 2);
     if (best == loop_at_[s]) return false;
     loop_at_[s] = best;
     touch(i);
@@ -886,7 +923,7 @@ class TourSearch {
   struct Saved {
     std::vector<int> order;
     std::vector<char> flip;
-    std::vector<std::size_t> loop_at;
+    std::vector<LoopStart> loop_at;
   };
   Saved save() {
     work_ += static_cast<std::uint64_t>(n_);
@@ -930,7 +967,7 @@ class TourSearch {
   std::vector<int> order_;           // path ids in cutting order
   std::vector<long> pos_;            // position of each path id
   std::vector<char> flip_;           // open path cut back to front
-  std::vector<std::size_t> loop_at_; // closed loop: the vertex it starts and ends at
+  std::vector<LoopStart> loop_at_;   // closed loop: where it starts and ends
   std::vector<char> closed_;
   std::vector<Anchor> anchors_;
   std::vector<std::vector<int>> of_path_;  // anchors of each path

@@ -186,7 +186,7 @@ KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2
     if (value > best + 1e-9 * std::max(1.0, std::abs(best))) {
       best = value;
       since_better = 0;
-    } else if (++since_better >= 10) {
+    } else if (++since_better >= 5) {
       theta /= 2;
       since_better = 0;
     }
