@@ -274,6 +274,12 @@ TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   EXPECT_NEAR(knife_up_lower_bound({two}, {-4, 0}, kLength, 100).value, 7, 1e-6) << "4 mm to the first stroke, 3 mm to the second";
   const Edges square = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
   EXPECT_NEAR(knife_up_lower_bound({square}, {-5, 0}, kLength, 100).value, 5, 1e-6) << "one closed loop: only the way there";
+  Edges squares;
+  for (double x : {0.0, 20.0, 40.0}) {
+    for (const auto& [a, b] : square) squares.push_back({{a.x_mm + x, a.v_mm}, {b.x_mm + x, b.v_mm}});
+  }
+  EXPECT_NEAR(knife_up_lower_bound({squares}, {-5, 0}, kLength, 100).matching, 25, 1e-5)
+      << "three loops 10 mm apart: 5 + 10 + 10 even before any cut (a loop never pairs its own two ends)";
   EXPECT_NEAR(knife_up_lower_bound({square}, {5, -3}, kLength, 100).value, 3, 1e-6)
       << "a loop may start mid-side: the bound takes the nearest point of the loop, not of its corners";
   const Edges dashes = {{{0, 0}, {1, 0}}, {{2, 0}, {3, 0}}, {{4, 0}, {5, 0}}};
@@ -296,6 +302,14 @@ TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   EXPECT_NEAR(knife_up_lower_bound({ac, bk}, {0, 0}, kLength, 1000).value, 150, 1e-6) << "A, C (100 mm), then B (50 mm)";
   EXPECT_NEAR(knife_up_lower_bound({a, bk}, {0, 0}, kLength, 1000).value, 50, 1e-6) << "the second kind starts where the first ended";
   EXPECT_EQ(knife_up_lower_bound({{}, {}}, {0, 0}, kLength, 0).value, 0) << "nothing to cut, nothing to travel";
+  // Two loops whose sides cross without a shared vertex: a plan enters one at (10, 5), 1 mm from
+  // home, and the other from that same point, so 1 mm in all; the bound must allow for it.
+  const auto box = [](double lo, double hi) {
+    return Edges{{{lo, lo}, {hi, lo}}, {{hi, lo}, {hi, hi}}, {{hi, hi}, {lo, hi}}, {{lo, hi}, {lo, lo}}};
+  };
+  Edges crossing = box(0, 10);
+  for (const auto& s : box(5, 15)) crossing.push_back(s);
+  EXPECT_LE(knife_up_lower_bound({crossing}, {11, 5}, kLength, 10).value, 1 + 1e-9) << "crossing sides are 0 mm apart";
 }
 
 TEST(TravelBound, NeverAboveTheOptimumOnSmallGraphs) {
