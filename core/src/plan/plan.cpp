@@ -189,6 +189,22 @@ std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, doub
   return dashes;
 }
 
+// The path without the vertices it runs straight through (a junction where another line ends):
+// the same cut, but the cutter need not stop there, and the job is shorter. Ends stay.
+std::vector<Point2> without_straight_vertices(const std::vector<Point2>& path) {
+  if (path.size() < 3) return path;
+  std::vector<Point2> out{path.front()};
+  for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+    const Point2 a = out.back(), b = path[i], c = path[i + 1];
+    const double ux = b.x_mm - a.x_mm, uv = b.v_mm - a.v_mm, wx = c.x_mm - b.x_mm, wv = c.v_mm - b.v_mm;
+    const double len = dist(a, c);
+    const bool straight = len > 0 && std::abs(ux * (c.v_mm - a.v_mm) - uv * (c.x_mm - a.x_mm)) / len <= kEps && ux * wx + uv * wv > 0;
+    if (!straight) out.push_back(b);
+  }
+  out.push_back(path.back());
+  return out;
+}
+
 std::vector<Point2> with_passes(const std::vector<Point2>& path, int passes) {
   std::vector<Point2> out = path;
   std::vector<Point2> last = path;
@@ -1007,6 +1023,7 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
       paths = std::move(dashes);
     }
     paths = order_paths(std::move(paths), at, options.optimise_work);
+    for (auto& p : paths) p = without_straight_vertices(p);
     stats.travel_mm = travel_mm(paths, at);
     for (auto& p : paths) {
       // Overcut closes a loop; the blade offset applies to every pass, turns included.

@@ -134,6 +134,23 @@ TEST(Passes, GoBackAndForthWithoutLifting) {
   EXPECT_EQ(plan.strokes[0].points.size(), 4u) << "there, back, there";
 }
 
+TEST(Chaining, StrokesRunStraightThroughJunctionsWithoutAVertexThere) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  // One straight cut in two pieces, and an L whose corner must stay.
+  p.lines = {{LineKind::cut, {10, 5}, {20, 5}}, {LineKind::cut, {20, 5}, {30, 5}}, {LineKind::cut, {10, -5}, {30, -5}},
+             {LineKind::cut, {30, -5}, {30, -15}}};
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 2u) << "two strokes, the Euler bound";
+  for (const Stroke& s : plan.strokes) {
+    const bool straight = s.points.front().v_mm == 5;
+    EXPECT_EQ(s.points.size(), straight ? 2u : 3u) << (straight ? "the straight cut: no stop at (20, 5)" : "the L keeps its corner");
+  }
+  EXPECT_NEAR(plan.kinds[index_of(PlanKind::cut)].cut_mm, 50, 1e-9) << "all of it is still cut";
+}
+
 TEST(FoldGap, FoldsStopShortOfCutsAndTheOutline) {
   Pattern p;
   p.sheet = {{0, -20}, {40, 20}};
@@ -479,8 +496,11 @@ TEST(PlanProperties, RandomModelsMeetTheBoundAndCoverEveryLineOnce) {
       for (const Segment& s : kind_lines(p, kind, o.fold_gap_mm)) want.emplace_back(s.a, s.b);
       want = split_at_junctions(want);
       std::set<std::pair<long, long>> vertices;
+      std::vector<Point2> vertex_points;
       for (const auto& [a, b] : want) {
-        for (Point2 q : {a, b}) vertices.insert(key(q, q).first);
+        for (Point2 q : {a, b}) {
+          if (vertices.insert(key(q, q).first).second) vertex_points.push_back(q);
+        }
       }
       std::vector<std::vector<Point2>> got;
       for (const Stroke& s : plan.strokes) {
@@ -493,6 +513,18 @@ TEST(PlanProperties, RandomModelsMeetTheBoundAndCoverEveryLineOnce) {
           q.erase(q.begin());
           q.back() = q.front();
         }
+        // Strokes run straight through junctions without a vertex there: put them back.
+        std::vector<Point2> split{q.front()};
+        for (std::size_t i = 1; i < q.size(); ++i) {
+          std::vector<Point2> inside;
+          for (Point2 v : vertex_points) {
+            if (dist_to_segment(v, q[i - 1], q[i]) < 1e-7 && dist(v, q[i - 1]) > 1e-7 && dist(v, q[i]) > 1e-7) inside.push_back(v);
+          }
+          std::sort(inside.begin(), inside.end(), [&](Point2 u, Point2 w) { return dist(u, q[i - 1]) < dist(w, q[i - 1]); });
+          split.insert(split.end(), inside.begin(), inside.end());
+          split.push_back(q[i]);
+        }
+        q = std::move(split);
       }
       const KindStats& k = plan.kinds[index_of(kind)];
       EXPECT_EQ(k.strokes, euler_bound(want)) << "model " << n << " " << to_string(kind) << ": strokes at the Euler bound";
