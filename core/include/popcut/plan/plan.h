@@ -102,7 +102,8 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
 
 // Orders paths from `start` to cut knife-up travel: greedy nearest neighbour over a grid, then
 // 2-opt and Or-opt (with reversal) over near path ends until no move gains or `work_budget`
-// steps are spent; picks each open path's direction and each closed loop's start. Deterministic.
+// steps are spent; picks each open path's direction and each closed loop's start (a vertex, or a
+// point inside a segment, which then becomes the loop's first and last point). Deterministic.
 std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
                                              std::uint64_t work_budget = kDefaultOptimiseWork);
 
