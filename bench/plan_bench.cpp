@@ -270,8 +270,8 @@ void print_table(const bench::CollectingReporter& reporter) {
       "connectivity cuts (Lagrangian); see knife_up_lower_bound. t-LB: a lower bound on time for all such plans: that\n"
       "bound over move times, plus each maximal straight line cut in one move and one knife down/up per stroke.\n"
       "LB/b > 0.75 or t-LB/a > 0.6: no plan at the Euler bound meets that target on that model (under this time model).\n"
-      "opt: the best order of (c)'s own strokes per kind (exhaustive, kinds of at most 10\n"
-      "strokes); c x100: (c) with 100x the work budget (equal to travel(c): the search converged).\n");
+      "opt: the best order of (c)'s own strokes per kind (exhaustive, kinds of at most 10 strokes); c x100: (c) with 100x\n"
+      "the work budget (equal to travel(c): the search converged).\n");
   std::printf("%-20s %5s %5s %5s %6s | %9s %9s %9s %7s %6s %6s %6s %5s %5s | %7s %7s %6s %5s %5s | %7s\n", "model", "lines", "lifts",
               "bound", "lift(a)", "travel(a)", "travel(b)", "travel(c)", "c x100", "opt", "match", "LB", "c/b", "LB/b", "time(a)", "time(c)",
               "t-LB", "c/a", "LB/a", "plan ms");
