@@ -5,11 +5,17 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <map>
 #include <numeric>
 #include <unordered_map>
 
+#include "plan/line_graph.h"
+
 namespace popcut {
+
+using plan_detail::build_graph;
+using plan_detail::components;
+using plan_detail::Graph;
+
 namespace {
 
 constexpr double kEps = 1e-7;  // mm: pattern coordinates are exact to far better than this
@@ -21,18 +27,6 @@ double dist(Point2 a, Point2 b) {
   return std::sqrt(dx * dx + dv * dv);
 }
 bool same(Point2 a, Point2 b) { return dist(a, b) <= kEps; }
-
-// Vertices are identified on a 1e-6 mm lattice so endpoints computed twice still meet.
-struct Key {
-  std::int64_t x, v;
-  friend bool operator==(const Key&, const Key&) = default;
-};
-struct KeyHash {
-  std::size_t operator()(const Key& k) const {
-    return std::hash<std::int64_t>()(k.x) ^ (std::hash<std::int64_t>()(k.v) * 0x9e3779b97f4a7c15ULL);
-  }
-};
-Key key_of(Point2 p) { return {std::llround(p.x_mm * 1e6), std::llround(p.v_mm * 1e6)}; }
 
 // A uniform grid over item bounding boxes: the spatial index for junctions and nearest neighbours.
 class Grid {
@@ -99,56 +93,6 @@ double turn_deg(Point2 a, Point2 b, Point2 c) {
   return std::acos(std::clamp((ux * wx + uv * wv) / n, -1.0, 1.0)) * 180 / kPi;
 }
 
-struct Graph {
-  std::vector<Point2> pos;
-  std::vector<std::pair<int, int>> edges;
-  std::vector<std::vector<std::pair<int, int>>> adj;  // (edge, other vertex)
-};
-
-Graph build_graph(const std::vector<std::pair<Point2, Point2>>& segs) {
-  Graph g;
-  std::unordered_map<Key, int, KeyHash> ids;
-  const auto vid = [&](Point2 p) {
-    const auto [it, fresh] = ids.try_emplace(key_of(p), static_cast<int>(g.pos.size()));
-    if (fresh) {
-      g.pos.push_back(p);
-      g.adj.emplace_back();
-    }
-    return it->second;
-  };
-  for (const auto& [a, b] : segs) {
-    if (same(a, b)) continue;  // zero-length: nothing to cut
-    const int u = vid(a), w = vid(b);
-    const int e = static_cast<int>(g.edges.size());
-    g.edges.emplace_back(u, w);
-    g.adj[static_cast<std::size_t>(u)].emplace_back(e, w);
-    g.adj[static_cast<std::size_t>(w)].emplace_back(e, u);
-  }
-  return g;
-}
-
-std::vector<int> components(const Graph& g, int& count) {
-  std::vector<int> comp(g.pos.size(), -1);
-  count = 0;
-  for (std::size_t s = 0; s < g.pos.size(); ++s) {
-    if (comp[s] >= 0) continue;
-    std::vector<std::size_t> stack{s};
-    comp[s] = count;
-    while (!stack.empty()) {
-      const std::size_t v = stack.back();
-      stack.pop_back();
-      for (const auto& [e, w] : g.adj[v]) {
-        if (comp[static_cast<std::size_t>(w)] < 0) {
-          comp[static_cast<std::size_t>(w)] = count;
-          stack.push_back(static_cast<std::size_t>(w));
-        }
-      }
-    }
-    ++count;
-  }
-  return comp;
-}
-
 std::vector<std::vector<Point2>> split_at_turns(std::vector<Point2> path, double max_deg) {
   std::vector<std::vector<Point2>> out{{path.front()}};
   for (std::size_t i = 1; i < path.size(); ++i) {
@@ -178,6 +122,27 @@ void rotate_loop(std::vector<Point2>& p, std::size_t i) {
   if (i == 0 || i + 1 >= p.size()) return;
   std::vector<Point2> r(p.begin() + static_cast<long>(i), p.end() - 1);
   r.insert(r.end(), p.begin(), p.begin() + static_cast<long>(i) + 1);
+  p = std::move(r);
+}
+
+// Where a closed loop starts and ends: on its segment `seg` (from vertex seg to seg + 1), the
+// fraction t of the way along (t = 0: at the vertex).
+struct LoopStart {
+  std::size_t seg = 0;
+  double t = 0;
+  friend bool operator==(const LoopStart&, const LoopStart&) = default;
+};
+
+Point2 loop_point(const std::vector<Point2>& p, LoopStart at) { return at.t == 0 ? p[at.seg] : lerp(p[at.seg], p[at.seg + 1], at.t); }
+
+// Rotates a closed loop to start (and end) at `at`, which becomes a vertex when mid-segment.
+void rotate_loop(std::vector<Point2>& p, LoopStart at) {
+  if (at.t == 0) return rotate_loop(p, at.seg);
+  const Point2 q = loop_point(p, at);
+  std::vector<Point2> r{q};
+  r.insert(r.end(), p.begin() + static_cast<long>(at.seg) + 1, p.end() - 1);
+  r.insert(r.end(), p.begin(), p.begin() + static_cast<long>(at.seg) + 1);
+  r.push_back(q);
   p = std::move(r);
 }
 
@@ -222,6 +187,22 @@ std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, doub
     dashes.push_back(std::move(dash));
   }
   return dashes;
+}
+
+// The path without the vertices it runs straight through (a junction where another line ends):
+// the same cut, but the cutter need not stop there, and the job is shorter. Ends stay.
+std::vector<Point2> without_straight_vertices(const std::vector<Point2>& path) {
+  if (path.size() < 3) return path;
+  std::vector<Point2> out{path.front()};
+  for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+    const Point2 a = out.back(), b = path[i], c = path[i + 1];
+    const double ux = b.x_mm - a.x_mm, uv = b.v_mm - a.v_mm, wx = c.x_mm - b.x_mm, wv = c.v_mm - b.v_mm;
+    const double len = dist(a, c);
+    const bool straight = len > 0 && std::abs(ux * (c.v_mm - a.v_mm) - uv * (c.x_mm - a.x_mm)) / len <= kEps && ux * wx + uv * wv > 0;
+    if (!straight) out.push_back(b);
+  }
+  out.push_back(path.back());
+  return out;
 }
 
 std::vector<Point2> with_passes(const std::vector<Point2>& path, int passes) {
@@ -525,6 +506,69 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
   return out;
 }
 
+namespace plan_detail {
+namespace {
+
+// Vertices are identified on a 1e-6 mm lattice so endpoints computed twice still meet.
+struct Key {
+  std::int64_t x, v;
+  friend bool operator==(const Key&, const Key&) = default;
+};
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    return std::hash<std::int64_t>()(k.x) ^ (std::hash<std::int64_t>()(k.v) * 0x9e3779b97f4a7c15ULL);
+  }
+};
+Key key_of(Point2 p) { return {std::llround(p.x_mm * 1e6), std::llround(p.v_mm * 1e6)}; }
+
+}  // namespace
+
+Graph build_graph(const std::vector<std::pair<Point2, Point2>>& segs) {
+  Graph g;
+  std::unordered_map<Key, int, KeyHash> ids;
+  const auto vid = [&](Point2 p) {
+    const auto [it, fresh] = ids.try_emplace(key_of(p), static_cast<int>(g.pos.size()));
+    if (fresh) {
+      g.pos.push_back(p);
+      g.adj.emplace_back();
+    }
+    return it->second;
+  };
+  for (const auto& [a, b] : segs) {
+    if (same(a, b)) continue;  // zero-length: nothing to cut
+    const int u = vid(a), w = vid(b);
+    const int e = static_cast<int>(g.edges.size());
+    g.edges.emplace_back(u, w);
+    g.adj[static_cast<std::size_t>(u)].emplace_back(e, w);
+    g.adj[static_cast<std::size_t>(w)].emplace_back(e, u);
+  }
+  return g;
+}
+
+std::vector<int> components(const Graph& g, int& count) {
+  std::vector<int> comp(g.pos.size(), -1);
+  count = 0;
+  for (std::size_t s = 0; s < g.pos.size(); ++s) {
+    if (comp[s] >= 0) continue;
+    std::vector<std::size_t> stack{s};
+    comp[s] = count;
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      for (const auto& [e, w] : g.adj[v]) {
+        if (comp[static_cast<std::size_t>(w)] < 0) {
+          comp[static_cast<std::size_t>(w)] = count;
+          stack.push_back(static_cast<std::size_t>(w));
+        }
+      }
+    }
+    ++count;
+  }
+  return comp;
+}
+
+}  // namespace plan_detail
+
 namespace {
 
 // Greedy nearest neighbour from `start`: entries are both ends of an open path and every vertex
@@ -607,7 +651,7 @@ class TourSearch {
     std::iota(order_.begin(), order_.end(), 0);
     pos_.assign(order_.begin(), order_.end());
     flip_.assign(paths_.size(), 0);
-    loop_at_.assign(paths_.size(), 0);
+    loop_at_.assign(paths_.size(), LoopStart{});
     closed_.resize(paths_.size());
     for (std::size_t s = 0; s < paths_.size(); ++s) closed_[s] = is_closed(paths_[s]);
     build_neighbours();
@@ -648,6 +692,8 @@ class TourSearch {
  private:
   static constexpr double kGain = 1e-9;  // mm: smaller gains are rounding, not improvement
   static constexpr std::size_t kNeighbours = 8;
+  static constexpr int kLoopSearchSteps = 30;     // golden-section steps per segment: 1e-6 of its length
+  static constexpr double kLoopSplitGain = 0.01;  // mm: a loop starts mid-segment only to save more
 
   // An anchor is a place a path may be entered or left: an open path's ends, a loop's vertices,
   // and the start (owner -1).
@@ -662,14 +708,14 @@ class TourSearch {
   Point2 entry(long i) const {
     const int s = path_at(i);
     const auto& p = paths_[static_cast<std::size_t>(s)];
-    if (closed_[static_cast<std::size_t>(s)]) return p[loop_at_[static_cast<std::size_t>(s)]];
+    if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
     return flip_[static_cast<std::size_t>(s)] ? p.back() : p.front();
   }
   Point2 exit(long i) const {
     if (i < 0) return start_;
     const int s = path_at(i);
     const auto& p = paths_[static_cast<std::size_t>(s)];
-    if (closed_[static_cast<std::size_t>(s)]) return p[loop_at_[static_cast<std::size_t>(s)]];
+    if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
     return flip_[static_cast<std::size_t>(s)] ? p.front() : p.back();
   }
   // Knife-up move into position i (none past the end).
@@ -679,13 +725,13 @@ class TourSearch {
   bool is_entry(const Anchor& a) const {
     if (a.owner < 0) return false;
     const auto s = static_cast<std::size_t>(a.owner);
-    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s];
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
     return (a.vertex == 0) != static_cast<bool>(flip_[s]);
   }
   bool is_exit(const Anchor& a) const {
     if (a.owner < 0) return true;
     const auto s = static_cast<std::size_t>(a.owner);
-    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s];
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
     return (a.vertex == 0) == static_cast<bool>(flip_[s]);
   }
   long position(const Anchor& a) const { return a.owner < 0 ? -1 : pos_[static_cast<std::size_t>(a.owner)]; }
@@ -834,19 +880,33 @@ class TourSearch {
     return place_loop_start(i);
   }
 
-  // A closed loop starts at the vertex nearest to both its knife-up links.
+  // A closed loop starts at the point of it nearest to both its knife-up links: a vertex, or a
+  // point inside a segment (which then becomes a vertex of the stroke) when that saves more than
+  // kLoopSplitGain. Along a segment the two links' sum is convex: golden-section search.
   bool place_loop_start(long i) {
     const auto s = static_cast<std::size_t>(path_at(i));
     if (!closed_[s]) return false;
     const auto& p = paths_[s];
     const Point2 from = exit(i - 1);
-    const auto cost = [&](std::size_t k) { return dist(from, p[k]) + (i + 1 < n_ ? dist(p[k], entry(i + 1)) : 0); };
-    std::size_t best = loop_at_[s];
-    double best_d = cost(best);
+    const bool last = i + 1 >= n_;
+    const Point2 to = last ? from : entry(i + 1);
+    const auto cost = [&](Point2 q) { return dist(from, q) + (last ? 0 : dist(q, to)); };
+    LoopStart best = loop_at_[s];
+    double best_d = cost(loop_point(p, best));
     for (std::size_t k = 0; k + 1 < p.size(); ++k) {
-      if (cost(k) < best_d - kGain) best_d = cost(k), best = k;
+      if (const double d = cost(p[k]); d < best_d - kGain) best_d = d, best = {k, 0};
+      constexpr double kGolden = 0.6180339887498949;
+      double lo = 0, hi = 1;
+      for (int step = 0; step < kLoopSearchSteps; ++step) {
+        const double a = hi - kGolden * (hi - lo), b = lo + kGolden * (hi - lo);
+        if (cost(lerp(p[k], p[k + 1], a)) < cost(lerp(p[k], p[k + 1], b))) hi = b;
+        else lo = a;
+      }
+      const double t = (lo + hi) / 2, len = dist(p[k], p[k + 1]);
+      if (t * len <= kLoopSplitGain || (1 - t) * len <= kLoopSplitGain) continue;  // a vertex: tried above
+      if (const double d = cost(lerp(p[k], p[k + 1], t)); d < best_d - kLoopSplitGain) best_d = d, best = {k, t};
     }
-    work_ += p.size();
+    work_ += p.size() * (2 * kLoopSearchSteps + 2);
     if (best == loop_at_[s]) return false;
     loop_at_[s] = best;
     touch(i);
@@ -879,7 +939,7 @@ class TourSearch {
   struct Saved {
     std::vector<int> order;
     std::vector<char> flip;
-    std::vector<std::size_t> loop_at;
+    std::vector<LoopStart> loop_at;
   };
   Saved save() {
     work_ += static_cast<std::uint64_t>(n_);
@@ -923,7 +983,7 @@ class TourSearch {
   std::vector<int> order_;           // path ids in cutting order
   std::vector<long> pos_;            // position of each path id
   std::vector<char> flip_;           // open path cut back to front
-  std::vector<std::size_t> loop_at_; // closed loop: the vertex it starts and ends at
+  std::vector<LoopStart> loop_at_;   // closed loop: where it starts and ends
   std::vector<char> closed_;
   std::vector<Anchor> anchors_;
   std::vector<std::vector<int>> of_path_;  // anchors of each path
@@ -939,85 +999,6 @@ std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> pa
   std::vector<std::vector<Point2>> tour = greedy_order(std::move(paths), start);
   if (work_budget == 0) return tour;
   return TourSearch(std::move(tour), start, work_budget).run();
-}
-
-double travel_lower_bound_mm(const std::vector<std::pair<Point2, Point2>>& edges, std::optional<Point2> start) {
-  const Graph g = build_graph(edges);
-  int count = 0;
-  const std::vector<int> comp = components(g, count);
-  std::vector<int> odd(static_cast<std::size_t>(count), 0);
-  for (std::size_t v = 0; v < g.pos.size(); ++v) {
-    if (g.adj[v].size() % 2 == 1) ++odd[static_cast<std::size_t>(comp[v])];
-  }
-  // Where a stroke of a minimal plan may begin or end: an odd vertex (each ends exactly one
-  // stroke), or any vertex of a component without odd vertices (one closed stroke, entered and
-  // left at the same vertex). The start is a component of its own.
-  struct Port {
-    Point2 at;
-    int comp;
-    bool loop;
-  };
-  std::vector<Port> ports;
-  for (std::size_t v = 0; v < g.pos.size(); ++v) {
-    const int c = comp[v];
-    if (g.adj[v].empty()) continue;
-    const bool loop = odd[static_cast<std::size_t>(c)] == 0;
-    if (loop || g.adj[v].size() % 2 == 1) ports.push_back({g.pos[v], c, loop});
-  }
-  if (start) ports.push_back({*start, count, false});
-  const std::size_t n = ports.size();
-  if (n < 2) return 0;
-  // Matching bound: each knife-up move (u, w) is at least as long as the larger of u's and w's
-  // distance to the nearest port it could be joined to (another port; for a loop, one outside it).
-  std::vector<double> nearest(n, 1e300);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; j < n; ++j) {
-      if (i == j || (ports[i].loop && ports[i].comp == ports[j].comp) || (ports[j].loop && ports[i].comp == ports[j].comp)) continue;
-      nearest[i] = std::min(nearest[i], dist(ports[i].at, ports[j].at));
-    }
-    if (nearest[i] > 1e299) nearest[i] = 0;
-  }
-  std::vector<double> w;  // one value per end of a knife-up move
-  std::map<int, double> loop_w;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!ports[i].loop) {
-      w.push_back(nearest[i]);
-    } else {
-      const auto [it, fresh] = loop_w.try_emplace(ports[i].comp, nearest[i]);
-      if (!fresh) it->second = std::min(it->second, nearest[i]);
-    }
-  }
-  for (const auto& [c, d] : loop_w) w.insert(w.end(), {d, d});  // a loop is entered and left
-  std::sort(w.begin(), w.end());
-  // The first stroke's start (unless `start` is given) and the last stroke's end join no move.
-  const std::size_t free_ends = start ? 1 : 2;
-  double matching = 0;
-  for (std::size_t i = 0; i + free_ends < w.size(); ++i) matching += w[i];
-  matching /= 2;
-  // Tree bound: the moves join all components (and the start) into one walk, so they are at
-  // least a minimum spanning tree over components, components apart by their nearest ports.
-  const std::size_t comps = static_cast<std::size_t>(count) + (start ? 1 : 0);
-  std::vector<double> key(comps, 1e300);
-  std::vector<char> in_tree(comps, 0);
-  double tree = 0;
-  key[static_cast<std::size_t>(ports[0].comp)] = 0;
-  for (std::size_t added = 0; added < comps; ++added) {
-    std::size_t best = comps;
-    for (std::size_t c = 0; c < comps; ++c) {
-      if (!in_tree[c] && key[c] < 1e299 && (best == comps || key[c] < key[best])) best = c;
-    }
-    if (best == comps) break;  // components without ports (none): nothing more to join
-    in_tree[best] = 1;
-    tree += key[best];
-    for (const Port& p : ports) {
-      if (static_cast<std::size_t>(p.comp) != best) continue;
-      for (const Port& q : ports) {
-        const auto qc = static_cast<std::size_t>(q.comp);
-        if (!in_tree[qc]) key[qc] = std::min(key[qc], dist(p.at, q.at));
-      }
-    }
-  }
-  return std::max(matching, tree);
 }
 
 StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
@@ -1042,6 +1023,7 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
       paths = std::move(dashes);
     }
     paths = order_paths(std::move(paths), at, options.optimise_work);
+    for (auto& p : paths) p = without_straight_vertices(p);
     stats.travel_mm = travel_mm(paths, at);
     for (auto& p : paths) {
       // Overcut closes a loop; the blade offset applies to every pass, turns included.

@@ -2,13 +2,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "popcut/plan/plan.h"
+#include "popcut/plan/travel_bound.h"
 #include "random_models.h"
 
 namespace popcut {
@@ -131,6 +134,23 @@ TEST(Passes, GoBackAndForthWithoutLifting) {
   EXPECT_EQ(plan.strokes[0].points.size(), 4u) << "there, back, there";
 }
 
+TEST(Chaining, StrokesRunStraightThroughJunctionsWithoutAVertexThere) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  // One straight cut in two pieces, and an L whose corner must stay.
+  p.lines = {{LineKind::cut, {10, 5}, {20, 5}}, {LineKind::cut, {20, 5}, {30, 5}}, {LineKind::cut, {10, -5}, {30, -5}},
+             {LineKind::cut, {30, -5}, {30, -15}}};
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 2u) << "two strokes, the Euler bound";
+  for (const Stroke& s : plan.strokes) {
+    const bool straight = s.points.front().v_mm == 5;
+    EXPECT_EQ(s.points.size(), straight ? 2u : 3u) << (straight ? "the straight cut: no stop at (20, 5)" : "the L keeps its corner");
+  }
+  EXPECT_NEAR(plan.kinds[index_of(PlanKind::cut)].cut_mm, 50, 1e-9) << "all of it is still cut";
+}
+
 TEST(FoldGap, FoldsStopShortOfCutsAndTheOutline) {
   Pattern p;
   p.sheet = {{0, -20}, {40, 20}};
@@ -221,24 +241,139 @@ TEST(Order, FixesWhatGreedyGetsWrong) {
   EXPECT_LE(sum_ratio / 30, 1.03) << "on average within 3 % of the best order";
 }
 
-TEST(TravelBound, NeverAbovePlansAndTightOnSimpleCases) {
+// The least knife-up cost of any plan at the Euler bound that cuts `edges` (one kind) from
+// `home`, strokes starting at vertices: a DP over (edges cut, strokes begun, knife position).
+double exhaustive_knife_up(const Edges& edges, Point2 home, const std::function<double(double)>& cost) {
+  std::vector<Point2> pos;
+  const auto vid = [&](Point2 p) {
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      if (dist(pos[i], p) < 1e-9) return i;
+    }
+    pos.push_back(p);
+    return pos.size() - 1;
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> e;
+  for (const auto& [a, b] : edges) e.emplace_back(vid(a), vid(b));
+  pos.push_back(home);  // the last "vertex": the knife's start, where no stroke begins
+  const std::size_t m = e.size(), n = pos.size(), full = (std::size_t{1} << m) - 1;
+  const auto strokes = static_cast<std::size_t>(euler_bound(edges));
+  // dp[mask][s][v]: least cost with `mask` cut, s strokes begun, knife (down after s >= 1) at v.
+  std::vector<double> dp((full + 1) * (strokes + 1) * n, 1e300);
+  const auto at = [&](std::size_t mask, std::size_t s, std::size_t v) -> double& { return dp[(mask * (strokes + 1) + s) * n + v]; };
+  at(0, 0, n - 1) = 0;
+  for (std::size_t mask = 0; mask <= full; ++mask) {
+    for (std::size_t s = 0; s <= strokes; ++s) {
+      for (std::size_t v = 0; v < n; ++v) {
+        const double c = at(mask, s, v);
+        if (c >= 1e300) continue;
+        if (s < strokes) {  // lift, move, lower at a vertex: the next stroke
+          for (std::size_t u = 0; u + 1 < n; ++u) at(mask, s + 1, u) = std::min(at(mask, s + 1, u), c + cost(dist(pos[v], pos[u])));
+        }
+        if (s == 0) continue;
+        for (std::size_t k = 0; k < m; ++k) {  // cut on along an edge
+          if (mask >> k & 1) continue;
+          const auto [a, b] = e[k];
+          if (a == v) at(mask | std::size_t{1} << k, s, b) = std::min(at(mask | std::size_t{1} << k, s, b), c);
+          if (b == v) at(mask | std::size_t{1} << k, s, a) = std::min(at(mask | std::size_t{1} << k, s, a), c);
+        }
+      }
+    }
+  }
+  double best = 1e300;
+  for (std::size_t v = 0; v < n; ++v) best = std::min(best, at(full, strokes, v));
+  return best;
+}
+
+const std::function<double(double)> kLength = [](double mm) { return mm; };
+
+TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   const Edges two = {{{0, 0}, {10, 0}}, {{0, 3}, {10, 3}}};
-  EXPECT_NEAR(travel_lower_bound_mm(two, std::nullopt), 3, 1e-9) << "two parallel strokes 3 mm apart: one 3 mm move";
-  EXPECT_NEAR(travel_lower_bound_mm(two, Point2{-4, 0}), 7, 1e-9) << "from 4 mm before the first stroke: 4 + 3";
+  EXPECT_NEAR(knife_up_lower_bound({two}, {-4, 0}, kLength, 100).value, 7, 1e-6) << "4 mm to the first stroke, 3 mm to the second";
   const Edges square = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
-  EXPECT_EQ(travel_lower_bound_mm(square, std::nullopt), 0) << "one closed loop needs no knife-up move";
+  EXPECT_NEAR(knife_up_lower_bound({square}, {-5, 0}, kLength, 100).value, 5, 1e-6) << "one closed loop: only the way there";
+  Edges squares;
+  for (double x : {0.0, 20.0, 40.0}) {
+    for (const auto& [a, b] : square) squares.push_back({{a.x_mm + x, a.v_mm}, {b.x_mm + x, b.v_mm}});
+  }
+  EXPECT_NEAR(knife_up_lower_bound({squares}, {-5, 0}, kLength, 100).matching, 25, 1e-5)
+      << "three loops 10 mm apart: 5 + 10 + 10 even before any cut (a loop never pairs its own two ends)";
+  EXPECT_NEAR(knife_up_lower_bound({square}, {5, -3}, kLength, 100).value, 3, 1e-6)
+      << "a loop may start mid-side: the bound takes the nearest point of the loop, not of its corners";
+  const Edges dashes = {{{0, 0}, {1, 0}}, {{2, 0}, {3, 0}}, {{4, 0}, {5, 0}}};
+  EXPECT_NEAR(knife_up_lower_bound({dashes}, {0, 0}, kLength, 100).value, 2, 1e-6) << "three dashes in a row: the two gaps";
+  // Two crosses 100 mm apart: each is two strokes. Matching alone pairs each cross's ends among
+  // themselves (3 √2, never leaving the first cross); the cuts force the 98 mm trip over.
+  const auto cross_at = [](double x) {
+    return Edges{{{x - 1, 0}, {x, 0}}, {{x + 1, 0}, {x, 0}}, {{x, 1}, {x, 0}}, {{x, -1}, {x, 0}}};
+  };
+  Edges crosses = cross_at(0);
+  for (const auto& s : cross_at(100)) crosses.push_back(s);
+  const KnifeUpBound b = knife_up_lower_bound({crosses}, {-1, 0}, kLength, 200);
+  EXPECT_NEAR(b.matching, 3 * std::sqrt(2.0), 1e-5) << "the plain matching bound";
+  EXPECT_NEAR(b.value, 100 + std::sqrt(2.0), 1e-3) << "2 mm across the first cross, 98 mm over, √2 across the second";
+  EXPECT_NEAR(exhaustive_knife_up(crosses, {-1, 0}, kLength), 100 + std::sqrt(2.0), 1e-9) << "which is the optimum";
+  // Kinds are cut in order: A and C are one kind, B the next, so the knife goes A, C, then back to B.
+  const Edges a = {{{0, 0}, {10, 0}}}, bk = {{{0, 50}, {10, 50}}}, c = {{{0, 100}, {10, 100}}};
+  Edges ac = a;
+  ac.push_back(c.front());
+  EXPECT_NEAR(knife_up_lower_bound({ac, bk}, {0, 0}, kLength, 1000).value, 150, 1e-6) << "A, C (100 mm), then B (50 mm)";
+  EXPECT_NEAR(knife_up_lower_bound({a, bk}, {0, 0}, kLength, 1000).value, 50, 1e-6) << "the second kind starts where the first ended";
+  EXPECT_EQ(knife_up_lower_bound({{}, {}}, {0, 0}, kLength, 0).value, 0) << "nothing to cut, nothing to travel";
+  // Two loops whose sides cross without a shared vertex: a plan enters one at (10, 5), 1 mm from
+  // home, and the other from that same point, so 1 mm in all; the bound must allow for it.
+  const auto box = [](double lo, double hi) {
+    return Edges{{{lo, lo}, {hi, lo}}, {{hi, lo}, {hi, hi}}, {{hi, hi}, {lo, hi}}, {{lo, hi}, {lo, lo}}};
+  };
+  Edges crossing = box(0, 10);
+  for (const auto& s : box(5, 15)) crossing.push_back(s);
+  EXPECT_LE(knife_up_lower_bound({crossing}, {11, 5}, kLength, 10).value, 1 + 1e-9) << "crossing sides are 0 mm apart";
+}
+
+TEST(TravelBound, NeverAboveTheOptimumOnSmallGraphs) {
+  // Random subsets of a 3 × 3 lattice's edges (5 mm apart): branches, loops, several components.
+  std::vector<std::pair<Point2, Point2>> lattice;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (i < 2) lattice.push_back({{5.0 * i, 5.0 * j}, {5.0 * (i + 1), 5.0 * j}});
+      if (j < 2) lattice.push_back({{5.0 * i, 5.0 * j}, {5.0 * i, 5.0 * (j + 1)}});
+    }
+  }
+  const Kinematics k;
+  const std::function<double(double)> seconds = [&](double mm) { return move_time_s(mm, k.travel_speed_mm_s, k.accel_mm_s2); };
+  std::mt19937_64 rng(21);
+  int tight = 0;
+  for (int n = 0; n < 60; ++n) {
+    std::vector<std::pair<Point2, Point2>> pool = lattice;
+    std::shuffle(pool.begin(), pool.end(), rng);
+    pool.resize(4 + static_cast<std::size_t>(n % 6));
+    const Point2 home{std::uniform_real_distribution<double>(-5, 15)(rng), std::uniform_real_distribution<double>(-5, 15)(rng)};
+    for (const auto* cost : {&kLength, &seconds}) {
+      const double opt = exhaustive_knife_up(pool, home, *cost);
+      const KnifeUpBound b = knife_up_lower_bound({pool}, home, *cost, opt);
+      EXPECT_LE(b.value, opt + 1e-9) << "case " << n << (cost == &kLength ? " mm" : " s") << ": a bound, never above the best plan";
+      EXPECT_GE(b.value, b.matching - 1e-9) << "case " << n << ": connectivity only adds";
+      tight += b.value >= opt - 1e-5;
+    }
+  }
+  EXPECT_GE(tight, 100) << "the bound meets the optimum on most of these small cases (118 of 120 when written)";
+}
+
+TEST(TravelBound, NeverAbovePlannedTravelOnRandomModels) {
   std::mt19937_64 rng(17);
-  for (int n = 0; n < 40; ++n) {
+  for (int n = 0; n < 8; ++n) {
     const Pattern p = make_pattern(testing::random_model(rng, {}));
     const PlanOptions o;
     const StrokePlan plan = plan_strokes(p, o);
-    for (PlanKind kind : kAllPlanKinds) {
+    std::vector<Edges> kinds;
+    for (PlanKind kind : o.order) {
       Edges edges;
       for (const Segment& s : kind_lines(p, kind, o.fold_gap_mm)) edges.emplace_back(s.a, s.b);
-      const double bound = travel_lower_bound_mm(split_at_junctions(edges), std::nullopt);
-      // The kind's own travel includes the move from the previous kind, which the bound leaves out.
-      EXPECT_LE(bound, plan.kinds[index_of(kind)].travel_mm + 1e-9) << "model " << n << " " << to_string(kind) << ": a bound, not an estimate";
+      kinds.push_back(split_at_junctions(edges));
     }
+    const double planned = plan.total().travel_mm;
+    const KnifeUpBound b = knife_up_lower_bound(kinds, plan.home, kLength, planned);
+    EXPECT_LE(b.value, planned + 1e-9) << "model " << n << ": a bound, not an estimate";
+    EXPECT_GT(b.value, 0.5 * planned) << "model " << n << ": and not a trivial one";
   }
 }
 
@@ -248,6 +383,11 @@ TEST(Order, ClosedLoopStartsWhereTravelIsShortest) {
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].front(), (Point2{20, 20})) << "enter the loop at its corner nearest the knife";
   EXPECT_EQ(out[0].back(), out[0].front()) << "still closed";
+  const auto side = order_paths({loop}, {15, 0});
+  EXPECT_EQ(side[0].front(), (Point2{15, 10})) << "from beside a side, enter the loop at the side's nearest point";
+  EXPECT_EQ(side[0].size(), loop.size() + 1) << "which becomes a vertex of the stroke";
+  EXPECT_NEAR(path_length_mm(side[0]), 40, 1e-9) << "the same loop, once round";
+  EXPECT_EQ(order_paths({loop}, {15, 0}, 0)[0].front(), (Point2{10, 10})) << "greedy alone enters at a corner";
 }
 
 TEST(DragKnife, AxisRunsAheadAndSwivelsRoundCorners) {
@@ -355,9 +495,36 @@ TEST(PlanProperties, RandomModelsMeetTheBoundAndCoverEveryLineOnce) {
       Edges want;
       for (const Segment& s : kind_lines(p, kind, o.fold_gap_mm)) want.emplace_back(s.a, s.b);
       want = split_at_junctions(want);
+      std::set<std::pair<long, long>> vertices;
+      std::vector<Point2> vertex_points;
+      for (const auto& [a, b] : want) {
+        for (Point2 q : {a, b}) {
+          if (vertices.insert(key(q, q).first).second) vertex_points.push_back(q);
+        }
+      }
       std::vector<std::vector<Point2>> got;
       for (const Stroke& s : plan.strokes) {
-        if (s.kind == kind) got.push_back(s.points);
+        if (s.kind != kind) continue;
+        got.push_back(s.points);
+        // A closed loop may start inside a segment: that piece is one line, cut in two halves.
+        std::vector<Point2>& q = got.back();
+        const auto front = key(q.front(), q.front()).first;
+        if (q.size() > 3 && front == key(q.back(), q.back()).first && !vertices.count(front)) {
+          q.erase(q.begin());
+          q.back() = q.front();
+        }
+        // Strokes run straight through junctions without a vertex there: put them back.
+        std::vector<Point2> split{q.front()};
+        for (std::size_t i = 1; i < q.size(); ++i) {
+          std::vector<Point2> inside;
+          for (Point2 v : vertex_points) {
+            if (dist_to_segment(v, q[i - 1], q[i]) < 1e-7 && dist(v, q[i - 1]) > 1e-7 && dist(v, q[i]) > 1e-7) inside.push_back(v);
+          }
+          std::sort(inside.begin(), inside.end(), [&](Point2 u, Point2 w) { return dist(u, q[i - 1]) < dist(w, q[i - 1]); });
+          split.insert(split.end(), inside.begin(), inside.end());
+          split.push_back(q[i]);
+        }
+        q = std::move(split);
       }
       const KindStats& k = plan.kinds[index_of(kind)];
       EXPECT_EQ(k.strokes, euler_bound(want)) << "model " << n << " " << to_string(kind) << ": strokes at the Euler bound";

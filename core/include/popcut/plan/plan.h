@@ -102,16 +102,10 @@ std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2,
 
 // Orders paths from `start` to cut knife-up travel: greedy nearest neighbour over a grid, then
 // 2-opt and Or-opt (with reversal) over near path ends until no move gains or `work_budget`
-// steps are spent; picks each open path's direction and each closed loop's start. Deterministic.
+// steps are spent; picks each open path's direction and each closed loop's start (a vertex, or a
+// point inside a segment, which then becomes the loop's first and last point). Deterministic.
 std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
                                              std::uint64_t work_budget = kDefaultOptimiseWork);
-
-// A lower bound on the knife-up travel between the strokes of any plan that cuts `edges` (a
-// line graph: split at junctions) in the minimum number of strokes (euler_bound), from `start`
-// if given (else from anywhere); the last stroke may end anywhere. The larger of a matching
-// bound (every stroke end is at least its nearest possible partner away) and a spanning tree
-// over the graph's components. O(ports²): for reports and benchmarks, not for planning.
-double travel_lower_bound_mm(const std::vector<std::pair<Point2, Point2>>& edges, std::optional<Point2> start);
 
 // The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
 std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
