@@ -131,7 +131,8 @@ void JobStore::exec(const char* sql) {
 int JobStore::recover() {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
-  Stmt(db_, "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0 WHERE state='cutting'").step();
+  Stmt(db_, "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, error_code='interrupted',"
+            " error_message='popcutd stopped without a clean shutdown during the cut' WHERE state='cutting'").step();
   int n = sqlite3_changes(db_);
   Stmt(db_, "UPDATE jobs SET state='queued' WHERE state='planning'").step();
   n += sqlite3_changes(db_);
@@ -273,7 +274,9 @@ void JobStore::finish(std::int64_t id, JobState state, const std::string& code, 
 
 CancelResult JobStore::cancel(std::int64_t id) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET state='cancelled', finished_at=? WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
+  Stmt(db_, "UPDATE jobs SET state='cancelled', finished_at=?, error_code='cancelled',"
+            " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut' ELSE 'cancelled before the cut' END"
+            " WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
       .bind(1, now_s()).bind(2, id).step();
   if (sqlite3_changes(db_) > 0) return CancelResult::cancelled;
   Stmt(db_, "UPDATE jobs SET cancel_requested=1 WHERE id=? AND state='cutting'").bind(1, id).step();
