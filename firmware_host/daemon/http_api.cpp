@@ -333,7 +333,8 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
     // A mesh with popcut import's options: imported now, so its errors answer this request; the
     // job then holds the imported model like any other.
     Upload u = import_upload(req, {"name", "device", "profile"});
-    nj.name = u.fields["name"];
+    // Unnamed, the job is named after the file (house.obj: "house").
+    nj.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
     set_target(nj, u.fields["device"], u.fields["profile"]);
     nj.model_json = std::move(u.imported.model_json);
     source = u.filename;

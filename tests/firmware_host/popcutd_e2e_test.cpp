@@ -388,6 +388,7 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
   const Reply faces = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "house.obj",
                                 {{"profile", "sim"}, {"resolution", "30"}, {"faces", "true"}, {"up", "+z"}, {"front", "-y"}});
   ASSERT_EQ(faces.status, 201) << "a face model that follows the silhouette is queued: " << faces.body.dump();
+  EXPECT_EQ(faces.body["name"], "house") << "an unnamed mesh job is named after its file";
   ids.push_back(faces.body["id"].get<std::int64_t>());
   for (std::int64_t id : ids) {
     ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << "job " << id << " finishes; log:\n" << d->log();
