@@ -3,8 +3,10 @@
 
 #include <httplib.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -12,6 +14,7 @@
 #include "cli_commands.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
+#include "popcut/mesh/mesh_import.h"
 
 namespace popcut::cli {
 namespace {
@@ -38,7 +41,14 @@ class Connection {
     client_.set_tcp_nodelay(true);
   }
   json request(const std::string& method, const std::string& path, const std::string& body = "") {
-    httplib::Result r = method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json");
+    return answer(method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json"));
+  }
+  json post_form(const std::string& path, const httplib::MultipartFormDataItems& items) {
+    return answer(client_.Post(path.c_str(), items));
+  }
+
+ private:
+  json answer(const httplib::Result& r) {
     if (!r) throw ClientFailure{kCannotWrite, "cannot reach popcutd at " + server_ + ": " + why(r.error())};
     json j;
     try {
@@ -58,7 +68,6 @@ class Connection {
     return j;
   }
 
- private:
   // httplib names its errors in one word ("Connection"); say what it means for the user.
   static std::string why(httplib::Error e) {
     switch (e) {
@@ -101,21 +110,48 @@ int run(const ClientCommands& s, const std::function<int(Connection&)>& body) {
   }
 }
 
+bool is_mesh_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == ".obj" || ext == ".stl" || ext == ".off" || ext == ".ply";
+}
+
 int submit(const ClientCommands& s, Connection& c) {
   if (s.device.empty() == s.profile.empty()) throw ClientFailure{kBadInput, "name exactly one of --device NAME or --profile PROFILE"};
-  json model;
-  try {
-    model = json::parse(read_text_file(s.model_path));
-  } catch (const json::exception& e) {
-    throw ClientFailure{kBadInput, s.model_path + ": not JSON: " + e.what()};
-  } catch (const Error& e) {
-    throw ClientFailure{kBadInput, e.what()};
+  json job;
+  if (is_mesh_path(s.model_path)) {
+    // The mesh goes as it is, with popcut import's options: popcutd imports it with the same code
+    // and answers its errors (422 bad_model naming the option) like any other refusal.
+    std::string bytes;
+    try {
+      bytes = read_text_file(s.model_path, kMaxMeshFileBytes);
+    } catch (const Error& e) {
+      throw ClientFailure{kBadInput, e.what()};
+    }
+    httplib::MultipartFormDataItems items{{"mesh", bytes, std::filesystem::path(s.model_path).filename().string(), "application/octet-stream"}};
+    if (!s.device.empty()) items.push_back({"device", s.device, "", ""});
+    if (!s.profile.empty()) items.push_back({"profile", s.profile, "", ""});
+    if (!s.name.empty()) items.push_back({"name", s.name, "", ""});
+    for (const auto& [option, value] : s.import_values) items.push_back({option, value, "", ""});
+    job = c.post_form("/api/v1/jobs", items);
+  } else {
+    if (!s.import_values.empty()) {
+      throw ClientFailure{kBadInput, "--" + s.import_values.front().first + " is an import option: it applies to a mesh (.obj, .stl, .off, .ply), not to " + s.model_path};
+    }
+    json model;
+    try {
+      model = json::parse(read_text_file(s.model_path));
+    } catch (const json::exception& e) {
+      throw ClientFailure{kBadInput, s.model_path + ": not JSON: " + e.what()};
+    } catch (const Error& e) {
+      throw ClientFailure{kBadInput, e.what()};
+    }
+    json body = {{"model", model}};
+    if (!s.device.empty()) body["device"] = s.device;
+    if (!s.profile.empty()) body["profile"] = s.profile;
+    if (!s.name.empty()) body["name"] = s.name;
+    job = c.request("POST", "/api/v1/jobs", body.dump());
   }
-  json body = {{"model", model}};
-  if (!s.device.empty()) body["device"] = s.device;
-  if (!s.profile.empty()) body["profile"] = s.profile;
-  if (!s.name.empty()) body["name"] = s.name;
-  json job = c.request("POST", "/api/v1/jobs", body.dump());
   if (!s.json_out) std::cerr << "queued job " << job["id"] << " (" << job["name"].get<std::string>() << "), place " << job["place_in_line"] << " in line\n";
   while (s.wait && (job["state"] == "queued" || job["state"] == "planning" || job["state"] == "ready" || job["state"] == "cutting")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -137,12 +173,15 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
   s.submit = app.add_subcommand("submit", "Queue a model on popcutd for a device (or any device with a profile).\n"
                                           "Exit 2 if refused, 3 if popcutd cannot be reached or its queue is full (or with --wait: the job did not\n"
                                           "finish), 4 if popcutd failed inside.");
-  s.submit->add_option("MODEL", s.model_path, "Model file (popcut.voxel.v1 or popcut.faces.v1)")->required();
+  s.submit->add_option("MODEL", s.model_path,
+                       "Model file (popcut.voxel.v1 or popcut.faces.v1), or a mesh (.obj, .stl, .off, .ply) that popcutd imports with the options below")
+      ->required();
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
   s.submit->add_option("--name", s.name, "A label for the job");
   s.submit->add_flag("--wait", s.wait, "Wait until the job is done, failed, cancelled or interrupted");
   common(s.submit);
+  add_import_options(s.submit, s.import_values);
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   common(s.jobs);

@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace popcut::cli {
 
@@ -12,6 +14,7 @@ struct ClientCommands {
   CLI::App* jobs = nullptr;
   CLI::App* cancel = nullptr;
   std::string server, token, model_path, device, profile, name;
+  std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;
   bool json_out = false, wait = false, all = false;
 };

@@ -28,6 +28,7 @@
 #include "popcut/io/model_io.h"
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
+#include "popcut/mesh/import_request.h"
 #include "popcut/mesh/mesh_import.h"
 #include "popcut/mesh/silhouette_faces.h"
 #include "popcut/model/repair.h"
@@ -216,6 +217,28 @@ Pattern load_cli_pattern(const std::string& model_path) { return load_pattern(mo
 void write_cli_output(const std::string& path, const std::function<void(std::ostream&)>& content) { write_output(path, content); }
 void print_json_line(const json& j) { print_json(j); }
 
+void add_import_options(CLI::App* cmd, std::vector<std::pair<std::string, std::string>>& values) {
+  const ImportOptions d;
+  const auto option = [&](const char* name, const std::string& help) {
+    cmd->add_option_function<std::string>(std::string("--") + name, [&values, name](const std::string& v) { values.emplace_back(name, v); }, help);
+  };
+  const auto flag = [&](const char* name, const std::string& help) {
+    cmd->add_flag_callback(std::string("--") + name, [&values, name] { values.emplace_back(name, "true"); }, help);
+  };
+  option("up", std::string("Mesh axis pointing up: +x, -x, +y, -y, +z or -z (default ") + to_string(d.up) + ")");
+  option("front", std::string("Mesh axis pointing at the viewer, the card's depth (default ") + to_string(d.front) + ")");
+  option("resolution", "Voxels across the card (default " + std::to_string(d.resolution) + ")");
+  option("width-mm", "Card width of the model in mm (default 120)");
+  option("voxel-mm", "Voxel edge in mm, instead of --width-mm");
+  option("keep-depth", "Fraction of the model's depth kept, from the front (default 0.5, as the paper)");
+  option("smooth", "Side of the square for opening and closing each slice, in voxels (odd; 1 = off; default " +
+                       std::to_string(d.structuring_element) + ")");
+  flag("no-windows", "Leave the rows filled by eq. 7 solid instead of trying them as windows");
+  option("thin-tops", "Drop top faces at most this many voxels wide where the card stays valid (0 = keep all, the default)");
+  option("depth-method", "zbuffer (rasterise triangles, the default) or raycast (CGAL AABB tree)");
+  flag("faces", "Make a popcut.faces.v1 face model whose cut outlines (wall tops, openings) follow the mesh silhouette instead of voxel steps");
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
                "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output (or reach the cutter), 4 internal error."};
@@ -255,29 +278,17 @@ int run(int argc, char** argv) {
   render->add_option("--frames", frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
   render->add_option("--width", width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
 
-  ImportOptions import_opt;
-  std::string up_axis = "+z", front_axis = "-y", pattern_path, depth_method = "zbuffer";
-  double width_mm = 0, voxel_mm = 0;
-  // Whole-number options are read as text and parsed below: CLI11 says only "Could not convert".
-  std::string resolution_text = std::to_string(import_opt.resolution), smooth_text = std::to_string(import_opt.structuring_element),
-              thin_tops_text = std::to_string(import_opt.thin_top_voxels);
-  bool no_windows = false, faces_out = false;
+  // Every import option is read as text and checked by parse_import_options, as popcutd checks
+  // the same options of an uploaded mesh (CLI11 would say only "Could not convert").
+  std::vector<std::pair<std::string, std::string>> import_values;
+  std::string pattern_path;
   CLI::App* import_cmd = app.add_subcommand("import", "Turn a 3D mesh (OBJ, STL, OFF, PLY) into a voxel card that pops up (voxel paper §3).");
   import_cmd->add_option("MESH", model_path, "Mesh file: .obj, .stl (ASCII or binary), .off or .ply")->required();
   import_cmd->add_option("-o,--output", out_path, "Where to write the popcut.voxel.v1 model (OUT.json, or - for standard output)")->required();
-  import_cmd->add_option("--up", up_axis, "Mesh axis pointing up: +x, -x, +y, -y, +z or -z")->capture_default_str();
-  import_cmd->add_option("--front", front_axis, "Mesh axis pointing at the viewer (the card's depth)")->capture_default_str();
-  import_cmd->add_option("--resolution", resolution_text, "Voxels across the card")->capture_default_str();
-  import_cmd->add_option("--width-mm", width_mm, "Card width of the model in mm (default 120)");
-  import_cmd->add_option("--voxel-mm", voxel_mm, "Voxel edge in mm, instead of --width-mm");
-  import_cmd->add_option("--keep-depth", import_opt.keep_depth, "Fraction of the model's depth kept, from the front (the paper keeps half)")->capture_default_str();
-  import_cmd->add_option("--smooth", smooth_text, "Side of the square for opening and closing each slice, in voxels (odd; 1 = off)")->capture_default_str();
-  import_cmd->add_flag("--no-windows", no_windows, "Leave the rows filled by eq. 7 solid instead of trying them as windows");
-  import_cmd->add_option("--thin-tops", thin_tops_text, "Drop top faces at most this many voxels wide where the card stays valid (0 = keep all)")->capture_default_str();
-  import_cmd->add_option("--depth-method", depth_method, "zbuffer (rasterise triangles) or raycast (CGAL AABB tree)")->capture_default_str();
-  import_cmd->add_option("--name", import_opt.name, "Label stored in the model");
+  add_import_options(import_cmd, import_values);
+  std::string model_label;
+  import_cmd->add_option("--name", model_label, "Label stored in the model");
   import_cmd->add_option("--pattern", pattern_path, "Also write the pattern: OUT.svg or OUT.json");
-  import_cmd->add_flag("--faces", faces_out, "Write a popcut.faces.v1 face model whose cut outlines (wall tops, openings) follow the mesh silhouette instead of voxel steps");
   import_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
 
@@ -439,51 +450,21 @@ int run(int argc, char** argv) {
   }
   if (*import_cmd) {
     return guarded(json_out, [&] {
-      // Option errors name the mesh and the option (as import_mesh's do), so --json gets the option
-      // as the location.
-      const auto axis = [&](const std::string& text, const char* option) {
-        if (auto a = parse_axis(text)) return *a;
-        throw Error(ErrorCode::invalid_input, model_path, option, "'" + text + "' is not an axis: use +x, -x, +y, -y, +z or -z");
-      };
-      // The range itself is checked (and named) by import_mesh; here only that it is a number.
-      const auto whole = [&](const std::string& text, const char* option, const std::string& range) {
-        int value = 0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (ec == std::errc::result_out_of_range) throw Error(ErrorCode::invalid_input, model_path, option, "'" + text.substr(0, 40) + "' is out of range: expected " + range);
-        if (ec != std::errc() || end != text.data() + text.size()) {
-          throw Error(ErrorCode::invalid_input, model_path, option, "'" + text.substr(0, 40) + "' is not a whole number: expected " + range);
-        }
-        return value;
-      };
-      import_opt.resolution = whole(resolution_text, "--resolution", "1 to " + std::to_string(kMaxImportResolution) + " voxels across");
-      import_opt.structuring_element = whole(smooth_text, "--smooth", "an odd side, 1 to " + std::to_string(kMaxStructuringElement));
-      import_opt.thin_top_voxels = whole(thin_tops_text, "--thin-tops", "0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
-      import_opt.up = axis(up_axis, "--up");
-      import_opt.front = axis(front_axis, "--front");
-      if (import_cmd->count("--width-mm")) import_opt.width_mm = width_mm;
-      if (import_cmd->count("--voxel-mm")) import_opt.voxel_mm = voxel_mm;
-      import_opt.windows = !no_windows;
-      if (depth_method != "zbuffer" && depth_method != "raycast") {
-        throw Error(ErrorCode::invalid_input, model_path, "--depth-method", "'" + depth_method + "' is not a method: use zbuffer or raycast");
-      }
-      import_opt.depth = depth_method == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
+      ImportRequest request = parse_import_options(import_values, model_path);
+      request.options.name = model_label;
+      const ImportOptions& import_opt = request.options;
       if (out_path != "-") require_extension(out_path, {".json"}, "model type");
       std::string pattern_ext;
       if (!pattern_path.empty()) pattern_ext = require_extension(pattern_path, {".svg", ".json"}, "pattern type", "--pattern");
       if (out_path == "-" && json_out) {
         throw Error(ErrorCode::invalid_input, model_path, "--json", "cannot print a summary when the model itself goes to standard output");
       }
-      const auto t0 = std::chrono::steady_clock::now();
-      const TriangleSoup mesh = read_mesh(model_path);
-      const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      ImportResult r = import_mesh(mesh, import_opt, model_path);
-      r.timings.read_ms = read_ms;
-      std::optional<SilhouetteFaces> faces;
-      if (faces_out) faces.emplace(silhouette_faces(mesh, import_opt, r, model_path));
-      const Pattern p = faces ? make_pattern(AnyModel(faces->model), model_path) : make_pattern(r.model, model_path);
+      const MeshImport imported = import_mesh_file(model_path, request, model_path);
+      const ImportResult& r = imported.voxels;
+      const std::optional<SilhouetteFaces>& faces = imported.faces;
+      const Pattern& p = imported.pattern;
       const PopupReport report = check_popup(p);
-      const std::string text = faces ? to_face_json(faces->model, import_opt.name) : to_voxel_json(r.model);
-      write_output(out_path, [&](std::ostream& out) { out << text; });
+      write_output(out_path, [&](std::ostream& out) { out << imported.model_json; });
       if (!pattern_path.empty()) {
         write_output(pattern_path, [&](std::ostream& out) {
           if (pattern_ext == ".svg") write_pattern_svg(out, p, {true});

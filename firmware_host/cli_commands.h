@@ -5,8 +5,14 @@
 #include <iosfwd>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "popcut/pattern/pattern.h"
+
+namespace CLI {
+class App;
+}
 
 namespace popcut::cli {
 
@@ -31,5 +37,8 @@ Pattern load_cli_pattern(const std::string& model_path);
 // Writes an output file atomically; failures exit with kCannotWrite.
 void write_cli_output(const std::string& path, const std::function<void(std::ostream&)>& content);
 void print_json_line(const nlohmann::json& j);
+// popcut import's mesh options (kImportOptionNames as --flags) on `cmd`; each one given is added to
+// `values` for parse_import_options. Shared by import and submit.
+void add_import_options(CLI::App* cmd, std::vector<std::pair<std::string, std::string>>& values);
 
 }  // namespace popcut::cli

@@ -15,6 +15,7 @@
 #include "cli_commands.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
+#include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/job_sender.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
@@ -45,18 +46,10 @@ struct Job {
 Job make_job(const std::string& model_path, const std::string& profile_path, std::size_t from_stroke = 1) {
   Job j;
   j.profile = drivers::load_profile(profile_path);
-  const Pattern pattern = load_cli_pattern(model_path);
-  j.plan = plan_strokes(pattern, j.profile.plan);
-  try {
-    // Report what is sent: strokes shorter than the plotter's resolution are not.
-    j.plan = drop_below_resolution(j.plan, j.profile.dialect);
-    j.time = estimate_time(j.plan, j.profile.kinematics, j.profile.cut_speed_mm_s());
-    j.encoded = encode_job(j.plan, j.profile.dialect, j.profile.tools);
-  } catch (const Error& e) {
-    // Name the profile: the sheet is fine, it is this device that is too small.
-    if (e.code() != ErrorCode::invalid_input) throw;
-    throw Error(e.code(), profile_path, e.location(), e.message());
-  }
+  drivers::DevicePlan d = drivers::plan_for_device(load_cli_pattern(model_path), j.profile, profile_path);
+  j.plan = std::move(d.plan);
+  j.time = d.time;
+  j.encoded = std::move(d.encoded);
   j.hpgl = j.encoded.bytes;
   if (from_stroke != 1) {
     try {

@@ -89,6 +89,8 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   c.limits.model_cells = l.integer("model_cells", 100000, 1, 100000000);
   c.limits.pattern_faces = l.integer("pattern_faces", 5000, 1, 10000000);
   c.limits.queue_length = l.integer("queue_length", 10000, 1, 10000000);
+  c.limits.mesh_triangles = l.integer("mesh_triangles", 200000, 1, 10000000);
+  c.limits.preview_cache_bytes = static_cast<std::size_t>(l.integer("preview_cache_bytes", 32 << 20, 0, 1 << 30));
   l.reject_unknown();
 
   std::set<std::string> names;

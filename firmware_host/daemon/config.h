@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,8 @@ struct Limits {
   int model_cells = 100000;            // voxel models: width x depth x height
   int pattern_faces = 5000;            // face models: edits (or faces); every model: faces of its pattern
   int queue_length = 10000;            // jobs not yet finished (queued .. cutting, interrupted)
+  std::int64_t mesh_triangles = 200000;  // uploaded meshes (after splitting polygons into triangles)
+  std::size_t preview_cache_bytes = std::size_t{32} << 20;  // rendered previews kept in memory (LRU)
 };
 
 struct DaemonConfig {

@@ -16,6 +16,7 @@
 #include "device_link.h"
 #include "log.h"
 #include "model_limits.h"
+#include "popcut/drivers/device_plan.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 #include "popcut/hpgl/hpgl.h"
@@ -147,34 +148,29 @@ void Daemon::plan_loop() {
   }
 }
 
-// The profile a job is planned for: its device's, or the one it names (every device with that
-// profile cuts the same bytes).
-static const DeviceConfig* planning_device(const DaemonConfig& c, const Job& job) {
-  for (const DeviceConfig& d : c.devices) {
-    if (job.target_device.empty() ? Daemon::profile_key(d) == job.target_profile : d.name == job.target_device) return &d;
+const DeviceConfig* Daemon::planning_device(const std::string& target_device, const std::string& target_profile) const {
+  for (const DeviceConfig& d : config_.devices) {
+    if (target_device.empty() ? profile_key(d) == target_profile : d.name == target_device) return &d;
   }
   return nullptr;
 }
 
 void Daemon::plan_one(const Job& job) {
   try {
-    const DeviceConfig* dev = planning_device(config_, job);
+    const DeviceConfig* dev = planning_device(job.target_device, job.target_profile);
     if (!dev) throw Error(ErrorCode::invalid_input, "job", "device", "no configured device for this job any more");
     const std::optional<std::string> text = store_.model_json(job.id);
     if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
-    // As `popcut cut` does: figures and the time estimate count only what is sent (strokes that
-    // round to one plotter point are not). Throws when the sheet does not fit the device; refused
-    // now, not at the cutter.
-    const StrokePlan plan = drop_below_resolution(plan_strokes(pattern, dev->profile.plan), dev->profile.dialect);
-    const EncodedJob check = encode_job(plan, dev->profile.dialect, dev->profile.tools);
-    const TimeEstimate t = estimate_time(plan, dev->profile.kinematics, dev->profile.cut_speed_mm_s());
+    // As `popcut cut` plans it; a sheet that does not fit the device is refused now, not at the cutter.
+    const drivers::DevicePlan planned = drivers::plan_for_device(pattern, dev->profile, dev->profile_path);
+    const StrokePlan& plan = planned.plan;
     const std::filesystem::path dir = job_dir(job.id);
     std::filesystem::create_directories(dir);
     write_text_file((dir / "pattern.svg").string(), [&](std::ostream& o) { write_pattern_svg(o, pattern, {true}); });
     write_text_file((dir / "plan.json").string(), [&](std::ostream& o) { o << plan_to_json(plan); });
     // Committed last: a job is ready only once its files are on disk.
-    store_.set_planned(job.id, static_cast<std::int64_t>(check.total_strokes), t.total_s);
+    store_.set_planned(job.id, static_cast<std::int64_t>(planned.encoded.total_strokes), planned.time.total_s);
   } catch (const Error& e) {
     const bool user = e.code() == ErrorCode::invalid_input || e.code() == ErrorCode::limit;
     store_.finish(job.id, JobState::failed, to_string(user ? (e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model)
@@ -257,12 +253,12 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         break;
       }
       case CutOutcome::Kind::stopped:
-        // An empty error: the abort bytes and knife-up reached the device.
+        // No transport error: the abort bytes and knife-up reached the device.
         if (user_cancel) {
-          store_.finish(job.id, JobState::cancelled, out.error.empty() ? "" : to_string(ApiError::device_error),
+          store_.finish(job.id, JobState::cancelled, to_string(out.error.empty() ? ApiError::cancelled : ApiError::device_error),
                         out.error.empty() ? "cancelled during the cut; the knife was lifted" : out.error);
         } else {
-          store_.finish(job.id, JobState::interrupted, out.error.empty() ? "" : to_string(ApiError::device_error),
+          store_.finish(job.id, JobState::interrupted, to_string(out.error.empty() ? ApiError::interrupted : ApiError::device_error),
                         out.error.empty() ? "popcutd stopped during the cut; the knife was lifted" : out.error);
         }
         break;

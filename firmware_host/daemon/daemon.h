@@ -45,6 +45,9 @@ class Daemon {
   // Profile key: the profile file's stem ("sim" for devices/sim.toml).
   static std::string profile_key(const DeviceConfig& d);
   bool has_profile(const std::string& key) const;
+  // The device whose profile a job is planned for: the one it names, or the first with the
+  // profile it names (every device with that profile cuts the same bytes). Null if none.
+  const DeviceConfig* planning_device(const std::string& target_device, const std::string& target_profile) const;
 
   std::string job_dir(std::int64_t id) const;
 

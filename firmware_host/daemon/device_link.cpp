@@ -75,8 +75,10 @@ class DriversLink final : public DeviceLink {
     drivers::SendOptions opts = drivers::send_options(profile);
     opts.cancel = &stop;
     // A real device holds up to a buffer of motion after the last byte; the simulator's virtual
-    // clock is run to its end below instead.
-    if (!made.sim) opts.job_motion_estimate = std::chrono::milliseconds(static_cast<long>(est_motion_s * 1000));
+    // clock is run to its end below instead, and a plain file (not a /dev/ node) needs no waiting,
+    // as `popcut cut` treats it.
+    const bool plain_file = made.address.kind == drivers::DeviceKind::file && made.address.path.rfind("/dev/", 0) != 0;
+    if (!made.sim && !plain_file) opts.job_motion_estimate = std::chrono::milliseconds(static_cast<long>(est_motion_s * 1000));
     std::size_t reported = out.last_stroke_sent;
     opts.progress = [&](const drivers::SendProgress& p) {
       if (p.last_stroke_sent != reported) progress(reported = p.last_stroke_sent);

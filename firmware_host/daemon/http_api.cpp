@@ -1,20 +1,27 @@
 // HTTP routes: token auth, JSON in and out, documented error codes; pictures rendered by core.
 #include "http_api.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "log.h"
 #include "model_limits.h"
+#include "popcut/drivers/device_plan.h"
 #include "popcut/error.h"
 #include "popcut/fold/fold.h"
 #include "popcut/fold/render.h"
 #include "popcut/io/files.h"
 #include "popcut/io/pattern_io.h"
+#include "popcut/mesh/import_request.h"
+#include "preview_cache.h"
 
 namespace popcut::daemon {
 namespace {
@@ -55,11 +62,45 @@ struct Caller {
   bool admin() const { return role == Role::admin; }
 };
 
+// A preview renders on the request's thread; at most half of the HTTP threads do so at once, and
+// a request that finds no slot free is answered 503 busy at once instead of waiting, so job
+// status, submissions and /healthz always have threads.
+class RenderSlots {
+ public:
+  explicit RenderSlots(int slots) : free_(std::max(1, slots)) {}
+  bool try_take() {
+    int n = free_.load();
+    while (n > 0) {
+      if (free_.compare_exchange_weak(n, n - 1)) return true;
+    }
+    return false;
+  }
+  void give() { ++free_; }
+
+ private:
+  std::atomic<int> free_;
+};
+
+bool iequals(const std::string& a, const std::string& b) {
+  return a.size() == b.size() &&
+         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y)); });
+}
+
+// A file written for the length of one request (an uploaded mesh: the importer reads files).
+struct TempFile {
+  std::filesystem::path path;
+  ~TempFile() {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+};
+
 }  // namespace
 
 class Api {
  public:
-  Api(httplib::Server& s, Daemon& d) : server_(s), d_(d) {}
+  Api(httplib::Server& s, Daemon& d)
+      : server_(s), d_(d), previews_(d.config().limits.preview_cache_bytes), render_slots_(d.config().http_threads / 2) {}
   void install();
 
  private:
@@ -92,8 +133,13 @@ class Api {
   Caller auth(const httplib::Request& req) const {
     const std::string h = req.get_header_value("Authorization");
     if (h.empty()) fail(ApiError::unauthorized, "no token: send 'Authorization: Bearer TOKEN'");
-    if (h.rfind("Bearer ", 0) != 0) fail(ApiError::unauthorized, "the Authorization header must be 'Bearer TOKEN'");
-    const std::string token = h.substr(7);
+    // RFC 7235: the scheme is case-insensitive ("bearer" is Bearer); one or more spaces follow it.
+    const std::size_t space = h.find(' ');
+    if (space == std::string::npos || !iequals(h.substr(0, space), "Bearer")) {
+      fail(ApiError::unauthorized, "the Authorization header must be 'Bearer TOKEN'");
+    }
+    const std::size_t start = h.find_first_not_of(' ', space);
+    const std::string token = start == std::string::npos ? "" : h.substr(start);
     for (const TokenConfig& t : d_.config().tokens) {
       if (t.token.size() == token.size() && constant_time_equal(t.token, token)) return {t.name, t.role};
     }
@@ -132,24 +178,37 @@ class Api {
     if (!j || (!c.admin() && j->owner != c.name)) fail(ApiError::not_found, "no job " + std::to_string(id));
     return *j;
   }
+  // Rounded to a multiple of kAngleStepDeg (the kiosk slider's step): at most 37 pictures per model.
+  static constexpr int kAngleStepDeg = 5;
   static int angle_param(const httplib::Request& req) {
     if (!req.has_param("angle")) return 90;
     const std::string a = req.get_param_value("angle");
     if (a.empty() || a.size() > 3 || a.find_first_not_of("0123456789") != std::string::npos || std::stoi(a) > 180) {
       fail(ApiError::bad_request, "angle must be a whole number of degrees from 0 to 180", "angle");
     }
-    return std::stoi(a);
+    return (std::stoi(a) + kAngleStepDeg / 2) / kAngleStepDeg * kAngleStepDeg;
   }
 
   json job_json(const Job& j);
   void submit(const httplib::Request& req, httplib::Response& res);
-  std::string render_png(const Pattern& p, int angle, const fs::path& out);
+  void set_target(NewJob& nj, const std::string& device, const std::string& profile);
+  void check_for_device(const NewJob& nj, const std::string& source);
+  struct Upload {
+    MeshImport imported;
+    std::string filename;
+    std::map<std::string, std::string> fields;  // the non-option fields named in `fields`
+  };
+  Upload import_upload(const httplib::Request& req, const std::vector<std::string>& fields);
+  std::string preview(const std::string& key, int angle, const std::function<Pattern()>& pattern);
+  std::string render_png(const Pattern& p, int angle);
   void kiosk_file(const std::string& name, const char* type, httplib::Response& res);
   std::vector<std::pair<std::string, fs::path>> examples() const;
 
   httplib::Server& server_;
   Daemon& d_;
   Metrics metrics_;
+  PreviewCache previews_;
+  RenderSlots render_slots_;
   std::atomic<std::uint64_t> tmp_counter_{0};
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
@@ -173,7 +232,9 @@ json Api::job_json(const Job& j) {
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
   if (!j.error_code.empty() || !j.error_message.empty()) r["error"] = {{"code", j.error_code}, {"message", j.error_message}};
-  if (j.state == JobState::done) r["sim_match"] = j.sim_match;
+  // Only a simulated cutter reports what it cut; for a real one there is nothing to compare.
+  const DeviceConfig* cut_on = d_.device(j.device);
+  if (j.state == JobState::done && cut_on && cut_on->transport == "sim") r["sim_match"] = j.sim_match;
   if (j.state == JobState::queued || j.state == JobState::planning || j.state == JobState::ready) {
     r["place_in_line"] = d_.store().place_in_line(j);
     if (j.state == JobState::ready) r["eta_s"] = d_.store().work_ahead_s(j) + j.est_time_s;
@@ -183,22 +244,13 @@ json Api::job_json(const Job& j) {
   return r;
 }
 
-void Api::submit(const httplib::Request& req, httplib::Response& res) {
-  const Caller c = auth(req);
-  const json body = parse_body(req);
-  if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object");
-  for (const auto& [k, v] : body.items()) {
-    if (k != "name" && k != "device" && k != "profile" && k != "model") fail(ApiError::bad_request, "unknown field '" + k + "'", k);
-  }
-  NewJob nj;
-  nj.owner = c.name;
-  nj.name = string_field(body, "name", false);
+void Api::set_target(NewJob& nj, const std::string& device, const std::string& profile) {
   if (nj.name.empty()) nj.name = "card";
   if (!is_safe_name(nj.name)) {
     fail(ApiError::bad_name, "job names are 1 to 64 letters, digits, spaces, '-', '_' or '.', not starting with '.' and without '..'", "name");
   }
-  nj.target_device = string_field(body, "device", false);
-  nj.target_profile = string_field(body, "profile", false);
+  nj.target_device = device;
+  nj.target_profile = profile;
   if (nj.target_device.empty() == nj.target_profile.empty()) {
     fail(ApiError::bad_request, "name either a device or a profile (any device with it)", "device");
   }
@@ -211,10 +263,94 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
     if (!is_safe_name(nj.target_profile)) fail(ApiError::bad_name, "not a profile name: " + nj.target_profile, "profile");
     if (!d_.has_profile(nj.target_profile)) fail(ApiError::no_device, "no device has the profile " + nj.target_profile, "profile");
   }
-  if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
-  if (!body["model"].is_object()) fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");
-  nj.model_json = body["model"].dump();
-  checked_model(nj.model_json, "model", d_.config().limits);  // bad models are refused now, not at planning
+}
+
+// The checks planning would make, made before the job is accepted: a model that is not a card,
+// is over [limits], or whose sheet does not fit the device is refused now (4xx), not failed later.
+void Api::check_for_device(const NewJob& nj, const std::string& source) {
+  const Pattern p = checked_pattern(nj.model_json, source, d_.config().limits);
+  const DeviceConfig* dev = d_.planning_device(nj.target_device, nj.target_profile);
+  if (!dev) fail(ApiError::no_device, "no device for this job", "device");
+  try {
+    drivers::plan_for_device(p, dev->profile, dev->profile_path);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::invalid_input) throw;
+    fail(ApiError::bad_model, "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
+                                  ": " + e.message(), "model");
+  }
+}
+
+Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<std::string>& fields) {
+  Upload u;
+  const httplib::MultipartFormData* mesh = nullptr;
+  std::vector<std::pair<std::string, std::string>> options;
+  for (const auto& [key, part] : req.files) {
+    if (key == "mesh") {
+      if (mesh) fail(ApiError::bad_request, "more than one 'mesh' part", "mesh");
+      mesh = &part;
+    } else if (std::find(fields.begin(), fields.end(), key) != fields.end()) {
+      if (u.fields.count(key)) fail(ApiError::bad_request, "'" + key + "' given twice", key);
+      u.fields[key] = part.content;
+    } else if (std::find(kImportOptionNames.begin(), kImportOptionNames.end(), key) != kImportOptionNames.end()) {
+      options.emplace_back(key, part.content);
+    } else {
+      std::string known = "mesh";
+      for (const std::string& f : fields) known += ", " + f;
+      for (std::string_view n : kImportOptionNames) known += ", " + std::string(n);
+      fail(ApiError::bad_request, "unknown field '" + key + "' (expected " + known + ")", key);
+    }
+  }
+  if (!mesh) fail(ApiError::bad_request, "missing the 'mesh' file part (curl: -F mesh=@FILE)", "mesh");
+  u.filename = mesh->filename.empty() ? "mesh" : mesh->filename;
+  if (!is_safe_name(u.filename)) {
+    fail(ApiError::bad_name, "mesh file names are 1 to 64 letters, digits, spaces, '-', '_' or '.', not starting with '.' and without '..'", "mesh");
+  }
+  try {
+    ImportRequest request = parse_import_options(options, u.filename);
+    request.options.max_cells = d_.config().limits.model_cells;
+    request.options.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
+    // The importer reads files and picks the format by the extension: the upload's own.
+    TempFile tmp{fs::path(d_.config().data_dir) / "tmp" / ("upload-" + std::to_string(++tmp_counter_) + fs::path(u.filename).extension().string())};
+    fs::create_directories(tmp.path.parent_path());
+    write_text_file(tmp.path.string(), [&](std::ostream& o) { o << mesh->content; });
+    u.imported = import_mesh_file(tmp.path.string(), request, u.filename, d_.config().limits.mesh_triangles);
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::io || e.code() == ErrorCode::internal) throw;
+    // The importer's own message; the field is the option at fault, as named in the form.
+    std::string field = e.location();
+    if (field.rfind("--", 0) == 0) field = field.substr(2);
+    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model, e.what(), field.empty() ? "mesh" : field);
+  }
+  return u;
+}
+
+void Api::submit(const httplib::Request& req, httplib::Response& res) {
+  const Caller c = auth(req);
+  NewJob nj;
+  nj.owner = c.name;
+  std::string source = "model";
+  if (req.is_multipart_form_data()) {
+    // A mesh with popcut import's options: imported now, so its errors answer this request; the
+    // job then holds the imported model like any other.
+    Upload u = import_upload(req, {"name", "device", "profile"});
+    // Unnamed, the job is named after the file (house.obj: "house").
+    nj.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
+    set_target(nj, u.fields["device"], u.fields["profile"]);
+    nj.model_json = std::move(u.imported.model_json);
+    source = u.filename;
+  } else {
+    const json body = parse_body(req);
+    if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object");
+    for (const auto& [k, v] : body.items()) {
+      if (k != "name" && k != "device" && k != "profile" && k != "model") fail(ApiError::bad_request, "unknown field '" + k + "'", k);
+    }
+    nj.name = string_field(body, "name", false);
+    set_target(nj, string_field(body, "device", false), string_field(body, "profile", false));
+    if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
+    if (!body["model"].is_object()) fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");
+    nj.model_json = body["model"].dump();
+  }
+  check_for_device(nj, source);
   const std::optional<std::int64_t> id = d_.store().insert(nj, d_.config().limits.queue_length);
   if (!id) fail(ApiError::queue_full, "the queue holds " + std::to_string(d_.config().limits.queue_length) + " unfinished jobs; try later");
   ++metrics_.submitted;
@@ -222,15 +358,26 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
   send_json(res, job_json(*d_.store().get(*id)), 201);
 }
 
-std::string Api::render_png(const Pattern& p, int angle, const fs::path& out) {
+std::string Api::render_png(const Pattern& p, int angle) {
   const CardMesh mesh = fold_card(p, angle);
   // Frame the standing card at every angle so the slider does not make the picture jump.
   const ViewBox box = view_box({fold_card(p, 90), fold_card(p, 180), mesh});
-  fs::create_directories(out.parent_path());
-  const fs::path tmp = out.string() + ".tmp" + std::to_string(++tmp_counter_);
-  write_render_png(tmp.string(), mesh, box, 480);
-  fs::rename(tmp, out);
-  return read_text_file(out.string(), std::size_t{64} << 20);
+  TempFile tmp{fs::path(d_.config().data_dir) / "tmp" / ("preview-" + std::to_string(++tmp_counter_) + ".png")};
+  fs::create_directories(tmp.path.parent_path());
+  write_render_png(tmp.path.string(), mesh, box, 480);
+  return read_text_file(tmp.path.string(), std::size_t{64} << 20);
+}
+
+std::string Api::preview(const std::string& key, int angle, const std::function<Pattern()>& pattern) {
+  if (std::optional<std::string> png = previews_.get(key)) return *png;
+  if (!render_slots_.try_take()) fail(ApiError::busy, "every preview slot is rendering; retry in a moment");
+  struct Give {
+    RenderSlots& s;
+    ~Give() { s.give(); }
+  } give{render_slots_};
+  std::string png = render_png(pattern(), angle);
+  previews_.put(key, png);
+  return png;
 }
 
 std::vector<std::pair<std::string, fs::path>> Api::examples() const {
@@ -255,6 +402,20 @@ void Api::kiosk_file(const std::string& name, const char* type, httplib::Respons
 
 void Api::install() {
   server_.set_payload_max_length(d_.config().limits.upload_bytes);
+  // httplib reads a POST body without Content-Length until the client closes: a client that
+  // neither sends a length nor closes would hold a thread for the whole read timeout. Refused
+  // before any body is read.
+  server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    if (req.method != "POST" || req.has_header("Content-Length") ||
+        req.get_header_value("Transfer-Encoding").find("chunked") != std::string::npos) {
+      return httplib::Server::HandlerResponse::Unhandled;
+    }
+    ++metrics_.requests;
+    ++metrics_.errors_4xx;
+    send_error(res, ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
+    res.set_header("Connection", "close");
+    return httplib::Server::HandlerResponse::Handled;
+  });
   server_.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // a handler already answered
     if (res.status == 413) {
@@ -374,11 +535,12 @@ void Api::install() {
   get(R"(/api/v1/jobs/(\d+)/preview\.png)", [this](const httplib::Request& req, httplib::Response& res) {
     const Job j = visible_job(req, auth(req));
     const int angle = angle_param(req);
-    const fs::path png = fs::path(d_.job_dir(j.id)) / ("preview-" + std::to_string(angle) + ".png");
-    if (fs::exists(png)) return res.set_content(read_text_file(png.string(), std::size_t{64} << 20), "image/png");
-    const std::optional<std::string> model = d_.store().model_json(j.id);
-    if (!model) fail(ApiError::not_found, "no model for job " + std::to_string(j.id));
-    res.set_content(render_png(checked_pattern(*model, "job", d_.config().limits), angle, png), "image/png");
+    res.set_content(preview("job " + std::to_string(j.id) + " " + std::to_string(angle), angle, [&] {
+                      const std::optional<std::string> model = d_.store().model_json(j.id);
+                      if (!model) fail(ApiError::not_found, "no model for job " + std::to_string(j.id));
+                      return checked_pattern(*model, "job", d_.config().limits);
+                    }),
+                    "image/png");
   });
   post(R"(/api/v1/jobs/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
     const Caller c = auth(req);
@@ -402,17 +564,32 @@ void Api::install() {
   // Pictures of a model before it is queued (the kiosk's pattern and preview with its slider).
   post("/api/v1/render/pattern.svg", [this](const httplib::Request& req, httplib::Response& res) {
     auth(req);
+    parse_body(req);  // not JSON at all: bad_json, as for a submission
     const Pattern p = checked_pattern(req.body, "model", d_.config().limits);
     res.set_content(to_pattern_svg(p, {true}), "image/svg+xml");
   });
   post("/api/v1/render/preview.png", [this](const httplib::Request& req, httplib::Response& res) {
     auth(req);
     const int angle = angle_param(req);
-    const Pattern p = checked_pattern(req.body, "model", d_.config().limits);
-    const fs::path tmp = fs::path(d_.config().data_dir) / "tmp" / ("preview-" + std::to_string(++tmp_counter_) + ".png");
-    std::string png = render_png(p, angle, tmp);
-    fs::remove(tmp);
-    res.set_content(std::move(png), "image/png");
+    parse_body(req);
+    res.set_content(preview("model " + std::to_string(angle) + " " + req.body, angle,
+                            [&] { return checked_pattern(req.body, "model", d_.config().limits); }),
+                    "image/png");
+  });
+  // A mesh turned into a model with popcut import's options, for the kiosk to show and queue.
+  post("/api/v1/import", [this](const httplib::Request& req, httplib::Response& res) {
+    auth(req);
+    if (!req.is_multipart_form_data()) fail(ApiError::bad_request, "send the mesh as multipart/form-data (curl: -F mesh=@FILE)", "mesh");
+    const Upload u = import_upload(req, {"name"});
+    checked_model(u.imported.model_json, u.filename, d_.config().limits);
+    const ImportResult& r = u.imported.voxels;
+    send_json(res, {{"model", json::parse(u.imported.model_json)},
+                    {"format", u.imported.faces ? kFacesFormat : "popcut.voxel.v1"},
+                    {"triangles", r.stats.triangles},
+                    {"grid", {{"width", r.grid.width}, {"depth", r.grid.depth}, {"height", r.grid.height}, {"voxel_mm", r.grid.voxel_mm}}},
+                    {"cells_filled", r.stats.cells_filled},
+                    {"windows_added", r.stats.windows_added},
+                    {"tops_dropped", r.stats.tops_dropped}});
   });
 }
 

@@ -33,7 +33,11 @@ const char* to_string(ApiError e) {
     case ApiError::conflict: return "conflict";
     case ApiError::queue_full: return "queue_full";
     case ApiError::no_device: return "no_device";
+    case ApiError::length_required: return "length_required";
+    case ApiError::busy: return "busy";
     case ApiError::device_error: return "device_error";
+    case ApiError::cancelled: return "cancelled";
+    case ApiError::interrupted: return "interrupted";
     case ApiError::internal: return "internal";
   }
   return "internal";
@@ -52,7 +56,11 @@ int http_status(ApiError e) {
     case ApiError::model_too_complex: return 413;
     case ApiError::bad_model:
     case ApiError::no_device: return 422;
-    case ApiError::queue_full: return 503;
+    case ApiError::length_required: return 411;
+    case ApiError::queue_full:
+    case ApiError::busy: return 503;
+    case ApiError::cancelled:
+    case ApiError::interrupted:
     case ApiError::device_error:
     case ApiError::internal: return 500;
   }

@@ -27,7 +27,11 @@ enum class ApiError {
   conflict,          // 409: the job is not in a state that allows this (e.g. resume a done job)
   queue_full,        // 503: [limits] queue_length unfinished jobs already
   no_device,         // 422: no device of that name, or none with that profile
+  length_required,   // 411: a POST without Content-Length (or chunked encoding)
+  busy,              // 503: every preview-rendering slot is in use; retry shortly
   device_error,      // job only: the transport failed mid-cut
+  cancelled,         // job only: cancelled by its owner or an admin (before or during the cut)
+  interrupted,       // job only: popcutd stopped (SIGTERM, crash) during the cut; resumable
   internal,          // 500: a bug in popcutd
 };
 const char* to_string(ApiError error);

@@ -1,8 +1,10 @@
 // The job queue in SQLite (WAL): every state change is one committed transaction before anyone acts on it.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -23,8 +25,9 @@ enum class CancelResult { cancelled, requested, already_final, not_found };
 
 class JobStore {
  public:
-  // Opens (creating) the database; throws popcut::Error(io) naming the file.
-  explicit JobStore(const std::string& path);
+  // Opens (creating) the database and `readers` extra connections for reads; throws
+  // popcut::Error(io) naming the file.
+  explicit JobStore(const std::string& path, int readers = 4);
   ~JobStore();
   JobStore(const JobStore&) = delete;
   JobStore& operator=(const JobStore&) = delete;
@@ -68,9 +71,19 @@ class JobStore {
 
  private:
   void exec(const char* sql);
-  sqlite3* db_ = nullptr;
+  // Reads run on their own connections: in WAL mode a reader sees the last commit and neither
+  // waits for the writer nor holds it up. A free one if any, else the next in turn.
+  struct Reader {
+    sqlite3* db = nullptr;
+    std::mutex mutex;
+  };
+  std::pair<sqlite3*, std::unique_lock<std::mutex>> reader();
+
+  sqlite3* db_ = nullptr;  // every write, serialised by mutex_: SQLite's own write lock then never waits
   std::string path_;
-  std::mutex mutex_;  // one connection, serialised: SQLite's own locking then never waits
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<Reader>> readers_;
+  std::atomic<std::size_t> next_reader_{0};
 };
 
 }  // namespace popcut::daemon

@@ -6,12 +6,14 @@ if (params.get('token')) localStorage.setItem('popcut-token', params.get('token'
 const token = localStorage.getItem('popcut-token') || '';
 const $ = (id) => document.getElementById(id);
 let model = null;        // the chosen model's JSON text
+let mesh = null;         // an uploaded mesh file, imported by popcutd with the options shown
 let previewTimer = null;
 const urls = {};         // object URLs in use, freed when replaced
 
 async function api(method, path, body, type) {
   const headers = { Authorization: 'Bearer ' + token };
-  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  // A FormData body sets its own multipart Content-Type.
+  if (body !== undefined && !(body instanceof FormData)) headers['Content-Type'] = 'application/json';
   const res = await fetch(path, { method, headers, body: body === undefined ? (method === 'POST' ? '' : undefined) : body });
   if (!res.ok) {
     let message = res.status + ' ' + res.statusText;
@@ -61,6 +63,29 @@ async function renderPreview() {
   try {
     showImage('preview', await api('POST', '/api/v1/render/preview.png?angle=' + angle, model, 'blob'));
   } catch (e) {
+    // 503 busy: every render slot is taken; the picture stays and the next move asks again.
+    if (!/\(busy\)$/.test(e.message)) showError('model-error', e);
+  }
+}
+
+// The mesh goes to popcutd's importer (popcut import's code and options); its model comes back.
+async function importMesh() {
+  if (!mesh) return;
+  showError('model-error', null);
+  model = null;
+  $('queue').disabled = true;
+  $('model-name').textContent = 'Importing ' + mesh.name + ' ...';
+  const form = new FormData();
+  form.append('mesh', mesh, mesh.name);
+  form.append('name', mesh.name.replace(/\.[^.]*$/, '').replace(/[^A-Za-z0-9 _.-]/g, '').slice(0, 64) || 'mesh');
+  for (const id of ['resolution', 'up', 'front', 'thin-tops']) form.append(id, $(id).value);
+  form.append('faces', $('faces').checked ? 'true' : 'false');
+  try {
+    const r = await api('POST', '/api/v1/import', form);
+    await useModel(JSON.stringify(r.model), mesh.name);
+    $('model-name').textContent = mesh.name + ': ' + r.grid.width + ' x ' + r.grid.depth + ' x ' + r.grid.height + ' voxels';
+  } catch (e) {
+    $('model-name').textContent = mesh.name;
     showError('model-error', e);
   }
 }
@@ -119,6 +144,8 @@ $('example').addEventListener('change', async () => {
   const name = $('example').value;
   if (!name) return;
   $('upload').value = '';
+  $('import').hidden = true;
+  mesh = null;
   try {
     useModel(JSON.stringify(await api('GET', '/api/v1/examples/' + encodeURIComponent(name))), name);
   } catch (e) { showError('model-error', e); }
@@ -127,8 +154,13 @@ $('upload').addEventListener('change', async () => {
   const f = $('upload').files[0];
   if (!f) return;
   $('example').value = '';
-  useModel(await f.text(), f.name.replace(/\.json$/i, ''));
+  const isMesh = /\.(obj|stl|off|ply)$/i.test(f.name);
+  $('import').hidden = !isMesh;
+  mesh = isMesh ? f : null;
+  if (isMesh) importMesh();
+  else useModel(await f.text(), f.name.replace(/\.json$/i, ''));
 });
+$('reimport').addEventListener('click', (e) => { e.preventDefault(); importMesh(); });
 $('angle').addEventListener('input', () => {
   $('angle-value').textContent = $('angle').value;
   clearTimeout(previewTimer);

@@ -11,6 +11,7 @@
 #include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
 #include "popcutd_process.h"
+#include "preview_cache.h"
 #include "store.h"
 
 namespace {
@@ -159,6 +160,27 @@ TEST(CutJob, PlanJsonRoundTrips) {
   EXPECT_EQ(encode_job(back, p.dialect, p.tools, 7).bytes, encode_job(plan, p.dialect, p.tools, 7).bytes)
       << "a resumed job re-read from its file sends the same bytes";
   EXPECT_THROW(plan_from_json("{\"format\":\"x\"}", "p"), Error) << "a foreign file is refused";
+}
+
+}  // namespace
+
+namespace {
+
+TEST(PreviewCache, DropsTheLeastRecentlyUsedUnderItsByteCap) {
+  popcut::daemon::PreviewCache cache(100);  // bytes of keys and pictures together
+  cache.put("a", std::string(39, 'A'));       // 40 bytes
+  cache.put("b", std::string(39, 'B'));       // 80
+  ASSERT_TRUE(cache.get("a")) << "a is held";  // a is now the most recent
+  cache.put("c", std::string(39, 'C'));       // 120 > 100: b, the least recently used, goes
+  EXPECT_FALSE(cache.get("b")) << "the least recently used picture was dropped";
+  EXPECT_EQ(cache.get("a").value_or(""), std::string(39, 'A')) << "the recently used one stays";
+  EXPECT_EQ(cache.get("c").value_or(""), std::string(39, 'C')) << "the new one is held";
+  cache.put("d", std::string(200, 'D'));
+  EXPECT_FALSE(cache.get("d")) << "a picture larger than the whole cap is not held";
+  EXPECT_TRUE(cache.get("a") && cache.get("c")) << "and it did not push the others out";
+  popcut::daemon::PreviewCache none(0);
+  none.put("x", "y");
+  EXPECT_FALSE(none.get("x")) << "a cap of 0 holds nothing";
 }
 
 }  // namespace

@@ -176,4 +176,42 @@ TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
   EXPECT_TRUE(b.run("return document.querySelector('#jobs .job .cancel').hidden").get<bool>()) << "no cancel button on a cancelled job";
 }
 
+// A visitor's 3D mesh: popcutd imports it with the options on the page, the card shows, it is cut.
+TEST(Kiosk, UploadsAMeshImportsItAndSeesItCut) {
+  TempDir dir("popcut-kiosk");
+  PopcutdProcess d(POPCUTD, kSrc + "/configs/popcutd.toml", (dir.path() / "data").string());
+  Browser b((dir.path() / "chromium").string());
+  b.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
+  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#device option').length").get<int>() == 2; }, 60))
+      << "the page lists both cutters";
+  b.run("document.getElementById('resolution').value = 30;");
+  const json input = b.session("POST", "/element", {{"using", "css selector"}, {"value", "#upload"}});
+  b.session("POST", "/element/" + input.begin().value().get<std::string>() + "/value", {{"text", kSrc + "/examples/meshes/house.obj"}});
+  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 120))
+      << "the mesh is imported and can be queued; page: " << b.run("return document.body.innerText").dump();
+  EXPECT_FALSE(b.run("return document.getElementById('import').hidden").get<bool>()) << "the import options show for a mesh";
+  EXPECT_EQ(b.run("return document.getElementById('model-name').textContent").get<std::string>().rfind("house.obj: 30 x ", 0), 0u)
+      << "the page says what the import made: " << b.run("return document.getElementById('model-name').textContent").dump();
+  ASSERT_TRUE(wait_until([&] { return b.run("return document.getElementById('preview').naturalWidth").get<int>() > 0; }, 60))
+      << "the card preview shows";
+  // A bad option: the importer's message shows on the page.
+  b.run("document.getElementById('up').value = '-y';");
+  b.click("#reimport");
+  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('model-error').hidden").get<bool>(); }, 60))
+      << "an impossible orientation is refused";
+  EXPECT_NE(b.run("return document.getElementById('model-error').textContent").get<std::string>().find("perpendicular"), std::string::npos)
+      << "with the importer's message: " << b.run("return document.getElementById('model-error').textContent").dump();
+  b.run("document.getElementById('up').value = '+z';");
+  b.click("#reimport");
+  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 120))
+      << "imported again with a good orientation";
+  b.click("#queue");
+  std::string state;
+  ASSERT_TRUE(wait_until([&] {
+    state = b.run("const j = document.querySelector('#jobs .job'); return j ? j.dataset.state : ''").get<std::string>();
+    return state == "done" || state == "failed" || state == "cancelled";
+  }, 300)) << "the card finishes on the simulated cutter";
+  EXPECT_EQ(state, "done") << "the imported card was cut; page: " << b.run("return document.body.innerText").dump();
+}
+
 }  // namespace

@@ -7,7 +7,11 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
 #include <thread>
 
 #include "popcutd_process.h"
@@ -236,6 +240,9 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
     std::string code;
   };
   const std::string big(2 << 20, ' ');
+  json huge = json::parse(box);
+  huge["voxel_mm"] = 200;
+  const std::string huge_box = huge.dump();
   const std::vector<Case> cases = {
       {&c, "POST", "/api/v1/jobs", "{not json", 400, "bad_json"},
       {&c, "POST", "/api/v1/jobs", "[1,2]", 400, "bad_request"},
@@ -265,6 +272,14 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
       {&c, "GET", "/api/v1/examples/..%2F..%2Fconfigs%2Fpopcutd.toml", "", 404, "not_found"},
       {&c, "GET", "/kiosk/../../configs/popcutd.toml", "", 404, "not_found"},
       {&c, "GET", "/api/v1/nothing", "", 404, "not_found"},
+      // A model whose sheet (800 x 2000 mm) does not fit the sim cutter (600 x 1000 mm): refused
+      // at once, not accepted and failed at planning.
+      {&c, "POST", "/api/v1/jobs", submission(huge_box, "device", "sim-a", "huge"), 422, "bad_model"},
+      {&c, "POST", "/api/v1/jobs", submission(huge_box, "profile", "sim", "huge"), 422, "bad_model"},
+      {&c, "POST", "/api/v1/render/pattern.svg", "{not json", 400, "bad_json"},
+      {&c, "POST", "/api/v1/render/preview.png", "not json at all", 400, "bad_json"},
+      {&c, "POST", "/api/v1/render/pattern.svg", R"({"format": "popcut.voxel.v1", "heights": "x"})", 422, "bad_model"},
+      {&c, "POST", "/api/v1/import", box, 400, "bad_request"},
   };
   for (const Case& k : cases) {
     const Reply r = k.method == "GET" ? get_json(*k.client, k.path) : post_json(*k.client, k.path, k.body);
@@ -284,8 +299,164 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
   EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/resume", "").status, 200) << "the admin resumes the device";
   ASSERT_TRUE(wait_until([&] { return final_state(job(c, waiting)); })) << "the waiting job is cut once the device resumes";
   EXPECT_EQ(job(c, waiting)["state"], "done") << "and it is done";
+  EXPECT_EQ(job(c, held)["error"]["code"], "cancelled") << "a cancelled job says so in its error code: " << job(c, held).dump();
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon still serves after every bad request";
+  // RFC 7235: the scheme is case-insensitive.
+  httplib::Client lower = d->client("");
+  lower.set_default_headers({{"Authorization", "bearer " + kKiosk}});
+  EXPECT_EQ(get_json(lower, "/api/v1/jobs").status, 200) << "'bearer' in lower case is the Bearer scheme";
+  lower.set_default_headers({{"Authorization", "Basic " + kKiosk}});
+  EXPECT_EQ(get_json(lower, "/api/v1/jobs").status, 401) << "another scheme is refused";
   EXPECT_EQ(d->stop(SIGTERM), 0) << "and stops cleanly";
+}
+
+// Sends raw bytes on a fresh loopback connection and returns what comes back until the daemon
+// closes it (or 30 s pass: a safety net, the daemon closes at once).
+std::string raw_exchange(int port, const std::string& request) {
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  timeval tv{30, 0};
+  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  std::string out;
+  if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 && ::send(s, request.data(), request.size(), 0) > 0) {
+    char buf[4096];
+    for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(s);
+  return out;
+}
+
+// A POST without Content-Length used to hold a request thread until the read timeout (httplib
+// reads such a body until the client closes): with every thread held, /healthz waited too.
+TEST_F(Popcutd, PostWithoutContentLengthIsRefusedAtOnce) {
+  const std::string cfg = dir_.write("two-threads.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = 2\n"
+                                                          "[[device]]\nname = \"a\"\nprofile = \"" + kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                                          "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n");
+  const auto d = start(cfg);
+  std::vector<std::thread> holders;
+  std::vector<std::string> answers(2);
+  // As many such clients as there are threads; each keeps its connection open.
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    holders.emplace_back([&, i] {
+      answers[i] = raw_exchange(d->port(), "POST /api/v1/jobs/1/cancel HTTP/1.1\r\nHost: x\r\nConnection: close\r\nAuthorization: Bearer " + kKiosk + "\r\n\r\n");
+    });
+  }
+  for (auto& t : holders) t.join();
+  for (const std::string& a : answers) {
+    EXPECT_EQ(a.rfind("HTTP/1.1 411", 0), 0u) << "answered 411 Length Required: " << a;
+    EXPECT_NE(a.find("\"length_required\""), std::string::npos) << "with the documented code: " << a;
+  }
+  httplib::Client none = d->client("");
+  EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
+}
+
+// A multipart upload as the kiosk and `popcut submit MESH` send it: the file as `mesh`, then fields.
+Reply post_mesh(httplib::Client& c, const std::string& path, const std::string& content, const std::string& filename,
+                const std::vector<std::pair<std::string, std::string>>& fields) {
+  httplib::MultipartFormDataItems items{{"mesh", content, filename, "application/octet-stream"}};
+  for (const auto& [k, v] : fields) items.push_back({k, v, "", ""});
+  const httplib::Result r = c.Post(path.c_str(), items);
+  Reply out;
+  if (!r) return out;
+  out.status = r->status;
+  out.body = json::parse(r->body, nullptr, false);
+  return out;
+}
+
+// examples/meshes/NAME.json was made by `popcut import NAME.* -o NAME.json --resolution 40 --thin-tops 1`:
+// popcutd's import of the same file with the same options must give the very same model.
+TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  httplib::Client c = d->client(kKiosk);
+  std::vector<std::int64_t> ids;
+  for (const std::string mesh : {"house.obj", "arch.off", "tower.ply"}) {
+    const std::string bytes = example("meshes/" + mesh);
+    const Reply imported = post_mesh(c, "/api/v1/import", bytes, mesh, {{"resolution", "40"}, {"thin-tops", "1"}});
+    ASSERT_EQ(imported.status, 200) << mesh << " imports: " << imported.body.dump();
+    json got = imported.body["model"], want = json::parse(example("meshes/" + fs::path(mesh).stem().string() + ".json"));
+    got.erase("name");
+    want.erase("name");
+    EXPECT_EQ(got, want) << mesh << ": popcutd's import equals popcut import's (examples/meshes/*.json)";
+    const Reply r = post_mesh(c, "/api/v1/jobs", bytes, mesh, {{"device", "sim-a"}, {"name", "mesh " + mesh}, {"resolution", "40"}, {"thin-tops", "1"}});
+    ASSERT_EQ(r.status, 201) << mesh << " is queued: " << r.body.dump();
+    EXPECT_EQ(r.body["name"], "mesh " + mesh) << "the job keeps its name";
+    ids.push_back(r.body["id"].get<std::int64_t>());
+  }
+  const Reply faces = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "house.obj",
+                                {{"profile", "sim"}, {"resolution", "30"}, {"faces", "true"}, {"up", "+z"}, {"front", "-y"}});
+  ASSERT_EQ(faces.status, 201) << "a face model that follows the silhouette is queued: " << faces.body.dump();
+  EXPECT_EQ(faces.body["name"], "house") << "an unnamed mesh job is named after its file";
+  ids.push_back(faces.body["id"].get<std::int64_t>());
+  for (std::int64_t id : ids) {
+    ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << "job " << id << " finishes; log:\n" << d->log();
+    const json j = job(c, id);
+    EXPECT_EQ(j["state"], "done") << "the imported mesh was cut: " << j.dump();
+    EXPECT_EQ(j.value("sim_match", false), true) << "as planned: " << j.dump();
+  }
+
+  // Bad meshes and options: the importer's own message, the documented code, the option as field.
+  struct Case {
+    std::string content, filename;
+    std::vector<std::pair<std::string, std::string>> fields;
+    int status;
+    std::string code, field, says;
+  };
+  const std::string house = example("meshes/house.obj");
+  const std::vector<Case> cases = {
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n", "broken.off", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "broken.off"},
+      {"this is not a mesh\n", "notes.txt", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "notes.txt"},
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "abc"}}, 422, "bad_model", "resolution", "not a whole number"},
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "5000"}}, 422, "bad_model", "resolution", "2048"},
+      {house, "house.obj", {{"device", "sim-a"}, {"up", "sideways"}}, 422, "bad_model", "up", "not an axis"},
+      {house, "house.obj", {{"device", "sim-a"}, {"up", "+z"}, {"front", "+z"}}, 422, "bad_model", "front", "perpendicular"},
+      {house, "house.obj", {{"device", "sim-a"}, {"faces", "yes"}}, 422, "bad_model", "faces", "true or false"},
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "400"}}, 413, "model_too_complex", "resolution", "at most 100000"},
+      {house, "house.obj", {{"device", "sim-a"}, {"colour", "red"}}, 400, "bad_request", "colour", "unknown field"},
+      {house, "../house.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
+      {house, "house.obj", {{"device", "sim-z"}, {"resolution", "40"}}, 422, "no_device", "device", "sim-z"},
+      {std::string(2 << 20, ' '), "big.obj", {{"device", "sim-a"}}, 413, "too_large", "", "upload_bytes"},
+  };
+  for (const Case& k : cases) {
+    const Reply r = post_mesh(c, "/api/v1/jobs", k.content, k.filename, k.fields);
+    const json e = r.body.is_object() ? r.body.value("error", json::object()) : json::object();
+    EXPECT_EQ(r.status, k.status) << k.filename << " " << json(k.fields).dump() << " -> " << r.body.dump();
+    EXPECT_EQ(e.value("code", ""), k.code) << k.filename << " " << json(k.fields).dump() << ": documented code: " << r.body.dump();
+    if (!k.field.empty()) {
+      EXPECT_EQ(e.value("field", ""), k.field) << k.filename << ": the field at fault: " << r.body.dump();
+    }
+    EXPECT_NE(e.value("message", "").find(k.says), std::string::npos) << k.filename << ": the message says '" << k.says << "': " << r.body.dump();
+  }
+  httplib::Client none = d->client("");
+  EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon still serves after every bad mesh";
+}
+
+TEST_F(Popcutd, MeshTriangleLimitComesFromTheConfig) {
+  const auto d = start(dir_.write("few.toml", "[server]\ndata_dir = \"x\"\n[limits]\nmesh_triangles = 4\n"
+                                                "[[device]]\nname = \"a\"\nprofile = \"" + kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                                "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"));
+  httplib::Client c = d->client(kKiosk);
+  const Reply r = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "house.obj", {{"device", "a"}});
+  EXPECT_EQ(r.status, 413) << "over [limits] mesh_triangles: " << r.body.dump();
+  EXPECT_EQ(r.body["error"].value("code", ""), "model_too_complex") << r.body.dump();
+  EXPECT_NE(r.body["error"].value("message", "").find("at most 4"), std::string::npos) << "names the limit: " << r.body.dump();
+}
+
+// A job cut on a real (non-simulated) transport has nothing to compare its cut with: no sim_match.
+TEST_F(Popcutd, SimMatchOnlyForSimulatedCutters) {
+  const std::string out = (dir_.path() / "plotter.hpgl").string();
+  const auto d = start(dir_.write("file.toml", "[server]\ndata_dir = \"x\"\n"
+                                                 "[[device]]\nname = \"f\"\nprofile = \"" + kSrc + "/configs/devices/generic-hpgl.toml\"\ntransport = \"file:" + out + "\"\n"
+                                                 "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"));
+  httplib::Client c = d->client(kKiosk);
+  const std::int64_t id = submit(c, submission(example("voxel/box.json"), "device", "f", "to a file"));
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << "the job finishes; log:\n" << d->log();
+  const json j = job(c, id);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_FALSE(j.contains("sim_match")) << "no sim_match for a file device: " << j.dump();
+  EXPECT_NE(read_file(out).find("IN;"), std::string::npos) << "the HP-GL went to the file";
 }
 
 TEST_F(Popcutd, KioskTokensSeeOnlyTheirOwnJobs) {
@@ -392,6 +563,45 @@ TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
   r = cli("jobs --server http://127.0.0.1:" + std::to_string(port) + " --token " + kKiosk);
   EXPECT_EQ(r.code, 3) << "no daemon: exit 3";
   EXPECT_NE(r.err.find("cannot reach popcutd"), std::string::npos) << "said so: " << r.err;
+}
+
+TEST_F(PopcutClient, SubmitsAMeshWithImportOptions) {
+  const auto d = start(slow_config(dir_, 0, 1));
+  const std::string server = "--server http://127.0.0.1:" + std::to_string(d->port()) + " --token " + kKiosk;
+  for (const std::string mesh : {"house.obj", "arch.off", "tower.ply"}) {
+    const CliRun r = cli("submit " + kSrc + "/examples/meshes/" + mesh + " --device slow --resolution 30 --thin-tops 1 --wait --json " + server);
+    ASSERT_EQ(r.code, 0) << mesh << ": submitted and cut, exit 0: " << r.err;
+    const json j = json::parse(r.out);
+    EXPECT_EQ(j["state"], "done") << mesh << " was cut: " << r.out;
+  }
+  const std::string broken = dir_.write("broken.off", "OFF\n3 1 0\n0 0 0\n");
+  CliRun r = cli("submit " + broken + " --device slow " + server);
+  EXPECT_EQ(r.code, 2) << "a malformed mesh: exit 2";
+  EXPECT_NE(r.err.find("422 bad_model"), std::string::npos) << "the daemon's code is shown: " << r.err;
+  EXPECT_NE(r.err.find("broken.off"), std::string::npos) << "the file is named: " << r.err;
+  r = cli("submit " + kSrc + "/examples/meshes/house.obj --device slow --smooth 4 " + server);
+  EXPECT_EQ(r.code, 2) << "an even --smooth: exit 2";
+  EXPECT_NE(r.err.find("[smooth]"), std::string::npos) << "the option is named: " << r.err;
+  r = cli("submit " + kSrc + "/examples/voxel/box.json --device slow --resolution 30 " + server);
+  EXPECT_EQ(r.code, 2) << "an import option with a JSON model: exit 2";
+  EXPECT_NE(r.err.find("--resolution is an import option"), std::string::npos) << "said so: " << r.err;
+}
+
+// Something answers at --server, but not popcutd: exit 3 (cannot get the job through), not a crash.
+TEST_F(PopcutClient, NonJsonAnswerExitsThree) {
+  httplib::Server other;
+  other.Get(".*", [](const httplib::Request&, httplib::Response& res) { res.set_content("<html>a web server</html>", "text/html"); });
+  other.Post(".*", [](const httplib::Request&, httplib::Response& res) { res.set_content("<html>a web server</html>", "text/html"); });
+  const int port = other.bind_to_any_port("127.0.0.1");
+  std::thread serve([&] { other.listen_after_bind(); });
+  const std::string server = "--server http://127.0.0.1:" + std::to_string(port) + " --token " + kKiosk;
+  CliRun r = cli("jobs " + server);
+  EXPECT_EQ(r.code, 3) << "a non-JSON answer to jobs: exit 3: " << r.err;
+  EXPECT_NE(r.err.find("not JSON"), std::string::npos) << "says the answer is not JSON: " << r.err;
+  r = cli("submit " + kSrc + "/examples/voxel/box.json --device a " + server);
+  EXPECT_EQ(r.code, 3) << "a non-JSON answer to submit: exit 3: " << r.err;
+  other.stop();
+  serve.join();
 }
 
 }  // namespace

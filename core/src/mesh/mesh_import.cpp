@@ -225,6 +225,13 @@ ImportResult import_mesh(const TriangleSoup& mesh, const ImportOptions& o, const
   auto t = Clock::now();
   const TriangleSoup card = to_card_frame(mesh, o.up, o.front, source);
   const ImportGrid g = plan_grid(card, o, source);
+  const std::int64_t grid_cells = std::int64_t{g.width} * g.depth * g.height;
+  if (o.max_cells > 0 && grid_cells > o.max_cells) {
+    throw Error(ErrorCode::limit, source, "--resolution",
+                "the model would be " + std::to_string(g.width) + " x " + std::to_string(g.depth) + " x " + std::to_string(g.height) + " = " +
+                    std::to_string(grid_cells) + " voxel cells; at most " + std::to_string(o.max_cells) +
+                    " are allowed here: lower --resolution or --keep-depth");
+  }
   out.grid = g;
   const DepthMap map = o.depth == DepthMethod::zbuffer ? sample_depth_zbuffer(card, g) : sample_depth_raycast(card, g);
   std::vector<int> cells = depth_cells(map, g);

@@ -56,6 +56,9 @@ struct ImportOptions {
   int thin_top_voxels = 0;   // drop top faces this narrow (in x) when the card stays valid; 0 = off
   DepthMethod depth = DepthMethod::zbuffer;
   std::string name;          // the model's label
+  // A caller's budget of voxel cells (width x depth x height), checked on the planned grid before
+  // any sampling: popcutd's [limits] model_cells. 0: only the per-axis kMaxVoxelAxis.
+  std::int64_t max_cells = 0;
 };
 
 // The first surface seen from the front, per cell of the (x, z) grid: the card depth y of

@@ -1,0 +1,93 @@
+// Text options of a mesh import checked once for every front end, and the import pipeline they drive.
+#include "popcut/mesh/import_request.h"
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+
+#include "popcut/error.h"
+#include "popcut/io/model_io.h"
+#include "popcut/io/voxel_json.h"
+
+namespace popcut {
+
+ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source) {
+  ImportRequest r;
+  ImportOptions& o = r.options;
+  std::vector<std::string> seen;
+  for (const auto& [name, text] : values) {
+    const std::string option = "--" + name;
+    const auto bad = [&](const std::string& message) -> Error {
+      return Error(ErrorCode::invalid_input, source, option, message);
+    };
+    if (std::find(kImportOptionNames.begin(), kImportOptionNames.end(), name) == kImportOptionNames.end()) {
+      std::string known;
+      for (std::string_view n : kImportOptionNames) known += (known.empty() ? "" : ", ") + std::string(n);
+      throw bad("not an import option (expected one of " + known + ")");
+    }
+    if (std::find(seen.begin(), seen.end(), name) != seen.end()) throw bad("given twice");
+    seen.push_back(name);
+    const std::string shown = "'" + text.substr(0, 40) + "'";
+    // The range itself is checked (and named) by import_mesh; here only that it is a number.
+    const auto whole = [&](const std::string& range) {
+      int value = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec == std::errc::result_out_of_range) throw bad(shown + " is out of range: expected " + range);
+      if (ec != std::errc() || end != text.data() + text.size()) throw bad(shown + " is not a whole number: expected " + range);
+      return value;
+    };
+    const auto real = [&] {
+      double value = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec != std::errc() || end != text.data() + text.size()) throw bad(shown + " is not a number");
+      return value;
+    };
+    const auto axis = [&] {
+      if (auto a = parse_axis(text)) return *a;
+      throw bad(shown + " is not an axis: use +x, -x, +y, -y, +z or -z");
+    };
+    const auto flag = [&] {
+      if (text == "true") return true;
+      if (text == "false") return false;
+      throw bad(shown + " is not a switch value: use true or false");
+    };
+    if (name == "up") o.up = axis();
+    else if (name == "front") o.front = axis();
+    else if (name == "resolution") o.resolution = whole("1 to " + std::to_string(kMaxImportResolution) + " voxels across");
+    else if (name == "width-mm") o.width_mm = real();
+    else if (name == "voxel-mm") o.voxel_mm = real();
+    else if (name == "keep-depth") o.keep_depth = real();
+    else if (name == "smooth") o.structuring_element = whole("an odd side, 1 to " + std::to_string(kMaxStructuringElement));
+    else if (name == "no-windows") o.windows = !flag();
+    else if (name == "thin-tops") o.thin_top_voxels = whole("0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
+    else if (name == "faces") r.faces = flag();
+    else if (text == "zbuffer" || text == "raycast") o.depth = text == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
+    else throw bad(shown + " is not a method: use zbuffer or raycast");  // name == "depth-method"
+  }
+  return r;
+}
+
+MeshImport import_mesh_file(const std::string& path, const ImportRequest& request, const std::string& source, std::int64_t max_triangles) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TriangleSoup mesh;
+  try {
+    mesh = read_mesh(path);
+  } catch (const Error& e) {
+    if (path == source) throw;
+    throw Error(e.code(), source, e.location(), e.message());
+  }
+  if (static_cast<std::int64_t>(mesh.triangles.size()) > max_triangles) {
+    throw Error(ErrorCode::limit, source, "", std::to_string(mesh.triangles.size()) + " triangles; at most " +
+                                                  std::to_string(max_triangles) + " are allowed here");
+  }
+  const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  MeshImport m;
+  m.voxels = import_mesh(mesh, request.options, source);
+  m.voxels.timings.read_ms = read_ms;
+  if (request.faces) m.faces.emplace(silhouette_faces(mesh, request.options, m.voxels, source));
+  m.pattern = m.faces ? make_pattern(AnyModel(m.faces->model), source) : make_pattern(m.voxels.model, source);
+  m.model_json = m.faces ? to_face_json(m.faces->model, request.options.name) : to_voxel_json(m.voxels.model);
+  return m;
+}
+
+}  // namespace popcut
