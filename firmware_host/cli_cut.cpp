@@ -12,6 +12,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "cli_checks.h"
 #include "cli_commands.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
@@ -286,6 +287,10 @@ int run_cut(const CutCommands& s) {
                       {"drained_by", sent.drained_by},
                       {"xoff_pauses", sent.xoff_pauses},
                       {"buffer_queries", sent.buffer_queries}};
+    // Knife-down length of the strokes this run sends (all of them unless --resume-from).
+    double run_cut_mm = 0;
+    for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i) run_cut_mm += path_length_mm(j.plan.strokes[i].points);
+    report["this_run"] = {{"first_stroke", j.encoded.first_stroke}, {"last_stroke", sent.total_strokes}, {"cut_mm", run_cut_mm}};
     bool match = true;
     const std::shared_ptr<drivers::SimCutter>& cutter = made.sim;
     if (cutter) {
@@ -360,9 +365,14 @@ int run_cut(const CutCommands& s) {
     }
     if (!s.json_out) {
       const KindStats t = j.plan.total();
-      std::cerr << "cut on " << transport.describe() << " (" << j.profile.name << "): " << t.strokes << " strokes";
-      if (j.encoded.first_stroke > 1) std::cerr << " (sent " << j.encoded.first_stroke << " to " << sent.total_strokes << ")";
-      std::cerr << ", " << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
+      if (j.encoded.first_stroke > 1) {
+        // A resumed run says what this run cut, not the whole job's figures.
+        std::cerr << "cut on " << transport.describe() << " (" << j.profile.name << "): strokes " << j.encoded.first_stroke << " to "
+                  << sent.total_strokes << " of " << sent.total_strokes << ", " << static_cast<long>(run_cut_mm) << " mm cut";
+      } else {
+        std::cerr << "cut on " << transport.describe() << " (" << j.profile.name << "): " << t.strokes << " strokes, "
+                  << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
+      }
       if (cutter) std::cerr << ", " << static_cast<long>(cutter->report().motion_time_s + 0.5) << " s of motion";
       std::cerr << "; wrote " << (dir / "job.hpgl").string() << (cutter ? ", cut.svg" : "") << " and report.json\n";
     }
@@ -399,10 +409,10 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.cut->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
   s.cut->add_flag("--no-progress", s.no_progress, "No progress bar, even on a terminal");
   s.cut->add_option("--sim-stop-after", s.stop_answering_after, "Fault: the simulator stops answering after N bytes")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_range(0, 1e12));
   s.cut->add_option("--sim-drop-after", s.drop_after, "Fault: the simulator drops the connection after N bytes")
-      ->check(CLI::NonNegativeNumber);
-  s.cut->add_option("--sim-slowdown", s.slowdown, "Fault: the simulator moves this many times slower")->check(CLI::Range(1.0, 1000.0));
+      ->check(finite_range(0, 1e12));
+  s.cut->add_option("--sim-slowdown", s.slowdown, "Fault: the simulator moves this many times slower")->check(finite_range(1.0, 1000.0));
 }
 
 std::optional<int> run_cut_commands(const CutCommands& s) {

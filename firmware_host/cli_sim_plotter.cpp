@@ -17,6 +17,7 @@
 #include <iostream>
 #include <thread>
 
+#include "cli_checks.h"
 #include "cli_commands.h"
 #include "popcut/drivers/posix_baud.h"
 #include "popcut/drivers/profile.h"
@@ -220,9 +221,9 @@ void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
       ->check(CLI::Range(300, 4000000));
   s.app->add_option("--buffer", s.buffer_bytes, "Input buffer in bytes (default: the profile's)")->check(CLI::Range(64, 1 << 26));
   s.app->add_option("--slowdown", s.slowdown, "Motion takes this many times longer (below 1: faster than the profile)")
-      ->check(CLI::Range(0.0001, 1000.0));
-  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes")->check(CLI::NonNegativeNumber);
-  s.app->add_option("--stop-after", s.stop_after, "Stop answering (and cutting) after N bytes")->check(CLI::NonNegativeNumber);
+      ->check(finite_range(0.0001, 1000.0));
+  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes")->check(finite_range(0, 1e12));
+  s.app->add_option("--stop-after", s.stop_after, "Stop answering (and cutting) after N bytes")->check(finite_range(0, 1e12));
   s.app->add_option("--link", s.link, "Also make PATH a symlink to the port while running");
   s.app->add_option("--report", s.report_path, "Write what it received and cut as JSON (popcut.sim-plotter.v1)");
   s.app->add_option("--svg", s.svg_path, "Write what it cut as SVG");

@@ -306,6 +306,28 @@ TEST_F(Cli, RenderPicturesAndFrames) {
   EXPECT_EQ(anim.err.find("frames"), anim.err.rfind("frames")) << "no \\r frame counter when stderr is a file: " << anim.err;
 }
 
+TEST_F(Cli, CutFaultFlagsRefuseNotANumber) {
+  const std::string model = std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json";
+  // CLI11's Range lets NaN through; a NaN slowdown once spun the simulator forever.
+  for (const char* flags : {"--sim-slowdown nan", "--sim-slowdown inf", "--sim-drop-after -1", "--sim-stop-after nan"}) {
+    const Result r = run("cut " + model + " --device sim --out " + (dir_ / "o").string() + " " + flags);
+    EXPECT_EQ(r.code, 2) << flags << ": " << r.err;
+    EXPECT_LT(r.err.size(), 300u) << flags << ": a short message, not a 300-digit limit: " << r.err;
+  }
+}
+
+TEST_F(Cli, ResumedCutReportsThisRun) {
+  const std::string model = std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json";
+  const Result r = run("cut " + model + " --device sim --out " + (dir_ / "r").string() + " --resume-from 34 --no-progress");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(slurp(dir_ / "r" / "report.json"));
+  EXPECT_EQ(report["this_run"]["first_stroke"], 34) << report.dump();
+  EXPECT_NEAR(report["this_run"]["cut_mm"].get<double>(), report["sim"]["cut_mm"].get<double>(), 1.0)
+      << "this run's cut length is what the simulator cut from stroke 34 on";
+  EXPECT_LT(report["this_run"]["cut_mm"].get<double>(), report["cut_mm"].get<double>()) << "less than the whole job";
+  EXPECT_NE(r.err.find("strokes 34 to"), std::string::npos) << "the summary names the strokes of this run: " << r.err;
+}
+
 TEST_F(Cli, OutputThroughASymlinkUpdatesItsTarget) {
   const std::string model = file("box.json", kBox);
   const std::string target = file("target.svg", "old");
