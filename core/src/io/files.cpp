@@ -107,19 +107,25 @@ fs::path final_target(const std::string& path) {
   throw Error(ErrorCode::io, path, "", "cannot write: too many levels of symbolic links");
 }
 
-void write_in_place(const std::string& path, const fs::path& target, const std::function<void(std::ostream&)>& write) {
-  const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
+// Runs `write` into fd; the errno of the first failed write (0: all written). If `write` throws,
+// `cleanup` runs (close, and remove a temporary file) before the exception goes on.
+int write_to_fd(int fd, const std::function<void(std::ostream&)>& write, const std::function<void()>& cleanup) {
   FdBuf buf(fd);
   std::ostream out(&buf);
   try {
     write(out);
   } catch (...) {
-    ::close(fd);
+    cleanup();
     throw;
   }
   out.flush();
-  const int err = buf.error() ? buf.error() : (!out ? EIO : 0);
+  return buf.error() ? buf.error() : (!out ? EIO : 0);
+}
+
+void write_in_place(const std::string& path, const fs::path& target, const std::function<void(std::ostream&)>& write) {
+  const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
+  const int err = write_to_fd(fd, write, [&] { ::close(fd); });
   if (::close(fd) != 0 && err == 0) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
   if (err) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
 }
@@ -157,17 +163,11 @@ void write_text_file(const std::string& path, const std::function<void(std::ostr
     ::unlink(tmp.c_str());
     throw Error(ErrorCode::io, path, "", std::string(what) + std::strerror(err));
   };
-  FdBuf buf(fd);
-  std::ostream out(&buf);
-  try {
-    write(out);
-  } catch (...) {
+  const int err = write_to_fd(fd, write, [&] {
     ::close(fd);
     ::unlink(tmp.c_str());
-    throw;
-  }
-  out.flush();
-  if (buf.error() || !out) fail(buf.error() ? buf.error() : EIO, "write failed: ");
+  });
+  if (err) fail(err, "write failed: ");
   // New files get the usual permissions rather than mkstemp's 0600.
   const mode_t mask = ::umask(0);
   ::umask(mask);
