@@ -294,7 +294,10 @@ int run_cut(const CutCommands& s) {
     bool match = true;
     const std::shared_ptr<drivers::SimCutter>& cutter = made.sim;
     if (cutter) {
-      const bool finished = sent.status.ok() && cutter->run_to_end();
+      // A cutter whose line drops goes on cutting what it holds, as `popcut sim-plotter` does, so
+      // the report shows what a real one would have cut (a frozen one cuts nothing more).
+      const bool ran_out = cutter->run_to_end();
+      const bool finished = sent.status.ok() && ran_out;
       const drivers::SimReport& r = cutter->report();
       // From --resume-from N the simulator should have cut exactly strokes N.. of the plan.
       std::vector<PlotterPath> planned = plan_in_plotter_units(j.plan, j.profile.dialect);
@@ -356,7 +359,7 @@ int run_cut(const CutCommands& s) {
     }
     if (!sent.status.ok()) {
       std::cerr << "popcut: error: the job did not reach the cutter (" << transport.describe() << "): " << sent.status.message
-                << " after " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " bytes; " << where << resume << "\n";
+                << "; " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " job bytes written; " << where << resume << "\n";
       return static_cast<int>(kCannotWrite);
     }
     if (cutter && !match) {

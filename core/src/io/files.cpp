@@ -125,7 +125,7 @@ int write_to_fd(int fd, const std::function<void(std::ostream&)>& write, const s
 void write_in_place(const std::string& path, const fs::path& target, const std::function<void(std::ostream&)>& write) {
   const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
-  const int err = write_to_fd(fd, write, [&] { ::close(fd); });
+  const int write_err = write_to_fd(fd, write, [&] { ::close(fd); });
   if (::close(fd) != 0 && err == 0) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
   if (err) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
 }
@@ -163,11 +163,11 @@ void write_text_file(const std::string& path, const std::function<void(std::ostr
     ::unlink(tmp.c_str());
     throw Error(ErrorCode::io, path, "", std::string(what) + std::strerror(err));
   };
-  const int err = write_to_fd(fd, write, [&] {
+  const int write_err = write_to_fd(fd, write, [&] {
     ::close(fd);
     ::unlink(tmp.c_str());
   });
-  if (err) fail(err, "write failed: ");
+  if (write_err) fail(write_err, "write failed: ");
   // New files get the usual permissions rather than mkstemp's 0600.
   const mode_t mask = ::umask(0);
   ::umask(mask);
