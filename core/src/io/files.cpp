@@ -126,8 +126,8 @@ void write_in_place(const std::string& path, const fs::path& target, const std::
   const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
   const int write_err = write_to_fd(fd, write, [&] { ::close(fd); });
-  if (::close(fd) != 0 && err == 0) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
-  if (err) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(err));
+  if (::close(fd) != 0 && write_err == 0) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
+  if (write_err) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(write_err));
 }
 
 }  // namespace
