@@ -86,7 +86,7 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
 
   TomlSection l = table("limits");
   c.limits.upload_bytes = static_cast<std::size_t>(l.integer("upload_bytes", 1 << 20, 1024, 1 << 30));
-  c.limits.model_cells = l.integer("model_cells", 100000, 1, 100000000);
+  c.limits.model_cells = l.integer("model_cells", 1000000, 1, 100000000);
   c.limits.pattern_faces = l.integer("pattern_faces", 5000, 1, 10000000);
   c.limits.queue_length = l.integer("queue_length", 10000, 1, 10000000);
   c.limits.mesh_triangles = l.integer("mesh_triangles", 200000, 1, 10000000);

@@ -413,7 +413,7 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
       {house, "house.obj", {{"device", "sim-a"}, {"up", "sideways"}}, 422, "bad_model", "up", "not an axis"},
       {house, "house.obj", {{"device", "sim-a"}, {"up", "+z"}, {"front", "+z"}}, 422, "bad_model", "front", "perpendicular"},
       {house, "house.obj", {{"device", "sim-a"}, {"faces", "yes"}}, 422, "bad_model", "faces", "true or false"},
-      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "400"}}, 413, "model_too_complex", "resolution", "at most 100000"},
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "400"}}, 413, "model_too_complex", "resolution", "at most 1000000"},
       {house, "house.obj", {{"device", "sim-a"}, {"colour", "red"}}, 400, "bad_request", "colour", "unknown field"},
       {house, "../house.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
       {house, "house.obj", {{"device", "sim-z"}, {"resolution", "40"}}, 422, "no_device", "device", "sim-z"},
