@@ -332,12 +332,15 @@ int run_cut(const CutCommands& s) {
     // Resuming from M + 1 skips nothing; strokes M+1..N may be cut twice, and the user is told so.
     const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
     std::string where = "last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
-                        " (" + (sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
+                        " (" + (m < sent.first_stroke ? std::string("none confirmed")
+                                 : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
                                  : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
                                                                          : std::string("taken by the device")) +
                         "), last stroke written " + std::to_string(n);
     std::string resume;
-    if (m < sent.total_strokes) {
+    if (sent.bytes_sent == 0) {
+      resume = "; nothing was sent: run the same command again";
+    } else if (m < sent.total_strokes) {
       resume = "; to finish, run the same command with --resume-from " + std::to_string(m + 1);
       if (n > m) {
         resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +

@@ -408,13 +408,14 @@ class Sender {
     if (r_.buffered_bytes == 0) r_.buffered_first_stroke = r_.buffered_last_stroke + 1;
   }
 
-  // The last stroke the first `bytes` touch: the last complete one, or the next one when some of
-  // its commands went out (a cancel stops it at a command boundary).
+  // The last stroke the first `bytes` may cut: the last complete one, or the next one when more
+  // than its opening knife-up move went out (a cancel stops it at a command boundary).
   std::size_t stroke_touched_by(std::size_t bytes) const {
     const std::size_t done = job_.last_stroke_within(bytes);
     const std::size_t last = job_.first_stroke + job_.stroke_end.size() - 1;
     const std::size_t done_end = done >= job_.first_stroke ? job_.stroke_end[done - job_.first_stroke] : 0;
-    return done < last && bytes > done_end ? done + 1 : done;
+    const std::size_t move_end = job_.command_boundary_at_or_after(done_end + 1);
+    return done < last && bytes > move_end ? done + 1 : done;
   }
 
   Transport& t_;
