@@ -222,7 +222,9 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     const std::size_t done_before = static_cast<std::size_t>(job.resume_from);
     if (done_before >= static_cast<std::size_t>(job.strokes_total)) {
       // Killed after the last byte went out but before the drain was confirmed: nothing to send.
-      store_.finish(job.id, JobState::done, "", "every stroke had been sent before the restart");
+      // A done job carries no error; this run's (empty) remainder trivially matches the plan.
+      log_line("job ", job.id, ": every stroke had been received before the restart; done");
+      store_.finish(job.id, JobState::done, "", "", true);
       return;
     }
     const EncodedJob cut = encode_job(plan, dev.profile.dialect, dev.profile.tools, done_before + 1);
