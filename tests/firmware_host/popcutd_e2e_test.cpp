@@ -257,7 +257,7 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
       {&c, "POST", "/api/v1/jobs", R"({"device": "../sim-a", "model": {}})", 400, "bad_name"},
       {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "../../etc/passwd"), 400, "bad_name"},
       {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "a/b"), 400, "bad_name"},
-      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "voxel_mm": 1, "grid": {"width": 100, "depth": 100, "height": 100}, "heights": [[1]]}})", 413, "model_too_complex"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "voxel_mm": 1, "grid": {"width": 101, "depth": 100, "height": 100}, "heights": [[1]]}})", 413, "model_too_complex"},
       {&c, "POST", "/api/v1/jobs", big, 413, "too_large"},
       {&none, "GET", "/api/v1/jobs", "", 401, "unauthorized"},
       {&wrong, "GET", "/api/v1/jobs", "", 401, "unauthorized"},
