@@ -231,15 +231,19 @@ json Api::job_json(const Job& j) {
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
+  const auto left_share = [&](std::int64_t strokes_done) {
+    return j.strokes_total > 0 ? 1.0 - static_cast<double>(strokes_done) / static_cast<double>(j.strokes_total) : 1.0;
+  };
   if (!j.error_code.empty() || !j.error_message.empty()) r["error"] = {{"code", j.error_code}, {"message", j.error_message}};
   // Only a simulated cutter reports what it cut; for a real one there is nothing to compare.
   const DeviceConfig* cut_on = d_.device(j.device);
   if (j.state == JobState::done && cut_on && cut_on->transport == "sim") r["sim_match"] = j.sim_match;
   if (j.state == JobState::queued || j.state == JobState::planning || j.state == JobState::ready) {
     r["place_in_line"] = d_.store().place_in_line(j);
-    if (j.state == JobState::ready) r["eta_s"] = d_.store().work_ahead_s(j) + j.est_time_s;
-  } else if (j.state == JobState::cutting && j.strokes_total > 0) {
-    r["eta_s"] = j.est_time_s * (1.0 - static_cast<double>(j.strokes_sent) / static_cast<double>(j.strokes_total));
+    // A resumed job only has its strokes after resume_from left to cut.
+    if (j.state == JobState::ready) r["eta_s"] = d_.store().work_ahead_s(j) + j.est_time_s * left_share(j.resume_from);
+  } else if (j.state == JobState::cutting) {
+    r["eta_s"] = j.est_time_s * left_share(j.strokes_sent);
   }
   return r;
 }
