@@ -183,10 +183,12 @@ class Api {
   static int angle_param(const httplib::Request& req) {
     if (!req.has_param("angle")) return 90;
     const std::string a = req.get_param_value("angle");
-    if (a.empty() || a.size() > 3 || a.find_first_not_of("0123456789") != std::string::npos || std::stoi(a) > 180) {
+    // "-0" is 0, as a slider or a script may send it.
+    const std::string digits = a == "-0" ? "0" : a;
+    if (digits.empty() || digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > 180) {
       fail(ApiError::bad_request, "angle must be a whole number of degrees from 0 to 180", "angle");
     }
-    return (std::stoi(a) + kAngleStepDeg / 2) / kAngleStepDeg * kAngleStepDeg;
+    return (std::stoi(digits) + kAngleStepDeg / 2) / kAngleStepDeg * kAngleStepDeg;
   }
 
   json job_json(const Job& j);
@@ -305,7 +307,8 @@ Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<st
     }
   }
   if (!mesh) fail(ApiError::bad_request, "missing the 'mesh' file part (curl: -F mesh=@FILE)", "mesh");
-  u.filename = mesh->filename.empty() ? "mesh" : mesh->filename;
+  if (mesh->filename.empty()) fail(ApiError::bad_request, "'mesh' must be a file part, not a value (curl: -F mesh=@FILE)", "mesh");
+  u.filename = mesh->filename;
   if (!is_safe_name(u.filename)) {
     fail(ApiError::bad_name, "mesh file names are 1 to 64 letters, digits, spaces, '-', '_' or '.', not starting with '.' and without '..'", "mesh");
   }
@@ -321,9 +324,10 @@ Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<st
   } catch (const Error& e) {
     if (e.code() == ErrorCode::io || e.code() == ErrorCode::internal) throw;
     // The importer's own message; the field is the option at fault, as named in the form.
+    // A place inside the mesh ("line 3", "face 1") belongs to the message; the field is "mesh".
     std::string field = e.location();
-    if (field.rfind("--", 0) == 0) field = field.substr(2);
-    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model, e.what(), field.empty() ? "mesh" : field);
+    field = field.rfind("--", 0) == 0 ? field.substr(2) : "mesh";
+    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model, e.what(), field);
   }
   return u;
 }

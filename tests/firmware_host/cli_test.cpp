@@ -239,7 +239,8 @@ TEST_F(Cli, ImportErrorsNameFileAndOption) {
       {"--smooth 3.5", "house.obj: --smooth: '3.5' is not a whole number: expected an odd side, 1 to 15"},
       {"--thin-tops -99999999999", "house.obj: --thin-tops: '-99999999999' is out of range: expected 0 (off) to 4096 voxels"},
       {"--width-mm 1e308", "--width-mm: gives voxels of 1.25e+306 mm; they must be 0.01 to 1000 mm"},
-      {"--voxel-mm nan", "--voxel-mm: gives voxels of nan mm; they must be 0.01 to 1000 mm"},
+      {"--voxel-mm nan", "--voxel-mm: the voxel size must be a positive number of mm, not nan"},
+      {"--width-mm -5", "--width-mm: the card width must be a positive number of mm, not -5"},
       {"--keep-depth 1e308", "--keep-depth: must be a fraction above 0 and at most 1, not 1e+308"},
   };
   for (const auto& [flags, message] : numbers) {

@@ -408,6 +408,9 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
   const std::vector<Case> cases = {
       {"OFF\n3 1 0\n0 0 0\n1 0 0\n", "broken.off", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "broken.off"},
       {"this is not a mesh\n", "notes.txt", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "notes.txt"},
+      // A place inside the mesh goes in the message; the field stays "mesh".
+      {"v 0 0 0\nf 1 2 3\n", "bad.obj", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "bad.obj"},
+      {house, "", {{"device", "sim-a"}}, 400, "bad_request", "mesh", "file part"},
       {house, "house.obj", {{"device", "sim-a"}, {"resolution", "abc"}}, 422, "bad_model", "resolution", "not a whole number"},
       {house, "house.obj", {{"device", "sim-a"}, {"resolution", "5000"}}, 422, "bad_model", "resolution", "2048"},
       {house, "house.obj", {{"device", "sim-a"}, {"up", "sideways"}}, 422, "bad_model", "up", "not an axis"},

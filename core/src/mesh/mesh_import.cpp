@@ -44,6 +44,8 @@ void check_options(const ImportOptions& o, const std::string& source) {
   }
   if (o.width_mm && o.voxel_mm) bad("--width-mm", "give the card width or the voxel size, not both");
   if (o.thin_top_voxels < 0 || o.thin_top_voxels > kMaxVoxelAxis) bad("--thin-tops", "must be 0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
+  if (o.width_mm && !(*o.width_mm > 0)) bad("--width-mm", "the card width must be a positive number of mm, not " + fmt(*o.width_mm));
+  if (o.voxel_mm && !(*o.voxel_mm > 0)) bad("--voxel-mm", "the voxel size must be a positive number of mm, not " + fmt(*o.voxel_mm));
   const double voxel = o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution;
   if (!(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
     bad(o.voxel_mm ? "--voxel-mm" : "--width-mm", "gives voxels of " + fmt(voxel) + " mm; they must be " + fmt(kMinVoxelMm) + " to " +
