@@ -69,7 +69,7 @@ class Sender {
       wait_until_drained();
       if (!r_.status.ok()) return fail_tail();
       if (!r_.cancelled) {
-        confirmed_ = r_.bytes_sent;  // the device said it has executed everything (or the estimate passed)
+        drained_ = true;  // the device said it has executed everything (or the estimate passed)
         settle_counts();
         return r_;
       }
@@ -89,7 +89,8 @@ class Sender {
   // so; else its answers where it is asked; else what the port says has left (written, less its
   // OS queue and what may still be in flight).
   std::size_t received() {
-    if (t_.writes_acknowledged()) return r_.bytes_sent;
+    // Drained: everything arrived, whatever the port's own counts still hold back as unseen.
+    if (drained_ || t_.writes_acknowledged()) return r_.bytes_sent;
     if (query_ != DrainQuery::none) return std::min(confirmed_, r_.bytes_sent);
     return r_.bytes_sent - std::min(r_.bytes_sent, t_.in_flight());
   }
@@ -430,6 +431,7 @@ class Sender {
   std::size_t status_every_ = 0;
   std::size_t last_ping_ = 0;
   std::size_t confirmed_ = 0;  // job bytes written before the last answered query
+  bool drained_ = false;       // the job went out whole and the device finished it
   std::deque<std::size_t> pending_;  // queries awaiting an answer: job bytes written before each
   std::string line_;
   long last_answer_ = 0;

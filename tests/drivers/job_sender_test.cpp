@@ -258,15 +258,34 @@ class QueuedLine final : public Transport {
   std::string describe() const override { return "queued-line"; }
   bool backpressure() const override { return sim_.backpressure(); }
   bool writes_acknowledged() const override { return false; }
-  std::size_t in_flight() override { return queue_.size(); }
+  // Like a serial port, which also holds back bytes an adapter or a pty may hide.
+  std::size_t in_flight() override { return queue_.size() + unseen_; }
   std::size_t delivered() const { return delivered_; }
+  void hold_back_unseen(std::size_t bytes) { unseen_ = bytes; }
 
  private:
   SimTransport sim_;
   std::size_t drop_after_;
   std::vector<std::uint8_t> queue_;
   std::size_t delivered_ = 0;
+  std::size_t unseen_ = 0;
 };
+
+TEST(SendJob, AJobThatDrainedCountsEveryStrokeReceivedWhateverThePortHoldsBack) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.drain_query = DrainQuery::none;
+  p.transport.flow = FlowControl::none;
+  p.transport.buffer_bytes = 1 << 20;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p);
+  QueuedLine t(cutter, job.bytes.size() + 1);
+  t.hold_back_unseen(4096);
+  ASSERT_TRUE(t.open().ok());
+  const SendResult r = send_job(t, job, send_options(p));
+  ASSERT_TRUE(r.status.ok()) << r.status.message;
+  EXPECT_EQ(r.last_stroke_sent, job.total_strokes) << "a finished job was received whole, though the port's estimate holds bytes back";
+  EXPECT_EQ(r.bytes_received, r.bytes_sent);
+}
 
 TEST(SendJob, BytesStillInTheOsQueueAreNotClaimedReceived) {
   DeviceProfile p = load_profile(config("sim.toml"));
