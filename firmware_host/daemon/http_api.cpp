@@ -202,7 +202,7 @@ class Api {
   };
   Upload import_upload(const httplib::Request& req, const std::vector<std::string>& fields);
   std::string preview(const std::string& key, int angle, const std::function<Pattern()>& pattern);
-  std::string render_png(const Pattern& p, int angle);
+  std::string preview_png(const Pattern& p, int angle);
   void kiosk_file(const std::string& name, const char* type, httplib::Response& res);
   std::vector<std::pair<std::string, fs::path>> examples() const;
 
@@ -366,14 +366,11 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
   send_json(res, job_json(*d_.store().get(*id)), 201);
 }
 
-std::string Api::render_png(const Pattern& p, int angle) {
+std::string Api::preview_png(const Pattern& p, int angle) {
   const CardMesh mesh = fold_card(p, angle);
   // Frame the standing card at every angle so the slider does not make the picture jump.
   const ViewBox box = view_box({fold_card(p, 90), fold_card(p, 180), mesh});
-  TempFile tmp{fs::path(d_.config().data_dir) / "tmp" / ("preview-" + std::to_string(++tmp_counter_) + ".png")};
-  fs::create_directories(tmp.path.parent_path());
-  write_render_png(tmp.path.string(), mesh, box, 480);
-  return read_text_file(tmp.path.string(), std::size_t{64} << 20);
+  return render_png(mesh, box, 480);  // in memory: no temporary file to write and read back
 }
 
 std::string Api::preview(const std::string& key, int angle, const std::function<Pattern()>& pattern) {
@@ -383,7 +380,7 @@ std::string Api::preview(const std::string& key, int angle, const std::function<
     RenderSlots& s;
     ~Give() { s.give(); }
   } give{render_slots_};
-  std::string png = render_png(pattern(), angle);
+  std::string png = preview_png(pattern(), angle);
   previews_.put(key, png);
   return png;
 }

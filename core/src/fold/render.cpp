@@ -10,7 +10,6 @@
 #include <ostream>
 
 #include "popcut/error.h"
-#include "popcut/io/files.h"
 
 namespace popcut {
 namespace {
@@ -178,10 +177,6 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
     throw Error(ErrorCode::internal, "", "", "PNG encoding failed");
   }
   return png;
-}
-
-void write_render_png(const std::string& path, const CardMesh& m, const ViewBox& box, int width_px) {
-  write_text_file(path, render_png(m, box, width_px));
 }
 
 }  // namespace popcut

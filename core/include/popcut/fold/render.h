@@ -24,7 +24,5 @@ void write_render_svg(std::ostream& out, const CardMesh& mesh, const ViewBox& bo
 
 // PNG: a z-buffer at `width_px`, supersampled 2× for smooth edges; returns the file's bytes.
 std::string render_png(const CardMesh& mesh, const ViewBox& box, int width_px);
-// render_png written atomically to path (popcut::Error with ErrorCode::io on failure).
-void write_render_png(const std::string& path, const CardMesh& mesh, const ViewBox& box, int width_px);
 
 }  // namespace popcut
