@@ -298,6 +298,9 @@ Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<st
       if (u.fields.count(key)) fail(ApiError::bad_request, "'" + key + "' given twice", key);
       u.fields[key] = part.content;
     } else if (std::find(kImportOptionNames.begin(), kImportOptionNames.end(), key) != kImportOptionNames.end()) {
+      // A repeated part is a malformed form (400) like a repeated 'name' or 'mesh', not a bad model.
+      const bool repeated = std::any_of(options.begin(), options.end(), [&](const auto& o) { return o.first == key; });
+      if (repeated) fail(ApiError::bad_request, "'" + key + "' given twice", key);
       options.emplace_back(key, part.content);
     } else {
       std::string known = "mesh";

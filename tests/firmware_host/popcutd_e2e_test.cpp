@@ -418,6 +418,9 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
       {house, "house.obj", {{"device", "sim-a"}, {"faces", "yes"}}, 422, "bad_model", "faces", "true or false"},
       {house, "house.obj", {{"device", "sim-a"}, {"resolution", "400"}}, 413, "model_too_complex", "resolution", "at most 1000000"},
       {house, "house.obj", {{"device", "sim-a"}, {"colour", "red"}}, 400, "bad_request", "colour", "unknown field"},
+      // A repeated part is a malformed form, whichever part it is.
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "40"}, {"resolution", "50"}}, 400, "bad_request", "resolution", "given twice"},
+      {house, "house.obj", {{"device", "sim-a"}, {"name", "a"}, {"name", "b"}}, 400, "bad_request", "name", "given twice"},
       {house, "../house.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
       {house, "house.obj", {{"device", "sim-z"}, {"resolution", "40"}}, 422, "no_device", "device", "sim-z"},
       {std::string(2 << 20, ' '), "big.obj", {{"device", "sim-a"}}, 413, "too_large", "", "upload_bytes"},
