@@ -173,6 +173,11 @@ std::string require_extension(const std::string& path, std::initializer_list<con
     if (ext == a) return ext;
     list += std::string(list.empty() ? "" : " or ") + a;
   }
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error(ErrorCode::invalid_input, path, option, std::string("is a directory: name a file in it ending ") + list);
+  }
+  if (ext.empty()) throw Error(ErrorCode::invalid_input, path, option, std::string("no file extension to tell the ") + what + ": use " + list);
   throw Error(ErrorCode::invalid_input, path, option, std::string("unknown ") + what + " '" + ext + "': use " + list);
 }
 

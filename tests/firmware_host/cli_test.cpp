@@ -275,6 +275,11 @@ TEST_F(Cli, FoldWritesObjAndGltf) {
   EXPECT_EQ(run("fold " + model + " --angle 181 -o " + (dir_ / "c.gltf").string()).code, 2) << "angle out of range";
   EXPECT_EQ(run("fold " + model + " --angle abc -o " + (dir_ / "c.gltf").string()).code, 2) << "angle not a number";
   EXPECT_EQ(run("fold " + model + " -o " + (dir_ / "c.stl").string()).code, 2) << "unknown 3D format";
+  const Result into_dir = run("fold " + model + " -o " + dir_.string());
+  EXPECT_EQ(into_dir.code, 2) << "a directory as -o: " << into_dir.err;
+  EXPECT_NE(into_dir.err.find("is a directory"), std::string::npos) << "the message says it is a directory: " << into_dir.err;
+  const Result bare = run("fold " + model + " -o " + (dir_ / "card").string());
+  EXPECT_NE(bare.err.find("no file extension"), std::string::npos) << "the message says the extension is missing: " << bare.err;
 }
 
 TEST_F(Cli, RenderPicturesAndFrames) {
