@@ -401,7 +401,7 @@ int run(int argc, char** argv) {
       std::vector<double> angles;
       for (int i = 0; i < frames; ++i) angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
       std::vector<CardMesh> meshes;
-      for (double a : angles) meshes.push_back(fold_card(p, a));
+      for (double a : angles) meshes.push_back(fold_card_for_picture(p, a));
       const ViewBox box = view_box(meshes);  // one frame for every picture, so the animation holds still
       const bool progress_on_tty = ::isatty(STDERR_FILENO) != 0;
       const std::filesystem::path out(out_path);

@@ -370,7 +370,7 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
 }
 
 std::string Api::preview_png(const Pattern& p, int angle) {
-  const CardMesh mesh = fold_card(p, angle);
+  const CardMesh mesh = fold_card_for_picture(p, angle);
   // Frame the standing card at every angle so the slider does not make the picture jump.
   const ViewBox box = view_box({fold_card(p, 90), fold_card(p, 180), mesh});
   return render_png(mesh, box, 480);  // in memory: no temporary file to write and read back

@@ -72,6 +72,10 @@ std::string num(double v) {
 
 }  // namespace
 
+CardMesh fold_card_for_picture(const Pattern& pattern, double angle_deg) {
+  return fold_card(pattern, std::min(angle_deg, kPictureMaxAngleDeg));
+}
+
 ViewBox view_box(const std::vector<CardMesh>& meshes) {
   ViewBox b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
             std::numeric_limits<double>::lowest()};

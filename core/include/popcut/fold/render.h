@@ -14,6 +14,12 @@ struct ViewBox {
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
 };
 
+// The card folded to `angle_deg` for a picture. Closed (180°) its layers lie in one plane and no
+// depth test can order them (the picture speckles), so pictures stop at kPictureMaxAngleDeg:
+// 1° open, which shows the same card with its layers apart.
+inline constexpr double kPictureMaxAngleDeg = 179;
+CardMesh fold_card_for_picture(const Pattern& pattern, double angle_deg);
+
 // Orthographic 3/4 view from the front right, above the card; the printed side in cream, the back
 // in blue-grey, both lit by one light so folds read as shading.
 ViewBox view_box(const std::vector<CardMesh>& meshes);
