@@ -3,6 +3,7 @@
 #include "cli_client.h"
 #include "cli_cut.h"
 #include "cli_sim_plotter.h"
+#include "report_json.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -42,7 +43,7 @@ namespace {
 using nlohmann::json;
 
 // One line of JSON on stdout; file names from the command line may not be UTF-8, so replace.
-void print_json(const json& j) { std::cout << j.dump(-1, ' ', false, json::error_handler_t::replace) << "\n"; }
+void print_json(const json& j) { std::cout << rounded_numbers(j).dump(-1, ' ', false, json::error_handler_t::replace) << "\n"; }
 
 json point(Point2 p) { return json::array({p.x_mm, p.v_mm}); }
 json rect(const Rect& r) { return {{"min", point(r.min)}, {"max", point(r.max)}}; }

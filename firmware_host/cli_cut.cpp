@@ -1,5 +1,6 @@
 // popcut plan / cut: pattern → stroke plan → HP-GL for a device profile → a transport (sim, file, serial, usb).
 #include "cli_cut.h"
+#include "report_json.h"
 
 #include <signal.h>
 #include <unistd.h>
@@ -165,7 +166,7 @@ int run_plan(const CutCommands& s) {
     const Job j = make_job(s.model_path, s.profile_path);
     write_cli_output(s.out_path, [&](std::ostream& o) { o << j.hpgl; });
     const json report = plan_json(j, s.model_path, s.profile_path);
-    if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << report.dump(2) << "\n"; });
+    if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) {
       print_json_line(report);
     } else {
@@ -326,7 +327,7 @@ int run_cut(const CutCommands& s) {
                        {"first_mismatch", diff ? json(*diff + j.encoded.first_stroke) : json(nullptr)}};
       write_cli_output((dir / "cut.svg").string(), [&](std::ostream& o) { cutter->write_svg(o); });
     }
-    write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << report.dump(2) << "\n"; });
+    write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
     // Honest numbers: M = the last stroke the device certainly received, N = the last written.
     // Resuming from M + 1 skips nothing; strokes M+1..N may be cut twice, and the user is told so.

@@ -1,5 +1,6 @@
 // popcut sim-plotter: the simulated cutter behind a pseudo-terminal, in real time, as a stand-in serial cutter.
 #include "cli_sim_plotter.h"
+#include "report_json.h"
 #include "config_dir.h"
 
 #include <fcntl.h>
@@ -201,7 +202,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       std::filesystem::remove(s.link, ec);
     }
     const json report = report_json(cutter, path, host_baud, host_ixon, ended);
-    if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << report.dump(2) << "\n"; });
+    if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (!s.svg_path.empty()) write_cli_output(s.svg_path, [&](std::ostream& o) { cutter.write_svg(o); });
     std::cerr << "sim-plotter: " << ended << "; received " << cutter.report().bytes_received << " bytes, cut "
               << cutter.strokes().size() << " strokes, " << cutter.report().overflow_bytes << " bytes lost to overflow\n";

@@ -22,6 +22,7 @@
 #include "popcut/io/pattern_io.h"
 #include "popcut/mesh/import_request.h"
 #include "preview_cache.h"
+#include "../report_json.h"
 
 namespace popcut::daemon {
 namespace {
@@ -247,7 +248,7 @@ json Api::job_json(const Job& j) {
   } else if (j.state == JobState::cutting) {
     r["eta_s"] = j.est_time_s * left_share(j.strokes_sent);
   }
-  return r;
+  return rounded_numbers(std::move(r));
 }
 
 void Api::set_target(NewJob& nj, const std::string& device, const std::string& profile) {
