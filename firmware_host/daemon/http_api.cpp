@@ -234,19 +234,28 @@ json Api::job_json(const Job& j) {
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
-  const auto left_share = [&](std::int64_t strokes_done) {
-    return j.strokes_total > 0 ? 1.0 - static_cast<double>(strokes_done) / static_cast<double>(j.strokes_total) : 1.0;
-  };
+  // The cutting time this job has left (a resumed one: after the strokes already cut).
+  const double left_s =
+      j.est_time_s * (j.strokes_total > 0 ? 1.0 - static_cast<double>(std::max(j.strokes_sent, j.resume_from)) / static_cast<double>(j.strokes_total) : 1.0);
   if (!j.error_code.empty() || !j.error_message.empty()) r["error"] = {{"code", j.error_code}, {"message", j.error_message}};
   // Only a simulated cutter reports what it cut; for a real one there is nothing to compare.
   const DeviceConfig* cut_on = d_.device(j.device);
   if (j.state == JobState::done && cut_on && cut_on->transport == "sim") r["sim_match"] = j.sim_match;
   if (j.state == JobState::queued || j.state == JobState::planning || j.state == JobState::ready) {
     r["place_in_line"] = d_.store().place_in_line(j);
-    // A resumed job only has its strokes after resume_from left to cut.
-    if (j.state == JobState::ready) r["eta_s"] = d_.store().work_ahead_s(j) + j.est_time_s * left_share(j.resume_from);
+    if (j.state == JobState::ready) {
+      std::vector<AheadWork> ahead;
+      for (const JobStore::Ahead& a : d_.store().ahead(j)) ahead.push_back({{a.target_device, a.target_profile}, a.left_s});
+      std::vector<std::pair<std::string, std::string>> taking;  // devices that start new cuts
+      for (const DeviceStatus& dev : d_.devices()) {
+        if (!dev.paused) taking.emplace_back(dev.name, dev.profile);
+      }
+      if (const auto eta = ready_eta_s({j.target_device, j.target_profile}, left_s, ahead, taking, d_.store().cutting_left_s())) {
+        r["eta_s"] = *eta;
+      }
+    }
   } else if (j.state == JobState::cutting) {
-    r["eta_s"] = j.est_time_s * left_share(j.strokes_sent);
+    r["eta_s"] = left_s;
   }
   return rounded_numbers(std::move(r));
 }

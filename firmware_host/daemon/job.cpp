@@ -1,6 +1,7 @@
 // Names and HTTP statuses of job states and API error codes: the strings docs/api.md documents.
 #include "job.h"
 
+#include <algorithm>
 #include <array>
 
 namespace popcut::daemon {
@@ -65,6 +66,38 @@ int http_status(ApiError e) {
     case ApiError::internal: return 500;
   }
   return 500;
+}
+
+std::optional<double> ready_eta_s(const Targets& job, double own_left_s, const std::vector<AheadWork>& ahead,
+                                  const std::vector<std::pair<std::string, std::string>>& devices,
+                                  const std::vector<std::pair<std::string, double>>& cutting_left_s) {
+  // When each device frees up: after its current cut. Every device taking work counts, not
+  // only this job's: a job ahead that may go elsewhere too takes whichever frees up first.
+  struct Free {
+    std::string name, profile;
+    double at_s = 0;
+  };
+  std::vector<Free> free;
+  for (const auto& [name, profile] : devices) {
+    double at_s = 0;
+    for (const auto& [cutting_on, left_s] : cutting_left_s) {
+      if (cutting_on == name) at_s += left_s;
+    }
+    free.push_back({name, profile, at_s});
+  }
+  for (const AheadWork& a : ahead) {
+    Free* first = nullptr;
+    for (Free& f : free) {
+      if (a.targets.may_go_to(f.name, f.profile) && (!first || f.at_s < first->at_s)) first = &f;
+    }
+    if (first) first->at_s += a.left_s;
+  }
+  std::optional<double> soonest_s;
+  for (const Free& f : free) {
+    if (job.may_go_to(f.name, f.profile) && (!soonest_s || f.at_s < *soonest_s)) soonest_s = f.at_s;
+  }
+  if (!soonest_s) return std::nullopt;
+  return *soonest_s + own_left_s;
 }
 
 }  // namespace popcut::daemon

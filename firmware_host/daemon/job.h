@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace popcut::daemon {
 
@@ -36,6 +38,27 @@ enum class ApiError {
 };
 const char* to_string(ApiError error);
 int http_status(ApiError error);
+
+// A job's claim on the devices: the device it names, else any device with its profile.
+struct Targets {
+  std::string device, profile;
+  bool may_go_to(const std::string& device_name, const std::string& device_profile) const {
+    return device.empty() ? device_profile == profile : device_name == device;
+  }
+};
+
+// Seconds until a ready job should be done, as the device workers take the queue: each job ahead
+// (oldest first, with the cutting time it has left) goes to whichever of its devices frees up
+// first, after what that device is cutting now. `devices` are the ones taking work (name,
+// profile); nullopt when none of them may take this job (all paused). `ahead` is every job
+// waiting ahead, for any device: one that takes another device first changes who is free.
+struct AheadWork {
+  Targets targets;
+  double left_s = 0;
+};
+std::optional<double> ready_eta_s(const Targets& job, double own_left_s, const std::vector<AheadWork>& ahead,
+                                  const std::vector<std::pair<std::string, std::string>>& devices,
+                                  const std::vector<std::pair<std::string, double>>& cutting_left_s);
 
 struct Job {
   std::int64_t id = 0;

@@ -220,11 +220,14 @@ std::vector<Job> JobStore::list(const std::string& owner, int limit) {
   return out;
 }
 
-// Same targets: a job naming device D competes with jobs naming D and with jobs naming D's
-// profile; approximated by equal target device, or equal profile when either names none.
+// Jobs that may take the same device: two naming devices, the same device; else (one or both
+// name only a profile) the same profile: a job naming a device also records its profile.
 static const char* kAheadWhere =
     " WHERE id < ?1 AND state IN ('queued','planning','ready') AND"
-    " ((?2 <> '' AND target_device = ?2) OR target_profile = ?3)";
+    " ((?2 <> '' AND target_device <> '' AND target_device = ?2) OR ((?2 = '' OR target_device = '') AND target_profile = ?3))";
+// Cutting time left of a job: the share of its strokes not yet cut (after resume_from, if resumed).
+static const char* kLeftS =
+    "est_time_s * (CASE WHEN strokes_total > 0 THEN 1.0 - MAX(strokes_sent, resume_from) * 1.0 / strokes_total ELSE 1.0 END)";
 
 int JobStore::place_in_line(const Job& j) {
   auto [db, lock] = reader();
@@ -234,12 +237,22 @@ int JobStore::place_in_line(const Job& j) {
   return static_cast<int>(s.integer(0));
 }
 
-double JobStore::work_ahead_s(const Job& j) {
+std::vector<JobStore::Ahead> JobStore::ahead(const Job& j) {
   auto [db, lock] = reader();
-  Stmt s(db, (std::string("SELECT COALESCE(SUM(est_time_s),0) FROM jobs") + kAheadWhere).c_str());
-  s.bind(1, j.id).bind(2, j.target_device).bind(3, j.target_profile);
-  s.step();
-  return s.real(0);
+  Stmt s(db, (std::string("SELECT target_device, target_profile, ") + kLeftS +
+              " FROM jobs WHERE id < ? AND state IN ('queued','planning','ready') ORDER BY id").c_str());
+  s.bind(1, j.id);
+  std::vector<Ahead> out;
+  while (s.step()) out.push_back({s.text(0), s.text(1), s.real(2)});
+  return out;
+}
+
+std::vector<std::pair<std::string, double>> JobStore::cutting_left_s() {
+  auto [db, lock] = reader();
+  Stmt s(db, (std::string("SELECT device, ") + kLeftS + " FROM jobs WHERE state='cutting'").c_str());
+  std::vector<std::pair<std::string, double>> out;
+  while (s.step()) out.emplace_back(s.text(0), s.real(1));
+  return out;
 }
 
 std::optional<Job> JobStore::claim_for_planning() {

@@ -42,10 +42,17 @@ class JobStore {
   std::optional<std::string> model_json(std::int64_t id);
   // Newest first; owner empty = everyone's.
   std::vector<Job> list(const std::string& owner, int limit);
-  // Jobs waiting ahead of this one for the same device or profile (queued, planning, ready).
+  // Jobs waiting ahead of this one that a device it may go to could cut (queued, planning, ready).
   int place_in_line(const Job& job);
-  // Seconds of cutting ahead of this one on its targets (planned jobs' estimates).
-  double work_ahead_s(const Job& job);
+  // Every job waiting ahead of this one (queued, planning, ready), for any device, oldest first:
+  // what each may go to and the cutting time it has left (0 while unplanned).
+  struct Ahead {
+    std::string target_device, target_profile;
+    double left_s = 0;
+  };
+  std::vector<Ahead> ahead(const Job& job);
+  // The cutting time left of each job being cut, by the device cutting it.
+  std::vector<std::pair<std::string, double>> cutting_left_s();
 
   // queued -> planning, oldest first.
   std::optional<Job> claim_for_planning();

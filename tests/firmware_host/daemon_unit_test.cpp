@@ -146,6 +146,35 @@ TEST_F(Store, QueueLengthLimit) {
   EXPECT_TRUE(s.insert(job("d"), 2).has_value()) << "finished jobs do not count against the queue";
 }
 
+// The reviewer's case: sim-a and sim-b (profile sim), jobs X (sim-a), Y (profile sim), Z (sim-b), W (sim-a).
+TEST_F(Store, PlaceInLineCountsOnlyJobsThatMayTakeTheSameDevice) {
+  JobStore s(db());
+  const std::int64_t x = *s.insert(job("sim-a"), 100), y = *s.insert(job(""), 100), z = *s.insert(job("sim-b"), 100),
+                     w = *s.insert(job("sim-a"), 100);
+  EXPECT_EQ(s.place_in_line(*s.get(x)), 0) << "X is first";
+  EXPECT_EQ(s.place_in_line(*s.get(y)), 1) << "Y (any sim device) waits behind X";
+  EXPECT_EQ(s.place_in_line(*s.get(z)), 1) << "Z (sim-b) waits behind Y only: X can only go to sim-a";
+  EXPECT_EQ(s.place_in_line(*s.get(w)), 2) << "W (sim-a) waits behind X and Y, not Z";
+  EXPECT_EQ(s.place_in_line(*s.get(*s.insert(job("", "other"), 100))), 0) << "another profile's job waits for none of them";
+  EXPECT_EQ(s.ahead(*s.get(w)).size(), 3u) << "every job waiting ahead of W (X, Y, Z) decides who is free when";
+}
+
+TEST(ReadyEta, FollowsTheWorkersThroughTheQueue) {
+  const std::vector<std::pair<std::string, std::string>> both{{"a", "sim"}, {"b", "sim"}};
+  // Z (device b) behind X (a, 10 s) and Y (any, 7 s): a takes X, so Y goes to b.
+  std::optional<double> eta = ready_eta_s({"b", "sim"}, 5, {{{"a", "sim"}, 10}, {{"", "sim"}, 7}}, both, {});
+  ASSERT_TRUE(eta.has_value()) << "b takes work";
+  EXPECT_DOUBLE_EQ(*eta, 12) << "Y's 7 s then Z's own 5 s";
+  // W (a) behind X (a, 10 s) and Y (any, 7 s), while a cuts a job with 3 s left and b is idle:
+  // X waits for a (3 + 10); Y goes to b at once; W follows X on a.
+  eta = ready_eta_s({"a", "sim"}, 5, {{{"a", "sim"}, 10}, {{"", "sim"}, 7}}, both, {{"a", 3.0}});
+  EXPECT_DOUBLE_EQ(*eta, 3 + 10 + 5) << "the cut in progress, X, then W";
+  // A profile job takes whichever device frees first.
+  eta = ready_eta_s({"", "sim"}, 5, {}, both, {{"a", 30.0}, {"b", 2.0}});
+  EXPECT_DOUBLE_EQ(*eta, 2 + 5) << "b is free after 2 s";
+  EXPECT_FALSE(ready_eta_s({"a", "sim"}, 5, {}, {{"b", "sim"}}, {}).has_value()) << "a paused (not taking work): no estimate";
+}
+
 StrokePlan castle_plan(const drivers::DeviceProfile& p) {
   const Pattern pattern = make_pattern(parse_model(read_text_file(kSrc + "/examples/voxel/castle.json"), "castle"));
   return plan_strokes(pattern, p.plan);
