@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "cli_checks.h"
 #include "cli_commands.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
@@ -78,11 +79,19 @@ class Connection {
       default: return "the request failed (" + httplib::to_string(e) + ")";
     }
   }
+  // The client library takes scheme://host[:port] only: a trailing slash, as a browser's address
+  // bar gives it, is dropped; a path is refused rather than silently ignored.
   static std::string check(const std::string& server) {
     if (server.rfind("http://", 0) != 0 && server.rfind("https://", 0) != 0) {
       throw ClientFailure{kBadInput, "--server " + server + ": expected http://HOST:PORT"};
     }
-    return server;
+    std::string base = server;  // scheme://host[:port]
+    const std::size_t host = base.find("://") + 3;
+    while (base.size() > host && base.back() == '/') base.pop_back();
+    if (base.find('/', host) != std::string::npos || host == base.size()) {
+      throw ClientFailure{kBadInput, "--server " + server + ": expected http://HOST:PORT (no path)"};
+    }
+    return base;
   }
   std::string server_;
   httplib::Client client_;
@@ -186,7 +195,7 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   common(s.jobs);
   s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.");
-  s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(CLI::PositiveNumber);
+  s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
   common(s.cancel);
 }
 

@@ -564,6 +564,13 @@ TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
   r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + " --token not-a-known-token-at-all");
   EXPECT_EQ(r.code, 2) << "wrong token: exit 2";
   EXPECT_NE(r.err.find("401 unauthorized"), std::string::npos) << "named: " << r.err;
+  r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + "/ --token " + kKiosk);
+  EXPECT_EQ(r.code, 0) << "a trailing slash, as a browser shows the address, is fine: " << r.err;
+  r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + "/api --token " + kKiosk);
+  EXPECT_EQ(r.code, 2) << "a path is refused, not ignored: " << r.err;
+  r = cli("cancel abc " + server);
+  EXPECT_EQ(r.code, 2) << "a job id that is not a number: exit 2";
+  EXPECT_NE(r.err.find("'abc' is not a job id"), std::string::npos) << "said plainly: " << r.err;
   const int port = d->port();
   EXPECT_EQ(d->stop(SIGTERM), 0) << "daemon stopped";
   r = cli("jobs --server http://127.0.0.1:" + std::to_string(port) + " --token " + kKiosk);
