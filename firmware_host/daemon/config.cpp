@@ -43,6 +43,32 @@ bool is_safe_name(const std::string& name) {
   return name.find("..") == std::string::npos;
 }
 
+bool is_job_label(const std::string& name) {
+  if (name.empty() || name.front() == ' ' || name.back() == ' ' || name.front() == '.') return false;
+  // Never a path, should a name ever reach a file system (exports, logs that get split on '/').
+  if (name.find_first_of("/\\") != std::string::npos || name.find("..") != std::string::npos) return false;
+  std::size_t chars = 0;
+  for (std::size_t i = 0; i < name.size(); ++chars) {
+    const auto b0 = static_cast<unsigned char>(name[i]);
+    const int len = b0 < 0x80 ? 1 : (b0 >> 5) == 0x6 ? 2 : (b0 >> 4) == 0xe ? 3 : (b0 >> 3) == 0x1e ? 4 : 0;
+    if (len == 0 || i + static_cast<std::size_t>(len) > name.size()) return false;
+    char32_t cp = len == 1 ? b0 : len == 2 ? (b0 & 0x1fu) : len == 3 ? (b0 & 0x0fu) : (b0 & 0x07u);
+    for (int k = 1; k < len; ++k) {
+      const auto b = static_cast<unsigned char>(name[i + static_cast<std::size_t>(k)]);
+      if ((b >> 6) != 0x2) return false;
+      cp = (cp << 6) | (b & 0x3fu);
+    }
+    // Overlong forms, surrogates and beyond U+10FFFF are not UTF-8.
+    const char32_t min_cp[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (cp < min_cp[len] || (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff) return false;
+    if (cp < 0x20 || (cp >= 0x7f && cp <= 0x9f)) return false;                        // control characters
+    if ((cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069) || cp == 0x200e || cp == 0x200f) return false;  // bidi
+    if (cp == 0x2028 || cp == 0x2029) return false;                                  // line breaks
+    i += static_cast<std::size_t>(len);
+  }
+  return chars <= 64;
+}
+
 DaemonConfig parse_daemon_config(const std::string& text, const std::string& source) {
   const toml::table root = parse_toml(text, source);
   for (const auto& [k, v] : root) {

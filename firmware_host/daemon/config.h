@@ -59,8 +59,13 @@ struct DaemonConfig {
 DaemonConfig parse_daemon_config(const std::string& text, const std::string& source);
 DaemonConfig load_daemon_config(const std::string& path);
 
-// Names of devices and jobs: letters, digits, '-', '_', '.', ' ' (not leading), 1..64 bytes;
-// nothing a path or a shell could take as structure.
+// Names of devices, tokens and uploaded files: letters, digits, '-', '_', '.', ' ' (not leading),
+// 1..64 bytes; nothing a path or a shell could take as structure.
 bool is_safe_name(const std::string& name);
+
+// A job's name is a label people read ("Castle", "城", "café 2"): valid UTF-8, 1 to 64
+// characters, no control characters or bidirectional overrides (which could disguise a name in
+// the kiosk's list), no space at either end, and nothing of a path ('/', '\\', '..', leading '.').
+bool is_job_label(const std::string& name);
 
 }  // namespace popcut::daemon

@@ -11,6 +11,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unordered_set>
 
 #include "log.h"
 #include "model_limits.h"
@@ -152,12 +153,28 @@ class Api {
     return diff == 0;
   }
 
+  // JSON with a key given twice in one object is refused: the parser would keep the last and
+  // {"device": "a", "device": "b"} would go to b without a word (RFC 8259 leaves it open).
   static json parse_body(const httplib::Request& req) {
+    std::vector<std::unordered_set<std::string>> keys;  // per open object, the keys seen so far
+    std::string repeated;
+    const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
+      if (event == json::parse_event_t::object_start) keys.emplace_back();
+      else if (event == json::parse_event_t::object_end) keys.pop_back();
+      else if (event == json::parse_event_t::key && repeated.empty()) {
+        const std::string& key = parsed.get_ref<const std::string&>();
+        if (!keys.back().insert(key).second) repeated = key;
+      }
+      return true;
+    };
+    json body;
     try {
-      return json::parse(req.body);
+      body = json::parse(req.body, check);
     } catch (const json::parse_error& e) {
       fail(ApiError::bad_json, std::string("the body is not JSON: ") + e.what());
     }
+    if (!repeated.empty()) fail(ApiError::bad_request, "'" + repeated + "' given twice in one object", repeated);
+    return body;
   }
   static std::string string_field(const json& body, const char* key, bool required) {
     if (!body.contains(key) || body[key].is_null()) {
@@ -181,9 +198,17 @@ class Api {
   }
   // Rounded to a multiple of kAngleStepDeg (the kiosk slider's step): at most 37 pictures per model.
   static constexpr int kAngleStepDeg = 5;
+  // A query parameter given at most once: ?angle=10&angle=20 is a malformed request, not a guess.
+  static std::optional<std::string> query_param(const httplib::Request& req, const char* name) {
+    const std::size_t n = req.get_param_value_count(name);
+    if (n > 1) fail(ApiError::bad_request, std::string("'") + name + "' given twice in the query", name);
+    if (n == 0) return std::nullopt;
+    return req.get_param_value(name);
+  }
   static int angle_param(const httplib::Request& req) {
-    if (!req.has_param("angle")) return 90;
-    const std::string a = req.get_param_value("angle");
+    const std::optional<std::string> given = query_param(req, "angle");
+    if (!given) return 90;
+    const std::string& a = *given;
     // "-0" is 0, as a slider or a script may send it.
     const std::string digits = a == "-0" ? "0" : a;
     if (digits.empty() || digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > 180) {
@@ -192,7 +217,10 @@ class Api {
     return (std::stoi(digits) + kAngleStepDeg / 2) / kAngleStepDeg * kAngleStepDeg;
   }
 
-  json job_json(const Job& j);
+  // The queue played forward once per request (docs/api.md eta_s), shared by every job listed.
+  using Forecast = std::unordered_map<std::int64_t, double>;
+  Forecast forecast();
+  json job_json(const Job& j, const Forecast* forecast = nullptr);
   void submit(const httplib::Request& req, httplib::Response& res);
   void set_target(NewJob& nj, const std::string& device, const std::string& profile);
   void check_for_device(const NewJob& nj, const std::string& source);
@@ -216,7 +244,15 @@ class Api {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
 
-json Api::job_json(const Job& j) {
+Api::Forecast Api::forecast() {
+  std::vector<std::pair<std::string, std::string>> taking;  // devices that start new cuts
+  for (const DeviceStatus& dev : d_.devices()) {
+    if (!dev.paused) taking.emplace_back(dev.name, dev.profile);
+  }
+  return forecast_done_s(d_.store().waiting(), taking, d_.store().cutting_left_s());
+}
+
+json Api::job_json(const Job& j, const Forecast* shared) {
   json r = {{"id", j.id},
             {"name", j.name},
             {"owner", j.owner},
@@ -244,15 +280,9 @@ json Api::job_json(const Job& j) {
   if (j.state == JobState::queued || j.state == JobState::planning || j.state == JobState::ready) {
     r["place_in_line"] = d_.store().place_in_line(j);
     if (j.state == JobState::ready) {
-      std::vector<AheadWork> ahead;
-      for (const JobStore::Ahead& a : d_.store().ahead(j)) ahead.push_back({{a.target_device, a.target_profile}, a.left_s});
-      std::vector<std::pair<std::string, std::string>> taking;  // devices that start new cuts
-      for (const DeviceStatus& dev : d_.devices()) {
-        if (!dev.paused) taking.emplace_back(dev.name, dev.profile);
-      }
-      if (const auto eta = ready_eta_s({j.target_device, j.target_profile}, left_s, ahead, taking, d_.store().cutting_left_s())) {
-        r["eta_s"] = *eta;
-      }
+      const Forecast own = shared ? Forecast() : forecast();
+      const Forecast& f = shared ? *shared : own;
+      if (const auto it = f.find(j.id); it != f.end()) r["eta_s"] = it->second;
     }
   } else if (j.state == JobState::cutting) {
     r["eta_s"] = left_s;
@@ -261,9 +291,8 @@ json Api::job_json(const Job& j) {
 }
 
 void Api::set_target(NewJob& nj, const std::string& device, const std::string& profile) {
-  if (nj.name.empty()) nj.name = "card";
-  if (!is_safe_name(nj.name)) {
-    fail(ApiError::bad_name, "job names are 1 to 64 letters, digits, spaces, '-', '_' or '.', not starting with '.' and without '..'", "name");
+  if (!is_job_label(nj.name)) {
+    fail(ApiError::bad_name, "job names are 1 to 64 characters of text in any script, without control characters, direction overrides, '/', '\\', '..', a leading '.' or a space at either end", "name");
   }
   nj.target_device = device;
   nj.target_profile = profile;
@@ -355,6 +384,7 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
     // job then holds the imported model like any other.
     Upload u = import_upload(req, {"name", "device", "profile"});
     // Unnamed, the job is named after the file (house.obj: "house").
+    if (u.fields.count("name") && u.fields["name"].empty()) fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its file", "name");
     nj.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
     set_target(nj, u.fields["device"], u.fields["profile"]);
     nj.model_json = std::move(u.imported.model_json);
@@ -365,10 +395,17 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
     for (const auto& [k, v] : body.items()) {
       if (k != "name" && k != "device" && k != "profile" && k != "model") fail(ApiError::bad_request, "unknown field '" + k + "'", k);
     }
-    nj.name = string_field(body, "name", false);
-    set_target(nj, string_field(body, "device", false), string_field(body, "profile", false));
     if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
     if (!body["model"].is_object()) fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");
+    nj.name = string_field(body, "name", false);
+    const bool named = body.contains("name") && !body["name"].is_null();
+    if (named && nj.name.empty()) fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its model", "name");
+    if (!named) {
+      // Unnamed, the job takes its model's name ("Castle gatehouse with towers"), else "card".
+      const json& model_name = body["model"].value("name", json());
+      nj.name = model_name.is_string() && is_job_label(model_name.get<std::string>()) ? model_name.get<std::string>() : "card";
+    }
+    set_target(nj, string_field(body, "device", false), string_field(body, "profile", false));
     nj.model_json = body["model"].dump();
   }
   check_for_device(nj, source);
@@ -530,15 +567,18 @@ void Api::install() {
   get("/api/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {
     const Caller c = auth(req);
     int limit = 100;
-    if (req.has_param("limit")) {
-      const std::string l = req.get_param_value("limit");
+    if (const std::optional<std::string> given = query_param(req, "limit")) {
+      const std::string& l = *given;
       if (l.empty() || l.size() > 5 || l.find_first_not_of("0123456789") != std::string::npos || std::stoi(l) < 1 || std::stoi(l) > 10000) {
         fail(ApiError::bad_request, "limit must be a whole number from 1 to 10000", "limit");
       }
       limit = std::stoi(l);
     }
     json list = json::array();
-    for (const Job& j : d_.store().list(c.admin() ? "" : c.name, limit)) list.push_back(job_json(j));
+    const std::vector<Job> jobs = d_.store().list(c.admin() ? "" : c.name, limit);
+    const bool any_ready = std::any_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.state == JobState::ready; });
+    const Forecast f = any_ready ? forecast() : Forecast();
+    for (const Job& j : jobs) list.push_back(job_json(j, &f));
     send_json(res, {{"jobs", list}});
   });
   get(R"(/api/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {

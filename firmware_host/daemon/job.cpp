@@ -68,14 +68,12 @@ int http_status(ApiError e) {
   return 500;
 }
 
-std::optional<double> ready_eta_s(const Targets& job, double own_left_s, const std::vector<AheadWork>& ahead,
-                                  const std::vector<std::pair<std::string, std::string>>& devices,
-                                  const std::vector<std::pair<std::string, double>>& cutting_left_s) {
-  // When each device frees up: after its current cut. Every device taking work counts, not
-  // only this job's: a job ahead that may go elsewhere too takes whichever frees up first.
+std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting,
+                                                         const std::vector<std::pair<std::string, std::string>>& devices,
+                                                         const std::vector<std::pair<std::string, double>>& cutting_left_s) {
   struct Free {
     std::string name, profile;
-    double at_s = 0;
+    double at_s = 0;  // when the device is free, after its current cut
   };
   std::vector<Free> free;
   for (const auto& [name, profile] : devices) {
@@ -85,19 +83,17 @@ std::optional<double> ready_eta_s(const Targets& job, double own_left_s, const s
     }
     free.push_back({name, profile, at_s});
   }
-  for (const AheadWork& a : ahead) {
+  std::unordered_map<std::int64_t, double> done_s;
+  for (const WaitingJob& w : waiting) {
     Free* first = nullptr;
     for (Free& f : free) {
-      if (a.targets.may_go_to(f.name, f.profile) && (!first || f.at_s < first->at_s)) first = &f;
+      if (w.targets.may_go_to(f.name, f.profile) && (!first || f.at_s < first->at_s)) first = &f;
     }
-    if (first) first->at_s += a.left_s;
+    if (!first) continue;
+    first->at_s += w.left_s;
+    done_s[w.id] = first->at_s;
   }
-  std::optional<double> soonest_s;
-  for (const Free& f : free) {
-    if (job.may_go_to(f.name, f.profile) && (!soonest_s || f.at_s < *soonest_s)) soonest_s = f.at_s;
-  }
-  if (!soonest_s) return std::nullopt;
-  return *soonest_s + own_left_s;
+  return done_s;
 }
 
 }  // namespace popcut::daemon

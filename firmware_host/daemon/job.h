@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -47,18 +48,18 @@ struct Targets {
   }
 };
 
-// Seconds until a ready job should be done, as the device workers take the queue: each job ahead
-// (oldest first, with the cutting time it has left) goes to whichever of its devices frees up
-// first, after what that device is cutting now. `devices` are the ones taking work (name,
-// profile); nullopt when none of them may take this job (all paused). `ahead` is every job
-// waiting ahead, for any device: one that takes another device first changes who is free.
-struct AheadWork {
+// When each waiting job should be done, as the device workers take the queue: oldest first, each
+// goes to whichever of its devices frees up first (after the cuts in progress and the jobs
+// before it) and takes the cutting time it has left. `devices` are those taking work (name,
+// profile); a job none of them may take has no entry. Seconds from now, by job id.
+struct WaitingJob {
+  std::int64_t id = 0;
   Targets targets;
-  double left_s = 0;
+  double left_s = 0;  // 0 while not planned
 };
-std::optional<double> ready_eta_s(const Targets& job, double own_left_s, const std::vector<AheadWork>& ahead,
-                                  const std::vector<std::pair<std::string, std::string>>& devices,
-                                  const std::vector<std::pair<std::string, double>>& cutting_left_s);
+std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting,
+                                                         const std::vector<std::pair<std::string, std::string>>& devices,
+                                                         const std::vector<std::pair<std::string, double>>& cutting_left_s);
 
 struct Job {
   std::int64_t id = 0;

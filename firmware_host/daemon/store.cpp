@@ -237,13 +237,12 @@ int JobStore::place_in_line(const Job& j) {
   return static_cast<int>(s.integer(0));
 }
 
-std::vector<JobStore::Ahead> JobStore::ahead(const Job& j) {
+std::vector<WaitingJob> JobStore::waiting() {
   auto [db, lock] = reader();
-  Stmt s(db, (std::string("SELECT target_device, target_profile, ") + kLeftS +
-              " FROM jobs WHERE id < ? AND state IN ('queued','planning','ready') ORDER BY id").c_str());
-  s.bind(1, j.id);
-  std::vector<Ahead> out;
-  while (s.step()) out.push_back({s.text(0), s.text(1), s.real(2)});
+  Stmt s(db, (std::string("SELECT id, target_device, target_profile, ") + kLeftS +
+              " FROM jobs WHERE state IN ('queued','planning','ready') ORDER BY id").c_str());
+  std::vector<WaitingJob> out;
+  while (s.step()) out.push_back({s.integer(0), {s.text(1), s.text(2)}, s.real(3)});
   return out;
 }
 

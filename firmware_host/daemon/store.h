@@ -44,13 +44,9 @@ class JobStore {
   std::vector<Job> list(const std::string& owner, int limit);
   // Jobs waiting ahead of this one that a device it may go to could cut (queued, planning, ready).
   int place_in_line(const Job& job);
-  // Every job waiting ahead of this one (queued, planning, ready), for any device, oldest first:
-  // what each may go to and the cutting time it has left (0 while unplanned).
-  struct Ahead {
-    std::string target_device, target_profile;
-    double left_s = 0;
-  };
-  std::vector<Ahead> ahead(const Job& job);
+  // Every job waiting (queued, planning, ready), oldest first: what each may go to and the
+  // cutting time it has left (0 while unplanned; a resumed one, after the strokes already cut).
+  std::vector<WaitingJob> waiting();
   // The cutting time left of each job being cut, by the device cutting it.
   std::vector<std::pair<std::string, double>> cutting_left_s();
 

@@ -29,6 +29,13 @@ function showImage(id, blob) {
   $(id).src = urls[id];
 }
 
+// A job name as popcutd takes it (any text, 1-64 characters): control characters and direction
+// overrides dropped, spaces trimmed; counted in characters, not UTF-16 halves.
+function jobLabel(text) {
+  const clean = text.replace(/[\u0000-\u001f\u007f-\u009f\u200e\u200f\u2028\u2029\u202a-\u202e\u2066-\u2069]/g, '').trim();
+  return Array.from(clean).slice(0, 64).join('').trim();
+}
+
 function showError(id, err) {
   $(id).hidden = !err;
   $(id).textContent = err ? String(err.message || err) : '';
@@ -48,7 +55,7 @@ async function useModel(text, label) {
     showImage('pattern', await api('POST', '/api/v1/render/pattern.svg', text, 'blob'));
     model = text;
     $('model-name').textContent = label;
-    $('name').value = label.replace(/[^A-Za-z0-9 _.-]/g, '').slice(0, 64) || 'my card';
+    $('name').value = jobLabel(label) || 'my card';
     await renderPreview();
     $('queue').disabled = !$('device').value;
   } catch (e) {
@@ -77,7 +84,7 @@ async function importMesh() {
   $('model-name').textContent = 'Importing ' + mesh.name + ' ...';
   const form = new FormData();
   form.append('mesh', mesh, mesh.name);
-  form.append('name', mesh.name.replace(/\.[^.]*$/, '').replace(/[^A-Za-z0-9 _.-]/g, '').slice(0, 64) || 'mesh');
+  form.append('name', jobLabel(mesh.name.replace(/\.[^.]*$/, '')) || 'mesh');
   for (const id of ['resolution', 'up', 'front', 'thin-tops']) form.append(id, $(id).value);
   form.append('faces', $('faces').checked ? 'true' : 'false');
   try {

@@ -90,6 +90,19 @@ TEST(DaemonConfig, SafeNames) {
     EXPECT_FALSE(is_safe_name(bad)) << "'" << bad << "' must be refused";
   }
   EXPECT_FALSE(is_safe_name(std::string(65, 'a'))) << "names are at most 64 bytes";
+  for (const char* ok : {"card", "Castle gatehouse (Fig. 3)", "café 中", "城", "\xf0\x9f\x8f\xb0 castle"}) {
+    EXPECT_TRUE(is_job_label(ok)) << ok << " is a fine job name";
+  }
+  std::string castles;
+  for (int i = 0; i < 64; ++i) castles += "\xe5\x9f\x8e";  // 城, three bytes
+  EXPECT_TRUE(is_job_label(castles)) << "64 characters of three bytes each: the limit counts characters";
+  EXPECT_FALSE(is_job_label(castles + "\xe5\x9f\x8e")) << "65 characters are too many";
+  for (const std::string bad : {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01b", 3),
+                                std::string("tab\there"), std::string("rlo\xe2\x80\xae"), std::string("bad \xff utf8"),
+                                std::string("overlong \xc0\xaf"), std::string("cut \xe5\x9f"), std::string("a/b"), std::string("../x"),
+                                std::string(".hidden"), std::string("a\\b"), std::string("c1 \xc2\x85")}) {
+    EXPECT_FALSE(is_job_label(bad)) << "'" << bad << "' must be refused as a job name";
+  }
 }
 
 class Store : public ::testing::Test {
@@ -156,23 +169,23 @@ TEST_F(Store, PlaceInLineCountsOnlyJobsThatMayTakeTheSameDevice) {
   EXPECT_EQ(s.place_in_line(*s.get(z)), 1) << "Z (sim-b) waits behind Y only: X can only go to sim-a";
   EXPECT_EQ(s.place_in_line(*s.get(w)), 2) << "W (sim-a) waits behind X and Y, not Z";
   EXPECT_EQ(s.place_in_line(*s.get(*s.insert(job("", "other"), 100))), 0) << "another profile's job waits for none of them";
-  EXPECT_EQ(s.ahead(*s.get(w)).size(), 3u) << "every job waiting ahead of W (X, Y, Z) decides who is free when";
+  EXPECT_EQ(s.waiting().size(), 5u) << "every waiting job is played forward for eta_s";
 }
 
-TEST(ReadyEta, FollowsTheWorkersThroughTheQueue) {
+TEST(Forecast, FollowsTheWorkersThroughTheQueue) {
   const std::vector<std::pair<std::string, std::string>> both{{"a", "sim"}, {"b", "sim"}};
-  // Z (device b) behind X (a, 10 s) and Y (any, 7 s): a takes X, so Y goes to b.
-  std::optional<double> eta = ready_eta_s({"b", "sim"}, 5, {{{"a", "sim"}, 10}, {{"", "sim"}, 7}}, both, {});
-  ASSERT_TRUE(eta.has_value()) << "b takes work";
-  EXPECT_DOUBLE_EQ(*eta, 12) << "Y's 7 s then Z's own 5 s";
-  // W (a) behind X (a, 10 s) and Y (any, 7 s), while a cuts a job with 3 s left and b is idle:
-  // X waits for a (3 + 10); Y goes to b at once; W follows X on a.
-  eta = ready_eta_s({"a", "sim"}, 5, {{{"a", "sim"}, 10}, {{"", "sim"}, 7}}, both, {{"a", 3.0}});
-  EXPECT_DOUBLE_EQ(*eta, 3 + 10 + 5) << "the cut in progress, X, then W";
+  // X (a, 10 s), Y (any sim, 7 s), Z (b, 5 s), W (a, 5 s); a cuts a job with 3 s left, b is idle.
+  const std::vector<WaitingJob> queue{{1, {"a", "sim"}, 10}, {2, {"", "sim"}, 7}, {3, {"b", "sim"}, 5}, {4, {"a", "sim"}, 5}};
+  auto done = forecast_done_s(queue, both, {{"a", 3.0}});
+  EXPECT_DOUBLE_EQ(done.at(1), 3 + 10) << "X after the cut in progress on a";
+  EXPECT_DOUBLE_EQ(done.at(2), 7) << "Y goes to b, free at once";
+  EXPECT_DOUBLE_EQ(done.at(3), 7 + 5) << "Z follows Y on b";
+  EXPECT_DOUBLE_EQ(done.at(4), 3 + 10 + 5) << "W follows X on a; Z, for b only, does not delay it";
   // A profile job takes whichever device frees first.
-  eta = ready_eta_s({"", "sim"}, 5, {}, both, {{"a", 30.0}, {"b", 2.0}});
-  EXPECT_DOUBLE_EQ(*eta, 2 + 5) << "b is free after 2 s";
-  EXPECT_FALSE(ready_eta_s({"a", "sim"}, 5, {}, {{"b", "sim"}}, {}).has_value()) << "a paused (not taking work): no estimate";
+  done = forecast_done_s({{9, {"", "sim"}, 5}}, both, {{"a", 30.0}, {"b", 2.0}});
+  EXPECT_DOUBLE_EQ(done.at(9), 2 + 5) << "b is free after 2 s";
+  EXPECT_EQ(forecast_done_s({{9, {"a", "sim"}, 5}}, {{"b", "sim"}}, {}).count(9), 0u) << "a paused (not taking work): no estimate";
+  EXPECT_EQ(forecast_done_s({{9, {"", "other"}, 5}}, both, {}).count(9), 0u) << "no device with its profile: no estimate";
 }
 
 StrokePlan castle_plan(const drivers::DeviceProfile& p) {

@@ -280,6 +280,16 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
       {&c, "POST", "/api/v1/render/preview.png", "not json at all", 400, "bad_json"},
       {&c, "POST", "/api/v1/render/pattern.svg", R"({"format": "popcut.voxel.v1", "heights": "x"})", 422, "bad_model"},
       {&c, "POST", "/api/v1/import", box, 400, "bad_request"},
+      // A key twice in one object would silently keep the last; a query parameter twice, the first.
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "device": "sim-b", "model": )" + box + "}", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "format": "x"}})", 400, "bad_request"},
+      {&c, "GET", "/api/v1/jobs/" + std::to_string(mine) + "/preview.png?angle=10&angle=20", "", 400, "bad_request"},
+      {&c, "GET", "/api/v1/jobs?limit=1&limit=2", "", 400, "bad_request"},
+      // Names are labels: any text, but not empty, not control characters, not direction overrides.
+      {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", ""), 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", std::string("a\x01") + "b"), 400, "bad_name"},
+      {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "abc\u202e"), 400, "bad_name"},
+      {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", std::string(65, 'n')), 400, "bad_name"},
   };
   for (const Case& k : cases) {
     const Reply r = k.method == "GET" ? get_json(*k.client, k.path) : post_json(*k.client, k.path, k.body);
@@ -287,6 +297,11 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
     EXPECT_EQ(r.body.is_object() && r.body.contains("error") ? r.body["error"].value("code", "") : "", k.code)
         << k.method << " " << k.path << " " << k.body.substr(0, 120) << " answers with the documented code: " << r.body.dump();
   }
+  const Reply unicode = post_json(c, "/api/v1/jobs", submission(box, "device", "sim-a", "café 城 2"));
+  EXPECT_EQ(unicode.status, 201) << "a name in any script is a fine label: " << unicode.body.dump();
+  EXPECT_EQ(unicode.body.value("name", ""), "café 城 2") << "and is kept as given";
+  const Reply unnamed = post_json(c, "/api/v1/jobs", json{{"device", "sim-a"}, {"model", json::parse(box)}}.dump());
+  EXPECT_EQ(unnamed.body.value("name", ""), json::parse(box)["name"]) << "an unnamed job takes its model's name: " << unnamed.body.dump();
   httplib::Client admin = d->client(kAdmin);
   EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/pause", "").status, 200) << "the admin pauses a device";
   const std::int64_t held = submit(c, submission(box, "device", "sim-a", "held"));
