@@ -1,6 +1,9 @@
 // popcutd.toml loader: each section read through drivers' typed, range-checked TOML getters.
 #include "config.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+
 #include <filesystem>
 #include <set>
 #include <toml++/toml.h>
@@ -98,6 +101,16 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   TomlSection s = table("server");
   c.listen = s.text("listen", "127.0.0.1", 64);
   if (c.listen.empty()) s.fail("listen", "must not be empty (127.0.0.1 for this machine only)");
+  // An address literal is checked here (999.1.1.1 is a typo, not a host name to look up); a host
+  // name is resolved when popcutd binds.
+  const bool v4_like = c.listen.find_first_not_of("0123456789.") == std::string::npos;
+  const bool v6_like = c.listen.find(':') != std::string::npos;
+  unsigned char addr[sizeof(in6_addr)];
+  if (v4_like && ::inet_pton(AF_INET, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0)");
+  if (v6_like && ::inet_pton(AF_INET6, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv6 address (e.g. ::1, ::)");
+  if (!v4_like && !v6_like && c.listen.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") != std::string::npos) {
+    s.fail("listen", "\"" + c.listen + "\" is neither an IP address nor a host name");
+  }
   c.port = s.integer("port", 8742, 0, 65535);
   const std::string data_dir = s.text("data_dir", "", 4096);
   if (data_dir.empty()) s.fail("data_dir", "missing: where the job database and job files live");

@@ -53,7 +53,7 @@ class Daemon {
 
   // SIGTERM: stop planning, stop every cut safely (it becomes `interrupted`, resumable), join.
   void shutdown();
-  int recovered() const { return recovered_; }
+  JobStore::Recovered recovered() const { return recovered_; }
   std::uint64_t cuts_completed() const { return cuts_completed_; }
 
  private:
@@ -86,7 +86,7 @@ class Daemon {
   DaemonConfig config_;
   DataDirLock lock_;
   JobStore store_;
-  int recovered_ = 0;
+  JobStore::Recovered recovered_;
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> cuts_completed_{0};
   std::mutex mutex_;

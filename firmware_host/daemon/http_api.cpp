@@ -120,7 +120,8 @@ class Api {
         const ApiError code = e.code() == ErrorCode::limit ? ApiError::model_too_complex
                               : e.code() == ErrorCode::invalid_input ? ApiError::bad_model
                                                                      : ApiError::internal;
-        send_error(res, code, e.what(), e.location());
+        // "model: model: ..." when the field is the whole submitted model: say it once.
+        send_error(res, code, e.source() == e.location() ? e.source() + ": " + e.message() : std::string(e.what()), e.location());
       } catch (const std::exception& e) {
         log_line("internal error on ", req.method, " ", req.path, ": ", e.what());
         send_error(res, ApiError::internal, e.what());
@@ -539,21 +540,25 @@ void Api::install() {
     fail(ApiError::not_found, "no example named " + want);
   });
   get("/api/v1/devices", [this](const httplib::Request& req, httplib::Response& res) {
-    auth(req);
+    const Caller c = auth(req);
     json list = json::array();
     for (const DeviceStatus& s : d_.devices()) {
+      // A kiosk sees which of its own jobs a device cuts; another's id would only answer 404.
+      std::optional<Job> cutting;
+      if (s.job && !c.admin()) cutting = d_.store().get(s.job);
+      const bool shown = s.job && (c.admin() || (cutting && cutting->owner == c.name));
       list.push_back({{"name", s.name},
                       {"profile", s.profile},
                       {"model", d_.device(s.name)->profile.name},
                       {"state", s.paused ? (s.job ? "pausing" : "paused") : (s.job ? "cutting" : "idle")},
                       {"paused", s.paused},
-                      {"job", s.job ? json(s.job) : json(nullptr)}});
+                      {"job", shown ? json(s.job) : json(nullptr)}});
     }
     send_json(res, {{"devices", list}});
   });
   const auto pause = [this](bool paused) {
     return [this, paused](const httplib::Request& req, httplib::Response& res) {
-      if (!auth(req).admin()) fail(ApiError::forbidden, "pausing a device needs the admin token");
+      if (!auth(req).admin()) fail(ApiError::forbidden, std::string(paused ? "pausing" : "resuming") + " a device needs the admin token");
       const std::string name = req.matches[1];
       if (!d_.device(name)) fail(ApiError::not_found, "no device named " + name);
       d_.set_paused(name, paused);

@@ -3,7 +3,9 @@
 
 #include <sys/socket.h>
 
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <iostream>
 #include <string>
 #include <pthread.h>
@@ -87,7 +89,10 @@ int run_popcutd(int argc, char** argv) {
     std::cerr << "popcutd: error: " << e.what() << "\n";
     return 3;
   }
-  if (daemon->recovered() > 0) log_line("recovered ", daemon->recovered(), " jobs after an unclean stop (cutting -> interrupted)");
+  if (const auto r = daemon->recovered(); r.interrupted + r.requeued > 0) {
+    log_line("recovered after an unclean stop: ", r.interrupted, " cutting -> interrupted (resume when asked), ", r.requeued,
+             " planning -> queued (planned again)");
+  }
 
   httplib::Server server;
   server.new_task_queue = [n = config.http_threads] { return new httplib::ThreadPool(static_cast<std::size_t>(n)); };
@@ -101,13 +106,18 @@ int run_popcutd(int argc, char** argv) {
   });
   HttpApi api(server, *daemon);
   int bound = config.port;
+  errno = 0;  // httplib returns only false; the failed bind()'s errno says why (in use, not here)
   if (config.port == 0) {
     bound = server.bind_to_any_port(config.listen);
   } else if (!server.bind_to_port(config.listen, config.port)) {
     bound = -1;
   }
   if (bound <= 0) {
-    std::cerr << "popcutd: error: cannot listen on " << config.listen << ":" << config.port << "\n";
+    const int why = errno;
+    std::cerr << "popcutd: error: cannot listen on " << config.listen << ":" << config.port
+              << (why ? std::string(": ") + std::strerror(why) : std::string())
+              << (why == EADDRINUSE ? " (another popcutd or program has the port; [server] port sets another)" : "")
+              << (why == EADDRNOTAVAIL ? " (no interface of this machine has that address; [server] listen)" : "") << "\n";
     daemon->shutdown();
     return 3;
   }

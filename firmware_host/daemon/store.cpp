@@ -161,16 +161,17 @@ void JobStore::exec(const char* sql) {
   }
 }
 
-int JobStore::recover() {
+JobStore::Recovered JobStore::recover() {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   Stmt(db_, "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, error_code='interrupted',"
             " error_message='popcutd stopped without a clean shutdown during the cut' WHERE state='cutting'").step();
-  int n = sqlite3_changes(db_);
+  Recovered r;
+  r.interrupted = sqlite3_changes(db_);
   Stmt(db_, "UPDATE jobs SET state='queued' WHERE state='planning'").step();
-  n += sqlite3_changes(db_);
+  r.requeued = sqlite3_changes(db_);
   exec("COMMIT");
-  return n;
+  return r;
 }
 
 std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length) {

@@ -33,8 +33,11 @@ class JobStore {
   JobStore& operator=(const JobStore&) = delete;
 
   // After a crash: a job that was cutting becomes interrupted (its strokes_sent stands), one
-  // that was planning goes back to queued (planning is repeatable). Returns the jobs touched.
-  int recover();
+  // that was planning goes back to queued (planning is repeatable). Returns how many of each.
+  struct Recovered {
+    int interrupted = 0, requeued = 0;
+  };
+  Recovered recover();
 
   // nullopt when `queue_length` unfinished jobs exist already.
   std::optional<std::int64_t> insert(const NewJob& job, int queue_length);

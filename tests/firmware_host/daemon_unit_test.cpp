@@ -63,6 +63,9 @@ TEST(DaemonConfig, ErrorsNameFileSectionAndKey) {
       {"[server]\nport = \"80\"\n", "[server] port: expected a whole number"},
       {"[server]\nport = 70000\ndata_dir=\"/x\"\n", "[server] port: 70000 is out of range 0 to 65535"},
       {"[server]\nlisten = \"\"\n", "[server] listen"},
+      {"[server]\nlisten = \"999.1.1.1\"\n", "[server] listen: \"999.1.1.1\" is not an IPv4 address"},
+      {"[server]\nlisten = \"::g\"\n", "[server] listen: \"::g\" is not an IPv6 address"},
+      {"[server]\nlisten = \"my host\"\n", "[server] listen: \"my host\" is neither"},
       {"[server]\nport = 1\n", "[server] data_dir: missing"},
       {"[server]\ndata_dir = \"/x\"\n[[token]]\nname=\"k\"\ntoken=\"0123456789abcdef\"\n", "no devices"},
       {"[server]\ndata_dir = \"/x\"\nspeed = 1\n" + good.substr(good.find("[[device]]")), "[server] speed: unknown key"},
@@ -77,6 +80,11 @@ TEST(DaemonConfig, ErrorsNameFileSectionAndKey) {
       {good + "[limits]\nupload_bytes = 10\n", "[limits] upload_bytes: 10 is out of range"},
       {"[server\n", "line 1"},
   };
+  for (const char* listen : {"0.0.0.0", "::1", "::", "localhost", "cutter-room.local"}) {
+    std::string text = good;
+    text.insert(text.find("data_dir"), std::string("listen = \"") + listen + "\"\n");
+    EXPECT_EQ(config_error(text), "") << listen << " is a fine listen address";
+  }
   for (const Case& c : cases) {
     const std::string e = config_error(c.text);
     EXPECT_NE(e.find("test.toml"), std::string::npos) << "the error names the file: " << e << "\nfor:\n" << c.text;
@@ -130,7 +138,9 @@ TEST_F(Store, TransitionsAreGuardedAndSurviveReopen) {
     // A crash here: a is cutting (4 strokes sent), b is planning.
   }
   JobStore s(db());
-  EXPECT_EQ(s.recover(), 2) << "one cutting and one planning job are recovered";
+  const JobStore::Recovered r = s.recover();
+  EXPECT_EQ(r.interrupted, 1) << "the cutting job is interrupted";
+  EXPECT_EQ(r.requeued, 1) << "the planning job goes back to the queue";
   const Job ja = *s.get(a);
   EXPECT_EQ(ja.state, JobState::interrupted) << "a cutting job becomes interrupted after a crash";
   EXPECT_EQ(ja.strokes_sent, 4) << "strokes fully sent survive the crash";

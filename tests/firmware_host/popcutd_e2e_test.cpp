@@ -139,7 +139,8 @@ TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
   EXPECT_GE(sent, seen) << "no stroke reported sent is forgotten";
   EXPECT_LT(sent, total) << "the kill came mid-cut (else this test proves nothing)";
   EXPECT_EQ(j["resume_from"], sent) << "it will resume at the first stroke not fully sent";
-  EXPECT_NE(d->log().find("recovered 1 jobs"), std::string::npos) << "the restart says it recovered the job";
+  EXPECT_NE(d->log().find("recovered after an unclean stop: 1 cutting -> interrupted"), std::string::npos)
+      << "the restart says it recovered the job: " << d->log();
   // The device goes on with other work while the interrupted job waits to be asked.
   const std::int64_t other = submit(c, submission(example("voxel/box.json"), "device", "slow", "box"));
   ASSERT_TRUE(wait_until([&] { return final_state(job(c, other)); })) << "the next job is cut";
@@ -498,6 +499,22 @@ TEST_F(Popcutd, KioskTokensSeeOnlyTheirOwnJobs) {
   const httplib::Result png = a.Get(("/api/v1/jobs/" + std::to_string(id) + "/preview.png?angle=45").c_str());
   ASSERT_TRUE(png) << "preview answered";
   EXPECT_EQ(png->body.substr(1, 3), "PNG") << "the preview is a PNG";
+}
+
+TEST_F(Popcutd, DevicesShowAKioskOnlyItsOwnJobBeingCut) {
+  const auto d = start(slow_config(dir_, 1.0, 20.0));
+  httplib::Client a = d->client(kKiosk);
+  httplib::Client b = d->client("other-kiosk-0123456789");
+  httplib::Client admin = d->client(kAdmin);
+  const std::int64_t id = submit(a, submission(example("voxel/castle.json"), "device", "slow", "long cut"));
+  ASSERT_TRUE(wait_until([&] { return job(a, id)["state"] == "cutting"; })) << "the cut starts; log:\n" << d->log();
+  const auto cutting_on_slow = [&](httplib::Client& c) { return get_json(c, "/api/v1/devices").body["devices"][0]["job"]; };
+  EXPECT_EQ(cutting_on_slow(a), id) << "its owner sees which job the device cuts";
+  EXPECT_EQ(cutting_on_slow(admin), id) << "so does the admin";
+  EXPECT_TRUE(cutting_on_slow(b).is_null()) << "another kiosk sees the device busy, not the id of a job it may not open";
+  EXPECT_EQ(get_json(b, "/api/v1/devices").body["devices"][0]["state"], "cutting") << "but it does see that it is cutting";
+  EXPECT_EQ(post_json(a, "/api/v1/jobs/" + std::to_string(id) + "/cancel", "").status, 202) << "cancelled to end the test";
+  ASSERT_TRUE(wait_until([&] { return final_state(job(a, id)); })) << "the cut stops";
 }
 
 TEST_F(Popcutd, BadConfigExitsTwoNamingTheKey) {
