@@ -352,8 +352,10 @@ Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<st
   if (!mesh) fail(ApiError::bad_request, "missing the 'mesh' file part (curl: -F mesh=@FILE)", "mesh");
   if (mesh->filename.empty()) fail(ApiError::bad_request, "'mesh' must be a file part, not a value (curl: -F mesh=@FILE)", "mesh");
   u.filename = mesh->filename;
-  if (!is_safe_name(u.filename)) {
-    fail(ApiError::bad_name, "mesh file names are 1 to 64 letters, digits, spaces, '-', '_' or '.', not starting with '.' and without '..'", "mesh");
+  // Only its extension (the format) and stem (the job's default name) are used, never as a path:
+  // a job name's rules (any script, no '/', '\\', '..', control characters).
+  if (!is_job_label(u.filename)) {
+    fail(ApiError::bad_name, "mesh file names are 1 to 64 characters of text in any script, without control characters, '/', '\\', '..', a leading '.' or a space at either end", "mesh");
   }
   try {
     ImportRequest request = parse_import_options(options, u.filename);

@@ -406,6 +406,10 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
   ASSERT_EQ(faces.status, 201) << "a face model that follows the silhouette is queued: " << faces.body.dump();
   EXPECT_EQ(faces.body["name"], "house") << "an unnamed mesh job is named after its file";
   ids.push_back(faces.body["id"].get<std::int64_t>());
+  const Reply accented = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "maison d'été.obj", {{"device", "sim-a"}, {"resolution", "30"}});
+  ASSERT_EQ(accented.status, 201) << "a file name in any script is fine: " << accented.body.dump();
+  EXPECT_EQ(accented.body["name"], "maison d'été") << "and names the job";
+  ids.push_back(accented.body["id"].get<std::int64_t>());
   for (std::int64_t id : ids) {
     ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << "job " << id << " finishes; log:\n" << d->log();
     const json j = job(c, id);
@@ -438,6 +442,7 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
       {house, "house.obj", {{"device", "sim-a"}, {"resolution", "40"}, {"resolution", "50"}}, 400, "bad_request", "resolution", "given twice"},
       {house, "house.obj", {{"device", "sim-a"}, {"name", "a"}, {"name", "b"}}, 400, "bad_request", "name", "given twice"},
       {house, "../house.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
+      {house, "maison\x01.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
       {house, "house.obj", {{"device", "sim-z"}, {"resolution", "40"}}, 422, "no_device", "device", "sim-z"},
       {std::string(2 << 20, ' '), "big.obj", {{"device", "sim-a"}}, 413, "too_large", "", "upload_bytes"},
   };
