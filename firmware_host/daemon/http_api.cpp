@@ -129,7 +129,25 @@ class Api {
     };
   }
   void get(const char* pattern, Handler h) { server_.Get(pattern, guarded(std::move(h))); }
-  void post(const char* pattern, Handler h) { server_.Post(pattern, guarded(std::move(h))); }
+  // POST bodies are read here, not by httplib, which holds a chunked or compressed body to no
+  // limit: every byte after decoding counts against [limits] upload_bytes, and reading stops at it.
+  void post(const char* pattern, Handler h) {
+    server_.Post(pattern, [this, handler = guarded(std::move(h))](const httplib::Request& req, httplib::Response& res,
+                                                                const httplib::ContentReader& content) {
+      // httplib hands a content-reading handler its (non-const) request as const; the body goes
+      // where httplib's own reader puts it, so handlers read req.body and req.files as ever.
+      if (read_body(const_cast<httplib::Request&>(req), content, res)) handler(req, res);
+    });
+  }
+  bool read_body(httplib::Request& req, const httplib::ContentReader& content, httplib::Response& res);
+  bool refuse_before_body(const httplib::Request& req, httplib::Response& res);
+  void refuse(httplib::Response& res, ApiError code, const std::string& message) {
+    ++metrics_.requests;
+    ++metrics_.errors_4xx;
+    send_error(res, code, message);
+    // Whatever body the client sends is left unread: this connection cannot carry another request.
+    res.set_header("Connection", "close");
+  }
 
   Caller auth(const httplib::Request& req) const {
     const std::string h = req.get_header_value("Authorization");
@@ -409,35 +427,78 @@ void Api::kiosk_file(const std::string& name, const char* type, httplib::Respons
   res.set_content(o.str(), type);
 }
 
+bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res) {
+  if (req.method != "POST") return false;
+  // httplib reads a POST body without Content-Length until the client closes: a client that
+  // neither sends a length nor closes would hold a thread for the whole read timeout.
+  if (!req.has_header("Content-Length") && !req.has_header("Transfer-Encoding")) {
+    refuse(res, ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
+    return true;
+  }
+  try {
+    auth(req);
+  } catch (const ApiFailure& f) {
+    refuse(res, f.code, f.message);
+    return true;
+  }
+  const std::size_t limit = d_.config().limits.upload_bytes;
+  if (req.has_header("Content-Length") && req.get_header_value<std::uint64_t>("Content-Length") > limit) {
+    refuse(res, ApiError::too_large, "the body exceeds " + std::to_string(limit) + " bytes ([limits] upload_bytes)");
+    return true;
+  }
+  return false;
+}
+
+bool Api::read_body(httplib::Request& req, const httplib::ContentReader& content, httplib::Response& res) {
+  const std::size_t limit = d_.config().limits.upload_bytes;
+  std::size_t total = 0;
+  const auto take = [&](std::size_t n) { return (total += n) <= limit; };
+  bool read = false;
+  if (req.is_multipart_form_data()) {
+    httplib::MultipartFormDataMap::iterator part;
+    read = content(
+        [&](const httplib::MultipartFormData& header) {
+          if (!take(header.name.size() + header.filename.size() + header.content_type.size())) return false;
+          part = req.files.emplace(header.name, header);
+          return true;
+        },
+        [&](const char* data, std::size_t n) {
+          if (!take(n)) return false;
+          part->second.content.append(data, n);
+          return true;
+        });
+  } else {
+    read = content([&](const char* data, std::size_t n) {
+      if (!take(n)) return false;
+      req.body.append(data, n);
+      return true;
+    });
+  }
+  if (read) return true;
+  if (total > limit) {
+    refuse(res, ApiError::too_large, "the body exceeds " + std::to_string(limit) + " bytes ([limits] upload_bytes)");
+  } else {
+    refuse(res, ApiError::bad_request, "the body could not be read (malformed chunked or multipart encoding, an unknown "
+                                       "Content-Encoding, or the client stopped sending)");
+  }
+  return false;
+}
+
 void Api::install() {
   server_.set_payload_max_length(d_.config().limits.upload_bytes);
-  // httplib reads a POST body without Content-Length until the client closes: a client that
-  // neither sends a length nor closes would hold a thread for the whole read timeout. Refused
-  // before any body is read.
+  // Checked from the request line and headers alone, before a byte of the body is read; with
+  // "Expect: 100-continue" before the client is told to send it.
   server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    if (req.method != "POST" || req.has_header("Content-Length") ||
-        req.get_header_value("Transfer-Encoding").find("chunked") != std::string::npos) {
-      return httplib::Server::HandlerResponse::Unhandled;
-    }
-    ++metrics_.requests;
-    ++metrics_.errors_4xx;
-    send_error(res, ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
-    res.set_header("Connection", "close");
-    return httplib::Server::HandlerResponse::Handled;
+    return refuse_before_body(req, res) ? httplib::Server::HandlerResponse::Handled : httplib::Server::HandlerResponse::Unhandled;
+  });
+  server_.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
+    return refuse_before_body(req, res) ? res.status : 100;
   });
   server_.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // a handler already answered
     if (res.status == 413) {
       ++metrics_.errors_4xx;
-      // Debian's compiled httplib caps form-encoded bodies (what `curl -d` sends) at 8 KiB on
-      // its own, whatever our limit: name the real cause and the fix.
-      const bool form = req.get_header_value("Content-Type").rfind("application/x-www-form-urlencoded", 0) == 0;
-      const std::string limit = std::to_string(d_.config().limits.upload_bytes);
-      send_error(res, ApiError::too_large,
-                 form && req.get_header_value<std::uint64_t>("Content-Length") <= d_.config().limits.upload_bytes
-                     ? "a form-encoded body over 8192 bytes is refused: send JSON with 'Content-Type: application/json' "
-                       "(curl: -H 'Content-Type: application/json' --data-binary @FILE); the limit for JSON is " + limit + " bytes"
-                     : "the body exceeds " + limit + " bytes ([limits] upload_bytes)");
+      send_error(res, ApiError::too_large, "the body exceeds " + std::to_string(d_.config().limits.upload_bytes) + " bytes ([limits] upload_bytes)");
     } else if (res.status == 404) {
       ++metrics_.errors_4xx;
       send_error(res, ApiError::not_found, "no such resource: " + req.path);

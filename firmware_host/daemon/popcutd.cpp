@@ -12,6 +12,7 @@
 #include "config.h"
 #include "daemon.h"
 #include "http_api.h"
+#include "http_server.h"
 #include "log.h"
 #include "popcut/error.h"
 
@@ -89,7 +90,7 @@ int run_popcutd(int argc, char** argv) {
   }
   if (daemon->recovered() > 0) log_line("recovered ", daemon->recovered(), " jobs after an unclean stop (cutting -> interrupted)");
 
-  httplib::Server server;
+  HttpServer server(ConnectionLimits{});
   server.new_task_queue = [n = config.http_threads] { return new httplib::ThreadPool(static_cast<std::size_t>(n)); };
   // Small JSON answers: without TCP_NODELAY, Nagle and delayed ACKs add ~40 ms to each.
   server.set_tcp_nodelay(true);

@@ -1,0 +1,132 @@
+// popcutd at the HTTP level, over raw loopback sockets: bodies refused as they arrive, framing, methods, idle connections.
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "popcutd_process.h"
+
+namespace {
+using nlohmann::json;
+using popcut::testing::PopcutdProcess;
+using popcut::testing::TempDir;
+using popcut::testing::get_json;
+using popcut::testing::read_file;
+
+const std::string kSrc = POPCUT_SOURCE_DIR;
+const std::string kKiosk = "kiosk-change-me-0123456789";  // configs/popcutd.toml's kiosk token
+const std::size_t kLimit = 1048576;                       // and its [limits] upload_bytes
+
+int connect_to(int port) {
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(s);
+    return -1;
+  }
+  return s;
+}
+
+struct Exchange {
+  std::string answer;         // everything the daemon sent until it closed (or 30 s passed)
+  std::size_t body_sent = 0;  // bytes of the body sent before the answer came
+};
+
+// Sends `head`, then `body` in 16 KiB pieces, looking for an answer between pieces; once one
+// comes (or the whole body is out), reads until the daemon closes. An answer to a body that
+// should be refused comes while the body is still being sent: body_sent < body.size().
+Exchange send_watching(int port, const std::string& head, const std::string& body) {
+  Exchange out;
+  const int s = connect_to(port);
+  if (s < 0) return out;
+  ::send(s, head.data(), head.size(), MSG_NOSIGNAL);
+  pollfd p{s, POLLIN, 0};
+  while (out.body_sent < body.size() && ::poll(&p, 1, 20) == 0) {
+    const std::size_t n = std::min<std::size_t>(16384, body.size() - out.body_sent);
+    const ssize_t sent = ::send(s, body.data() + out.body_sent, n, MSG_NOSIGNAL);
+    if (sent <= 0) break;
+    out.body_sent += static_cast<std::size_t>(sent);
+  }
+  timeval tv{30, 0};  // a safety net: the daemon answers and closes long before
+  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  char buf[4096];
+  for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) out.answer.append(buf, static_cast<std::size_t>(n));
+  ::close(s);
+  return out;
+}
+
+// `text` in chunked transfer coding, 1000-byte chunks.
+std::string chunked(const std::string& text) {
+  std::string out;
+  char size[16];
+  for (std::size_t i = 0; i < text.size(); i += 1000) {
+    const std::string piece = text.substr(i, 1000);
+    std::snprintf(size, sizeof size, "%zx\r\n", piece.size());
+    out += size + piece + "\r\n";
+  }
+  return out + "0\r\n\r\n";
+}
+
+std::string post_head(const std::string& path, const std::string& token, const std::string& framing) {
+  return "POST " + path + " HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n" +
+         (token.empty() ? "" : "Authorization: Bearer " + token + "\r\n") + framing + "\r\n";
+}
+
+std::string status_line(const std::string& answer) { return answer.substr(0, answer.find("\r\n")); }
+std::string error_code(const std::string& answer) {
+  const std::size_t body = answer.find("\r\n\r\n");
+  const json j = json::parse(body == std::string::npos ? "" : answer.substr(body + 4), nullptr, false);
+  return j.is_object() && j.contains("error") ? j["error"].value("code", "") : "";
+}
+
+class PopcutdHttp : public ::testing::Test {
+ protected:
+  TempDir dir_{"popcutd-http-test"};
+  std::unique_ptr<PopcutdProcess> start(const std::string& config) {
+    return std::make_unique<PopcutdProcess>(POPCUTD, config, (dir_.path() / "data").string());
+  }
+};
+
+// A body is refused from its headers when they say enough (no token, a declared length over the
+// limit), else as soon as the limit is passed: chunked bodies too, which httplib reads to no limit.
+TEST_F(PopcutdHttp, BodiesAreRefusedBeforeOrAsTheyPassTheLimit) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  const std::string big(4 * kLimit, 'a');
+  const std::string big_chunked = chunked(big);
+  struct Case {
+    std::string what, head, body, status, code;
+  };
+  const std::vector<Case> cases = {
+      {"chunked without a token", post_head("/api/v1/jobs", "", "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 401", "unauthorized"},
+      {"Content-Length with a wrong token", post_head("/api/v1/jobs", "wrong-token-0123456789", "Content-Length: " + std::to_string(big.size()) + "\r\n"), big,
+       "HTTP/1.1 401", "unauthorized"},
+      {"chunked over the limit", post_head("/api/v1/jobs", kKiosk, "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 413", "too_large"},
+      {"chunked over the limit, to render", post_head("/api/v1/render/pattern.svg", kKiosk, "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 413", "too_large"},
+      {"Content-Length over the limit", post_head("/api/v1/jobs", kKiosk, "Content-Length: 2000000\r\n"), std::string(2000000, 'a'), "HTTP/1.1 413", "too_large"},
+  };
+  for (const Case& k : cases) {
+    const Exchange e = send_watching(d->port(), k.head, k.body);
+    EXPECT_EQ(status_line(e.answer).rfind(k.status, 0), 0u) << k.what << ": answered " << k.status << ": " << e.answer.substr(0, 300);
+    EXPECT_EQ(error_code(e.answer), k.code) << k.what << ": with the documented code: " << e.answer.substr(0, 300);
+    EXPECT_LT(e.body_sent, k.body.size()) << k.what << ": answered while the body was still coming, not after reading it all";
+    EXPECT_NE(e.answer.find("Connection: close"), std::string::npos) << k.what << ": the unread body ends the connection";
+  }
+  // A chunked body within the limit is read and used like any other.
+  const std::string box = read_file(kSrc + "/examples/voxel/box.json");
+  const Exchange ok = send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Transfer-Encoding: chunked\r\nConnection: close\r\n"),
+                                    chunked(R"({"device": "sim-a", "name": "chunked", "model": )" + box + "}"));
+  EXPECT_EQ(status_line(ok.answer).rfind("HTTP/1.1 201", 0), 0u) << "a chunked submission within the limit is accepted: " << ok.answer.substr(0, 300);
+  httplib::Client none = d->client("");
+  EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
+}
+
+}  // namespace
