@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <regex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -128,10 +129,14 @@ class Api {
       else if (res.status >= 400) ++metrics_.errors_4xx;
     };
   }
-  void get(const char* pattern, Handler h) { server_.Get(pattern, guarded(std::move(h))); }
+  void get(const char* pattern, Handler h) {
+    routes_.emplace_back(std::regex(pattern), "GET");
+    server_.Get(pattern, guarded(std::move(h)));
+  }
   // POST bodies are read here, not by httplib, which holds a chunked or compressed body to no
   // limit: every byte after decoding counts against [limits] upload_bytes, and reading stops at it.
   void post(const char* pattern, Handler h) {
+    routes_.emplace_back(std::regex(pattern), "POST");
     server_.Post(pattern, [this, handler = guarded(std::move(h))](const httplib::Request& req, httplib::Response& res,
                                                                 const httplib::ContentReader& content) {
       // httplib hands a content-reading handler its (non-const) request as const; the body goes
@@ -230,6 +235,7 @@ class Api {
   Metrics metrics_;
   PreviewCache previews_;
   RenderSlots render_slots_;
+  std::vector<std::pair<std::regex, std::string>> routes_;  // path pattern, method: for 404 and 405 before routing
   std::atomic<std::uint64_t> tmp_counter_{0};
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
@@ -428,10 +434,58 @@ void Api::kiosk_file(const std::string& name, const char* type, httplib::Respons
 }
 
 bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res) {
-  if (req.method != "POST") return false;
+  // A path no route has is 404 whatever the method; a method the path does not take is 405
+  // with Allow (HEAD goes with GET), for PUT, PATCH, DELETE and OPTIONS as for GET and POST.
+  bool has_get = false, has_post = false;
+  for (const auto& [pattern, method] : routes_) {
+    if (!std::regex_match(req.path, pattern)) continue;
+    (method == "GET" ? has_get : has_post) = true;
+  }
+  const std::string allow = has_get && has_post ? "GET, HEAD, POST" : has_get ? "GET, HEAD" : has_post ? "POST" : "";
+  const bool routed = ((req.method == "GET" || req.method == "HEAD") && has_get) || (req.method == "POST" && has_post);
+  if (allow.empty()) {
+    refuse(res, ApiError::not_found, "no such resource: " + req.path);
+    return true;
+  }
+  if (!routed) {
+    res.set_header("Allow", allow);
+    refuse(res, ApiError::method_not_allowed, req.method + " is not allowed on " + req.path + " (Allow: " + allow + ")");
+    return true;
+  }
+  // Framing, RFC 7230 3.3: one length, or chunked alone; anything else could be read two ways.
+  const bool chunked = req.has_header("Transfer-Encoding");
+  if (chunked && (req.get_header_value_count("Transfer-Encoding") > 1 || !iequals(req.get_header_value("Transfer-Encoding"), "chunked"))) {
+    refuse(res, ApiError::bad_request, "Transfer-Encoding: only 'chunked' is understood");
+    return true;
+  }
+  std::string length;
+  for (std::size_t i = 0; i < req.get_header_value_count("Content-Length"); ++i) {
+    const std::string v = req.get_header_value("Content-Length", i);
+    if (v.empty() || v.size() > 18 || v.find_first_not_of("0123456789") != std::string::npos) {
+      refuse(res, ApiError::bad_request, "Content-Length must be a number of bytes, not '" + v.substr(0, 40) + "'");
+      return true;
+    }
+    if (i > 0 && v != length) {
+      refuse(res, ApiError::bad_request, "two different Content-Length headers (" + length + " and " + v + ")");
+      return true;
+    }
+    length = v;
+  }
+  if (chunked && !length.empty()) {
+    refuse(res, ApiError::bad_request, "both Content-Length and Transfer-Encoding: send one");
+    return true;
+  }
+  if (req.method != "POST") {
+    // httplib does not read such a body: it would be parsed as the next request.
+    if (chunked || (!length.empty() && std::stoull(length) > 0)) {
+      refuse(res, ApiError::bad_request, "a " + req.method + " request has no body");
+      return true;
+    }
+    return false;
+  }
   // httplib reads a POST body without Content-Length until the client closes: a client that
   // neither sends a length nor closes would hold a thread for the whole read timeout.
-  if (!req.has_header("Content-Length") && !req.has_header("Transfer-Encoding")) {
+  if (length.empty() && !chunked) {
     refuse(res, ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
     return true;
   }
@@ -442,7 +496,7 @@ bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res
     return true;
   }
   const std::size_t limit = d_.config().limits.upload_bytes;
-  if (req.has_header("Content-Length") && req.get_header_value<std::uint64_t>("Content-Length") > limit) {
+  if (!length.empty() && std::stoull(length) > limit) {
     refuse(res, ApiError::too_large, "the body exceeds " + std::to_string(limit) + " bytes ([limits] upload_bytes)");
     return true;
   }

@@ -129,4 +129,41 @@ TEST_F(PopcutdHttp, BodiesAreRefusedBeforeOrAsTheyPassTheLimit) {
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
 }
 
+// Framing the daemon could read two ways is refused (RFC 7230 3.3); every method on every path
+// gets the same kind of answer: 404 for a path no route has, 405 with Allow for a method it lacks.
+TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  const std::string auth = "Authorization: Bearer " + kKiosk + "\r\n";
+  const auto request = [&](const std::string& method, const std::string& path, const std::string& headers, const std::string& body = "") {
+    return send_watching(d->port(), method + " " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n" + auth + headers + "\r\n", body).answer;
+  };
+  struct Case {
+    std::string what, answer, status, code;
+  };
+  const std::vector<Case> cases = {
+      {"two different Content-Length headers", request("POST", "/api/v1/jobs/1/cancel", "Content-Length: 5\r\nContent-Length: 7\r\n", "{}{}{}{"), "HTTP/1.1 400", "bad_request"},
+      {"Content-Length: abc", request("POST", "/api/v1/jobs", "Content-Length: abc\r\n"), "HTTP/1.1 400", "bad_request"},
+      {"Transfer-Encoding: gzip, chunked", request("POST", "/api/v1/jobs", "Transfer-Encoding: gzip, chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
+      {"Content-Length and chunked together", request("POST", "/api/v1/jobs", "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
+      {"a GET with a body", request("GET", "/api/v1/jobs", "Content-Length: 5\r\n", "hello"), "HTTP/1.1 400", "bad_request"},
+      {"PUT on the jobs", request("PUT", "/api/v1/jobs", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405", "method_not_allowed"},
+      {"PATCH on a job", request("PATCH", "/api/v1/jobs/1", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405", "method_not_allowed"},
+      {"DELETE on a job", request("DELETE", "/api/v1/jobs/1", ""), "HTTP/1.1 405", "method_not_allowed"},
+      {"OPTIONS on healthz", request("OPTIONS", "/healthz", ""), "HTTP/1.1 405", "method_not_allowed"},
+      {"GET on cancel", request("GET", "/api/v1/jobs/1/cancel", ""), "HTTP/1.1 405", "method_not_allowed"},
+      {"PATCH on no route", request("PATCH", "/api/v1/nothing", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 404", "not_found"},
+      {"DELETE on no route", request("DELETE", "/nothing", ""), "HTTP/1.1 404", "not_found"},
+  };
+  for (const Case& k : cases) {
+    EXPECT_EQ(status_line(k.answer).rfind(k.status, 0), 0u) << k.what << ": answered " << k.status << ": " << k.answer.substr(0, 300);
+    EXPECT_EQ(error_code(k.answer), k.code) << k.what << ": with the documented code: " << k.answer.substr(0, 300);
+  }
+  EXPECT_NE(request("PUT", "/api/v1/jobs", "Content-Length: 0\r\n").find("\r\nAllow: GET, HEAD, POST\r\n"), std::string::npos)
+      << "405 names the methods the path takes";
+  EXPECT_NE(request("DELETE", "/api/v1/jobs/1", "").find("\r\nAllow: GET, HEAD\r\n"), std::string::npos) << "405 names the methods the path takes";
+  EXPECT_EQ(status_line(request("HEAD", "/healthz", "")).rfind("HTTP/1.1 200", 0), 0u) << "HEAD goes with GET";
+  httplib::Client none = d->client("");
+  EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
+}
+
 }  // namespace
