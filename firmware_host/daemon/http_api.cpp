@@ -12,6 +12,7 @@
 #include <regex>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "log.h"
 #include "model_limits.h"
@@ -64,12 +65,13 @@ struct Caller {
   bool admin() const { return role == Role::admin; }
 };
 
-// A preview renders on the request's thread; at most half of the HTTP threads do so at once, and
-// a request that finds no slot free is answered 503 busy at once instead of waiting, so job
-// status, submissions and /healthz always have threads.
+// A preview renders on the request's thread; at most one per core (and half of the HTTP threads)
+// do so at once: more would only make each slower. A request that finds no slot free is answered
+// 503 busy at once instead of waiting, so job status, submissions and /healthz always have threads.
 class RenderSlots {
  public:
-  explicit RenderSlots(int slots) : free_(std::max(1, slots)) {}
+  explicit RenderSlots(int http_threads)
+      : free_(std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, http_threads / 2))) {}
   bool try_take() {
     int n = free_.load();
     while (n > 0) {
@@ -102,7 +104,7 @@ struct TempFile {
 class Api {
  public:
   Api(httplib::Server& s, Daemon& d)
-      : server_(s), d_(d), previews_(d.config().limits.preview_cache_bytes), render_slots_(d.config().http_threads / 2) {}
+      : server_(s), d_(d), previews_(d.config().limits.preview_cache_bytes), render_slots_(d.config().http_threads) {}
   void install();
 
  private:

@@ -90,7 +90,7 @@ int run_popcutd(int argc, char** argv) {
   }
   if (daemon->recovered() > 0) log_line("recovered ", daemon->recovered(), " jobs after an unclean stop (cutting -> interrupted)");
 
-  HttpServer server(ConnectionLimits{});
+  HttpServer server(ConnectionLimits{config.header_timeout_s, config.keep_alive_timeout_s, 5});
   server.new_task_queue = [n = config.http_threads] { return new httplib::ThreadPool(static_cast<std::size_t>(n)); };
   // Small JSON answers: without TCP_NODELAY, Nagle and delayed ACKs add ~40 ms to each.
   server.set_tcp_nodelay(true);

@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -164,6 +165,45 @@ TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
   EXPECT_EQ(status_line(request("HEAD", "/healthz", "")).rfind("HTTP/1.1 200", 0), 0u) << "HEAD goes with GET";
   httplib::Client none = d->client("");
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
+}
+
+// httplib serves a connection on one pool thread for as long as it lasts: connections that send
+// nothing, or trickle header lines, used to hold every thread (httplib's read timeout is per
+// read) and /healthz waited for them. With header_timeout_s they are cut off, so /healthz is
+// answered while more of them are open than there are threads.
+TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen) {
+  const std::string cfg = dir_.write("tiny-pool.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = 2\nheader_timeout_s = 2\n"
+                                                         "[[device]]\nname = \"a\"\nprofile = \"" + kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                                         "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n");
+  const auto d = start(cfg);
+  std::vector<int> idle;
+  for (int i = 0; i < 4; ++i) idle.push_back(connect_to(d->port()));
+  // Four more that send a request line, then a header line every 200 ms and never the blank
+  // line; they stop when /healthz has answered (or after 90 s, a safety net).
+  std::atomic<bool> answered{false};
+  std::vector<std::thread> tricklers;
+  for (int i = 0; i < 4; ++i) {
+    tricklers.emplace_back([&] {
+      const int s = connect_to(d->port());
+      const std::string line = "GET /healthz HTTP/1.1\r\n";
+      ::send(s, line.data(), line.size(), MSG_NOSIGNAL);
+      for (int n = 0; n < 450 && !answered; ++n) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        const std::string header = "X-Slow-" + std::to_string(n) + ": 1\r\n";
+        if (::send(s, header.data(), header.size(), MSG_NOSIGNAL) <= 0) break;
+      }
+      ::close(s);
+    });
+  }
+  // The holders connect first, so they hold the threads before /healthz is queued behind them.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  httplib::Client none = d->client("");
+  none.set_read_timeout(60);  // a generous bound: without header_timeout_s the answer waits for the tricklers (90 s)
+  const popcut::testing::Reply r = get_json(none, "/healthz");
+  answered = true;
+  for (auto& t : tricklers) t.join();
+  for (const int s : idle) ::close(s);
+  EXPECT_EQ(r.status, 200) << "/healthz answered with 8 idle or trickling connections open and 2 threads; log:\n" << d->log();
 }
 
 }  // namespace
