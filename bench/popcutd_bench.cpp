@@ -1,7 +1,5 @@
 // popcutd under load on loopback: submissions per second, API latency p50/p99, memory with 10,000 jobs queued.
 #include <benchmark/benchmark.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -170,13 +168,7 @@ void BM_HealthzUnderIdle(benchmark::State& state) {
     Daemon d(static_cast<int>(state.range(2)));
     std::vector<int> sockets;
     for (int i = 0; i < idle; ++i) {
-      const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-      sockaddr_in a{};
-      a.sin_family = AF_INET;
-      a.sin_port = htons(static_cast<std::uint16_t>(d.process.port()));
-      a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-      if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) sockets.push_back(s);
-      else ::close(s);
+      if (const int s = popcut::testing::connect_loopback(d.process.port()); s >= 0) sockets.push_back(s);
     }
     std::atomic<bool> stop{false};
     std::atomic<int> poll_failures{0};

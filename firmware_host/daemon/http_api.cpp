@@ -148,12 +148,13 @@ class Api {
   }
   bool read_body(httplib::Request& req, const httplib::ContentReader& content, httplib::Response& res);
   bool refuse_before_body(const httplib::Request& req, httplib::Response& res);
-  void refuse(httplib::Response& res, ApiError code, const std::string& message) {
+  // An answer before the body is read. With `body_unread`, whatever body the client sends is left
+  // unread, so the connection cannot carry another request: it is closed (http_server.cpp).
+  void refuse(httplib::Response& res, ApiError code, const std::string& message, bool body_unread = true) {
     ++metrics_.requests;
     ++metrics_.errors_4xx;
     send_error(res, code, message);
-    // Whatever body the client sends is left unread: this connection cannot carry another request.
-    res.set_header("Connection", "close");
+    if (body_unread) res.set_header("Connection", "close");
   }
 
   Caller auth(const httplib::Request& req) const {
@@ -445,13 +446,15 @@ bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res
   }
   const std::string allow = has_get && has_post ? "GET, HEAD, POST" : has_get ? "GET, HEAD" : has_post ? "POST" : "";
   const bool routed = ((req.method == "GET" || req.method == "HEAD") && has_get) || (req.method == "POST" && has_post);
+  const std::string declared = req.get_header_value("Content-Length");
+  const bool body = req.has_header("Transfer-Encoding") || !(declared.empty() || declared == "0");
   if (allow.empty()) {
-    refuse(res, ApiError::not_found, "no such resource: " + req.path);
+    refuse(res, ApiError::not_found, "no such resource: " + req.path, body);
     return true;
   }
   if (!routed) {
     res.set_header("Allow", allow);
-    refuse(res, ApiError::method_not_allowed, req.method + " is not allowed on " + req.path + " (Allow: " + allow + ")");
+    refuse(res, ApiError::method_not_allowed, req.method + " is not allowed on " + req.path + " (Allow: " + allow + ")", body);
     return true;
   }
   // Framing, RFC 7230 3.3: one length, or chunked alone; anything else could be read two ways.

@@ -8,7 +8,7 @@ namespace popcut::daemon {
 struct ConnectionLimits {
   int header_timeout_s = 5;      // a request's line and headers must arrive within this
   int keep_alive_timeout_s = 2;  // an idle kept-alive connection is closed after this
-  int read_timeout_s = 5;        // a body's next bytes must arrive within this (per read)
+  int read_timeout_s = 5;        // a body's next bytes must arrive within this (per read; per write too)
 };
 
 // httplib (0.11) serves each connection on one pool thread and gives a client 5 s per read however

@@ -1,6 +1,5 @@
 // popcutd at the HTTP level, over raw loopback sockets: bodies refused as they arrive, framing, methods, idle connections.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -18,25 +17,13 @@ namespace {
 using nlohmann::json;
 using popcut::testing::PopcutdProcess;
 using popcut::testing::TempDir;
+using popcut::testing::connect_loopback;
 using popcut::testing::get_json;
 using popcut::testing::read_file;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
 const std::string kKiosk = "kiosk-change-me-0123456789";  // configs/popcutd.toml's kiosk token
 const std::size_t kLimit = 1048576;                       // and its [limits] upload_bytes
-
-int connect_to(int port) {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    ::close(s);
-    return -1;
-  }
-  return s;
-}
 
 struct Exchange {
   std::string answer;         // everything the daemon sent until it closed (or 30 s passed)
@@ -48,7 +35,7 @@ struct Exchange {
 // should be refused comes while the body is still being sent: body_sent < body.size().
 Exchange send_watching(int port, const std::string& head, const std::string& body) {
   Exchange out;
-  const int s = connect_to(port);
+  const int s = connect_loopback(port);
   if (s < 0) return out;
   ::send(s, head.data(), head.size(), MSG_NOSIGNAL);
   pollfd p{s, POLLIN, 0};
@@ -189,14 +176,14 @@ TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen)
                                                          "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n");
   const auto d = start(cfg);
   std::vector<int> idle;
-  for (int i = 0; i < 4; ++i) idle.push_back(connect_to(d->port()));
+  for (int i = 0; i < 4; ++i) idle.push_back(connect_loopback(d->port()));
   // Four more that send a request line, then a header line every 200 ms and never the blank
   // line; they stop when /healthz has answered (or after 90 s, a safety net).
   std::atomic<bool> answered{false};
   std::vector<std::thread> tricklers;
   for (int i = 0; i < 4; ++i) {
     tricklers.emplace_back([&] {
-      const int s = connect_to(d->port());
+      const int s = connect_loopback(d->port());
       const std::string line = "GET /healthz HTTP/1.1\r\n";
       ::send(s, line.data(), line.size(), MSG_NOSIGNAL);
       for (int n = 0; n < 450 && !answered; ++n) {
