@@ -27,8 +27,8 @@ const std::string kAdmin = "admin-0123456789abcdef";
 
 
 // Two paused sim cutters: jobs are planned and wait, so the figures are the API's and the queue's.
-std::string config(const TempDir& dir) {
-  return dir.write("bench.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = 16\n[limits]\nqueue_length = 1000000\n"
+std::string config(const TempDir& dir, int http_threads = 16) {
+  return dir.write("bench.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = " + std::to_string(http_threads) + "\n[limits]\nqueue_length = 1000000\n"
                                  "[[device]]\nname = \"a\"\nprofile = \"" + kSource + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
                                  "[[device]]\nname = \"b\"\nprofile = \"" + kSource + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
                                  "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"
@@ -98,13 +98,13 @@ std::string submission(int i) {
 }
 
 struct Daemon {
-  TempDir dir{"popcutd-bench"};
-  PopcutdProcess process{POPCUTD, config(dir), (dir.path() / "data").string()};
-  Daemon() {
+  explicit Daemon(int http_threads = 16) : process{POPCUTD, config(dir, http_threads), (dir.path() / "data").string()} {
     httplib::Client admin = process.client(kAdmin);
     admin.Post("/api/v1/devices/a/pause", "", "application/json");
     admin.Post("/api/v1/devices/b/pause", "", "application/json");
   }
+  TempDir dir{"popcutd-bench"};
+  PopcutdProcess process;
 };
 
 // args: concurrent clients, submissions
@@ -159,6 +159,62 @@ void BM_Memory(benchmark::State& state) {
 }
 BENCHMARK(BM_Memory)->Arg(10000)->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
 
+// /healthz from a fresh connection, once every 100 ms for 3 s, while `idle` connections that
+// never send a byte stay open and `pollers` kiosk-like clients GET their jobs every 0.5 s on
+// kept-alive connections. args: idle connections, pollers, http_threads.
+void BM_HealthzUnderIdle(benchmark::State& state) {
+  const int idle = static_cast<int>(state.range(0)), pollers = static_cast<int>(state.range(1));
+  for (auto _ : state) {
+    Daemon d(static_cast<int>(state.range(2)));
+    std::vector<int> sockets;
+    for (int i = 0; i < idle; ++i) {
+      if (const int s = popcut::testing::connect_loopback(d.process.port()); s >= 0) sockets.push_back(s);
+    }
+    std::atomic<bool> stop{false};
+    std::atomic<int> poll_failures{0};
+    std::vector<std::thread> poll_threads;
+    for (int i = 0; i < pollers; ++i) {
+      poll_threads.emplace_back([&] {
+        httplib::Client c = d.process.client(kKiosk);
+        c.set_keep_alive(true);
+        while (!stop) {
+          const httplib::Result r = c.Get("/api/v1/jobs?limit=20");
+          if (!r || r->status != 200) ++poll_failures;
+          std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        }
+      });
+    }
+    std::vector<double> ms;
+    int failures = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(3)) {
+      httplib::Client c = d.process.client("");
+      c.set_read_timeout(30);
+      const auto s = std::chrono::steady_clock::now();
+      const httplib::Result r = c.Get("/healthz");
+      if (!r || r->status != 200) ++failures;
+      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    const double rss = rss_mb(d.process.pid());
+    stop = true;
+    for (auto& t : poll_threads) t.join();
+    for (const int s : sockets) ::close(s);
+    std::sort(ms.begin(), ms.end());
+    state.counters["p50_ms"] = percentile(ms, 0.5);
+    state.counters["max_ms"] = ms.empty() ? 0 : ms.back();
+    state.counters["rss_mb"] = rss;
+    state.counters["failures"] = failures + poll_failures;
+    state.counters["idle"] = idle;
+    state.counters["pollers"] = pollers;
+    state.counters["threads"] = static_cast<double>(state.range(2));
+  }
+}
+BENCHMARK(BM_HealthzUnderIdle)
+    ->Args({0, 0, 8})->Args({8, 0, 8})->Args({20, 0, 8})->Args({0, 8, 8})
+    ->Args({0, 0, 64})->Args({8, 0, 64})->Args({20, 0, 64})->Args({0, 30, 64})->Args({20, 30, 64})
+    ->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -167,8 +223,17 @@ int main(int argc, char** argv) {
     std::printf("%-26s %12s %10s %10s %12s %14s\n", "case", "per second", "p50 ms", "p99 ms", "RSS empty MB", "RSS queued MB");
     for (const popcut::bench::Row& row : r.rows()) {
       const auto c = [&](const char* k) { return row.counters.count(k) ? row.counters.at(k) : 0.0; };
+      if (row.name.rfind("BM_HealthzUnderIdle", 0) == 0) continue;
       std::printf("%-26s %12.0f %10.2f %10.2f %12.1f %14.1f\n", row.name.c_str(), c("per_s"), c("p50_ms"), c("p99_ms"),
                   c("rss_mb_empty"), c("rss_mb_queued"));
+    }
+    std::printf("\n/healthz (fresh connection every 100 ms for 3 s) with idle sockets and kiosk pollers (keep-alive, every 0.5 s)\n");
+    std::printf("%8s %8s %12s %10s %10s %8s %10s\n", "threads", "idle", "pollers", "p50 ms", "max ms", "RSS MB", "failures");
+    for (const popcut::bench::Row& row : r.rows()) {
+      const auto c = [&](const char* k) { return row.counters.count(k) ? row.counters.at(k) : 0.0; };
+      if (row.name.rfind("BM_HealthzUnderIdle", 0) != 0) continue;
+      std::printf("%8.0f %8.0f %12.0f %10.2f %10.2f %8.1f %10.0f\n", c("threads"), c("idle"), c("pollers"), c("p50_ms"), c("max_ms"),
+                  c("rss_mb"), c("failures"));
     }
   });
 }

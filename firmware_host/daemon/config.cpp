@@ -119,7 +119,9 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   c.kiosk_dir = kiosk_dir.empty() ? std::string(POPCUT_KIOSK_DIR) : resolve(kiosk_dir, source);
   const std::string examples_dir = s.text("examples_dir", "", 4096);
   c.examples_dir = examples_dir.empty() ? std::string(POPCUT_EXAMPLES_DIR) : resolve(examples_dir, source);
-  c.http_threads = s.integer("http_threads", 8, 1, 256);
+  c.http_threads = s.integer("http_threads", 64, 1, 1024);
+  c.keep_alive_timeout_s = s.integer("keep_alive_timeout_s", 2, 1, 300);
+  c.header_timeout_s = s.integer("header_timeout_s", 5, 1, 300);
   c.planners = s.integer("planners", 1, 1, 64);
   s.reject_unknown();
 

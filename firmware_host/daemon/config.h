@@ -47,7 +47,11 @@ struct DaemonConfig {
   std::string data_dir;
   std::string kiosk_dir;     // the kiosk page's files; default: the source tree's firmware_host/kiosk
   std::string examples_dir;  // example models offered by the kiosk; default: the source tree's examples
-  int http_threads = 8;
+  // httplib serves a connection on one thread for its whole life: enough threads for a
+  // classroom of kiosk tablets plus a few idle sockets (an idle thread: ~20 KB resident, docs/api.md).
+  int http_threads = 64;
+  int keep_alive_timeout_s = 2;  // an idle kept-alive connection is closed after this
+  int header_timeout_s = 5;      // a request's line and headers must arrive within this
   int planners = 1;
   std::vector<DeviceConfig> devices;
   std::vector<TokenConfig> tokens;

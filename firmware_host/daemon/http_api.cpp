@@ -9,8 +9,10 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <regex>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 #include <unordered_set>
 
 #include "log.h"
@@ -64,12 +66,13 @@ struct Caller {
   bool admin() const { return role == Role::admin; }
 };
 
-// A preview renders on the request's thread; at most half of the HTTP threads do so at once, and
-// a request that finds no slot free is answered 503 busy at once instead of waiting, so job
-// status, submissions and /healthz always have threads.
+// A preview renders on the request's thread; at most one per core (and half of the HTTP threads)
+// do so at once: more would only make each slower. A request that finds no slot free is answered
+// 503 busy at once instead of waiting, so job status, submissions and /healthz always have threads.
 class RenderSlots {
  public:
-  explicit RenderSlots(int slots) : free_(std::max(1, slots)) {}
+  explicit RenderSlots(int http_threads)
+      : free_(std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, http_threads / 2))) {}
   bool try_take() {
     int n = free_.load();
     while (n > 0) {
@@ -102,7 +105,7 @@ struct TempFile {
 class Api {
  public:
   Api(httplib::Server& s, Daemon& d)
-      : server_(s), d_(d), previews_(d.config().limits.preview_cache_bytes), render_slots_(d.config().http_threads / 2) {}
+      : server_(s), d_(d), previews_(d.config().limits.preview_cache_bytes), render_slots_(d.config().http_threads) {}
   void install();
 
  private:
@@ -130,8 +133,31 @@ class Api {
       else if (res.status >= 400) ++metrics_.errors_4xx;
     };
   }
-  void get(const char* pattern, Handler h) { server_.Get(pattern, guarded(std::move(h))); }
-  void post(const char* pattern, Handler h) { server_.Post(pattern, guarded(std::move(h))); }
+  void get(const char* pattern, Handler h) {
+    routes_.emplace_back(std::regex(pattern), "GET");
+    server_.Get(pattern, guarded(std::move(h)));
+  }
+  // POST bodies are read here, not by httplib, which holds a chunked or compressed body to no
+  // limit: every byte after decoding counts against [limits] upload_bytes, and reading stops at it.
+  void post(const char* pattern, Handler h) {
+    routes_.emplace_back(std::regex(pattern), "POST");
+    server_.Post(pattern, [this, handler = guarded(std::move(h))](const httplib::Request& req, httplib::Response& res,
+                                                                const httplib::ContentReader& content) {
+      // httplib hands a content-reading handler its (non-const) request as const; the body goes
+      // where httplib's own reader puts it, so handlers read req.body and req.files as ever.
+      if (read_body(const_cast<httplib::Request&>(req), content, res)) handler(req, res);
+    });
+  }
+  bool read_body(httplib::Request& req, const httplib::ContentReader& content, httplib::Response& res);
+  bool refuse_before_body(const httplib::Request& req, httplib::Response& res);
+  // An answer before the body is read. With `body_unread`, whatever body the client sends is left
+  // unread, so the connection cannot carry another request: it is closed (http_server.cpp).
+  void refuse(httplib::Response& res, ApiError code, const std::string& message, bool body_unread = true) {
+    ++metrics_.requests;
+    ++metrics_.errors_4xx;
+    send_error(res, code, message);
+    if (body_unread) res.set_header("Connection", "close");
+  }
 
   Caller auth(const httplib::Request& req) const {
     const std::string h = req.get_header_value("Authorization");
@@ -241,6 +267,7 @@ class Api {
   Metrics metrics_;
   PreviewCache previews_;
   RenderSlots render_slots_;
+  std::vector<std::pair<std::regex, std::string>> routes_;  // path pattern, method: for 404 and 405 before routing
   std::atomic<std::uint64_t> tmp_counter_{0};
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
@@ -458,35 +485,128 @@ void Api::kiosk_file(const std::string& name, const char* type, httplib::Respons
   res.set_content(o.str(), type);
 }
 
+bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res) {
+  // A path no route has is 404 whatever the method; a method the path does not take is 405
+  // with Allow (HEAD goes with GET), for PUT, PATCH, DELETE and OPTIONS as for GET and POST.
+  bool has_get = false, has_post = false;
+  for (const auto& [pattern, method] : routes_) {
+    if (!std::regex_match(req.path, pattern)) continue;
+    (method == "GET" ? has_get : has_post) = true;
+  }
+  const std::string allow = has_get && has_post ? "GET, HEAD, POST" : has_get ? "GET, HEAD" : has_post ? "POST" : "";
+  const bool routed = ((req.method == "GET" || req.method == "HEAD") && has_get) || (req.method == "POST" && has_post);
+  const std::string declared = req.get_header_value("Content-Length");
+  const bool body = req.has_header("Transfer-Encoding") || !(declared.empty() || declared == "0");
+  if (allow.empty()) {
+    refuse(res, ApiError::not_found, "no such resource: " + req.path, body);
+    return true;
+  }
+  if (!routed) {
+    res.set_header("Allow", allow);
+    refuse(res, ApiError::method_not_allowed, req.method + " is not allowed on " + req.path + " (Allow: " + allow + ")", body);
+    return true;
+  }
+  // Framing, RFC 7230 3.3: one length, or chunked alone; anything else could be read two ways.
+  const bool chunked = req.has_header("Transfer-Encoding");
+  if (chunked && (req.get_header_value_count("Transfer-Encoding") > 1 || !iequals(req.get_header_value("Transfer-Encoding"), "chunked"))) {
+    refuse(res, ApiError::bad_request, "Transfer-Encoding: only 'chunked' is understood");
+    return true;
+  }
+  std::string length;
+  for (std::size_t i = 0; i < req.get_header_value_count("Content-Length"); ++i) {
+    const std::string v = req.get_header_value("Content-Length", i);
+    if (v.empty() || v.size() > 18 || v.find_first_not_of("0123456789") != std::string::npos) {
+      refuse(res, ApiError::bad_request, "Content-Length must be a number of bytes, not '" + v.substr(0, 40) + "'");
+      return true;
+    }
+    if (i > 0 && v != length) {
+      refuse(res, ApiError::bad_request, "two different Content-Length headers (" + length + " and " + v + ")");
+      return true;
+    }
+    length = v;
+  }
+  if (chunked && !length.empty()) {
+    refuse(res, ApiError::bad_request, "both Content-Length and Transfer-Encoding: send one");
+    return true;
+  }
+  if (req.method != "POST") {
+    // httplib does not read such a body: it would be parsed as the next request.
+    if (chunked || (!length.empty() && std::stoull(length) > 0)) {
+      refuse(res, ApiError::bad_request, "a " + req.method + " request has no body");
+      return true;
+    }
+    return false;
+  }
+  // httplib reads a POST body without Content-Length until the client closes: a client that
+  // neither sends a length nor closes would hold a thread for the whole read timeout.
+  if (length.empty() && !chunked) {
+    refuse(res, ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
+    return true;
+  }
+  try {
+    auth(req);
+  } catch (const ApiFailure& f) {
+    refuse(res, f.code, f.message);
+    return true;
+  }
+  const std::size_t limit = d_.config().limits.upload_bytes;
+  if (!length.empty() && std::stoull(length) > limit) {
+    refuse(res, ApiError::too_large, "the body exceeds " + std::to_string(limit) + " bytes ([limits] upload_bytes)");
+    return true;
+  }
+  return false;
+}
+
+bool Api::read_body(httplib::Request& req, const httplib::ContentReader& content, httplib::Response& res) {
+  const std::size_t limit = d_.config().limits.upload_bytes;
+  std::size_t total = 0;
+  const auto take = [&](std::size_t n) { return (total += n) <= limit; };
+  bool read = false;
+  if (req.is_multipart_form_data()) {
+    httplib::MultipartFormDataMap::iterator part;
+    read = content(
+        [&](const httplib::MultipartFormData& header) {
+          if (!take(header.name.size() + header.filename.size() + header.content_type.size())) return false;
+          part = req.files.emplace(header.name, header);
+          return true;
+        },
+        [&](const char* data, std::size_t n) {
+          if (!take(n)) return false;
+          part->second.content.append(data, n);
+          return true;
+        });
+  } else {
+    read = content([&](const char* data, std::size_t n) {
+      if (!take(n)) return false;
+      req.body.append(data, n);
+      return true;
+    });
+  }
+  if (read) return true;
+  if (total > limit) {
+    refuse(res, ApiError::too_large, "the body exceeds " + std::to_string(limit) + " bytes ([limits] upload_bytes)");
+  } else {
+    refuse(res, ApiError::bad_request, "the body could not be read (malformed chunked or multipart encoding, an unknown "
+                                       "Content-Encoding, or the client stopped sending)");
+  }
+  return false;
+}
+
 void Api::install() {
   server_.set_payload_max_length(d_.config().limits.upload_bytes);
-  // httplib reads a POST body without Content-Length until the client closes: a client that
-  // neither sends a length nor closes would hold a thread for the whole read timeout. Refused
-  // before any body is read.
+  // Checked from the request line and headers alone, before a byte of the body is read; with
+  // "Expect: 100-continue" before the client is told to send it.
   server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    if (req.method != "POST" || req.has_header("Content-Length") ||
-        req.get_header_value("Transfer-Encoding").find("chunked") != std::string::npos) {
-      return httplib::Server::HandlerResponse::Unhandled;
-    }
-    ++metrics_.requests;
-    ++metrics_.errors_4xx;
-    send_error(res, ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
-    res.set_header("Connection", "close");
-    return httplib::Server::HandlerResponse::Handled;
+    return refuse_before_body(req, res) ? httplib::Server::HandlerResponse::Handled : httplib::Server::HandlerResponse::Unhandled;
+  });
+  server_.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
+    return refuse_before_body(req, res) ? res.status : 100;
   });
   server_.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // a handler already answered
     if (res.status == 413) {
       ++metrics_.errors_4xx;
-      // Debian's compiled httplib caps form-encoded bodies (what `curl -d` sends) at 8 KiB on
-      // its own, whatever our limit: name the real cause and the fix.
-      const bool form = req.get_header_value("Content-Type").rfind("application/x-www-form-urlencoded", 0) == 0;
-      const std::string limit = std::to_string(d_.config().limits.upload_bytes);
-      send_error(res, ApiError::too_large,
-                 form && req.get_header_value<std::uint64_t>("Content-Length") <= d_.config().limits.upload_bytes
-                     ? "a form-encoded body over 8192 bytes is refused: send JSON with 'Content-Type: application/json' "
-                       "(curl: -H 'Content-Type: application/json' --data-binary @FILE); the limit for JSON is " + limit + " bytes"
-                     : "the body exceeds " + limit + " bytes ([limits] upload_bytes)");
+      send_error(res, ApiError::too_large, "the body exceeds " + std::to_string(d_.config().limits.upload_bytes) + " bytes ([limits] upload_bytes)");
     } else if (res.status == 404) {
       ++metrics_.errors_4xx;
       send_error(res, ApiError::not_found, "no such resource: " + req.path);

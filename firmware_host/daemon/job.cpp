@@ -35,6 +35,7 @@ const char* to_string(ApiError e) {
     case ApiError::queue_full: return "queue_full";
     case ApiError::no_device: return "no_device";
     case ApiError::length_required: return "length_required";
+    case ApiError::method_not_allowed: return "method_not_allowed";
     case ApiError::busy: return "busy";
     case ApiError::device_error: return "device_error";
     case ApiError::cancelled: return "cancelled";
@@ -58,6 +59,7 @@ int http_status(ApiError e) {
     case ApiError::bad_model:
     case ApiError::no_device: return 422;
     case ApiError::length_required: return 411;
+    case ApiError::method_not_allowed: return 405;
     case ApiError::queue_full:
     case ApiError::busy: return 503;
     case ApiError::cancelled:

@@ -31,6 +31,7 @@ enum class ApiError {
   queue_full,        // 503: [limits] queue_length unfinished jobs already
   no_device,         // 422: no device of that name, or none with that profile
   length_required,   // 411: a POST without Content-Length (or chunked encoding)
+  method_not_allowed, // 405: the path exists, not with this method (Allow lists those it has)
   busy,              // 503: every preview-rendering slot is in use; retry shortly
   device_error,      // job only: the transport failed mid-cut
   cancelled,         // job only: cancelled by its owner or an admin (before or during the cut)

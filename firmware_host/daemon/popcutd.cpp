@@ -14,6 +14,7 @@
 #include "config.h"
 #include "daemon.h"
 #include "http_api.h"
+#include "http_server.h"
 #include "log.h"
 #include "popcut/error.h"
 
@@ -94,7 +95,7 @@ int run_popcutd(int argc, char** argv) {
              " planning -> queued (planned again)");
   }
 
-  httplib::Server server;
+  HttpServer server(ConnectionLimits{config.header_timeout_s, config.keep_alive_timeout_s, 5});
   server.new_task_queue = [n = config.http_threads] { return new httplib::ThreadPool(static_cast<std::size_t>(n)); };
   // Small JSON answers: without TCP_NODELAY, Nagle and delayed ACKs add ~40 ms to each.
   server.set_tcp_nodelay(true);

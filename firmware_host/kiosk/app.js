@@ -187,5 +187,17 @@ $('queue').addEventListener('click', async () => {
 
 $('who').textContent = token ? '' : 'no token: open this page with ?token=...';
 loadChoices().catch((e) => showError('model-error', e));
+// Jobs every 2 s while the page is shown, none while it is hidden: a classroom of tablets polling
+// faster would only keep the daemon's connection threads busy.
+const POLL_MS = 2000;
+let pollTimer = null;
+function schedulePoll() {
+  clearTimeout(pollTimer);
+  if (!document.hidden) pollTimer = setTimeout(async () => { await refreshJobs(); schedulePoll(); }, POLL_MS);
+}
+document.addEventListener('visibilitychange', () => {
+  if (!document.hidden) refreshJobs();
+  schedulePoll();
+});
 refreshJobs();
-setInterval(refreshJobs, 500);
+schedulePoll();

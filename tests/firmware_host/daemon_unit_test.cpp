@@ -51,6 +51,10 @@ TEST(DaemonConfig, SampleConfigLoads) {
   EXPECT_EQ(c.tokens.size(), 2u) << "a kiosk and an admin token";
   EXPECT_EQ(c.tokens[1].role, Role::admin) << "the second token is the admin's";
   EXPECT_EQ(config_error(kGood), "") << "the minimal config loads";
+  const DaemonConfig minimal = parse_daemon_config(kGood, kSrc + "/configs/test.toml");
+  EXPECT_EQ(minimal.http_threads, 64) << "room for a classroom of kiosk tablets by default";
+  EXPECT_EQ(minimal.header_timeout_s, 5) << "a request head is due within 5 s by default";
+  EXPECT_EQ(minimal.keep_alive_timeout_s, 2) << "an idle kept-alive connection closes after 2 s by default";
 }
 
 TEST(DaemonConfig, ErrorsNameFileSectionAndKey) {
@@ -66,6 +70,9 @@ TEST(DaemonConfig, ErrorsNameFileSectionAndKey) {
       {"[server]\nlisten = \"999.1.1.1\"\n", "[server] listen: \"999.1.1.1\" is not an IPv4 address"},
       {"[server]\nlisten = \"::g\"\n", "[server] listen: \"::g\" is not an IPv6 address"},
       {"[server]\nlisten = \"my host\"\n", "[server] listen: \"my host\" is neither"},
+      {"[server]\ndata_dir = \"/x\"\nheader_timeout_s = 0\n", "[server] header_timeout_s: 0 is out of range 1 to 300"},
+      {"[server]\ndata_dir = \"/x\"\nkeep_alive_timeout_s = 301\n", "[server] keep_alive_timeout_s: 301 is out of range 1 to 300"},
+      {"[server]\ndata_dir = \"/x\"\nhttp_threads = 2000\n", "[server] http_threads: 2000 is out of range 1 to 1024"},
       {"[server]\nport = 1\n", "[server] data_dir: missing"},
       {"[server]\ndata_dir = \"/x\"\n[[token]]\nname=\"k\"\ntoken=\"0123456789abcdef\"\n", "no devices"},
       {"[server]\ndata_dir = \"/x\"\nspeed = 1\n" + good.substr(good.find("[[device]]")), "[server] speed: unknown key"},

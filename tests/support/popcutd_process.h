@@ -50,6 +50,9 @@ class PopcutdProcess {
   std::string log_path_;
 };
 
+// A TCP connection to 127.0.0.1:port, as a raw socket to send bytes on (-1 if it cannot connect).
+int connect_loopback(int port);
+
 // A whole file as text ("" when it cannot be read).
 std::string read_file(const std::string& path);
 
