@@ -1,4 +1,4 @@
-// Reports for people and scripts: measured figures printed to six significant digits.
+// Reports for people and scripts: measured figures to the micrometre or millisecond.
 #pragma once
 
 #include <cmath>
@@ -9,13 +9,15 @@
 
 namespace popcut {
 
-// Six significant digits: a micrometre on a metre-long sheet, a millisecond on a 15-minute job.
-// The full double (1539.964200146484 mm, 9.00000000000002 s) claims a precision no figure has and
-// makes reports of one job differ between machines in the last digits.
+// Three decimals (a micrometre in mm, a millisecond in s; unix times keep their milliseconds),
+// six significant digits below 1 (shares, small times). The full double (1539.964200146484 mm,
+// 9.00000000000002 s) claims a precision no figure has and makes reports of one job differ
+// between machines in the last digits.
 inline nlohmann::json rounded_numbers(nlohmann::json j) {
   if (j.is_number_float()) {
     const double v = j.get<double>();
     if (!std::isfinite(v) || v == 0) return j;
+    if (std::abs(v) >= 1) return std::round(v * 1000) / 1000;
     char text[32];
     std::snprintf(text, sizeof text, "%.6g", v);
     return std::strtod(text, nullptr);

@@ -131,7 +131,9 @@ void Daemon::set_paused(const std::string& device, bool paused) {
 std::vector<DeviceStatus> Daemon::devices() {
   std::vector<DeviceStatus> out;
   for (auto& w : workers_) {
-    out.push_back({w->device->name, profile_key(*w->device), w->device->transport, store_.paused(w->device->name), w->job.load()});
+    const DeviceConfig& d = *w->device;
+    const double time_factor = d.transport == "sim" ? d.sim_slowdown * d.sim_time_scale : 1.0;
+    out.push_back({d.name, profile_key(d), d.transport, store_.paused(d.name), w->job.load(), w->run_started_s.load(), time_factor});
   }
   return out;
 }
@@ -195,6 +197,7 @@ void Daemon::device_loop(Worker& w) {
     {
       std::lock_guard lock(mutex_);
       w.job = job->id;
+      w.run_started_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
       w.user_cancel = false;
       w.stop_cut = stopping_.load();
     }

@@ -20,7 +20,9 @@ namespace popcut::daemon {
 struct DeviceStatus {
   std::string name, profile, transport;
   bool paused = false;
-  std::int64_t job = 0;  // the job cutting, 0 = idle
+  std::int64_t job = 0;      // the job cutting, 0 = idle
+  double run_started_s = 0;  // unix seconds this run of it began (a resumed job's started_at is its first run's)
+  double time_factor = 1;    // wall-clock seconds per planned second: a simulated cutter's slowdown and time scale
 };
 
 class Daemon {
@@ -61,6 +63,7 @@ class Daemon {
     const DeviceConfig* device = nullptr;
     std::thread thread;
     std::atomic<std::int64_t> job{0};
+    std::atomic<double> run_started_s{0};
     std::atomic<bool> stop_cut{false};
     bool user_cancel = false;  // guarded by mutex_: why stop_cut was set
   };

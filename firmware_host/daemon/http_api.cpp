@@ -247,6 +247,8 @@ class Api {
   // The queue played forward once per request (docs/api.md eta_s), shared by every job listed.
   using Forecast = std::unordered_map<std::int64_t, double>;
   Forecast forecast();
+  static double now_s();
+  static double busy_s(const DeviceStatus& device, const std::vector<Job>& cutting);
   json job_json(const Job& j, const Forecast* forecast = nullptr);
   void submit(const httplib::Request& req, httplib::Response& res);
   void set_target(NewJob& nj, const std::string& device, const std::string& profile);
@@ -272,12 +274,23 @@ class Api {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
 
-Api::Forecast Api::forecast() {
-  std::vector<std::pair<std::string, std::string>> taking;  // devices that start new cuts
-  for (const DeviceStatus& dev : d_.devices()) {
-    if (!dev.paused) taking.emplace_back(dev.name, dev.profile);
+double Api::now_s() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+// What the cut on `device` has left, by the device's clock; 0 when it is idle.
+double Api::busy_s(const DeviceStatus& device, const std::vector<Job>& cutting) {
+  for (const Job& j : cutting) {
+    if (j.id == device.job) return cut_left_s(j, device.time_factor, device.run_started_s, now_s());
   }
-  return forecast_done_s(d_.store().waiting(), taking, d_.store().cutting_left_s());
+  return 0;
+}
+
+Api::Forecast Api::forecast() {
+  const std::vector<Job> cutting = d_.store().cutting();
+  std::vector<ForecastDevice> taking;  // devices that start new cuts
+  for (const DeviceStatus& dev : d_.devices()) {
+    if (!dev.paused) taking.push_back({dev.name, dev.profile, dev.time_factor, busy_s(dev, cutting)});
+  }
+  return forecast_done_s(d_.store().waiting(), std::move(taking));
 }
 
 json Api::job_json(const Job& j, const Forecast* shared) {
@@ -298,9 +311,6 @@ json Api::job_json(const Job& j, const Forecast* shared) {
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
-  // The cutting time this job has left (a resumed one: after the strokes already cut).
-  const double left_s =
-      j.est_time_s * (j.strokes_total > 0 ? 1.0 - static_cast<double>(std::max(j.strokes_sent, j.resume_from)) / static_cast<double>(j.strokes_total) : 1.0);
   if (!j.error_code.empty() || !j.error_message.empty()) r["error"] = {{"code", j.error_code}, {"message", j.error_message}};
   // Only a simulated cutter reports what it cut; for a real one there is nothing to compare.
   const DeviceConfig* cut_on = d_.device(j.device);
@@ -313,7 +323,9 @@ json Api::job_json(const Job& j, const Forecast* shared) {
       if (const auto it = f.find(j.id); it != f.end()) r["eta_s"] = it->second;
     }
   } else if (j.state == JobState::cutting) {
-    r["eta_s"] = left_s;
+    for (const DeviceStatus& dev : d_.devices()) {
+      if (dev.job == j.id) r["eta_s"] = busy_s(dev, {j});
+    }
   }
   return rounded_numbers(std::move(r));
 }

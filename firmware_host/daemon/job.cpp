@@ -70,32 +70,27 @@ int http_status(ApiError e) {
   return 500;
 }
 
-std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting,
-                                                         const std::vector<std::pair<std::string, std::string>>& devices,
-                                                         const std::vector<std::pair<std::string, double>>& cutting_left_s) {
-  struct Free {
-    std::string name, profile;
-    double at_s = 0;  // when the device is free, after its current cut
-  };
-  std::vector<Free> free;
-  for (const auto& [name, profile] : devices) {
-    double at_s = 0;
-    for (const auto& [cutting_on, left_s] : cutting_left_s) {
-      if (cutting_on == name) at_s += left_s;
-    }
-    free.push_back({name, profile, at_s});
-  }
+std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting, std::vector<ForecastDevice> devices) {
   std::unordered_map<std::int64_t, double> done_s;
   for (const WaitingJob& w : waiting) {
-    Free* first = nullptr;
-    for (Free& f : free) {
-      if (w.targets.may_go_to(f.name, f.profile) && (!first || f.at_s < first->at_s)) first = &f;
+    ForecastDevice* first = nullptr;
+    for (ForecastDevice& d : devices) {
+      if (w.targets.may_go_to(d.name, d.profile) && (!first || d.busy_s < first->busy_s)) first = &d;
     }
     if (!first) continue;
-    first->at_s += w.left_s;
-    done_s[w.id] = first->at_s;
+    first->busy_s += w.left_s * first->time_factor;
+    done_s[w.id] = first->busy_s;
   }
   return done_s;
+}
+
+double cut_left_s(const Job& j, double time_factor, double run_started_s, double now_s) {
+  if (j.strokes_total <= 0) return j.est_time_s * time_factor;
+  const auto share_after = [&](std::int64_t strokes) { return 1.0 - static_cast<double>(strokes) / static_cast<double>(j.strokes_total); };
+  const double run_s = j.est_time_s * time_factor * share_after(j.resume_from);
+  const double by_strokes = j.est_time_s * time_factor * share_after(std::max(j.strokes_sent, j.resume_from));
+  const double by_time = run_s - std::max(0.0, now_s - run_started_s);
+  return std::max({0.0, by_strokes, by_time});
 }
 
 }  // namespace popcut::daemon

@@ -50,17 +50,26 @@ struct Targets {
 };
 
 // When each waiting job should be done, as the device workers take the queue: oldest first, each
-// goes to whichever of its devices frees up first (after the cuts in progress and the jobs
-// before it) and takes the cutting time it has left. `devices` are those taking work (name,
-// profile); a job none of them may take has no entry. Seconds from now, by job id.
+// goes to whichever of its devices frees up first (after its cut in progress and the jobs before
+// it) and takes the cutting time it has left there. `devices` are those taking work; a job none
+// of them may take has no entry. Wall-clock seconds from now, by job id.
 struct WaitingJob {
   std::int64_t id = 0;
   Targets targets;
-  double left_s = 0;  // 0 while not planned
+  double left_s = 0;  // the plan's estimate of what it has left to cut; 0 while not planned
 };
-std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting,
-                                                         const std::vector<std::pair<std::string, std::string>>& devices,
-                                                         const std::vector<std::pair<std::string, double>>& cutting_left_s);
+struct ForecastDevice {
+  std::string name, profile;
+  double time_factor = 1;  // wall-clock seconds per planned second (a simulated cutter's time scale)
+  double busy_s = 0;       // what its cut in progress has left
+};
+std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting, std::vector<ForecastDevice> devices);
+
+// Wall-clock seconds a cut in progress has left, at the least: the strokes not yet sent, and the
+// part of this run's estimate not yet elapsed. Strokes alone say 0 once a small job sits whole in
+// the device's buffer; elapsed time alone says 0 when the device runs slower than planned.
+struct Job;
+double cut_left_s(const Job& job, double time_factor, double run_started_s, double now_s);
 
 struct Job {
   std::int64_t id = 0;

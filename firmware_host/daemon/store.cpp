@@ -247,11 +247,11 @@ std::vector<WaitingJob> JobStore::waiting() {
   return out;
 }
 
-std::vector<std::pair<std::string, double>> JobStore::cutting_left_s() {
+std::vector<Job> JobStore::cutting() {
   auto [db, lock] = reader();
-  Stmt s(db, (std::string("SELECT device, ") + kLeftS + " FROM jobs WHERE state='cutting'").c_str());
-  std::vector<std::pair<std::string, double>> out;
-  while (s.step()) out.emplace_back(s.text(0), s.real(1));
+  Stmt s(db, select_jobs("WHERE state='cutting'").c_str());
+  std::vector<Job> out;
+  while (s.step()) out.push_back(read_job(s));
   return out;
 }
 

@@ -50,8 +50,8 @@ class JobStore {
   // Every job waiting (queued, planning, ready), oldest first: what each may go to and the
   // cutting time it has left (0 while unplanned; a resumed one, after the strokes already cut).
   std::vector<WaitingJob> waiting();
-  // The cutting time left of each job being cut, by the device cutting it.
-  std::vector<std::pair<std::string, double>> cutting_left_s();
+  // The jobs being cut.
+  std::vector<Job> cutting();
 
   // queued -> planning, oldest first.
   std::optional<Job> claim_for_planning();

@@ -190,19 +190,40 @@ TEST_F(Store, PlaceInLineCountsOnlyJobsThatMayTakeTheSameDevice) {
 }
 
 TEST(Forecast, FollowsTheWorkersThroughTheQueue) {
-  const std::vector<std::pair<std::string, std::string>> both{{"a", "sim"}, {"b", "sim"}};
+  const auto devices = [](double a_busy_s, double b_busy_s) {
+    return std::vector<ForecastDevice>{{"a", "sim", 1, a_busy_s}, {"b", "sim", 1, b_busy_s}};
+  };
   // X (a, 10 s), Y (any sim, 7 s), Z (b, 5 s), W (a, 5 s); a cuts a job with 3 s left, b is idle.
   const std::vector<WaitingJob> queue{{1, {"a", "sim"}, 10}, {2, {"", "sim"}, 7}, {3, {"b", "sim"}, 5}, {4, {"a", "sim"}, 5}};
-  auto done = forecast_done_s(queue, both, {{"a", 3.0}});
+  auto done = forecast_done_s(queue, devices(3, 0));
   EXPECT_DOUBLE_EQ(done.at(1), 3 + 10) << "X after the cut in progress on a";
   EXPECT_DOUBLE_EQ(done.at(2), 7) << "Y goes to b, free at once";
   EXPECT_DOUBLE_EQ(done.at(3), 7 + 5) << "Z follows Y on b";
   EXPECT_DOUBLE_EQ(done.at(4), 3 + 10 + 5) << "W follows X on a; Z, for b only, does not delay it";
   // A profile job takes whichever device frees first.
-  done = forecast_done_s({{9, {"", "sim"}, 5}}, both, {{"a", 30.0}, {"b", 2.0}});
+  done = forecast_done_s({{9, {"", "sim"}, 5}}, devices(30, 2));
   EXPECT_DOUBLE_EQ(done.at(9), 2 + 5) << "b is free after 2 s";
-  EXPECT_EQ(forecast_done_s({{9, {"a", "sim"}, 5}}, {{"b", "sim"}}, {}).count(9), 0u) << "a paused (not taking work): no estimate";
-  EXPECT_EQ(forecast_done_s({{9, {"", "other"}, 5}}, both, {}).count(9), 0u) << "no device with its profile: no estimate";
+  // A simulated cutter at a twentieth of real time cuts a 10 s plan in 0.5 s.
+  done = forecast_done_s({{9, {"a", "sim"}, 10}}, {{"a", "sim", 0.05, 0}});
+  EXPECT_DOUBLE_EQ(done.at(9), 0.5) << "the device's time factor applies";
+  EXPECT_EQ(forecast_done_s({{9, {"a", "sim"}, 5}}, {{"b", "sim", 1, 0}}).count(9), 0u) << "a paused (not taking work): no estimate";
+  EXPECT_EQ(forecast_done_s({{9, {"", "other"}, 5}}, devices(0, 0)).count(9), 0u) << "no device with its profile: no estimate";
+}
+
+TEST(Forecast, ACutInProgressHasLeftWhatIsUnsentOrNotYetElapsed) {
+  Job j;
+  j.est_time_s = 10;
+  j.strokes_total = 10;
+  j.strokes_sent = 10;  // a small job: all of it in the device's buffer at once
+  EXPECT_DOUBLE_EQ(cut_left_s(j, 1, 100, 103), 7) << "sent whole after 3 s of a 10 s cut: 7 s left, not 0";
+  j.strokes_sent = 5;
+  EXPECT_DOUBLE_EQ(cut_left_s(j, 1, 100, 101), 9) << "1 s in: the estimate's 9 s beats the unsent half";
+  EXPECT_DOUBLE_EQ(cut_left_s(j, 1, 100, 108), 5) << "slower than planned: the unsent half still has 5 s";
+  j.strokes_sent = 10;
+  EXPECT_DOUBLE_EQ(cut_left_s(j, 1, 100, 120), 0) << "past the estimate with everything sent: 0, not negative";
+  j.resume_from = 6;
+  j.strokes_sent = 6;
+  EXPECT_DOUBLE_EQ(cut_left_s(j, 2, 100, 100), 8) << "resumed at stroke 6, at half speed: 4 planned s take 8";
 }
 
 StrokePlan castle_plan(const drivers::DeviceProfile& p) {
