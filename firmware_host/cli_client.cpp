@@ -33,6 +33,15 @@ std::string env_or(const char* name, const std::string& fallback) {
   return v && *v ? v : fallback;
 }
 
+// JSON no deeper than a popcut model may be (64 levels, and the answer or body around it):
+// serialising a deeper document recurses once per level and overflows the stack.
+json parse_shallow(const std::string& text, int exit_code, const std::string& what) {
+  return json::parse(text, [&](int depth, json::parse_event_t, json&) {
+    if (depth > 66) throw ClientFailure{exit_code, what + ": JSON nested deeper than 64 levels"};
+    return true;
+  });
+}
+
 class Connection {
  public:
   Connection(const std::string& server, const std::string& token) : server_(server), client_(check(server)) {
@@ -53,7 +62,7 @@ class Connection {
     if (!r) throw ClientFailure{kCannotWrite, "cannot reach popcutd at " + server_ + ": " + why(r.error())};
     json j;
     try {
-      j = json::parse(r->body);
+      j = parse_shallow(r->body, kCannotWrite, server_ + " answered");
     } catch (const json::exception&) {
       // Something answers there, but not popcutd (every popcutd answer is JSON): a wrong address.
       throw ClientFailure{kCannotWrite, server_ + " answered " + std::to_string(r->status) +
@@ -149,7 +158,7 @@ int submit(const ClientCommands& s, Connection& c) {
     }
     json model;
     try {
-      model = json::parse(read_text_file(s.model_path));
+      model = parse_shallow(read_text_file(s.model_path), kBadInput, s.model_path);
     } catch (const json::exception& e) {
       throw ClientFailure{kBadInput, s.model_path + ": not JSON: " + e.what()};
     } catch (const Error& e) {

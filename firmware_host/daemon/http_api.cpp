@@ -185,7 +185,10 @@ class Api {
   static json parse_body(const httplib::Request& req) {
     std::vector<std::unordered_set<std::string>> keys;  // per open object, the keys seen so far
     std::string repeated;
-    const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
+    const json::parser_callback_t check = [&](int depth, json::parse_event_t event, json& parsed) {
+      // The model's own limit (64 levels) plus the body around it. Deeper, the job's model_json
+      // dump (recursive) overflowed the stack of a request thread at ~75,000 levels.
+      if (depth > 65) fail(ApiError::bad_json, "the body is nested deeper than 65 levels (a model may nest 64)");
       if (event == json::parse_event_t::object_start) keys.emplace_back();
       else if (event == json::parse_event_t::object_end) keys.pop_back();
       else if (event == json::parse_event_t::key && repeated.empty()) {

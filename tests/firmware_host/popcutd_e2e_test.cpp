@@ -244,7 +244,11 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
   json huge = json::parse(box);
   huge["voxel_mm"] = 200;
   const std::string huge_box = huge.dump();
+  // 100,000 levels inside the model: its copy for the job (a recursive dump) overflowed the stack.
+  const std::string deep_model = R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "heights": )" +
+                                 std::string(100000, '[') + std::string(100000, ']') + "}}";
   const std::vector<Case> cases = {
+      {&c, "POST", "/api/v1/jobs", deep_model, 400, "bad_json"},
       {&c, "POST", "/api/v1/jobs", "{not json", 400, "bad_json"},
       {&c, "POST", "/api/v1/jobs", "[1,2]", 400, "bad_request"},
       {&c, "POST", "/api/v1/jobs", R"({"device": 5, "model": {}})", 400, "bad_request"},
@@ -605,6 +609,10 @@ TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
   EXPECT_EQ(r.code, 0) << "a trailing slash, as a browser shows the address, is fine: " << r.err;
   r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + "/api --token " + kKiosk);
   EXPECT_EQ(r.code, 2) << "a path is refused, not ignored: " << r.err;
+  const std::string deep = dir_.write("deep.json", R"({"format": "popcut.voxel.v1", "heights": )" + std::string(100000, '[') +
+                                                       std::string(100000, ']') + "}");
+  r = cli("submit " + deep + " --device slow " + server);
+  EXPECT_EQ(r.code, 2) << "a model nested 100,000 deep is refused, not a crash: " << r.err;
   r = cli("cancel abc " + server);
   EXPECT_EQ(r.code, 2) << "a job id that is not a number: exit 2";
   EXPECT_NE(r.err.find("'abc' is not a job id"), std::string::npos) << "said plainly: " << r.err;
