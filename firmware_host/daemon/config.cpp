@@ -107,7 +107,7 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   const bool v6_like = c.listen.find(':') != std::string::npos;
   unsigned char addr[sizeof(in6_addr)];
   if (v4_like && ::inet_pton(AF_INET, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0)");
-  if (v6_like && ::inet_pton(AF_INET6, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv6 address (e.g. ::1, ::)");
+  if (v6_like && ::inet_pton(AF_INET6, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv6 address (e.g. ::1, ::; the port goes in [server] port)");
   if (!v4_like && !v6_like && c.listen.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") != std::string::npos) {
     s.fail("listen", "\"" + c.listen + "\" is neither an IP address nor a host name");
   }

@@ -527,6 +527,15 @@ bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res
     refuse(res, ApiError::bad_request, "Transfer-Encoding: only 'chunked' is understood");
     return true;
   }
+  // httplib decodes gzip and deflate and passes any other coding through as if it were none.
+  if (req.has_header("Content-Encoding")) {
+    const std::string coding = req.get_header_value("Content-Encoding");
+    if (req.get_header_value_count("Content-Encoding") > 1 ||
+        !(iequals(coding, "identity") || iequals(coding, "gzip") || iequals(coding, "deflate"))) {
+      refuse(res, ApiError::bad_request, "Content-Encoding: only gzip, deflate or identity is understood, not '" + coding.substr(0, 40) + "'");
+      return true;
+    }
+  }
   std::string length;
   for (std::size_t i = 0; i < req.get_header_value_count("Content-Length"); ++i) {
     const std::string v = req.get_header_value("Content-Length", i);

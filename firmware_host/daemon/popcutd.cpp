@@ -116,14 +116,16 @@ int run_popcutd(int argc, char** argv) {
   if (bound <= 0) {
     const int why = errno;
     std::cerr << "popcutd: error: cannot listen on " << config.listen << ":" << config.port
-              << (why ? std::string(": ") + std::strerror(why) : std::string())
+              << (why ? std::string(": ") + std::strerror(why) : std::string(": the host name does not resolve to an address of this machine"))
               << (why == EADDRINUSE ? " (another popcutd or program has the port; [server] port sets another)" : "")
               << (why == EADDRNOTAVAIL ? " (no interface of this machine has that address; [server] listen)" : "") << "\n";
     daemon->shutdown();
     return 3;
   }
   // One line for scripts and tests that asked for port 0.
-  std::cout << "popcutd: listening on http://" << config.listen << ":" << bound << std::endl;
+  // An IPv6 address goes in brackets in a URL (RFC 3986): http://[::1]:8742.
+  const bool v6 = config.listen.find(':') != std::string::npos;
+  std::cout << "popcutd: listening on http://" << (v6 ? "[" + config.listen + "]" : config.listen) << ":" << bound << std::endl;
   log_line("data in ", config.data_dir, "; ", config.devices.size(), " devices");
 
   std::thread signals([&] {
