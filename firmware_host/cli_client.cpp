@@ -196,7 +196,8 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
       ->required();
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
-  s.submit->add_option("--name", s.name, "A label for the job");
+  s.submit->add_option("--name", s.name, "A label for the job (default: the model's name, or the mesh's file name)")
+      ->check(CLI::Validator([](std::string& t) { return t.empty() ? std::string("must not be empty: leave --name out to name the job after its model") : std::string(); }, "TEXT"));
   s.submit->add_flag("--wait", s.wait, "Wait until the job is done, failed, cancelled or interrupted");
   common(s.submit);
   add_import_options(s.submit, s.import_values);

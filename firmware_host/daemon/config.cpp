@@ -50,6 +50,11 @@ bool is_job_label(const std::string& name) {
   if (name.empty() || name.front() == ' ' || name.back() == ' ' || name.front() == '.') return false;
   // Never a path, should a name ever reach a file system (exports, logs that get split on '/').
   if (name.find_first_of("/\\") != std::string::npos || name.find("..") != std::string::npos) return false;
+  // Spaces of any kind at either end make two names look alike.
+  const auto blank = [](char32_t cp) {
+    return cp == 0x20 || cp == 0xa0 || cp == 0x1680 || (cp >= 0x2000 && cp <= 0x200b) || cp == 0x202f || cp == 0x205f || cp == 0x3000;
+  };
+  char32_t first = 0, last = 0;
   std::size_t chars = 0;
   for (std::size_t i = 0; i < name.size(); ++chars) {
     const auto b0 = static_cast<unsigned char>(name[i]);
@@ -65,11 +70,14 @@ bool is_job_label(const std::string& name) {
     const char32_t min_cp[] = {0, 0, 0x80, 0x800, 0x10000};
     if (cp < min_cp[len] || (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff) return false;
     if (cp < 0x20 || (cp >= 0x7f && cp <= 0x9f)) return false;                        // control characters
-    if ((cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069) || cp == 0x200e || cp == 0x200f) return false;  // bidi
+    if ((cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069) || cp == 0x200e || cp == 0x200f || cp == 0x061c) return false;  // bidi
+    if (cp == 0xfeff) return false;                                                  // byte-order mark
     if (cp == 0x2028 || cp == 0x2029) return false;                                  // line breaks
+    if (chars == 0) first = cp;
+    last = cp;
     i += static_cast<std::size_t>(len);
   }
-  return chars <= 64;
+  return chars <= 64 && !blank(first) && !blank(last);
 }
 
 DaemonConfig parse_daemon_config(const std::string& text, const std::string& source) {

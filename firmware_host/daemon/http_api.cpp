@@ -521,6 +521,20 @@ bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res
     refuse(res, ApiError::method_not_allowed, req.method + " is not allowed on " + req.path + " (Allow: " + allow + ")", body);
     return true;
   }
+  // Query parameters the API does not take are refused, not ignored (?zoom=2 is a typo or a
+  // client expecting something popcutd does not do). The page itself (/?token=) is not the API.
+  if (req.path.rfind("/api/", 0) == 0) {
+    const bool picture = req.path.size() > 12 && req.path.compare(req.path.size() - 12, 12, "/preview.png") == 0;
+    const char* takes = picture ? "angle" : (req.path == "/api/v1/jobs" && req.method != "POST") ? "limit" : "";
+    for (const auto& [key, value] : req.params) {
+      if (key != takes) {
+        refuse(res, ApiError::bad_request,
+               "unknown query parameter '" + key.substr(0, 40) + "'" + (*takes ? std::string(" (this takes ") + takes + ")" : std::string(" (this takes none)")),
+               body);
+        return true;
+      }
+    }
+  }
   // Framing, RFC 7230 3.3: one length, or chunked alone; anything else could be read two ways.
   const bool chunked = req.has_header("Transfer-Encoding");
   if (chunked && (req.get_header_value_count("Transfer-Encoding") > 1 || !iequals(req.get_header_value("Transfer-Encoding"), "chunked"))) {

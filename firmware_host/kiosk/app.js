@@ -89,7 +89,7 @@ async function importMesh() {
   form.append('faces', $('faces').checked ? 'true' : 'false');
   try {
     const r = await api('POST', '/api/v1/import', form);
-    await useModel(JSON.stringify(r.model), mesh.name);
+    await useModel(JSON.stringify(r.model), mesh.name.replace(/\.[^.]*$/, ''));  // named like the API names it: house
     $('model-name').textContent = mesh.name + ': ' + r.grid.width + ' x ' + r.grid.depth + ' x ' + r.grid.height + ' voxels';
   } catch (e) {
     $('model-name').textContent = mesh.name;

@@ -114,7 +114,8 @@ TEST(DaemonConfig, SafeNames) {
   EXPECT_FALSE(is_job_label(castles + "\xe5\x9f\x8e")) << "65 characters are too many";
   for (const std::string bad : {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01b", 3),
                                 std::string("tab\there"), std::string("rlo\xe2\x80\xae"), std::string("bad \xff utf8"),
-                                std::string("overlong \xc0\xaf"), std::string("cut \xe5\x9f"), std::string("a/b"), std::string("../x"),
+                                std::string("overlong \xc0\xaf"), std::string("nbsp\xc2\xa0"), std::string("\xe3\x80\x80ideographic space"),
+                                std::string("alm\xd8\x9c"), std::string("\xef\xbb\xbf" "bom"), std::string("cut \xe5\x9f"), std::string("a/b"), std::string("../x"),
                                 std::string(".hidden"), std::string("a\\b"), std::string("c1 \xc2\x85")}) {
     EXPECT_FALSE(is_job_label(bad)) << "'" << bad << "' must be refused as a job name";
   }

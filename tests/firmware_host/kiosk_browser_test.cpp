@@ -18,6 +18,10 @@ using popcut::testing::TempDir;
 using popcut::testing::wait_until;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
+// A picture popcutd rendered has loaded: an object URL (the page's empty placeholder is a data:
+// URL, which has a size too) whose image decoded.
+const std::string kRendered =
+    "const rendered = (id) => { const i = document.getElementById(id); return i.src.startsWith('blob:') && i.complete && i.naturalWidth > 0; };";
 
 // A loopback port nobody listens on now (chromedriver cannot be asked for port 0).
 int free_port() {
@@ -116,9 +120,9 @@ TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
   b.click("#example option[value='voxel-castle']");
   ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 60))
       << "the pattern renders and Queue becomes available; page says: " << b.run("return document.body.innerText").dump();
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.getElementById('preview').naturalWidth").get<int>() > 0; }, 60))
+  ASSERT_TRUE(wait_until([&] { return b.run(kRendered + "return rendered('preview')").get<bool>(); }, 60))
       << "the card preview shows";
-  EXPECT_GT(b.run("return document.getElementById('pattern').naturalWidth").get<int>(), 0) << "the pattern shows";
+  EXPECT_TRUE(b.run(kRendered + "return rendered('pattern')").get<bool>()) << "the pattern shows";
   // The slider asks for another angle; the picture changes.
   const std::string before = b.run("return document.getElementById('preview').src").get<std::string>();
   b.run("const a = document.getElementById('angle'); a.value = 150; a.dispatchEvent(new Event('input'));");
@@ -192,7 +196,7 @@ TEST(Kiosk, UploadsAMeshImportsItAndSeesItCut) {
   EXPECT_FALSE(b.run("return document.getElementById('import').hidden").get<bool>()) << "the import options show for a mesh";
   EXPECT_EQ(b.run("return document.getElementById('model-name').textContent").get<std::string>().rfind("house.obj: 30 x ", 0), 0u)
       << "the page says what the import made: " << b.run("return document.getElementById('model-name').textContent").dump();
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.getElementById('preview').naturalWidth").get<int>() > 0; }, 60))
+  ASSERT_TRUE(wait_until([&] { return b.run(kRendered + "return rendered('preview')").get<bool>(); }, 60))
       << "the card preview shows";
   // A bad option: the importer's message shows on the page.
   b.run("document.getElementById('up').value = '-y';");
@@ -212,6 +216,8 @@ TEST(Kiosk, UploadsAMeshImportsItAndSeesItCut) {
     return state == "done" || state == "failed" || state == "cancelled";
   }, 300)) << "the card finishes on the simulated cutter";
   EXPECT_EQ(state, "done") << "the imported card was cut; page: " << b.run("return document.body.innerText").dump();
+  const std::string title = b.run("return document.querySelector('#jobs .job .title').textContent").get<std::string>();
+  EXPECT_EQ(title.substr(title.find(' ') + 1), "house") << "the job is named after the file as the API names it: " << title;
 }
 
 }  // namespace

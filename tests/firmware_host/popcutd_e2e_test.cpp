@@ -290,6 +290,9 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
       {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "format": "x"}})", 400, "bad_request"},
       {&c, "GET", "/api/v1/jobs/" + std::to_string(mine) + "/preview.png?angle=10&angle=20", "", 400, "bad_request"},
       {&c, "GET", "/api/v1/jobs?limit=1&limit=2", "", 400, "bad_request"},
+      {&c, "GET", "/api/v1/jobs?foo=1", "", 400, "bad_request"},
+      {&c, "GET", "/api/v1/jobs/" + std::to_string(mine) + "/preview.png?zoom=2", "", 400, "bad_request"},
+      {&c, "GET", "/api/v1/devices?limit=5", "", 400, "bad_request"},
       // Names are labels: any text, but not empty, not control characters, not direction overrides.
       {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", ""), 400, "bad_request"},
       {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", std::string("a\x01") + "b"), 400, "bad_name"},
@@ -613,6 +616,8 @@ TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
                                                        std::string(100000, ']') + "}");
   r = cli("submit " + deep + " --device slow " + server);
   EXPECT_EQ(r.code, 2) << "a model nested 100,000 deep is refused, not a crash: " << r.err;
+  r = cli("submit " + kSrc + "/examples/voxel/box.json --device slow --name '' " + server);
+  EXPECT_EQ(r.code, 2) << "an empty --name is refused as the API refuses it: " << r.err;
   r = cli("cancel abc " + server);
   EXPECT_EQ(r.code, 2) << "a job id that is not a number: exit 2";
   EXPECT_NE(r.err.find("'abc' is not a job id"), std::string::npos) << "said plainly: " << r.err;
