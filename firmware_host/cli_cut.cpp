@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli_checks.h"
@@ -278,6 +279,7 @@ int run_cut(const CutCommands& s) {
                       {"received_counted_by", sent.received_counted_by},
                       {"last_stroke_sent", sent.last_stroke_sent},
                       {"last_stroke_written", sent.last_stroke_written},
+                      {"last_stroke_executed", sent.last_stroke_executed ? json(*sent.last_stroke_executed) : json(nullptr)},
                       {"total_strokes", sent.total_strokes},
                       {"buffered_bytes", sent.buffered_bytes},
                       {"buffer_known", sent.buffer_known},
@@ -328,10 +330,14 @@ int run_cut(const CutCommands& s) {
     }
     write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << report.dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
-    // Honest numbers: M = the last stroke the device certainly received, N = the last written.
-    // Resuming from M + 1 skips nothing; strokes M+1..N may be cut twice, and the user is told so.
+    // Honest numbers: E = the last stroke the device is known to have executed, M = the last it
+    // certainly received, N = the last written (E <= M <= N). A device that keeps its buffer and
+    // goes on cutting needs M + 1 (strokes M+1..N may be cut twice); one that was reset or lost
+    // power cut nothing of its buffer, so E + 1 (strokes E+1..M may have been cut already).
     const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
-    std::string where = "last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
+    const std::optional<std::size_t> e = sent.last_stroke_executed;
+    std::string where = "last stroke known executed " + (e ? std::to_string(*e) : std::string("unknown (the device cannot be asked)")) +
+                        ", last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
                         " (" + (m < sent.first_stroke ? std::string("none confirmed")
                                  : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
                                  : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
@@ -340,11 +346,23 @@ int run_cut(const CutCommands& s) {
     std::string resume;
     if (sent.bytes_sent == 0) {
       resume = "; nothing was sent: run the same command again";
-    } else if (m < sent.total_strokes) {
-      resume = "; to finish, run the same command with --resume-from " + std::to_string(m + 1);
-      if (n > m) {
-        resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
-                  " may have been cut already and are then cut a second time)";
+    } else {
+      if (m < sent.total_strokes) {
+        resume = "; if the device still holds its buffer and goes on cutting, finish with the same command and --resume-from " +
+                 std::to_string(m + 1);
+        if (n > m) {
+          resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
+                    " may have been cut already and are then cut a second time)";
+        }
+      } else {
+        resume = "; if the device still holds its buffer and goes on cutting, it has the whole job";
+      }
+      // After a reset or power cycle the buffer is gone: only what it executed is cut.
+      const std::size_t safe = e ? *e + 1 : sent.first_stroke;
+      if (safe <= m) {
+        resume += "; if it was reset or power-cycled, or lost its buffer, use --resume-from " + std::to_string(safe) + " (" +
+                  (e ? "" : "what it executed is not known: ") + "strokes " + std::to_string(safe) + ".." + std::to_string(m) +
+                  " may have been cut already)";
       }
     }
     if (sent.cancelled) {
@@ -400,8 +418,10 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
                                     "Writes DIR/job.hpgl (the bytes sent), DIR/report.json and, on sim, DIR/cut.svg.\n"
                                     "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
                                     "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
-                                    "message names the last stroke the device certainly received (M), the last written (N), and\n"
-                                    "--resume-from M+1, which finishes the job (strokes M+1..N may then be cut twice).\n"
+                                    "message names the last stroke the device is known to have executed (E), the last it certainly\n"
+                                    "received (M) and the last written (N): --resume-from M+1 finishes the job if the device kept its\n"
+                                    "buffer and goes on cutting (strokes M+1..N may then be cut twice), --resume-from E+1 if it was\n"
+                                    "reset or power-cycled (strokes E+1..M may have been cut already).\n"
                                     "Exit 130: cancelled by Ctrl-C or SIGTERM; the knife is lifted and the message says how much the\n"
                                     "device may still cut from its buffer (bytes and strokes).");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();

@@ -79,6 +79,12 @@ class Sender {
   }
 
  private:
+  // A query awaiting its answer: the job bytes written before it, and which query it was.
+  struct Pending {
+    std::size_t bytes_before;
+    DrainQuery query;
+  };
+
   bool cancel_requested() const { return o_.cancel && o_.cancel->load(); }
   // A cancel while the device holds us off: stop waiting unless a command is half sent.
   bool at_boundary_and_cancelled() const {
@@ -99,6 +105,14 @@ class Sender {
     r_.bytes_received = received();
     r_.last_stroke_sent = job_.last_stroke_within(r_.bytes_received);
     r_.last_stroke_written = job_.last_stroke_within(r_.bytes_sent);
+    // Executed is known only from the device's answers (or an answered drain); it never runs
+    // ahead of what it received.
+    if (query_ != DrainQuery::none && answers_ > 0) {
+      const std::size_t bytes = drained_ ? r_.bytes_sent : std::min(executed_, r_.bytes_received);
+      r_.last_stroke_executed = std::min(stroke_executed_by(bytes), r_.last_stroke_sent);
+    } else {
+      r_.last_stroke_executed.reset();
+    }
   }
 
   void report_progress() {
@@ -163,7 +177,7 @@ class Sender {
       r_.status = w.status;
       return false;
     }
-    pending_.push_back(r_.bytes_sent);
+    pending_.push_back({r_.bytes_sent, q});
     ++r_.status_queries;
     return true;
   }
@@ -175,7 +189,31 @@ class Sender {
       last_ping_ = r_.bytes_sent;
       if (!send_query(query_)) return false;
     }
-    return take_replies(std::chrono::milliseconds(0));
+    return take_replies(std::chrono::milliseconds(0)) && check_overdue();
+  }
+
+  // What an answer tells about execution. ESC.B: the bytes written before the query, less what
+  // its buffer still holds, have left the buffer (an answer above the profile's buffer tells
+  // nothing: the profile is wrong about the device). ESC.O bit 3: everything written before it
+  // has been executed.
+  void learn_executed(const Pending& asked) {
+    if (asked.query == DrainQuery::esc_b) {
+      if (last_answer_ < 0 || static_cast<std::size_t>(last_answer_) > o_.buffer_bytes) return;
+      const std::size_t held = o_.buffer_bytes - static_cast<std::size_t>(last_answer_);
+      executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
+    } else if ((last_answer_ & 8) != 0) {
+      executed_ = std::max(executed_, asked.bytes_before);
+    }
+  }
+
+  // The last stroke the first `bytes` (taken out of the device's buffer) have certainly cut: its
+  // commands and the one after it have left the buffer, so its last move has ended (a device
+  // starts a command when the one before is done).
+  std::size_t stroke_executed_by(std::size_t bytes) const {
+    const std::size_t s = job_.last_stroke_within(bytes);
+    if (s < job_.first_stroke) return s;
+    const std::size_t next_end = job_.command_boundary_at_or_after(job_.stroke_end[s - job_.first_stroke] + 1);
+    return next_end > bytes ? s - 1 : s;
   }
 
   // Reads what the device said within `wait`: XON/XOFF (the simulator) and answer lines, each of
@@ -217,9 +255,12 @@ class Sender {
                        ", not a status number: " + check_line_hint()};
       return false;
     }
-    confirmed_ = std::max(confirmed_, pending_.front());
+    const Pending asked = pending_.front();
     pending_.pop_front();
+    confirmed_ = std::max(confirmed_, asked.bytes_before);
     last_answer_ = std::strtol(text.c_str(), nullptr, 10);
+    ++answers_;
+    learn_executed(asked);
     return true;
   }
 
@@ -247,23 +288,46 @@ class Sender {
   // in last_answer_. False with r_.status set.
   bool ask(DrainQuery q, const std::string& when) {
     if (!send_query(q)) return false;
+    return await_answers(0, q, when);
+  }
+
+  // Waits up to the timeout until at most `keep` queries are unanswered. False with r_.status
+  // set: a device that never answered is on the wrong port or baud; one that answered before
+  // and falls silent has stopped.
+  bool await_answers(std::size_t keep, DrainQuery q, const std::string& when) {
     const auto deadline = std::chrono::steady_clock::now() + o_.timeout;
     std::chrono::milliseconds left = o_.timeout;
-    while (!pending_.empty()) {
+    while (pending_.size() > keep) {
       const std::size_t before = bytes_heard_;
       if (!take_replies(left)) return false;
       if (bytes_heard_ == before) break;  // silence for the whole of `left`
       left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) break;  // chatter, but no answer
     }
-    if (!pending_.empty()) {
+    if (pending_.size() <= keep) return true;
+    const std::string waited = std::to_string(o_.timeout.count()) + " ms" + (line_.empty() ? "" : " (it sent " + printable(line_) + ")");
+    if (answers_ > 0) {
       r_.status = {TransportError::timeout, ETIMEDOUT,
-                   "the device did not answer " + std::string(query_name(q)) + " " + when + " within " +
-                       std::to_string(o_.timeout.count()) + " ms" + (line_.empty() ? "" : " (it sent " + printable(line_) + ")") +
-                       ": " + check_line_hint()};
-      return false;
+                   "the device stopped answering: no answer to " + std::string(query_name(q)) + " " + when + " within " + waited +
+                       ", though it answered the " + std::to_string(answers_) +
+                       " queries before: it is paused, out of media or stuck, or it lost power"};
+    } else {
+      r_.status = {TransportError::timeout, ETIMEDOUT,
+                   "the device did not answer " + std::string(query_name(q)) + " " + when + " within " + waited + ": " + check_line_hint()};
     }
-    return true;
+    return false;
+  }
+
+  // A pipelined query followed by more job bytes than can still be on their way (the port's
+  // queue and an adapter's FIFO, at least a status interval) has reached the device, which
+  // answers device control on arrival: wait for its answer now, so that a device that stops
+  // mid-job is noticed then and not only after the last byte.
+  bool check_overdue() {
+    if (pending_.empty()) return true;
+    const std::size_t after = r_.bytes_sent - pending_.front().bytes_before;
+    const std::size_t on_the_way = t_.writes_acknowledged() ? 0 : t_.in_flight();
+    if (after <= std::max(status_every_, on_the_way)) return true;
+    return await_answers(pending_.size() - 1, pending_.front().query, "while sending");
   }
 
   bool ask_status(const std::string& when) { return ask(query_, when); }
@@ -277,12 +341,20 @@ class Sender {
     if (flow_ == FlowControl::xon_xoff) {
       // Take what the device said so far; wait for XON while it holds us off.
       if (!take_replies(std::chrono::milliseconds(0))) return false;
-      std::chrono::milliseconds held{0};
+      std::chrono::milliseconds held{0}, next_probe = o_.timeout;
       while (paused_) {
         if (at_boundary_and_cancelled()) return true;  // no need to wait for XON to stop
+        // A device answers device control even while it holds us off (it bypasses the buffer):
+        // asked every timeout_ms, silence means it has stopped, not that it is busy cutting.
+        if (query_ != DrainQuery::none && held >= next_probe) {
+          next_probe += o_.timeout;
+          if (pending_.empty() && !send_query(query_)) return false;
+          if (!await_answers(0, pending_.back().query, "while it held popcut off (XOFF)")) return false;
+          continue;
+        }
         if (held >= o_.hold_timeout) {
-          r_.status = {TransportError::timeout, 0, "device held the line (XOFF) for longer than " +
-                                                       std::to_string(o_.hold_timeout.count()) + " ms"};
+          r_.status = {TransportError::timeout, 0, "the device held popcut off (XOFF) for " + duration_text(o_.hold_timeout) +
+                                                       " (hold_timeout_ms): is it paused, out of media or stuck?"};
           return false;
         }
         if (!take_replies(kSlice)) return false;
@@ -432,7 +504,9 @@ class Sender {
   std::size_t last_ping_ = 0;
   std::size_t confirmed_ = 0;  // job bytes written before the last answered query
   bool drained_ = false;       // the job went out whole and the device finished it
-  std::deque<std::size_t> pending_;  // queries awaiting an answer: job bytes written before each
+  std::deque<Pending> pending_;  // queries awaiting an answer
+  int answers_ = 0;              // status answers heard: a device that answered once and goes silent has stopped
+  std::size_t executed_ = 0;     // job bytes the device has been seen to take out of its buffer and start
   std::string line_;
   long last_answer_ = 0;
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far

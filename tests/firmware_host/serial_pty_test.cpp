@@ -147,6 +147,7 @@ class SerialPty : public ::testing::Test {
     return out;
   }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
+  void expect_stuck_device_resumes_from_executed(const std::string& device_profile);
 
   fs::path dir_;
   std::string profile_;
@@ -254,7 +255,7 @@ TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwiceWithItsOwnExitCode) {
   EXPECT_EQ(pr["overflow_bytes"], 0);
 }
 
-TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAndAStopMidJobExits3) {
+TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAsALineProblem) {
   std::string port;
   auto plot = plotter("mute", {"--stop-after", "0"}, port);
   const Cut mute = cut("box.json", "serial:" + port, "", "mute");
@@ -263,15 +264,70 @@ TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAndAStopMidJobExits3) {
   EXPECT_NE(mute.err.find("check the cable, the port and the baud rate (the profile says 115200 baud)"), std::string::npos) << mute.err;
   EXPECT_EQ(mute.report["sent"]["bytes"], 0) << "no byte of the job went out";
   ASSERT_EQ(plot->wait(), 0);
+}
+
+// A device that stops mid-job cuts nothing more of its buffer: popcut names E (known executed)
+// <= M (certainly received) <= N (written) and both resume points; after a power cycle (a fresh
+// plotter) the advised --resume-from E+1 completes the card with no stroke missing.
+void SerialPty::expect_stuck_device_resumes_from_executed(const std::string& device_profile) {
+  std::string port;
+  std::vector<std::string> args = {"--stop-after", "1500", "--slowdown", "0.05"};
+  if (!device_profile.empty()) args.insert(args.end(), {"--profile", device_profile});
+  auto plot = plotter("stuck", args, port);
+  const Cut stuck = cut("townhouse.json", "serial:" + port, "", "stuck");
+  EXPECT_EQ(stuck.code, 3) << "a device that stops mid-job is not a job done: " << stuck.err;
+  EXPECT_NE(stuck.err.find("the device stopped answering"), std::string::npos) << stuck.err;
+  EXPECT_NE(stuck.err.find("paused, out of media or stuck, or it lost power"), std::string::npos) << stuck.err;
+  EXPECT_EQ(stuck.err.find("baud"), std::string::npos) << "it answered before: not the cable or the baud rate: " << stuck.err;
+  const json& sent = stuck.report["sent"];
+  ASSERT_TRUE(sent["last_stroke_executed"].is_number()) << "the device answered queries: E is known: " << sent.dump();
+  const std::size_t e = sent["last_stroke_executed"].get<std::size_t>();
+  const std::size_t m = sent["last_stroke_sent"].get<std::size_t>();
+  const std::size_t n = sent["last_stroke_written"].get<std::size_t>();
+  EXPECT_LE(e, m);
+  EXPECT_LE(m, n);
+  EXPECT_NE(stuck.err.find("last stroke known executed " + std::to_string(e) + ", last stroke certainly received " + std::to_string(m)),
+            std::string::npos)
+      << stuck.err;
+  if (e < m) {
+    EXPECT_NE(stuck.err.find("if it was reset or power-cycled, or lost its buffer, use --resume-from " + std::to_string(e + 1)),
+              std::string::npos)
+        << stuck.err;
+  }
+  EXPECT_LE(sent["bytes_received"].get<std::size_t>(), 1500u) << "never more than the device took before it stopped";
+  ASSERT_EQ(plot->wait(), 0);
+  const std::string job = slurp(dir_ / "stuck" / "job.hpgl");
+  const auto planned = strokes_of(job);
+  const auto cut1 = strokes_of(plotter_report("stuck"));
+  ASSERT_LE(e, cut1.size()) << "E never claims a stroke the device did not cut";
+  for (std::size_t i = 0; i < cut1.size(); ++i) EXPECT_EQ(cut1[i], planned[i]) << "stroke " << i + 1 << " before the stop";
 
   std::string port2;
-  auto plot2 = plotter("stuck", {"--stop-after", "1500", "--slowdown", "0.05"}, port2);
-  const Cut stuck = cut("townhouse.json", "serial:" + port2, "", "stuck");
-  EXPECT_EQ(stuck.code, 3) << "a device that stops mid-job is not a job done: " << stuck.err;
-  const std::size_t m = stuck.report["sent"]["last_stroke_sent"].get<std::size_t>();
-  EXPECT_NE(stuck.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos) << stuck.err;
+  std::vector<std::string> args2 = {"--slowdown", "0.05"};
+  if (!device_profile.empty()) args2.insert(args2.end(), {"--profile", device_profile});
+  auto plot2 = plotter("fresh", args2, port2);  // the power-cycled device: an empty buffer
+  const Cut again = cut("townhouse.json", "serial:" + port2, "--resume-from " + std::to_string(e + 1), "again");
+  ASSERT_EQ(again.code, 0) << again.err;
   ASSERT_EQ(plot2->wait(), 0);
-  EXPECT_LE(stuck.report["sent"]["bytes_received"].get<std::size_t>(), 1500u) << "never more than the device took before it stopped";
+  std::vector<popcut::PlotterPath> both(cut1.begin(), cut1.begin() + static_cast<std::ptrdiff_t>(e));
+  const auto cut2 = strokes_of(plotter_report("fresh"));
+  both.insert(both.end(), cut2.begin(), cut2.end());
+  EXPECT_EQ(both, planned) << "strokes 1.." << e << " before the stop and " << e + 1 << ".. after the power cycle cover the card";
+}
+
+TEST_F(SerialPty, AStuckDeviceNamesWhatItExecutedAndResumingFromThereAfterAPowerCycleCoversTheCard) {
+  expect_stuck_device_resumes_from_executed("");  // ESC.O pings: executed where it said "buffer empty"
+}
+
+TEST_F(SerialPty, AStuckDevicePacedByEscBNamesWhatItExecutedFromItsFreeSpace) {
+  // ESC.B pacing on both sides, the host knowing the device's 256-byte buffer: every answer
+  // says how much of what it received it has taken out of its buffer.
+  std::string p = slurp(profile_);
+  replace(p, "flow_control = \"xon_xoff\"", "flow_control = \"esc_b\"");
+  replace(p, "drain_query = \"esc_o\"", "drain_query = \"esc_b\"");
+  replace(p, "buffer_bytes = 1024", "buffer_bytes = 256");
+  std::ofstream(profile_) << p;
+  expect_stuck_device_resumes_from_executed(profile_);
 }
 
 TEST_F(SerialPty, WithoutAStatusQueryAHeldLineIsAStallWithHonestNumbers) {

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -56,14 +57,22 @@ struct SendOptions {
 // bulk actual_length), what it confirmed (its answer to a status query sent after those bytes)
 // or, for a device that cannot be asked, what the port reports gone (written, less the OS output
 // queue and what may still be in flight).
-// Resuming from last_stroke_sent + 1 therefore never skips a stroke; strokes
-// last_stroke_sent + 1 .. last_stroke_written may have been cut already and are cut again.
+// Resuming from last_stroke_sent + 1 therefore never skips a stroke while the device keeps its
+// buffer and goes on cutting; strokes last_stroke_sent + 1 .. last_stroke_written may have been
+// cut already and are cut again. Received is not cut: a device that hangs, is paused for good or
+// loses power never cuts what sits in its buffer. last_stroke_executed (E <= M <= N) is what it
+// is known to have cut, and the resume point after a reset or power cycle.
 struct SendResult {
   std::size_t bytes_sent = 0;        // job bytes the transport accepted (abort and queries not counted)
   std::size_t bytes_received = 0;    // job bytes the device can be shown to have received (<= bytes_sent)
   std::size_t first_stroke = 1;
   std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (first_stroke - 1: none)
   std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
+  // Last stroke the device is known to have executed (first_stroke - 1: none), from its answers:
+  // ESC.B (bytes written before the query, less what its buffer still holds), ESC.O "buffer
+  // empty", a drain it confirmed. A stroke counts once the command after it has left the buffer.
+  // nullopt: the device cannot be asked (no drain_query, a file), so it is not known.
+  std::optional<std::size_t> last_stroke_executed;
   std::size_t total_strokes = 0;
   // How bytes_received was counted: "transport" (a write's count is what the device took: USB,
   // a file, the simulator), "status_answers" (serial, device answers queries) or "os_queue"
