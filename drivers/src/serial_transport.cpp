@@ -27,10 +27,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Bytes a serial path may hold where sp_output_waiting() does not see them (adapter FIFOs up to an
-// FT2232H's 4 KiB, a pty's buffer), assumed undelivered when no device answer confirms them.
-constexpr std::size_t kUnseenBytes = 4096;
-
 // The OS error behind libserialport's last SP_ERR_FAIL, as a status.
 TransportStatus sp_status(sp_return rc, const std::string& what) {
   if (rc == SP_ERR_FAIL) {
@@ -192,10 +188,11 @@ class SerialTransport final : public Transport {
     // time has not passed yet (a pty's buffer is not in the OS queue).
     const double on_line_s = std::chrono::duration<double>(line_free_at_ - Clock::now()).count();
     const auto by_time = static_cast<std::size_t>(std::max(0.0, std::ceil(on_line_s / char_time_.count())));
-    // And what no one reports: a USB adapter's FIFO (a CP210x holds 640 bytes, an FT2232H 4 KiB)
-    // or a pseudo-terminal's buffer. Without device answers the count must stay below what the
-    // device got, even if that makes a resume re-cut more: a skipped stroke spoils the card.
-    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, by_time) + kUnseenBytes;
+    // And what no one reports: a USB adapter's transmit FIFO or a UART's, the profile's
+    // adapter_fifo_bytes. Without device answers the count must stay below what the device got,
+    // even if that makes a resume re-cut more: a skipped stroke spoils the card.
+    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, by_time) +
+           settings_.adapter_fifo_bytes;
   }
 
   void close() override {

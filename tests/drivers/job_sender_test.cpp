@@ -500,6 +500,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
       {"flow_control = \"cts\"", "is not one of"},
       {"drain_query = \"esc_x\"", "is not one of"},
       {"usb_ids = [\"0b4d-110a\"]", "is not a USB id"},
+      {"adapter_fifo_bytes = 0", "out of range"},
+      {"adapter_fifo_bytes = 2000000", "out of range"},
   };
   for (const auto& [line, expect] : cases) {
     try {
@@ -514,6 +516,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
   EXPECT_EQ(ok.transport.abort, "\x1b.K");
   EXPECT_EQ(ok.transport.flow, FlowControl::dtr_dsr);
   EXPECT_EQ(ok.transport.usb_ids, std::vector<std::string>{"0b4d:110a"});
+  EXPECT_EQ(ok.transport.adapter_fifo_bytes, 4096u) << "unknown adapters: a margin above every FIFO checked";
+  EXPECT_EQ(parse_profile(base + "adapter_fifo_bytes = 640\n", "t.toml").transport.adapter_fifo_bytes, 640u);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -95,9 +96,10 @@ class SerialPty : public ::testing::Test {
     s.replace(at, from.size(), to);
   }
 
-  // Starts a sim-plotter (small buffer, XON/XOFF) and returns its port.
+  // Starts a sim-plotter (256-byte buffer unless `extra` says, XON/XOFF) and returns its port.
   std::unique_ptr<Child> plotter(const std::string& name, const std::vector<std::string>& extra, std::string& port) {
-    std::vector<std::string> args = {POPCUT_CLI, "sim-plotter", "--buffer", "256", "--report", (dir_ / (name + ".json")).string()};
+    std::vector<std::string> args = {POPCUT_CLI, "sim-plotter", "--report", (dir_ / (name + ".json")).string()};
+    if (std::find(extra.begin(), extra.end(), "--buffer") == extra.end()) args.insert(args.end(), {"--buffer", "256"});
     args.insert(args.end(), extra.begin(), extra.end());
     auto c = std::make_unique<Child>(args, dir_ / (name + ".out"), dir_ / (name + ".err"));
     for (int i = 0; i < 500 && port.empty(); ++i) {
@@ -331,31 +333,41 @@ TEST_F(SerialPty, AStuckDevicePacedByEscBNamesWhatItExecutedFromItsFreeSpace) {
 }
 
 TEST_F(SerialPty, WithoutAStatusQueryAHeldLineIsAStallWithHonestNumbers) {
-  // A profile whose device cannot be asked: popcut counts what the port reports gone.
+  // A profile whose device cannot be asked: popcut counts what the port reports gone, less the
+  // profile's adapter_fifo_bytes (a pty has no adapter: the key alone sets the margin here).
   std::string p = slurp(profile_);
   replace(p, "drain_query = \"esc_o\"", "drain_query = \"none\"");
-  replace(p, "hold_timeout_ms = 8000", "hold_timeout_ms = 3000");
-  std::ofstream(profile_) << p;
-  std::string port;
-  std::vector<std::string> args = {"--slowdown", "1000"};  // it says XOFF and takes ages to say XON
-  auto plot = plotter("held", args, port);
-  const Cut held = cut("townhouse.json", "serial:" + port, "", "held");
-  EXPECT_EQ(held.code, 3) << held.err;
-  EXPECT_NE(held.err.find("the device held popcut off for 3 s without taking a byte"), std::string::npos) << held.err;
-  EXPECT_EQ(held.report["sent"]["error"], "timeout") << held.report.dump();
-  EXPECT_EQ(held.report["sent"]["received_counted_by"], "os_queue") << "nothing to ask: the port's count";
-  const std::size_t m = held.report["sent"]["last_stroke_sent"].get<std::size_t>();
-  const std::size_t n = held.report["sent"]["last_stroke_written"].get<std::size_t>();
-  EXPECT_LE(m, n);
-  EXPECT_NE(held.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos) << held.err;
-  EXPECT_LT(held.report["sent"]["bytes_received"].get<std::size_t>(), held.report["sent"]["bytes"].get<std::size_t>())
-      << "what may still be between popcut and the device is not counted received";
-  ASSERT_EQ(plot->wait(), 0);
-  EXPECT_EQ(plotter_report("held")["overflow_bytes"], 0);
-  // Whether the port's count matched what this plotter pulled is not asserted: a pty reports no
-  // output queue, so how far the plotter lags popcut is scheduling, not the line. The counting
-  // itself is tested deterministically in job_sender_test (BytesStillInTheOsQueue...), and
-  // device-confirmed counts against this plotter above.
+  replace(p, "hold_timeout_ms = 8000", "hold_timeout_ms = 3000\nadapter_fifo_bytes = FIFO");
+  const std::size_t chunk = 1024 / 8;  // the sender's chunk for the profile's 1024-byte buffer
+  for (const std::size_t fifo : {std::size_t{64}, std::size_t{1024}}) {
+    std::string with = p;
+    replace(with, "FIFO", std::to_string(fifo));
+    std::ofstream(profile_) << with;
+    const std::string name = "held" + std::to_string(fifo);
+    std::string port;
+    // It takes 1.5 KiB, says XOFF at 3/4 of its 2 KiB and takes ages to say XON.
+    auto plot = plotter(name, {"--slowdown", "1000", "--buffer", "2048"}, port);
+    const Cut held = cut("townhouse.json", "serial:" + port, "", name);
+    EXPECT_EQ(held.code, 3) << held.err;
+    EXPECT_NE(held.err.find("the device held popcut off for 3 s without taking a byte"), std::string::npos) << held.err;
+    EXPECT_EQ(held.report["sent"]["error"], "timeout") << held.report.dump();
+    EXPECT_EQ(held.report["sent"]["received_counted_by"], "os_queue") << "nothing to ask: the port's count";
+    EXPECT_TRUE(held.report["sent"]["last_stroke_executed"].is_null()) << "a device that cannot be asked: E unknown";
+    const std::size_t m = held.report["sent"]["last_stroke_sent"].get<std::size_t>();
+    const std::size_t n = held.report["sent"]["last_stroke_written"].get<std::size_t>();
+    EXPECT_LE(m, n);
+    EXPECT_NE(held.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos) << held.err;
+    EXPECT_NE(held.err.find("last stroke known executed unknown"), std::string::npos) << held.err;
+    // The margin: what may still be between popcut and the device is the key's FIFO plus the
+    // last two writes (a pty reports no output queue, and 3 s of hold leave no line time).
+    const std::size_t sent = held.report["sent"]["bytes"].get<std::size_t>();
+    const std::size_t received = held.report["sent"]["bytes_received"].get<std::size_t>();
+    ASSERT_GT(sent, fifo + 2 * chunk) << "the device took more than the margin before it held the line";
+    EXPECT_GE(sent - received, fifo) << "adapter_fifo_bytes = " << fifo << " is held back as possibly unseen";
+    EXPECT_LE(sent - received, fifo + 2 * chunk) << "and no more than it and the last two writes: the key sets M";
+    ASSERT_EQ(plot->wait(), 0);
+    EXPECT_EQ(plotter_report(name)["overflow_bytes"], 0);
+  }
 }
 
 TEST_F(SerialPty, BadPortsAndBaudsAreReported) {
