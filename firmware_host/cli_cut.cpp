@@ -287,7 +287,7 @@ int run_cut(const CutCommands& s) {
                                                                     : json::array({sent.buffered_first_stroke, sent.buffered_last_stroke})},
                       {"status_queries", sent.status_queries},
                       {"drained_by", sent.drained_by},
-                      {"xoff_pauses", sent.xoff_pauses},
+                      {"holds", sent.holds},
                       {"buffer_queries", sent.buffer_queries}};
     // Knife-down length of the strokes this run sends (all of them unless --resume-from).
     double run_cut_mm = 0;

@@ -102,6 +102,7 @@ class Sender {
   }
 
   void settle_counts() {
+    r_.holds = xoffs_read_ + t_.holds().value_or(slice_holds_);
     r_.bytes_received = received();
     r_.last_stroke_sent = job_.last_stroke_within(r_.bytes_received);
     r_.last_stroke_written = job_.last_stroke_within(r_.bytes_sent);
@@ -139,6 +140,9 @@ class Sender {
         r_.status = w.status;
         return false;
       }
+      // A slice without a byte taken: the device holds the line (USB NAKs). Counted once per
+      // hold, where the transport does not count them itself.
+      if (w.bytes == 0 && held.count() == 0) ++slice_holds_;
       held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
       if (held >= o_.hold_timeout) {
         r_.status = {TransportError::timeout, w.status.os_error,
@@ -230,7 +234,7 @@ class Sender {
       const std::uint8_t b = buf[i];
       if (b == kXoff && !paused_) {
         paused_ = true;
-        ++r_.xoff_pauses;
+        ++xoffs_read_;
       } else if (b == kXon) {
         paused_ = false;
       } else if (b == '\r') {
@@ -510,6 +514,8 @@ class Sender {
   std::string line_;
   long last_answer_ = 0;
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far
+  int xoffs_read_ = 0;           // XOFFs popcut read itself (flow control not in the OS)
+  int slice_holds_ = 0;          // holds seen as write slices that moved no byte
 };
 
 }  // namespace

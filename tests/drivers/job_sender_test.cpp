@@ -163,7 +163,7 @@ TEST(SendJob, CancelDoesNotWaitForXonFromADeviceHoldingTheLine) {
   o.cancel = &cancel;
   o.drain_query = DrainQuery::none;  // 230 bytes of job exactly: no status queries in between
   const SendResult r = send_job(t, job, o);
-  EXPECT_EQ(r.xoff_pauses, 1) << "the cancel came while the device held the line";
+  EXPECT_EQ(r.holds, 1) << "the cancel came while the device held the line";
   EXPECT_TRUE(r.cancelled) << r.status.message;
   EXPECT_NE(r.status.error, TransportError::timeout) << "the cancel ended the wait, not the hold timeout: " << r.status.message;
   EXPECT_TRUE(r.abort_sent);

@@ -171,9 +171,22 @@ TEST_F(SerialPty, WholeJobArrivesIntactAndASmallerBufferThanTheProfileSaysNeverO
   EXPECT_EQ(pr["overflow_bytes"], 0) << "the host's OS stopped on XOFF: no byte lost";
   EXPECT_LE(pr["max_buffer_used"].get<int>(), 256) << "the 256-byte buffer (the profile says 1024) was never exceeded";
   EXPECT_GT(pr["xoff_sent"].get<int>(), 0) << "a device slower than the line held the host off";
+  EXPECT_GT(r.report["sent"]["holds"].get<int>(), 0)
+      << "popcut counted the holds though the OS took the XOFF (writes that made no progress)";
+  EXPECT_LE(r.report["sent"]["holds"].get<int>(), pr["xoff_sent"].get<int>()) << "at most one hold per XOFF";
   EXPECT_EQ(strokes_of(pr), strokes_of(job)) << "the device cut exactly the job";
   EXPECT_EQ(r.report["sent"]["drained_by"], "esc_o") << "done once the device said its buffer was empty";
   EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
+}
+
+TEST_F(SerialPty, ADeviceThatNeverHoldsTheLineCountsNoHolds) {
+  std::string port;
+  auto plot = plotter("roomy", {"--buffer", "65536", "--slowdown", "0.05"}, port);  // the whole job fits: never XOFF
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0);
+  EXPECT_EQ(plotter_report("roomy")["xoff_sent"], 0) << "the plotter never said XOFF";
+  EXPECT_EQ(r.report["sent"]["holds"], 0) << "so popcut counted no hold: " << r.report["sent"].dump();
 }
 
 TEST_F(SerialPty, ADroppedLineNeverOverClaimsAndResumeFromTheAdvisedStrokeCoversTheJob) {

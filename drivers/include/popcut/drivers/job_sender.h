@@ -90,7 +90,10 @@ struct SendResult {
   std::size_t buffered_last_stroke = 0;
   // On success: how the end was confirmed ("esc_b", "esc_o", "estimate", "none" for a file).
   std::string drained_by;
-  int xoff_pauses = 0;     // times the device said XOFF and we waited for XON
+  // Times the device held popcut off: an XOFF popcut read itself (the simulator, USB), or a write
+  // slice that made no progress on a line the device holds (XOFF or CTS applied by the OS, USB
+  // NAKs), counted once per hold however long it lasts. ESC.B waits count in buffer_queries.
+  int holds = 0;
   int buffer_queries = 0;  // ESC.B round trips to pace the job (ESC.B flow control)
   int status_queries = 0;  // every ESC.B/ESC.O sent: before the job, pacing, confirmations, drain
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
