@@ -113,6 +113,7 @@ class Progress {
   }
   void done() {
     if (on_ && last_ >= 0) std::cerr << "\n";
+    last_ = -1;
   }
 
  private:
@@ -121,14 +122,22 @@ class Progress {
   std::chrono::steady_clock::time_point start_, shown_{};
 };
 
-// Ctrl-C asks the sender to stop safely; later ones are absorbed so that a second Ctrl-C cannot
-// kill popcut between a PD and the abort that lifts the knife.
+// Ctrl-C asks the sender to stop safely. A second one never kills popcut between a PD and the
+// abort that lifts the knife: it is absorbed, unless popcut has said it is waiting for a device
+// that holds the line to take that abort (g_waiting); then it gives up the wait (give_up).
 std::atomic<bool> g_cancel{false};
+std::atomic<bool> g_waiting{false};
+std::atomic<bool> g_give_up{false};
 
 extern "C" void on_interrupt(int) {
   if (!g_cancel.exchange(true)) {
     static const char msg[] = "\npopcut: cancelling: finishing the command in flight, then lifting the knife\n";
     (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
+  } else if (g_waiting.load()) {
+    if (!g_give_up.exchange(true)) {
+      static const char msg[] = "\npopcut: giving up on the abort: nothing more is sent to the device\n";
+      (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
+    }
   } else {
     static const char msg[] = "\npopcut: already cancelling; the knife is being lifted, please wait\n";
     (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
@@ -140,6 +149,8 @@ class InterruptGuard {
  public:
   InterruptGuard() {
     g_cancel = false;
+    g_waiting = false;
+    g_give_up = false;
     struct sigaction sa {};
     sa.sa_handler = on_interrupt;
     sigemptyset(&sa.sa_mask);
@@ -256,6 +267,14 @@ int run_cut(const CutCommands& s) {
     }
     opts.progress = [&](const drivers::SendProgress& p) { progress(p); };
     opts.cancel = &g_cancel;
+    opts.give_up = &g_give_up;
+    opts.waiting_to_cancel = [&] {
+      g_waiting = true;
+      progress.done();
+      std::cerr << "popcut: the device holds the line (XOFF or CTS): waiting up to " << j.profile.transport.hold_timeout_ms / 1000
+                << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C again gives up, and the "
+                   "device may then cut everything its buffer holds\n";
+    };
     drivers::SendResult sent;
     {
       InterruptGuard guard;
@@ -423,7 +442,8 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
                                     "buffer and goes on cutting (strokes M+1..N may then be cut twice), --resume-from E+1 if it was\n"
                                     "reset or power-cycled (strokes E+1..M may have been cut already).\n"
                                     "Exit 130: cancelled by Ctrl-C or SIGTERM; the knife is lifted and the message says how much the\n"
-                                    "device may still cut from its buffer (bytes and strokes).");
+                                    "device may still cut from its buffer (bytes and strokes). If the device holds the line, popcut\n"
+                                    "says it is waiting for it to take the abort; a second Ctrl-C (or SIGTERM) gives up the wait.");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
   s.cut->add_option("--device", s.device,
                     "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"

@@ -150,6 +150,7 @@ class Sender {
         return false;
       }
       if (at_boundary_and_cancelled()) return true;
+      if (cancel_requested() && given_up_while_held()) return false;  // a half command: no abort can follow
       if (!take_replies(std::chrono::milliseconds(0))) return false;
     }
     return true;
@@ -175,11 +176,38 @@ class Sender {
 
   // Sends a status query without waiting for its answer: when it comes, every job byte written
   // before the query has reached the device (answers come back in order).
+  // A line the device holds (XOFF or CTS in the OS) holds a query like any byte: waited out up
+  // to hold_timeout, as job bytes are. A cancel while not a byte of it has gone leaves it unsent
+  // (query_skipped_), so that the abort follows at once.
   bool send_query(DrainQuery q) {
-    const IoResult w = t_.write(bytes_of(query_bytes(q)), o_.timeout);
-    if (!w.status.ok()) {
-      r_.status = w.status;
-      return false;
+    query_skipped_ = false;
+    const std::string_view bytes = query_bytes(q);
+    const bool held_line = t_.backpressure();
+    const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
+    std::size_t done = 0;
+    std::chrono::milliseconds held{0};
+    while (done < bytes.size()) {
+      const IoResult w = t_.write(bytes_of(bytes.substr(done)), slice);
+      done += w.bytes;
+      if (w.status.ok()) continue;
+      if (done == bytes.size() && w.status.error == TransportError::timeout) break;  // queued for the line
+      if (w.status.error != TransportError::timeout || !held_line) {
+        r_.status = w.status;
+        return false;
+      }
+      if (w.bytes == 0 && held.count() == 0) ++slice_holds_;
+      held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
+      if (done == 0 && cancel_requested()) {
+        query_skipped_ = true;
+        return true;
+      }
+      if (cancel_requested() && given_up_while_held()) return false;  // half a query: no abort can follow
+      if (held >= o_.hold_timeout) {
+        r_.status = {TransportError::timeout, w.status.os_error,
+                     "the device held popcut off for " + duration_text(o_.hold_timeout) +
+                         " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
+        return false;
+      }
     }
     pending_.push_back({r_.bytes_sent, q});
     ++r_.status_queries;
@@ -292,6 +320,10 @@ class Sender {
   // in last_answer_. False with r_.status set.
   bool ask(DrainQuery q, const std::string& when) {
     if (!send_query(q)) return false;
+    if (query_skipped_) {
+      last_answer_ = 0;  // a cancel came first: nothing learnt (no free space, not empty)
+      return true;
+    }
     return await_answers(0, q, when);
   }
 
@@ -353,7 +385,7 @@ class Sender {
         if (query_ != DrainQuery::none && held >= next_probe) {
           next_probe += o_.timeout;
           if (pending_.empty() && !send_query(query_)) return false;
-          if (!await_answers(0, pending_.back().query, "while it held popcut off (XOFF)")) return false;
+          if (!pending_.empty() && !await_answers(0, pending_.back().query, "while it held popcut off (XOFF)")) return false;
           continue;
         }
         if (held >= o_.hold_timeout) {
@@ -454,11 +486,53 @@ class Sender {
   // Cancel: the profile's abort sequence and knife up, then how much the device may still hold.
   void send_abort() {
     // Under XON/XOFF in the OS the abort waits for XON like any byte, up to the hold timeout:
-    // the device is cutting its buffer meanwhile, and the abort is what stops it.
-    const IoResult w = t_.write(bytes_of(o_.abort_bytes), t_.backpressure() ? std::max(o_.timeout, o_.hold_timeout) : o_.timeout);
-    r_.abort_sent = w.status.ok() && w.bytes == o_.abort_bytes.size();
-    if (!w.status.ok()) r_.status = w.status;
+    // the device is cutting its buffer meanwhile, and the abort is what stops it. In slices, so
+    // that the user is told and may give up (o_.give_up).
+    const bool held_line = t_.backpressure();
+    const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
+    const auto limit = held_line ? std::max(o_.timeout, o_.hold_timeout) : o_.timeout;
+    const std::string_view abort = o_.abort_bytes;
+    std::size_t done = 0;
+    std::chrono::milliseconds waited{0};
+    for (;;) {
+      // Bytes the port took may still wait in its queue for the device to let them out.
+      TransportStatus st;
+      if (done < abort.size()) {
+        const IoResult w = t_.write(bytes_of(abort.substr(done)), slice);
+        done += w.bytes;
+        st = w.status;
+      } else {
+        st = t_.drain(slice);
+      }
+      if (st.ok() && done == abort.size()) break;
+      if (st.ok()) continue;
+      if (st.error != TransportError::timeout || !held_line) {
+        r_.status = st;
+        break;
+      }
+      waited += slice;
+      if (given_up_while_held()) break;
+      if (waited >= limit) {
+        r_.status = {TransportError::timeout, st.os_error, "the device held the line for " + duration_text(limit) +
+                                                               " (hold_timeout_ms) and did not take the abort sequence: " + st.message};
+        break;
+      }
+    }
+    r_.abort_sent = r_.status.ok() && done == abort.size();
     estimate_buffered();
+  }
+
+  // A cancel waiting on a device that holds the line: says so once (o_.waiting_to_cancel), and
+  // true with r_.status set when the user has given up (o_.give_up: a second Ctrl-C). What the
+  // port still holds for the device is dropped, so that no stale byte reaches it later.
+  bool given_up_while_held() {
+    if (!std::exchange(told_waiting_, true) && o_.waiting_to_cancel) o_.waiting_to_cancel();
+    if (!o_.give_up || !o_.give_up->load()) return false;
+    t_.discard_output();
+    r_.status = {TransportError::timeout, 0,
+                 "gave up waiting for the device to take the rest of the cancel: it held the line (XOFF or CTS), so neither "
+                 "the abort sequence nor the knife-up reached it"};
+    return true;
   }
 
   SendResult fail_tail() {
@@ -474,7 +548,7 @@ class Sender {
     r_.buffer_known = false;
     if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
       const TransportStatus keep = r_.status;
-      if (ask(DrainQuery::esc_b, "after the cancel")) {
+      if (ask(DrainQuery::esc_b, "after the cancel") && !query_skipped_) {
         r_.buffered_bytes = o_.buffer_bytes - std::min<std::size_t>(o_.buffer_bytes, static_cast<std::size_t>(std::max(0L, last_answer_)));
         r_.buffer_known = true;
       }
@@ -516,6 +590,8 @@ class Sender {
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far
   int xoffs_read_ = 0;           // XOFFs popcut read itself (flow control not in the OS)
   int slice_holds_ = 0;          // holds seen as write slices that moved no byte
+  bool told_waiting_ = false;    // o_.waiting_to_cancel was called
+  bool query_skipped_ = false;   // the last query was not sent: a cancel came while the line was held
 };
 
 }  // namespace

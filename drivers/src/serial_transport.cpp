@@ -213,6 +213,9 @@ class SerialTransport final : public Transport {
 
   std::string describe() const override { return path_.empty() ? address_.text : "serial:" + path_; }
   std::optional<int> holds() const override { return holds_; }
+  void discard_output() override {
+    if (open_) sp_flush(port_, SP_BUF_OUTPUT);
+  }
   bool backpressure() const override { return settings_.flow != FlowControl::none && settings_.flow != FlowControl::esc_b; }
   bool os_flow_control() const override { return settings_.flow == FlowControl::xon_xoff; }
 

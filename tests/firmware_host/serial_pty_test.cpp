@@ -270,6 +270,51 @@ TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwiceWithItsOwnExitCode) {
   EXPECT_EQ(pr["overflow_bytes"], 0);
 }
 
+TEST_F(SerialPty, ASecondCtrlCGivesUpWaitingForADeviceThatHoldsTheLine) {
+  // The device says XOFF at 192 bytes and, a thousand times slower than the profile, keeps
+  // holding the line: the abort cannot go out before the hold timeout of 60 s.
+  std::string p = slurp(profile_);
+  replace(p, "hold_timeout_ms = 8000", "hold_timeout_ms = 60000");
+  std::ofstream(profile_) << p;
+  std::string port;
+  auto plot = plotter("p", {"--slowdown", "1000"}, port);
+  Child c({POPCUT_CLI, "cut", std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json", "--profile", profile_, "--device",
+           "serial:" + port, "--out", (dir_ / "cut").string()},
+          dir_ / "cut.stdout", dir_ / "cut.stderr", true);
+  for (int i = 0; i < 500 && !fs::exists(dir_ / "cut" / "job.hpgl"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));  // the line is held by now
+  c.signal(SIGINT);
+  // popcut says it is waiting for the device to take the abort (it holds the line).
+  bool told = false;
+  for (int i = 0; i < 3000 && !told; ++i) {
+    told = slurp(dir_ / "cut.stderr").find("waiting up to 60 s (hold_timeout_ms) for it to take the abort") != std::string::npos;
+    if (!told) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(told) << "popcut says what it waits for: " << slurp(dir_ / "cut.stderr");
+  c.signal(SIGINT);
+  const int code = c.wait(std::chrono::seconds(50));  // well before the 60 s hold timeout
+  const std::string err = slurp(dir_ / "cut.stderr");
+  ASSERT_NE(code, -1) << "the second Ctrl-C ended the wait before the hold timeout: " << err;
+  EXPECT_EQ(code, 130) << "still a cancel: " << err;
+  EXPECT_NE(err.find("could NOT send the abort sequence: gave up waiting for the device"), std::string::npos) << err;
+  const json rep = json::parse(slurp(dir_ / "cut" / "report.json"));
+  EXPECT_TRUE(rep["sent"]["cancelled"].get<bool>());
+  EXPECT_FALSE(rep["sent"]["abort_sent"].get<bool>()) << "the abort never reached the device";
+  const std::size_t buffered = rep["sent"]["buffered_bytes"].get<std::size_t>();
+  ASSERT_GT(buffered, 0u) << "the device holds bytes it may still cut";
+  const json strokes = rep["sent"]["buffered_strokes"];
+  EXPECT_NE(err.find("the device may still cut up to " + std::to_string(buffered) + " bytes (strokes " +
+                     std::to_string(strokes[0].get<int>()) + ".." + std::to_string(strokes[1].get<int>()) + ")"),
+            std::string::npos)
+      << "says how much the device may still cut, in bytes and strokes: " << err;
+  ASSERT_EQ(plot->wait(), 0);
+  const json pr = plotter_report("p");
+  // What the port still queued was dropped on giving up: the plotter got at most the job's bytes
+  // and the queries, never the abort afterwards.
+  EXPECT_LE(pr["bytes_received"].get<std::size_t>(), rep["sent"]["bytes"].get<std::size_t>() + 3 * rep["sent"]["status_queries"].get<std::size_t>())
+      << "nothing beyond the job's bytes and the queries reached it";
+}
+
 TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAsALineProblem) {
   std::string port;
   auto plot = plotter("mute", {"--stop-after", "0"}, port);

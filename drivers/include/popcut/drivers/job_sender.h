@@ -49,6 +49,13 @@ struct SendOptions {
   // Set (from any thread, e.g. a signal handler) to stop the job safely. Checked between chunks
   // and while waiting; the sender finishes the command in flight first.
   const std::atomic<bool>* cancel = nullptr;
+  // A cancel ends with the abort sequence and a knife-up, which a device holding the line (XOFF,
+  // CTS) takes only when it lets popcut send again: up to hold_timeout. waiting_to_cancel is
+  // called once when a cancel starts waiting so; give_up set (a second Ctrl-C after that notice)
+  // then stops the wait: nothing more is sent (what the port still queues is dropped),
+  // abort_sent is false, and the device may cut all its buffer holds. Checked only while held.
+  const std::atomic<bool>* give_up = nullptr;
+  std::function<void()> waiting_to_cancel;
   std::function<void(const SendProgress&)> progress;  // after every chunk
 };
 

@@ -58,6 +58,10 @@ class Transport {
   // byte for a while, a queue that stops draining past its line time), once per hold. nullopt:
   // the transport does not watch, and the sender counts write slices that made no progress.
   virtual std::optional<int> holds() const { return std::nullopt; }
+  // Drops what was written and still waits in popcut's side of the line (a serial port's OS
+  // queue), when a cancel gives up on a device that holds the line: nothing stale reaches it
+  // later, and closing the port does not wait for it.
+  virtual void discard_output() {}
 };
 
 // Builds a status from an errno value, classifying it.
