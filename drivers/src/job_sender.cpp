@@ -175,10 +175,9 @@ class Sender {
   const char* query_name(DrainQuery q) const { return q == DrainQuery::esc_b ? "ESC.B" : "ESC.O"; }
 
   // Sends a status query without waiting for its answer: when it comes, every job byte written
-  // before the query has reached the device (answers come back in order).
-  // A line the device holds (XOFF or CTS in the OS) holds a query like any byte: waited out up
-  // to hold_timeout, as job bytes are. A cancel while not a byte of it has gone leaves it unsent
-  // (query_skipped_), so that the abort follows at once.
+  // before the query has reached the device (answers come back in order). A line the device
+  // holds (XOFF or CTS in the OS) holds a query like any byte, waited out up to hold_timeout; a
+  // cancel before a byte of it has gone leaves it unsent (query_skipped_), so the abort follows.
   bool send_query(DrainQuery q) {
     query_skipped_ = false;
     const std::string_view bytes = query_bytes(q);
@@ -225,13 +224,16 @@ class Sender {
   }
 
   // What an answer tells about execution. ESC.B: the bytes written before the query, less what
-  // its buffer still holds, have left the buffer (an answer above the profile's buffer tells
-  // nothing: the profile is wrong about the device). ESC.O bit 3: everything written before it
-  // has been executed.
+  // its buffer still holds (its size less the free space), have left the buffer. Its size is the
+  // profile's or the largest free space it ever reported, if larger (asked before the job, an
+  // idle device reports all of it): a profile that understates the buffer must not make popcut
+  // think more has been executed. ESC.O bit 3: everything written before it has been executed.
   void learn_executed(const Pending& asked) {
     if (asked.query == DrainQuery::esc_b) {
-      if (last_answer_ < 0 || static_cast<std::size_t>(last_answer_) > o_.buffer_bytes) return;
-      const std::size_t held = o_.buffer_bytes - static_cast<std::size_t>(last_answer_);
+      if (last_answer_ < 0) return;
+      const auto free_bytes = static_cast<std::size_t>(last_answer_);
+      largest_free_ = std::max(largest_free_, free_bytes);
+      const std::size_t held = std::max(o_.buffer_bytes, largest_free_) - free_bytes;
       executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
     } else if ((last_answer_ & 8) != 0) {
       executed_ = std::max(executed_, asked.bytes_before);
@@ -585,6 +587,7 @@ class Sender {
   std::deque<Pending> pending_;  // queries awaiting an answer
   int answers_ = 0;              // status answers heard: a device that answered once and goes silent has stopped
   std::size_t executed_ = 0;     // job bytes the device has been seen to take out of its buffer and start
+  std::size_t largest_free_ = 0; // the most free space ESC.B ever reported
   std::string line_;
   long last_answer_ = 0;
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far
