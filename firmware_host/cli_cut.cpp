@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli_checks.h"
@@ -113,6 +114,7 @@ class Progress {
   }
   void done() {
     if (on_ && last_ >= 0) std::cerr << "\n";
+    last_ = -1;
   }
 
  private:
@@ -121,14 +123,22 @@ class Progress {
   std::chrono::steady_clock::time_point start_, shown_{};
 };
 
-// Ctrl-C asks the sender to stop safely; later ones are absorbed so that a second Ctrl-C cannot
-// kill popcut between a PD and the abort that lifts the knife.
+// Ctrl-C asks the sender to stop safely. A second one never kills popcut between a PD and the
+// abort that lifts the knife: it is absorbed, unless popcut has said it is waiting for a device
+// that holds the line to take that abort (g_waiting); then it gives up the wait (give_up).
 std::atomic<bool> g_cancel{false};
+std::atomic<bool> g_waiting{false};
+std::atomic<bool> g_give_up{false};
 
 extern "C" void on_interrupt(int) {
   if (!g_cancel.exchange(true)) {
     static const char msg[] = "\npopcut: cancelling: finishing the command in flight, then lifting the knife\n";
     (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
+  } else if (g_waiting.load()) {
+    if (!g_give_up.exchange(true)) {
+      static const char msg[] = "\npopcut: giving up on the abort: nothing more is sent to the device\n";
+      (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
+    }
   } else {
     static const char msg[] = "\npopcut: already cancelling; the knife is being lifted, please wait\n";
     (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
@@ -140,6 +150,8 @@ class InterruptGuard {
  public:
   InterruptGuard() {
     g_cancel = false;
+    g_waiting = false;
+    g_give_up = false;
     struct sigaction sa {};
     sa.sa_handler = on_interrupt;
     sigemptyset(&sa.sa_mask);
@@ -256,6 +268,14 @@ int run_cut(const CutCommands& s) {
     }
     opts.progress = [&](const drivers::SendProgress& p) { progress(p); };
     opts.cancel = &g_cancel;
+    opts.give_up = &g_give_up;
+    opts.waiting_to_cancel = [&] {
+      g_waiting = true;
+      progress.done();
+      std::cerr << "popcut: the device holds the line (XOFF or CTS): waiting up to " << j.profile.transport.hold_timeout_ms / 1000
+                << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C again gives up, and the "
+                   "device may then cut everything its buffer holds\n";
+    };
     drivers::SendResult sent;
     {
       InterruptGuard guard;
@@ -279,6 +299,7 @@ int run_cut(const CutCommands& s) {
                       {"received_counted_by", sent.received_counted_by},
                       {"last_stroke_sent", sent.last_stroke_sent},
                       {"last_stroke_written", sent.last_stroke_written},
+                      {"last_stroke_executed", sent.last_stroke_executed ? json(*sent.last_stroke_executed) : json(nullptr)},
                       {"total_strokes", sent.total_strokes},
                       {"buffered_bytes", sent.buffered_bytes},
                       {"buffer_known", sent.buffer_known},
@@ -286,7 +307,7 @@ int run_cut(const CutCommands& s) {
                                                                     : json::array({sent.buffered_first_stroke, sent.buffered_last_stroke})},
                       {"status_queries", sent.status_queries},
                       {"drained_by", sent.drained_by},
-                      {"xoff_pauses", sent.xoff_pauses},
+                      {"holds", sent.holds},
                       {"buffer_queries", sent.buffer_queries}};
     // Knife-down length of the strokes this run sends (all of them unless --resume-from).
     double run_cut_mm = 0;
@@ -329,10 +350,14 @@ int run_cut(const CutCommands& s) {
     }
     write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
-    // Honest numbers: M = the last stroke the device certainly received, N = the last written.
-    // Resuming from M + 1 skips nothing; strokes M+1..N may be cut twice, and the user is told so.
+    // Honest numbers: E = the last stroke the device is known to have executed, M = the last it
+    // certainly received, N = the last written (E <= M <= N). A device that keeps its buffer and
+    // goes on cutting needs M + 1 (strokes M+1..N may be cut twice); one that was reset or lost
+    // power cut nothing of its buffer, so E + 1 (strokes E+1..M may have been cut already).
     const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
-    std::string where = "last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
+    const std::optional<std::size_t> e = sent.last_stroke_executed;
+    std::string where = "last stroke known executed " + (e ? std::to_string(*e) : std::string("unknown (the device cannot be asked)")) +
+                        ", last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
                         " (" + (m < sent.first_stroke ? std::string("none confirmed")
                                  : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
                                  : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
@@ -341,11 +366,23 @@ int run_cut(const CutCommands& s) {
     std::string resume;
     if (sent.bytes_sent == 0) {
       resume = "; nothing was sent: run the same command again";
-    } else if (m < sent.total_strokes) {
-      resume = "; to finish, run the same command with --resume-from " + std::to_string(m + 1);
-      if (n > m) {
-        resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
-                  " may have been cut already and are then cut a second time)";
+    } else {
+      if (m < sent.total_strokes) {
+        resume = "; if the device still holds its buffer and goes on cutting, finish with the same command and --resume-from " +
+                 std::to_string(m + 1);
+        if (n > m) {
+          resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
+                    " may have been cut already and are then cut a second time)";
+        }
+      } else {
+        resume = "; if the device still holds its buffer and goes on cutting, it has the whole job";
+      }
+      // After a reset or power cycle the buffer is gone: only what it executed is cut.
+      const std::size_t safe = e ? *e + 1 : sent.first_stroke;
+      if (safe <= m) {
+        resume += "; if it was reset or power-cycled, or lost its buffer, use --resume-from " + std::to_string(safe) + " (" +
+                  (e ? "" : "what it executed is not known: ") + "strokes " + std::to_string(safe) + ".." + std::to_string(m) +
+                  " may have been cut already)";
       }
     }
     if (sent.cancelled) {
@@ -401,10 +438,13 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
                                     "Writes DIR/job.hpgl (the bytes sent), DIR/report.json and, on sim, DIR/cut.svg.\n"
                                     "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
                                     "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
-                                    "message names the last stroke the device certainly received (M), the last written (N), and\n"
-                                    "--resume-from M+1, which finishes the job (strokes M+1..N may then be cut twice).\n"
+                                    "message names the last stroke the device is known to have executed (E), the last it certainly\n"
+                                    "received (M) and the last written (N): --resume-from M+1 finishes the job if the device kept its\n"
+                                    "buffer and goes on cutting (strokes M+1..N may then be cut twice), --resume-from E+1 if it was\n"
+                                    "reset or power-cycled (strokes E+1..M may have been cut already).\n"
                                     "Exit 130: cancelled by Ctrl-C or SIGTERM; the knife is lifted and the message says how much the\n"
-                                    "device may still cut from its buffer (bytes and strokes).");
+                                    "device may still cut from its buffer (bytes and strokes). If the device holds the line, popcut\n"
+                                    "says it is waiting for it to take the abort; a second Ctrl-C (or SIGTERM) gives up the wait.");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
   s.cut->add_option("--device", s.device,
                     "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <utility>
 
 namespace popcut::drivers {
 namespace {
@@ -89,6 +90,7 @@ void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
   while (i < s.size()) {
     if (is_separator(s[i])) {
       ++i;
+      ++separators_;
       continue;
     }
     HpglCommand cmd;
@@ -122,6 +124,7 @@ void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
           if (cut == 0) break;
           parse_params(s.substr(i + name_len, cut - i - name_len), cmd);
           cmd.length = cut + 1 - i - (i == 0 ? synthetic_ : 0);  // bytes that really arrived
+          cmd.buffer_bytes = cmd.length + std::exchange(separators_, 0);
           out.push_back(cmd);
           // Put the name back before the rest, as if the command had been sent in two.
           const std::string name = std::string(s.substr(i, name_len));
@@ -142,6 +145,7 @@ void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
     }
     if (params_to > params_from) parse_params(s.substr(params_from, params_to - params_from), cmd);
     cmd.length = end - i - (i == 0 ? synthetic_ : 0);
+    cmd.buffer_bytes = cmd.length + std::exchange(separators_, 0);
     out.push_back(std::move(cmd));
     i = end;
   }

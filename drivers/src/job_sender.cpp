@@ -79,6 +79,12 @@ class Sender {
   }
 
  private:
+  // A query awaiting its answer: the job bytes written before it, and which query it was.
+  struct Pending {
+    std::size_t bytes_before;
+    DrainQuery query;
+  };
+
   bool cancel_requested() const { return o_.cancel && o_.cancel->load(); }
   // A cancel while the device holds us off: stop waiting unless a command is half sent.
   bool at_boundary_and_cancelled() const {
@@ -96,9 +102,18 @@ class Sender {
   }
 
   void settle_counts() {
+    r_.holds = xoffs_read_ + t_.holds().value_or(slice_holds_);
     r_.bytes_received = received();
     r_.last_stroke_sent = job_.last_stroke_within(r_.bytes_received);
     r_.last_stroke_written = job_.last_stroke_within(r_.bytes_sent);
+    // Executed is known only from the device's answers (or an answered drain); it never runs
+    // ahead of what it received.
+    if (query_ != DrainQuery::none && answers_ > 0) {
+      const std::size_t bytes = drained_ ? r_.bytes_sent : std::min(executed_, r_.bytes_received);
+      r_.last_stroke_executed = std::min(stroke_executed_by(bytes), r_.last_stroke_sent);
+    } else {
+      r_.last_stroke_executed.reset();
+    }
   }
 
   void report_progress() {
@@ -125,6 +140,9 @@ class Sender {
         r_.status = w.status;
         return false;
       }
+      // A slice without a byte taken: the device holds the line (USB NAKs). Counted once per
+      // hold, where the transport does not count them itself.
+      if (w.bytes == 0 && held.count() == 0) ++slice_holds_;
       held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
       if (held >= o_.hold_timeout) {
         r_.status = {TransportError::timeout, w.status.os_error,
@@ -132,6 +150,7 @@ class Sender {
         return false;
       }
       if (at_boundary_and_cancelled()) return true;
+      if (cancel_requested() && given_up_while_held()) return false;  // a half command: no abort can follow
       if (!take_replies(std::chrono::milliseconds(0))) return false;
     }
     return true;
@@ -156,14 +175,40 @@ class Sender {
   const char* query_name(DrainQuery q) const { return q == DrainQuery::esc_b ? "ESC.B" : "ESC.O"; }
 
   // Sends a status query without waiting for its answer: when it comes, every job byte written
-  // before the query has reached the device (answers come back in order).
+  // before the query has reached the device (answers come back in order). A line the device
+  // holds (XOFF or CTS in the OS) holds a query like any byte, waited out up to hold_timeout; a
+  // cancel before a byte of it has gone leaves it unsent (query_skipped_), so the abort follows.
   bool send_query(DrainQuery q) {
-    const IoResult w = t_.write(bytes_of(query_bytes(q)), o_.timeout);
-    if (!w.status.ok()) {
-      r_.status = w.status;
-      return false;
+    query_skipped_ = false;
+    const std::string_view bytes = query_bytes(q);
+    const bool held_line = t_.backpressure();
+    const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
+    std::size_t done = 0;
+    std::chrono::milliseconds held{0};
+    while (done < bytes.size()) {
+      const IoResult w = t_.write(bytes_of(bytes.substr(done)), slice);
+      done += w.bytes;
+      if (w.status.ok()) continue;
+      if (done == bytes.size() && w.status.error == TransportError::timeout) break;  // queued for the line
+      if (w.status.error != TransportError::timeout || !held_line) {
+        r_.status = w.status;
+        return false;
+      }
+      if (w.bytes == 0 && held.count() == 0) ++slice_holds_;
+      held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
+      if (done == 0 && cancel_requested()) {
+        query_skipped_ = true;
+        return true;
+      }
+      if (cancel_requested() && given_up_while_held()) return false;  // half a query: no abort can follow
+      if (held >= o_.hold_timeout) {
+        r_.status = {TransportError::timeout, w.status.os_error,
+                     "the device held popcut off for " + duration_text(o_.hold_timeout) +
+                         " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
+        return false;
+      }
     }
-    pending_.push_back(r_.bytes_sent);
+    pending_.push_back({r_.bytes_sent, q});
     ++r_.status_queries;
     return true;
   }
@@ -175,7 +220,34 @@ class Sender {
       last_ping_ = r_.bytes_sent;
       if (!send_query(query_)) return false;
     }
-    return take_replies(std::chrono::milliseconds(0));
+    return take_replies(std::chrono::milliseconds(0)) && check_overdue();
+  }
+
+  // What an answer tells about execution. ESC.B: the bytes written before the query, less what
+  // its buffer still holds (its size less the free space), have left the buffer. Its size is the
+  // profile's or the largest free space it ever reported, if larger (asked before the job, an
+  // idle device reports all of it): a profile that understates the buffer must not make popcut
+  // think more has been executed. ESC.O bit 3: everything written before it has been executed.
+  void learn_executed(const Pending& asked) {
+    if (asked.query == DrainQuery::esc_b) {
+      if (last_answer_ < 0) return;
+      const auto free_bytes = static_cast<std::size_t>(last_answer_);
+      largest_free_ = std::max(largest_free_, free_bytes);
+      const std::size_t held = std::max(o_.buffer_bytes, largest_free_) - free_bytes;
+      executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
+    } else if ((last_answer_ & 8) != 0) {
+      executed_ = std::max(executed_, asked.bytes_before);
+    }
+  }
+
+  // The last stroke the first `bytes` (taken out of the device's buffer) have certainly cut: its
+  // commands and the one after it have left the buffer, so its last move has ended (a device
+  // starts a command when the one before is done).
+  std::size_t stroke_executed_by(std::size_t bytes) const {
+    const std::size_t s = job_.last_stroke_within(bytes);
+    if (s < job_.first_stroke) return s;
+    const std::size_t next_end = job_.command_boundary_at_or_after(job_.stroke_end[s - job_.first_stroke] + 1);
+    return next_end > bytes ? s - 1 : s;
   }
 
   // Reads what the device said within `wait`: XON/XOFF (the simulator) and answer lines, each of
@@ -192,7 +264,7 @@ class Sender {
       const std::uint8_t b = buf[i];
       if (b == kXoff && !paused_) {
         paused_ = true;
-        ++r_.xoff_pauses;
+        ++xoffs_read_;
       } else if (b == kXon) {
         paused_ = false;
       } else if (b == '\r') {
@@ -217,9 +289,12 @@ class Sender {
                        ", not a status number: " + check_line_hint()};
       return false;
     }
-    confirmed_ = std::max(confirmed_, pending_.front());
+    const Pending asked = pending_.front();
     pending_.pop_front();
+    confirmed_ = std::max(confirmed_, asked.bytes_before);
     last_answer_ = std::strtol(text.c_str(), nullptr, 10);
+    ++answers_;
+    learn_executed(asked);
     return true;
   }
 
@@ -247,23 +322,50 @@ class Sender {
   // in last_answer_. False with r_.status set.
   bool ask(DrainQuery q, const std::string& when) {
     if (!send_query(q)) return false;
+    if (query_skipped_) {
+      last_answer_ = 0;  // a cancel came first: nothing learnt (no free space, not empty)
+      return true;
+    }
+    return await_answers(0, q, when);
+  }
+
+  // Waits up to the timeout until at most `keep` queries are unanswered. False with r_.status
+  // set: a device that never answered is on the wrong port or baud; one that answered before
+  // and falls silent has stopped.
+  bool await_answers(std::size_t keep, DrainQuery q, const std::string& when) {
     const auto deadline = std::chrono::steady_clock::now() + o_.timeout;
     std::chrono::milliseconds left = o_.timeout;
-    while (!pending_.empty()) {
+    while (pending_.size() > keep) {
       const std::size_t before = bytes_heard_;
       if (!take_replies(left)) return false;
       if (bytes_heard_ == before) break;  // silence for the whole of `left`
       left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) break;  // chatter, but no answer
     }
-    if (!pending_.empty()) {
+    if (pending_.size() <= keep) return true;
+    const std::string waited = std::to_string(o_.timeout.count()) + " ms" + (line_.empty() ? "" : " (it sent " + printable(line_) + ")");
+    if (answers_ > 0) {
       r_.status = {TransportError::timeout, ETIMEDOUT,
-                   "the device did not answer " + std::string(query_name(q)) + " " + when + " within " +
-                       std::to_string(o_.timeout.count()) + " ms" + (line_.empty() ? "" : " (it sent " + printable(line_) + ")") +
-                       ": " + check_line_hint()};
-      return false;
+                   "the device stopped answering: no answer to " + std::string(query_name(q)) + " " + when + " within " + waited +
+                       ", though it answered the " + std::to_string(answers_) +
+                       " queries before: it is paused, out of media or stuck, or it lost power"};
+    } else {
+      r_.status = {TransportError::timeout, ETIMEDOUT,
+                   "the device did not answer " + std::string(query_name(q)) + " " + when + " within " + waited + ": " + check_line_hint()};
     }
-    return true;
+    return false;
+  }
+
+  // A pipelined query followed by more job bytes than can still be on their way (the port's
+  // queue and an adapter's FIFO, at least a status interval) has reached the device, which
+  // answers device control on arrival: wait for its answer now, so that a device that stops
+  // mid-job is noticed then and not only after the last byte.
+  bool check_overdue() {
+    if (pending_.empty()) return true;
+    const std::size_t after = r_.bytes_sent - pending_.front().bytes_before;
+    const std::size_t on_the_way = t_.writes_acknowledged() ? 0 : t_.in_flight();
+    if (after <= std::max(status_every_, on_the_way)) return true;
+    return await_answers(pending_.size() - 1, pending_.front().query, "while sending");
   }
 
   bool ask_status(const std::string& when) { return ask(query_, when); }
@@ -277,12 +379,20 @@ class Sender {
     if (flow_ == FlowControl::xon_xoff) {
       // Take what the device said so far; wait for XON while it holds us off.
       if (!take_replies(std::chrono::milliseconds(0))) return false;
-      std::chrono::milliseconds held{0};
+      std::chrono::milliseconds held{0}, next_probe = o_.timeout;
       while (paused_) {
         if (at_boundary_and_cancelled()) return true;  // no need to wait for XON to stop
+        // A device answers device control even while it holds us off (it bypasses the buffer):
+        // asked every timeout_ms, silence means it has stopped, not that it is busy cutting.
+        if (query_ != DrainQuery::none && held >= next_probe) {
+          next_probe += o_.timeout;
+          if (pending_.empty() && !send_query(query_)) return false;
+          if (!pending_.empty() && !await_answers(0, pending_.back().query, "while it held popcut off (XOFF)")) return false;
+          continue;
+        }
         if (held >= o_.hold_timeout) {
-          r_.status = {TransportError::timeout, 0, "device held the line (XOFF) for longer than " +
-                                                       std::to_string(o_.hold_timeout.count()) + " ms"};
+          r_.status = {TransportError::timeout, 0, "the device held popcut off (XOFF) for " + duration_text(o_.hold_timeout) +
+                                                       " (hold_timeout_ms): is it paused, out of media or stuck?"};
           return false;
         }
         if (!take_replies(kSlice)) return false;
@@ -378,11 +488,53 @@ class Sender {
   // Cancel: the profile's abort sequence and knife up, then how much the device may still hold.
   void send_abort() {
     // Under XON/XOFF in the OS the abort waits for XON like any byte, up to the hold timeout:
-    // the device is cutting its buffer meanwhile, and the abort is what stops it.
-    const IoResult w = t_.write(bytes_of(o_.abort_bytes), t_.backpressure() ? std::max(o_.timeout, o_.hold_timeout) : o_.timeout);
-    r_.abort_sent = w.status.ok() && w.bytes == o_.abort_bytes.size();
-    if (!w.status.ok()) r_.status = w.status;
+    // the device is cutting its buffer meanwhile, and the abort is what stops it. In slices, so
+    // that the user is told and may give up (o_.give_up).
+    const bool held_line = t_.backpressure();
+    const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
+    const auto limit = held_line ? std::max(o_.timeout, o_.hold_timeout) : o_.timeout;
+    const std::string_view abort = o_.abort_bytes;
+    std::size_t done = 0;
+    std::chrono::milliseconds waited{0};
+    for (;;) {
+      // Bytes the port took may still wait in its queue for the device to let them out.
+      TransportStatus st;
+      if (done < abort.size()) {
+        const IoResult w = t_.write(bytes_of(abort.substr(done)), slice);
+        done += w.bytes;
+        st = w.status;
+      } else {
+        st = t_.drain(slice);
+      }
+      if (st.ok() && done == abort.size()) break;
+      if (st.ok()) continue;
+      if (st.error != TransportError::timeout || !held_line) {
+        r_.status = st;
+        break;
+      }
+      waited += slice;
+      if (given_up_while_held()) break;
+      if (waited >= limit) {
+        r_.status = {TransportError::timeout, st.os_error, "the device held the line for " + duration_text(limit) +
+                                                               " (hold_timeout_ms) and did not take the abort sequence: " + st.message};
+        break;
+      }
+    }
+    r_.abort_sent = r_.status.ok() && done == abort.size();
     estimate_buffered();
+  }
+
+  // A cancel waiting on a device that holds the line: says so once (o_.waiting_to_cancel), and
+  // true with r_.status set when the user has given up (o_.give_up: a second Ctrl-C). What the
+  // port still holds for the device is dropped, so that no stale byte reaches it later.
+  bool given_up_while_held() {
+    if (!std::exchange(told_waiting_, true) && o_.waiting_to_cancel) o_.waiting_to_cancel();
+    if (!o_.give_up || !o_.give_up->load()) return false;
+    t_.discard_output();
+    r_.status = {TransportError::timeout, 0,
+                 "gave up waiting for the device to take the rest of the cancel: it held the line (XOFF or CTS), so neither "
+                 "the abort sequence nor the knife-up reached it"};
+    return true;
   }
 
   SendResult fail_tail() {
@@ -398,7 +550,7 @@ class Sender {
     r_.buffer_known = false;
     if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
       const TransportStatus keep = r_.status;
-      if (ask(DrainQuery::esc_b, "after the cancel")) {
+      if (ask(DrainQuery::esc_b, "after the cancel") && !query_skipped_) {
         r_.buffered_bytes = o_.buffer_bytes - std::min<std::size_t>(o_.buffer_bytes, static_cast<std::size_t>(std::max(0L, last_answer_)));
         r_.buffer_known = true;
       }
@@ -432,10 +584,17 @@ class Sender {
   std::size_t last_ping_ = 0;
   std::size_t confirmed_ = 0;  // job bytes written before the last answered query
   bool drained_ = false;       // the job went out whole and the device finished it
-  std::deque<std::size_t> pending_;  // queries awaiting an answer: job bytes written before each
+  std::deque<Pending> pending_;  // queries awaiting an answer
+  int answers_ = 0;              // status answers heard: a device that answered once and goes silent has stopped
+  std::size_t executed_ = 0;     // job bytes the device has been seen to take out of its buffer and start
+  std::size_t largest_free_ = 0; // the most free space ESC.B ever reported
   std::string line_;
   long last_answer_ = 0;
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far
+  int xoffs_read_ = 0;           // XOFFs popcut read itself (flow control not in the OS)
+  int slice_holds_ = 0;          // holds seen as write slices that moved no byte
+  bool told_waiting_ = false;    // o_.waiting_to_cancel was called
+  bool query_skipped_ = false;   // the last query was not sent: a cancel came while the line was held
 };
 
 }  // namespace

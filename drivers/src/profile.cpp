@@ -161,6 +161,8 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   p.transport.baud = t.integer("baud", 9600, 300, 4000000);
   p.transport.flow = static_cast<FlowControl>(t.choice("flow_control", 0, kFlowNames));
   p.transport.buffer_bytes = static_cast<std::size_t>(t.integer("buffer_bytes", 1024, 64, 1 << 26));
+  // At least a native UART's FIFO: 0 would claim bytes still in the UART as received.
+  p.transport.adapter_fifo_bytes = static_cast<std::size_t>(t.integer("adapter_fifo_bytes", 4096, 16, 1 << 20));
   p.transport.timeout_ms = t.integer("timeout_ms", 5000, 10, 600000);
   p.transport.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
   p.transport.data_bits = t.integer("data_bits", 8, 5, 8);

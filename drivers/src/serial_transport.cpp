@@ -26,10 +26,10 @@ namespace popcut::drivers {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// Bytes a serial path may hold where sp_output_waiting() does not see them (adapter FIFOs up to an
-// FT2232H's 4 KiB, a pty's buffer), assumed undelivered when no device answer confirms them.
-constexpr std::size_t kUnseenBytes = 4096;
+// A device that takes no byte for this long is holding the line (a free line takes a character
+// in well under a millisecond at any baud popcut uses, and a write returns at once while the OS
+// has room).
+constexpr std::chrono::milliseconds kHoldSeen{50};
 
 // The OS error behind libserialport's last SP_ERR_FAIL, as a status.
 TransportStatus sp_status(sp_return rc, const std::string& what) {
@@ -114,13 +114,15 @@ class SerialTransport final : public Transport {
       }
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
       // Blocks while the OS holds the line (XOFF received, CTS or DSR low): that is flow control.
+      // In short waits, so that a hold is seen as such (no byte taken for kHoldSeen).
       const sp_return n = sp_blocking_write(port_, data.data() + r.bytes, data.size() - r.bytes,
-                                            static_cast<unsigned>(std::max<long>(1, left.count())));
+                                            static_cast<unsigned>(std::clamp<long>(left.count(), 1, kHoldSeen.count())));
       if (n < 0) {
         r.status = sp_last_error_code() == EIO || sp_last_error_code() == ENXIO ? lost(sp_last_error_code(), "write to " + path_)
                                                                                : sp_status(n, "write to " + path_);
         return r;
       }
+      note_hold(n == 0);
       r.bytes += static_cast<std::size_t>(n);
       cur_request_ += static_cast<std::size_t>(n);
       line_free_at_ = std::max(line_free_at_, Clock::now()) +
@@ -192,10 +194,11 @@ class SerialTransport final : public Transport {
     // time has not passed yet (a pty's buffer is not in the OS queue).
     const double on_line_s = std::chrono::duration<double>(line_free_at_ - Clock::now()).count();
     const auto by_time = static_cast<std::size_t>(std::max(0.0, std::ceil(on_line_s / char_time_.count())));
-    // And what no one reports: a USB adapter's FIFO (a CP210x holds 640 bytes, an FT2232H 4 KiB)
-    // or a pseudo-terminal's buffer. Without device answers the count must stay below what the
-    // device got, even if that makes a resume re-cut more: a skipped stroke spoils the card.
-    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, by_time) + kUnseenBytes;
+    // And what no one reports: a USB adapter's transmit FIFO or a UART's, the profile's
+    // adapter_fifo_bytes. Without device answers the count must stay below what the device got,
+    // even if that makes a resume re-cut more: a skipped stroke spoils the card.
+    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, by_time) +
+           settings_.adapter_fifo_bytes;
   }
 
   void close() override {
@@ -209,6 +212,10 @@ class SerialTransport final : public Transport {
   }
 
   std::string describe() const override { return path_.empty() ? address_.text : "serial:" + path_; }
+  std::optional<int> holds() const override { return holds_; }
+  void discard_output() override {
+    if (open_) sp_flush(port_, SP_BUF_OUTPUT);
+  }
   bool backpressure() const override { return settings_.flow != FlowControl::none && settings_.flow != FlowControl::esc_b; }
   bool os_flow_control() const override { return settings_.flow == FlowControl::xon_xoff; }
 
@@ -288,6 +295,13 @@ class SerialTransport final : public Transport {
     return st;
   }
 
+  // A hold starts when the device stops taking bytes and ends when it takes one again: counted
+  // once however long it lasts.
+  void note_hold(bool held) {
+    if (held && !holding_) ++holds_;
+    holding_ = held;
+  }
+
   // Until the OS output queue is empty and the line time of what was written has passed, but
   // for `behind_bytes` of it.
   TransportStatus wait_line_free(Clock::time_point deadline, std::size_t behind_bytes) {
@@ -295,6 +309,9 @@ class SerialTransport final : public Transport {
     for (;;) {
       const sp_return queued = sp_output_waiting(port_);
       const auto now = Clock::now();
+      // Bytes still queued well after the line could have carried them: the OS has stopped the
+      // transmitter for the device (the kernel drains a free line whatever popcut's scheduling).
+      if (queued > 0 && now >= line_free_at_ + kHoldSeen) note_hold(true);
       if (queued <= 0 && now >= target) return TransportStatus::success();
       if (hung_up()) return lost(EIO, "serial port " + path_);
       if (now >= deadline) {
@@ -318,6 +335,8 @@ class SerialTransport final : public Transport {
   std::size_t cur_request_ = 0, prev_request_ = 0;
   bool request_done_ = true;
   Clock::time_point line_free_at_{};
+  int holds_ = 0;
+  bool holding_ = false;
 };
 
 }  // namespace

@@ -49,7 +49,7 @@ void SimCutter::advance_to(double t_s) {
       const double start = std::max(busy_until_s_, cursor);
       HpglCommand c = std::move(queue_.front());
       queue_.pop_front();
-      queued_bytes_ -= c.length;  // the device has read it out of its buffer
+      queued_bytes_ -= c.buffer_bytes;  // the device has read it out of its buffer
       const double dur = [&] {
         const double before = report_.motion_time_s;
         execute(c);
@@ -109,7 +109,7 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
       if (c.name.rfind("ESC", 0) == 0) {
         answer(c);  // device control bypasses the buffer, as on HP plotters
       } else {
-        queued_bytes_ += c.length;
+        queued_bytes_ += c.buffer_bytes;
         queue_.push_back(std::move(c));
       }
     }
@@ -150,7 +150,7 @@ bool SimCutter::run_to_end() {
     ++report_.commands;
     if (c.name.rfind("ESC", 0) == 0) answer(c);
     else {
-      queued_bytes_ += c.length;
+      queued_bytes_ += c.buffer_bytes;
       queue_.push_back(std::move(c));
     }
   }
@@ -168,7 +168,7 @@ void SimCutter::answer(const HpglCommand& c) {
   else if (n == "ESC.E") queue_reply(std::string(report_.errors.empty() ? "0" : "1") + "\r");
   else if (n == "ESC.A") queue_reply("popcut-sim,0\r");
   else if (n == "ESC.K") {  // abort: drop what is buffered
-    for (const HpglCommand& q : queue_) queued_bytes_ -= q.length;
+    for (const HpglCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
     queue_.clear();
   } else if (n == "ESC.@" || n == "ESC.H" || n == "ESC.I" || n == "ESC.M" || n == "ESC.N" || n == "ESC.R" || n == "ESC.T") {
     // Handshake configuration: the sim's pacing comes from the profile, so only counted.

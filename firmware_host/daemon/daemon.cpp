@@ -238,6 +238,8 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       store_.set_progress(job.id, static_cast<std::int64_t>(last));
     });
     store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
+    store_.set_executed(job.id, out.last_stroke_executed ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
+                                                          : std::nullopt);
     bool user_cancel;
     {
       std::lock_guard lock(mutex_);

@@ -86,6 +86,7 @@ class DriversLink final : public DeviceLink {
     const drivers::SendResult r = drivers::send_job(t, job, opts);
     t.close();
     out.last_stroke_sent = r.last_stroke_sent;
+    out.last_stroke_executed = r.last_stroke_executed;
     if (r.complete()) {
       out.kind = CutOutcome::Kind::complete;
     } else if (r.cancelled) {
@@ -93,8 +94,10 @@ class DriversLink final : public DeviceLink {
       if (!r.abort_sent) out.error = "the knife-up after the stop did not reach the device: " + r.status.message;
     } else {
       // Both numbers: strokes after the first may have been cut and are cut again on resume.
-      out.error = t.describe() + ": " + r.status.message + "; last stroke certainly received " + std::to_string(r.last_stroke_sent) +
-                  " of " + std::to_string(job.total_strokes) + ", last written " + std::to_string(r.last_stroke_written);
+      out.error = t.describe() + ": " + r.status.message + "; last stroke known executed " +
+                  (r.last_stroke_executed ? std::to_string(*r.last_stroke_executed) : std::string("unknown")) +
+                  ", last stroke certainly received " + std::to_string(r.last_stroke_sent) + " of " + std::to_string(job.total_strokes) +
+                  ", last written " + std::to_string(r.last_stroke_written);
     }
     if (made.sim && out.kind == CutOutcome::Kind::complete) {
       // A cutter that lost bytes, stalled or left its area did not cut the job, whatever it drew.

@@ -17,7 +17,8 @@ namespace popcut::daemon {
 
 struct CutOutcome {
   enum class Kind { complete, stopped, failed } kind = Kind::failed;
-  std::size_t last_stroke_sent = 0;  // stroke number (from 1) of the last stroke fully sent
+  std::size_t last_stroke_sent = 0;  // stroke number (from 1) of the last stroke the device certainly received
+  std::optional<std::size_t> last_stroke_executed;  // the last it is known to have executed (nullopt: unknown)
   std::string error;                 // failed: what the transport said
   // sim devices: the knife-down paths the simulated cutter made (complete cuts only), for the
   // caller to hold against its plan

@@ -307,6 +307,7 @@ json Api::job_json(const Job& j, const Forecast* shared) {
             {"strokes_total", j.strokes_total},
             {"strokes_sent", j.strokes_sent},
             {"resume_from", j.resume_from},
+            {"strokes_executed", j.strokes_executed ? json(*j.strokes_executed) : json(nullptr)},
             {"progress", j.strokes_total > 0 ? static_cast<double>(j.strokes_sent) / static_cast<double>(j.strokes_total) : 0.0},
             {"est_time_s", j.est_time_s},
             {"created_at", j.created_at},

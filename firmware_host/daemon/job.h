@@ -82,6 +82,9 @@ struct Job {
   std::string error_code, error_message;
   std::int64_t strokes_total = 0, strokes_sent = 0;  // strokes_sent: fully sent to the device
   std::int64_t resume_from = 0;                      // the stroke the next cut starts at
+  // After a cut: the last stroke the device is known to have executed (nullopt: unknown, or
+  // the device cannot be asked); after a reset or power cycle only these are certainly cut.
+  std::optional<std::int64_t> strokes_executed;
   double est_time_s = 0;
   double created_at = 0, started_at = 0, finished_at = 0;  // unix seconds; 0 = not yet
   bool sim_match = false;  // sim devices: what it cut equals the plan (strokes from resume_from on)

@@ -29,6 +29,11 @@ class Stmt {
     sqlite3_bind_int64(st_, i, v);
     return *this;
   }
+  Stmt& bind(int i, std::optional<std::int64_t> v) {
+    if (v) sqlite3_bind_int64(st_, i, *v);
+    else sqlite3_bind_null(st_, i);
+    return *this;
+  }
   Stmt& bind(int i, double v) {
     sqlite3_bind_double(st_, i, v);
     return *this;
@@ -45,6 +50,10 @@ class Stmt {
     return false;
   }
   std::int64_t integer(int col) const { return sqlite3_column_int64(st_, col); }
+  std::optional<std::int64_t> nullable_integer(int col) const {
+    if (sqlite3_column_type(st_, col) == SQLITE_NULL) return std::nullopt;
+    return sqlite3_column_int64(st_, col);
+  }
   double real(int col) const { return sqlite3_column_double(st_, col); }
   std::string text(int col) const {
     const unsigned char* t = sqlite3_column_text(st_, col);
@@ -61,7 +70,7 @@ class Stmt {
 
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
-    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match";
+    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -82,6 +91,7 @@ Job read_job(const Stmt& s) {
   j.started_at = s.real(14);
   j.finished_at = s.real(15);
   j.sim_match = s.integer(16) != 0;
+  j.strokes_executed = s.nullable_integer(17);
   return j;
 }
 
@@ -122,7 +132,9 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
          " strokes_total INTEGER NOT NULL DEFAULT 0, strokes_sent INTEGER NOT NULL DEFAULT 0,"
          " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
          " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
-         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0)");
+         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0, strokes_executed INTEGER)");
+    // A database from before strokes_executed: the column is added, unknown (NULL) for old jobs.
+    if (!has_column("jobs", "strokes_executed")) exec("ALTER TABLE jobs ADD COLUMN strokes_executed INTEGER");
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -150,6 +162,12 @@ std::pair<sqlite3*, std::unique_lock<std::mutex>> JobStore::reader() {
 JobStore::~JobStore() {
   for (auto& r : readers_) sqlite3_close(r->db);
   sqlite3_close(db_);
+}
+
+bool JobStore::has_column(const char* table, const char* column) {
+  Stmt s(db_, (std::string("SELECT 1 FROM pragma_table_info('") + table + "') WHERE name=?").c_str());
+  s.bind(1, std::string(column));
+  return s.step();
 }
 
 void JobStore::exec(const char* sql) {
@@ -293,7 +311,7 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
     }
     Job j = read_job(s);
     j.started_at = j.started_at > 0 ? j.started_at : now_s();
-    Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=? WHERE id=?").bind(1, device).bind(2, j.started_at).bind(3, j.id).step();
+    Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL WHERE id=?").bind(1, device).bind(2, j.started_at).bind(3, j.id).step();
     exec("COMMIT");
     j.state = JobState::cutting;
     j.device = device;
@@ -307,6 +325,11 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
 void JobStore::set_progress(std::int64_t id, std::int64_t strokes_sent) {
   std::lock_guard lock(mutex_);
   Stmt(db_, "UPDATE jobs SET strokes_sent=? WHERE id=? AND state='cutting'").bind(1, strokes_sent).bind(2, id).step();
+}
+
+void JobStore::set_executed(std::int64_t id, std::optional<std::int64_t> strokes_executed) {
+  std::lock_guard lock(mutex_);
+  Stmt(db_, "UPDATE jobs SET strokes_executed=? WHERE id=? AND state='cutting'").bind(1, strokes_executed).bind(2, id).step();
 }
 
 void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message, bool sim_match) {

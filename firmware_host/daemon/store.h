@@ -60,6 +60,8 @@ class JobStore {
   // ready -> cutting on `device`, oldest first among jobs naming it or its profile.
   std::optional<Job> claim_for_device(const std::string& device, const std::string& profile_name);
   void set_progress(std::int64_t id, std::int64_t strokes_sent);
+  // The last stroke the device is known to have executed at the end of a cut (nullopt: unknown).
+  void set_executed(std::int64_t id, std::optional<std::int64_t> strokes_executed);
   // cutting/planning -> a final state (or interrupted); error code and message may be empty.
   void finish(std::int64_t id, JobState state, const std::string& error_code, const std::string& error_message,
               bool sim_match = false);
@@ -77,6 +79,7 @@ class JobStore {
 
  private:
   void exec(const char* sql);
+  bool has_column(const char* table, const char* column);
   // Reads run on their own connections: in WAL mode a reader sees the last commit and neither
   // waits for the writer nor holds it up. A free one if any, else the next in turn.
   struct Reader {

@@ -163,7 +163,7 @@ TEST(SendJob, CancelDoesNotWaitForXonFromADeviceHoldingTheLine) {
   o.cancel = &cancel;
   o.drain_query = DrainQuery::none;  // 230 bytes of job exactly: no status queries in between
   const SendResult r = send_job(t, job, o);
-  EXPECT_EQ(r.xoff_pauses, 1) << "the cancel came while the device held the line";
+  EXPECT_EQ(r.holds, 1) << "the cancel came while the device held the line";
   EXPECT_TRUE(r.cancelled) << r.status.message;
   EXPECT_NE(r.status.error, TransportError::timeout) << "the cancel ended the wait, not the hold timeout: " << r.status.message;
   EXPECT_TRUE(r.abort_sent);
@@ -223,6 +223,60 @@ TEST(SendJob, ADroppedLineNamesTheLastStrokeReceivedAndTheLastWritten) {
     EXPECT_EQ(r.last_stroke_written, 5u);
     EXPECT_EQ(r.received_counted_by, "transport");
   }
+}
+
+// A device that stops mid-job (hung, paused for good, power lost): it never cuts what sits in its
+// buffer. E (known executed) <= what it really cut <= M (received) <= N (written), and a fresh
+// device (a power cycle) resumed from E + 1 completes the card with no stroke missing.
+void expect_honest_stop(const std::string& profile_file, FlowControl flow, DrainQuery query, bool answers_tell_progress) {
+  DeviceProfile p = load_profile(config(profile_file));
+  p.transport.flow = flow;
+  p.transport.drain_query = query;
+  // A small buffer, a slow line and quick motion: the device works through much of what it gets
+  // and answers say so, so E is well above zero and well below M.
+  p.transport.buffer_bytes = 256;
+  p.transport.baud = 9600;
+  const StrokePlan plan = townhouse_plan(p);
+  const auto planned = plan_in_plotter_units(plan, p.dialect);
+  const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+  const std::string what = profile_file + " (" + to_string(flow) + ", " + to_string(query) + ")";
+  const std::size_t stop_at = job.bytes.size() / 2;
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{stop_at, std::nullopt, 1});
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const SendResult r = send_job(t, job, send_options(p));
+  EXPECT_EQ(r.status.error, TransportError::timeout) << what << ": " << r.status.message;
+  EXPECT_NE(r.status.message.find("the device stopped answering"), std::string::npos) << what << ": " << r.status.message;
+  EXPECT_NE(r.status.message.find("paused, out of media or stuck, or it lost power"), std::string::npos)
+      << what << ": a device that answered before is not a cable or baud problem: " << r.status.message;
+  EXPECT_EQ(r.status.message.find("baud"), std::string::npos) << what << ": " << r.status.message;
+  EXPECT_LT(r.bytes_sent, job.bytes.size()) << what << ": noticed mid-job, not after the last byte";
+  EXPECT_FALSE(cutter->run_to_end()) << what << ": the device is stuck";
+  const std::vector<SimStroke>& cut = cutter->strokes();
+  ASSERT_TRUE(r.last_stroke_executed.has_value()) << what << ": the device answered queries, so E is known";
+  const std::size_t e = *r.last_stroke_executed, m = r.last_stroke_sent, n = r.last_stroke_written;
+  EXPECT_LE(e, m) << what;
+  EXPECT_LE(m, n) << what;
+  if (answers_tell_progress) {
+    EXPECT_GT(e, 0u) << what << ": ESC.B answers showed strokes executed";
+  }
+  ASSERT_LE(e, cut.size()) << what << ": E never claims a stroke the device did not cut (it cut " << cut.size() << ")";
+  EXPECT_GT(m, cut.size()) << what << ": the stuck device received strokes it never cut (so M is no resume point after a reset)";
+  for (std::size_t i = 0; i < cut.size(); ++i) EXPECT_EQ(cut[i].points_pu, planned[i]) << what << ": stroke " << i + 1;
+  // Power cycle: a fresh device, from E + 1.
+  const SimRun again = run_on_sim(p, encode_job(plan, p.dialect, p.tools, e + 1), send_options(p));
+  ASSERT_TRUE(again.sent.complete()) << what << ": " << again.sent.status.message;
+  std::vector<PlotterPath> both;
+  for (std::size_t i = 0; i < e; ++i) both.push_back(cut[i].points_pu);
+  for (const SimStroke& s : again.strokes) both.push_back(s.points_pu);
+  EXPECT_EQ(both, planned) << what << ": strokes 1.." << e << " before the stop and " << e + 1 << ".. after the power cycle cover the card";
+}
+
+TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
+  expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
+  // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)
+  // shows nothing executed, and E stays at 0; the device stops while it holds the line.
+  expect_honest_stop("sim.toml", FlowControl::xon_xoff, DrainQuery::esc_o, false);
 }
 
 // A serial-like line: each write's bytes reach the device only with the next write or while the
@@ -446,6 +500,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
       {"flow_control = \"cts\"", "is not one of"},
       {"drain_query = \"esc_x\"", "is not one of"},
       {"usb_ids = [\"0b4d-110a\"]", "is not a USB id"},
+      {"adapter_fifo_bytes = 0", "out of range"},
+      {"adapter_fifo_bytes = 2000000", "out of range"},
   };
   for (const auto& [line, expect] : cases) {
     try {
@@ -460,6 +516,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
   EXPECT_EQ(ok.transport.abort, "\x1b.K");
   EXPECT_EQ(ok.transport.flow, FlowControl::dtr_dsr);
   EXPECT_EQ(ok.transport.usb_ids, std::vector<std::string>{"0b4d:110a"});
+  EXPECT_EQ(ok.transport.adapter_fifo_bytes, 4096u) << "unknown adapters: a margin above every FIFO checked";
+  EXPECT_EQ(parse_profile(base + "adapter_fifo_bytes = 640\n", "t.toml").transport.adapter_fifo_bytes, 640u);
 }
 
 }  // namespace

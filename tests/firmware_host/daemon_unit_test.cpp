@@ -1,5 +1,6 @@
 // popcutd's parts without processes: configuration checks, the job store's transitions, stroke-boundary encoding.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <filesystem>
 #include <set>
@@ -127,6 +128,38 @@ class Store : public ::testing::Test {
   std::string db() const { return (dir_.path() / "jobs.db").string(); }
   static NewJob job(const std::string& device, const std::string& profile = "sim") { return {"kiosk", "card", device, profile, "{}"}; }
 };
+
+TEST_F(Store, StrokesExecutedIsKeptPerCutAndAddedToAnOlderDatabase) {
+  {  // A database written before strokes_executed existed.
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(db().c_str(), &raw), SQLITE_OK);
+    const char* old_schema =
+        "CREATE TABLE jobs (id INTEGER PRIMARY KEY AUTOINCREMENT, owner TEXT NOT NULL, name TEXT NOT NULL,"
+        " target_device TEXT NOT NULL, target_profile TEXT NOT NULL, device TEXT NOT NULL DEFAULT '',"
+        " state TEXT NOT NULL, error_code TEXT NOT NULL DEFAULT '', error_message TEXT NOT NULL DEFAULT '',"
+        " strokes_total INTEGER NOT NULL DEFAULT 0, strokes_sent INTEGER NOT NULL DEFAULT 0,"
+        " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
+        " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
+        " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0);"
+        "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES ('k', 'old', 'dev1', 'sim', 'done', 1);";
+    ASSERT_EQ(sqlite3_exec(raw, old_schema, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(raw);
+    sqlite3_close(raw);
+  }
+  JobStore s(db());
+  EXPECT_FALSE(s.get(1)->strokes_executed.has_value()) << "an old job's executed strokes are unknown";
+  const std::int64_t a = *s.insert(job("dev1"), 100);
+  ASSERT_EQ(s.claim_for_planning()->id, a);
+  s.set_planned(a, 10, 5.0);
+  ASSERT_TRUE(s.claim_for_device("dev1", "sim").has_value());
+  s.set_progress(a, 7);
+  s.set_executed(a, 3);
+  s.finish(a, JobState::interrupted, "device_error", "stopped");
+  EXPECT_EQ(s.get(a)->strokes_executed, std::optional<std::int64_t>(3)) << "the cut's executed strokes are kept";
+  EXPECT_EQ(s.get(a)->resume_from, 7) << "resume stays at the strokes certainly received";
+  ASSERT_TRUE(s.resume(a));
+  ASSERT_TRUE(s.claim_for_device("dev1", "sim").has_value());
+  EXPECT_FALSE(s.get(a)->strokes_executed.has_value()) << "a new cut starts with executed unknown";
+}
 
 TEST_F(Store, TransitionsAreGuardedAndSurviveReopen) {
   std::int64_t a = 0, b = 0, c = 0;

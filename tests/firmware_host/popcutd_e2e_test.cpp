@@ -95,6 +95,7 @@ TEST_F(Popcutd, TwoDevicesManyJobsInOrder) {
     EXPECT_EQ(j["state"], "done") << "job " << id << " is done: " << j.dump();
     EXPECT_EQ(j.value("sim_match", false), true) << "job " << id << ": the simulated cutter cut exactly the plan";
     EXPECT_EQ(j["strokes_sent"], j["strokes_total"]) << "job " << id << ": every stroke sent";
+    EXPECT_EQ(j["strokes_executed"], j["strokes_total"]) << "job " << id << ": the device confirmed it executed every stroke";
     if (!target[id].empty()) {
       EXPECT_EQ(j["cut_on"], target[id]) << "job " << id << " was cut on the device it named";
     }
@@ -139,6 +140,7 @@ TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
   EXPECT_GE(sent, seen) << "no stroke reported sent is forgotten";
   EXPECT_LT(sent, total) << "the kill came mid-cut (else this test proves nothing)";
   EXPECT_EQ(j["resume_from"], sent) << "it will resume at the first stroke not fully sent";
+  EXPECT_TRUE(j["strokes_executed"].is_null()) << "a cut killed midway never learnt what the device executed: " << j.dump();
   EXPECT_NE(d->log().find("recovered after an unclean stop: 1 cutting -> interrupted"), std::string::npos)
       << "the restart says it recovered the job: " << d->log();
   // The device goes on with other work while the interrupted job waits to be asked.

@@ -13,6 +13,9 @@ struct HpglCommand {
   std::vector<double> params;  // numeric parameters in order (ESC.@ and friends: theirs too)
   std::size_t offset = 0;      // byte offset of the command in the stream
   std::size_t length = 0;      // bytes it took, terminator included
+  // Bytes it held in a device's buffer: its length and the separators (newlines, spaces) read
+  // since the command before, which a device stores and discards like any byte.
+  std::size_t buffer_bytes = 0;
   bool malformed = false;      // a parameter that is not a number
 };
 
@@ -32,13 +35,14 @@ class HpglReader {
   // Whether the next byte continues a device-control sequence (those bypass the buffer).
   bool in_device_control() const { return !esc_.empty(); }
   // Bytes held for a command not yet complete.
-  std::size_t pending() const { return pending_.size() - synthetic_ + esc_.size(); }
+  std::size_t pending() const { return pending_.size() - synthetic_ + esc_.size() + separators_; }
 
  private:
   void parse(std::vector<HpglCommand>& out, bool final);
   std::string pending_;
   std::size_t consumed_ = 0;  // stream offset of pending_[0]
   std::size_t synthetic_ = 0; // leading bytes of pending_ we put back (a split command's name)
+  std::size_t separators_ = 0; // separators read since the last command (its buffer_bytes count them)
   std::string esc_;           // a device-control sequence being received
   std::size_t esc_count_ = 0;
 };

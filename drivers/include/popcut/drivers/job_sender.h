@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -48,6 +49,13 @@ struct SendOptions {
   // Set (from any thread, e.g. a signal handler) to stop the job safely. Checked between chunks
   // and while waiting; the sender finishes the command in flight first.
   const std::atomic<bool>* cancel = nullptr;
+  // A cancel ends with the abort sequence and a knife-up, which a device holding the line (XOFF,
+  // CTS) takes only when it lets popcut send again: up to hold_timeout. waiting_to_cancel is
+  // called once when a cancel starts waiting so; give_up set (a second Ctrl-C after that notice)
+  // then stops the wait: nothing more is sent (what the port still queues is dropped),
+  // abort_sent is false, and the device may cut all its buffer holds. Checked only while held.
+  const std::atomic<bool>* give_up = nullptr;
+  std::function<void()> waiting_to_cancel;
   std::function<void(const SendProgress&)> progress;  // after every chunk
 };
 
@@ -56,14 +64,22 @@ struct SendOptions {
 // bulk actual_length), what it confirmed (its answer to a status query sent after those bytes)
 // or, for a device that cannot be asked, what the port reports gone (written, less the OS output
 // queue and what may still be in flight).
-// Resuming from last_stroke_sent + 1 therefore never skips a stroke; strokes
-// last_stroke_sent + 1 .. last_stroke_written may have been cut already and are cut again.
+// Resuming from last_stroke_sent + 1 therefore never skips a stroke while the device keeps its
+// buffer and goes on cutting; strokes last_stroke_sent + 1 .. last_stroke_written may have been
+// cut already and are cut again. Received is not cut: a device that hangs, is paused for good or
+// loses power never cuts what sits in its buffer. last_stroke_executed (E <= M <= N) is what it
+// is known to have cut, and the resume point after a reset or power cycle.
 struct SendResult {
   std::size_t bytes_sent = 0;        // job bytes the transport accepted (abort and queries not counted)
   std::size_t bytes_received = 0;    // job bytes the device can be shown to have received (<= bytes_sent)
   std::size_t first_stroke = 1;
   std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (first_stroke - 1: none)
   std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
+  // Last stroke the device is known to have executed (first_stroke - 1: none), from its answers:
+  // ESC.B (bytes written before the query, less what its buffer still holds), ESC.O "buffer
+  // empty", a drain it confirmed. A stroke counts once the command after it has left the buffer.
+  // nullopt: the device cannot be asked (no drain_query, a file), so it is not known.
+  std::optional<std::size_t> last_stroke_executed;
   std::size_t total_strokes = 0;
   // How bytes_received was counted: "transport" (a write's count is what the device took: USB,
   // a file, the simulator), "status_answers" (serial, device answers queries) or "os_queue"
@@ -81,7 +97,10 @@ struct SendResult {
   std::size_t buffered_last_stroke = 0;
   // On success: how the end was confirmed ("esc_b", "esc_o", "estimate", "none" for a file).
   std::string drained_by;
-  int xoff_pauses = 0;     // times the device said XOFF and we waited for XON
+  // Times the device held popcut off: an XOFF popcut read itself (the simulator, USB), or a write
+  // slice that made no progress on a line the device holds (XOFF or CTS applied by the OS, USB
+  // NAKs), counted once per hold however long it lasts. ESC.B waits count in buffer_queries.
+  int holds = 0;
   int buffer_queries = 0;  // ESC.B round trips to pace the job (ESC.B flow control)
   int status_queries = 0;  // every ESC.B/ESC.O sent: before the job, pacing, confirmations, drain
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)

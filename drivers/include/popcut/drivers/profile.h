@@ -36,6 +36,10 @@ struct TransportDefaults {
   std::vector<std::string> usb_ids;
   std::size_t usb_chunk_bytes = 4096;  // one bulk OUT transfer
   std::size_t buffer_bytes = 1024;  // the device's input buffer
+  // Bytes a USB-serial adapter's transmit FIFO may hold unseen by the OS (a CP2102: 640, an
+  // FT232R: 128): assumed not yet at the device where no answer confirms them. 4096 by default,
+  // above every adapter checked, since a stroke counted received too early is skipped on resume.
+  std::size_t adapter_fifo_bytes = 4096;
   int timeout_ms = 5000;        // one write or one reply
   int hold_timeout_ms = 120000; // the device holding the host off while it cuts
 };

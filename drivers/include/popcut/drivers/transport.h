@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -52,6 +53,15 @@ class Transport {
   // Where writes are not acknowledged: bytes write() accepted that the device cannot yet be shown
   // to have received (the OS output queue, and data a UART, an adapter or a pty may still hold).
   virtual std::size_t in_flight() { return 0; }
+  // Where the OS applies the device's flow control (a serial port: XOFF, CTS or DSR), popcut
+  // never sees the XOFF byte: the transport counts the holds it observes (a write that moves no
+  // byte for a while, a queue that stops draining past its line time), once per hold. nullopt:
+  // the transport does not watch, and the sender counts write slices that made no progress.
+  virtual std::optional<int> holds() const { return std::nullopt; }
+  // Drops what was written and still waits in popcut's side of the line (a serial port's OS
+  // queue), when a cancel gives up on a device that holds the line: nothing stale reaches it
+  // later, and closing the port does not wait for it.
+  virtual void discard_output() {}
 };
 
 // Builds a status from an errno value, classifying it.
