@@ -385,6 +385,10 @@ int run_cut(const CutCommands& s) {
                   " may have been cut already)";
       }
     }
+    if (sent.cancelled && sent.bytes_sent == 0) {
+      std::cerr << "popcut: cancelled on " << transport.describe() << " before any byte of the job was sent: nothing was cut\n";
+      return static_cast<int>(kCancelled);
+    }
     if (sent.cancelled) {
       std::string left = "nothing more";
       if (sent.buffered_bytes > 0) {

@@ -41,7 +41,10 @@ class Sender {
   SendResult run() {
     // Before the first byte: a device that should answer and does not is on the wrong port or
     // baud, or is off; nothing of the job has gone out yet.
-    if (query_ != DrainQuery::none && !ask_status("before sending")) return fail_tail();
+    if (query_ != DrainQuery::none && !ask_status("before sending")) {
+      if (r_.cancelled) return r_;  // Ctrl-C before the first byte: nothing went out, nothing to abort
+      return fail_tail();
+    }
     // Small chunks: under XON/XOFF the device says XOFF at 3/4 full, so one chunk in flight must
     // fit in the last quarter.
     const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(256, o_.buffer_bytes / 8));
@@ -233,7 +236,7 @@ class Sender {
       if (last_answer_ < 0) return;
       const auto free_bytes = static_cast<std::size_t>(last_answer_);
       largest_free_ = std::max(largest_free_, free_bytes);
-      const std::size_t held = std::max(o_.buffer_bytes, largest_free_) - free_bytes;
+      const std::size_t held = device_buffer() - free_bytes;
       executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
     } else if ((last_answer_ & 8) != 0) {
       executed_ = std::max(executed_, asked.bytes_before);
@@ -335,10 +338,20 @@ class Sender {
   bool await_answers(std::size_t keep, DrainQuery q, const std::string& when) {
     const auto deadline = std::chrono::steady_clock::now() + o_.timeout;
     std::chrono::milliseconds left = o_.timeout;
+    // In slices, so that a cancel before the first job byte (a device that does not answer
+    // yet) is noticed at once rather than after the whole timeout. Silence is counted on the
+    // transport's clock (the simulator's runs faster than real time), chatter on the real one.
+    std::chrono::milliseconds silent{0};
     while (pending_.size() > keep) {
+      if (r_.bytes_sent == 0 && cancel_requested()) {
+        r_.cancelled = true;
+        return false;
+      }
       const std::size_t before = bytes_heard_;
-      if (!take_replies(left)) return false;
-      if (bytes_heard_ == before) break;  // silence for the whole of `left`
+      const auto slice = std::min(left, kSlice);
+      if (!take_replies(slice)) return false;
+      silent = bytes_heard_ == before ? silent + slice : std::chrono::milliseconds(0);
+      if (silent >= o_.timeout) break;  // silence for the whole timeout
       left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) break;  // chatter, but no answer
     }
@@ -469,7 +482,9 @@ class Sender {
         return;
       }
       if (!ask_status("after the last byte")) return;
-      if (query_ == DrainQuery::esc_b ? static_cast<std::size_t>(std::max(0L, last_answer_)) >= o_.buffer_bytes
+      // ESC.B: the whole buffer free, as large as the device ever said it is (a profile may
+      // understate it: 1024 free of 65536 is not empty).
+      if (query_ == DrainQuery::esc_b ? static_cast<std::size_t>(std::max(0L, last_answer_)) >= device_buffer()
                                       : (last_answer_ & 8) != 0) {  // ESC.O bit 3: buffer empty
         break;
       }
@@ -546,17 +561,19 @@ class Sender {
     if (r_.status.ok()) take_replies(std::chrono::milliseconds(0));  // answers already on their way
     settle_counts();
     // What the device may still cut: its buffer plus what is on its way to it.
-    r_.buffered_bytes = std::min(r_.bytes_sent, o_.buffer_bytes + (r_.bytes_sent - r_.bytes_received));
+    r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() + (r_.bytes_sent - r_.bytes_received));
     r_.buffer_known = false;
     if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
       const TransportStatus keep = r_.status;
       if (ask(DrainQuery::esc_b, "after the cancel") && !query_skipped_) {
-        r_.buffered_bytes = o_.buffer_bytes - std::min<std::size_t>(o_.buffer_bytes, static_cast<std::size_t>(std::max(0L, last_answer_)));
+        r_.buffered_bytes = device_buffer() - std::min<std::size_t>(device_buffer(), static_cast<std::size_t>(std::max(0L, last_answer_)));
         r_.buffer_known = true;
       }
       r_.status = keep;
     }
     r_.buffered_first_stroke = job_.last_stroke_within(r_.bytes_sent - r_.buffered_bytes) + 1;
+    // Nothing after the last stroke known executed is known cut: the range starts no later.
+    if (r_.last_stroke_executed) r_.buffered_first_stroke = std::min(r_.buffered_first_stroke, *r_.last_stroke_executed + 1);
     r_.buffered_last_stroke = stroke_touched_by(r_.bytes_sent);
     if (r_.buffered_bytes == 0) r_.buffered_first_stroke = r_.buffered_last_stroke + 1;
   }
@@ -588,6 +605,8 @@ class Sender {
   int answers_ = 0;              // status answers heard: a device that answered once and goes silent has stopped
   std::size_t executed_ = 0;     // job bytes the device has been seen to take out of its buffer and start
   std::size_t largest_free_ = 0; // the most free space ESC.B ever reported
+  // The device's buffer: the profile's size, or more if the device ever said it had more free.
+  std::size_t device_buffer() const { return std::max(o_.buffer_bytes, largest_free_); }
   std::string line_;
   long last_answer_ = 0;
   std::size_t bytes_heard_ = 0;  // bytes read from the device so far

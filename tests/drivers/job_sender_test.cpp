@@ -272,6 +272,39 @@ void expect_honest_stop(const std::string& profile_file, FlowControl flow, Drain
   EXPECT_EQ(both, planned) << what << ": strokes 1.." << e << " before the stop and " << e + 1 << ".. after the power cycle cover the card";
 }
 
+// A device whose buffer is larger than its profile says: 1024 free of 16384 is not "drained".
+TEST(SendJob, AProfileThatUnderstatesTheBufferDoesNotEndTheJobEarly) {
+  const DeviceProfile secabo = load_profile(config("secabo.toml"));
+  DeviceProfile bigger = secabo;
+  bigger.transport.buffer_bytes = 16 * secabo.transport.buffer_bytes;
+  auto cutter = std::make_shared<SimCutter>(bigger);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const EncodedJob job = encode_job(townhouse_plan(secabo), secabo.dialect, secabo.tools);
+  const SendResult r = send_job(t, job, send_options(secabo));
+  ASSERT_TRUE(r.complete()) << r.status.message;
+  EXPECT_EQ(cutter->buffer_used(), 0u) << "done means the device's whole buffer is empty, not the profile's share of it";
+  EXPECT_EQ(cutter->strokes().size(), job.stroke_end.size()) << "every stroke was cut when popcut said done";
+}
+
+// Ctrl-C while popcut waits for a silent device's first answer: cancelled at once, nothing sent
+// (it used to wait out the timeout and report the device as not answering).
+TEST(SendJob, ACancelBeforeTheFirstAnswerEndsTheWaitWithNothingSent) {
+  const DeviceProfile sim = load_profile(config("sim.toml"));
+  SimFaults mute;
+  mute.stop_answering_after_bytes = 0;
+  auto cutter = std::make_shared<SimCutter>(sim, mute);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  std::atomic<bool> cancel{true};
+  SendOptions o = send_options(sim);
+  o.cancel = &cancel;
+  const SendResult r = send_job(t, encode_job(townhouse_plan(sim), sim.dialect, sim.tools), o);
+  EXPECT_TRUE(r.cancelled) << "the wait for the first answer notices the cancel: " << r.status.message;
+  EXPECT_TRUE(r.status.ok()) << "a cancel, not a device fault: " << r.status.message;
+  EXPECT_EQ(r.bytes_sent, 0u) << "no job byte went out";
+}
+
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
   expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
   // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)

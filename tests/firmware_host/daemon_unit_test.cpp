@@ -113,7 +113,7 @@ TEST(DaemonConfig, SafeNames) {
   for (int i = 0; i < 64; ++i) castles += "\xe5\x9f\x8e";  // 城, three bytes
   EXPECT_TRUE(is_job_label(castles)) << "64 characters of three bytes each: the limit counts characters";
   EXPECT_FALSE(is_job_label(castles + "\xe5\x9f\x8e")) << "65 characters are too many";
-  for (const std::string bad : {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01b", 3),
+  for (const std::string& bad : {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01") + "b",
                                 std::string("tab\there"), std::string("rlo\xe2\x80\xae"), std::string("bad \xff utf8"),
                                 std::string("overlong \xc0\xaf"), std::string("nbsp\xc2\xa0"), std::string("\xe3\x80\x80ideographic space"),
                                 std::string("alm\xd8\x9c"), std::string("\xef\xbb\xbf" "bom"), std::string("cut \xe5\x9f"), std::string("a/b"), std::string("../x"),
