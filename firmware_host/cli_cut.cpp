@@ -109,7 +109,7 @@ class Progress {
     }
     std::cerr << "\rcutting [" << std::string(static_cast<std::size_t>(filled), '#')
               << std::string(static_cast<std::size_t>(30 - filled), '.') << "] " << pct << "% " << p.bytes_sent << "/"
-              << p.bytes_total << " bytes, stroke " << p.last_stroke_written << "/" << p.total_strokes << " sent, ETA " << eta
+              << p.bytes_total << " bytes, stroke " << p.last_stroke_written << "/" << p.total_strokes << " written, ETA " << eta
               << "   " << std::flush;
   }
   void done() {
@@ -356,7 +356,7 @@ int run_cut(const CutCommands& s) {
     // power cut nothing of its buffer, so E + 1 (strokes E+1..M may have been cut already).
     const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
     const std::optional<std::size_t> e = sent.last_stroke_executed;
-    std::string where = "last stroke known executed " + (e ? std::to_string(*e) : std::string("unknown (the device cannot be asked)")) +
+    std::string where = "last stroke known executed " + (e ? std::to_string(*e) : std::string(sent.received_counted_by == "status_answers" ? "unknown (the device did not say)" : "unknown (the device cannot be asked)")) +
                         ", last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
                         " (" + (m < sent.first_stroke ? std::string("none confirmed")
                                  : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
@@ -398,7 +398,7 @@ int run_cut(const CutCommands& s) {
       std::cerr << "popcut: cancelled on " << transport.describe() << ": "
                 << (sent.abort_sent ? "sent the abort sequence and lifted the knife" : "could NOT send the abort sequence: " + sent.status.message)
                 << "; the device may still cut " << left << " from its buffer"
-                << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 ? "" : " unless it honours the abort sequence") << "; " << where
+                << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 || !sent.abort_sent ? "" : " unless it honours the abort sequence") << "; " << where
                 << resume << "\n";
       return static_cast<int>(kCancelled);
     }

@@ -196,7 +196,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     }
     ::close(master);  // the host sees a hang-up
     if (slave >= 0) ::close(slave);
-    cutter.run_to_end();  // a device goes on cutting what it holds
+    cutter.run_to_end(false);  // a device goes on cutting what it holds; a command cut short it never ends
     if (!s.link.empty()) {
       std::error_code ec;
       std::filesystem::remove(s.link, ec);

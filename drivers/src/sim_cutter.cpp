@@ -142,10 +142,14 @@ IoResult SimCutter::reply(std::uint8_t* data, std::size_t size, double max_wait_
   return r;
 }
 
-bool SimCutter::run_to_end() {
+bool SimCutter::run_to_end(bool input_whole) {
   if (frozen()) return false;
   std::vector<HpglCommand> tail;
-  reader_.finish(tail);
+  reader_.finish(tail);  // only what lacked its terminator at the end of the input
+  if (!input_whole) {
+    for (const HpglCommand& c : tail) report_.errors.push_back({c.offset, c.name, "cut short when the line ended: not executed"});
+    tail.clear();
+  }
   for (HpglCommand& c : tail) {
     ++report_.commands;
     if (c.name.rfind("ESC", 0) == 0) answer(c);

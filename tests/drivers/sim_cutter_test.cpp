@@ -88,6 +88,26 @@ TEST(SimCutter, RecordsStrokesWithToolForceAndSpeedAndReportsUnknownCommands) {
   EXPECT_GT(cutter->report().motion_time_s, 0);
 }
 
+// A line that ends in the middle of "PD200,3480" delivers "PD200,348": a real device never sees
+// that command end and never runs it; a file that simply lacks the last ';' does run it.
+TEST(SimCutter, ACommandCutShortByAHangUpIsNotRun) {
+  const std::string job = "IN;SP1;PU100,100;PD200,100,200,348";
+  for (const bool whole : {false, true}) {
+    auto cutter = std::make_shared<SimCutter>(sim_profile());
+    SimTransport t(cutter);
+    ASSERT_TRUE(t.open().ok());
+    ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(1000)).status.ok());
+    ASSERT_TRUE(cutter->run_to_end(whole));
+    // Whole coordinate pairs run as they arrive (the reader splits a long PD); the last pair,
+    // "200,348", is the one whose end the line may have cut.
+    ASSERT_EQ(cutter->strokes().size(), 1u) << "the knife went down for the pairs that arrived whole";
+    const PlotterPath whole_path{{100, 100}, {200, 100}, {200, 348}}, cut_short{{100, 100}, {200, 100}};
+    EXPECT_EQ(cutter->strokes()[0].points_pu, whole ? whole_path : cut_short)
+        << (whole ? "a whole input's last command runs" : "a command cut short by a hang-up does not run");
+    EXPECT_EQ(cutter->report().errors.size(), whole ? 0u : 1u) << "and the cut-short one is reported";
+  }
+}
+
 TEST(SimCutter, HostileNumbersAreReportedNotFatal) {
   auto cutter = std::make_shared<SimCutter>(sim_profile());
   SimTransport t(cutter);

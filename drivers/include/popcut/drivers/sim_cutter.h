@@ -65,7 +65,10 @@ class SimCutter {
   // Replies waiting (XON/XOFF, query answers); waits up to max_wait_s of virtual time for one.
   IoResult reply(std::uint8_t* data, std::size_t size, double max_wait_s);
   // Runs every buffered command (the host waiting for the device to finish); false if stuck.
-  bool run_to_end();
+  // `input_whole`: the input ended where the host meant it to (a file, a finished job), so a last
+  // command without its terminator runs; false after a hang-up, where a command cut short is
+  // dropped (and reported) as a real device would never see its end.
+  bool run_to_end(bool input_whole = true);
   // The simulator's clock, for a host that runs it in real time (popcut sim-plotter): advance()
   // executes what the clock reaches; receive() moves it by each byte's line time.
   double now_s() const { return now_s_; }
