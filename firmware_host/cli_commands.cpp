@@ -196,7 +196,8 @@ int guarded(bool json_errors, Body body) {
                              {"message", e.message()}}}});
     }
     if (e.code() == ErrorCode::internal) return kInternal;
-    return e.code() == ErrorCode::io && e.location() == "output" ? kCannotWrite : kBadInput;
+    // The job did not get through: the output could not be written, or the device not opened.
+    return e.code() == ErrorCode::io && (e.location() == "output" || e.location() == "device") ? kCannotWrite : kBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr << "popcut: error: out of memory\n";
     return kBadInput;

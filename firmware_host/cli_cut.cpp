@@ -254,8 +254,10 @@ int run_cut(const CutCommands& s) {
 
     drivers::Transport& transport = *made.transport;
     if (const drivers::TransportStatus st = transport.open(); !st.ok()) {
+      // The class (docs/transports.md, "Error classes") leads the message, for people and scripts.
       const bool usage = st.error == drivers::TransportError::bad_argument;
-      throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, transport.describe(), usage ? "--device" : "output", st.message);
+      throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, transport.describe(), usage ? "--device" : "device",
+                  std::string(drivers::to_string(st.error)) + ": " + st.message);
     }
     Progress progress(!s.no_progress && !s.json_out);
     drivers::SendOptions opts = drivers::send_options(j.profile);

@@ -433,6 +433,7 @@ TEST_F(SerialPty, BadPortsAndBaudsAreReported) {
   EXPECT_EQ(missing.code, 3) << missing.err;
   EXPECT_NE(missing.err.find("No such file"), std::string::npos) << missing.err;
   EXPECT_NE(missing.err.find("popcut devices"), std::string::npos) << "points to the listing: " << missing.err;
+  EXPECT_NE(missing.err.find("popcut-no-such-port: device: not_found: "), std::string::npos) << "names the documented class: " << missing.err;
 
   const Cut by_id = cut("box.json", "serial:0403:6001:POPCUT-NONE", "", "byid");
   EXPECT_EQ(by_id.code, 3) << by_id.err;
