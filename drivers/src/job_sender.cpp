@@ -482,9 +482,10 @@ class Sender {
         return;
       }
       if (!ask_status("after the last byte")) return;
-      // ESC.B: the whole buffer free, as large as the device ever said it is (a profile may
-      // understate it: 1024 free of 65536 is not empty).
-      if (query_ == DrainQuery::esc_b ? static_cast<std::size_t>(std::max(0L, last_answer_)) >= device_buffer()
+      // ESC.B: as much free as the device ever said it had (asked idle before the job, that is
+      // its whole buffer). The profile's size can be wrong either way: 1024 free of 65536 is not
+      // empty, and a 256-byte device never reports 1024 free.
+      if (query_ == DrainQuery::esc_b ? static_cast<std::size_t>(std::max(0L, last_answer_)) >= (largest_free_ ? largest_free_ : o_.buffer_bytes)
                                       : (last_answer_ & 8) != 0) {  // ESC.O bit 3: buffer empty
         break;
       }
@@ -605,7 +606,9 @@ class Sender {
   int answers_ = 0;              // status answers heard: a device that answered once and goes silent has stopped
   std::size_t executed_ = 0;     // job bytes the device has been seen to take out of its buffer and start
   std::size_t largest_free_ = 0; // the most free space ESC.B ever reported
-  // The device's buffer: the profile's size, or more if the device ever said it had more free.
+  // The device's buffer at its largest: the profile's size, or more if the device ever said it
+  // had more free. What it holds is never less than this size less its free space, so what it
+  // executed is never over-claimed (a profile overstating the buffer under-claims it).
   std::size_t device_buffer() const { return std::max(o_.buffer_bytes, largest_free_); }
   std::string line_;
   long last_answer_ = 0;

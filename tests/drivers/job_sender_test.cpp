@@ -305,6 +305,21 @@ TEST(SendJob, ACancelBeforeTheFirstAnswerEndsTheWaitWithNothingSent) {
   EXPECT_EQ(r.bytes_sent, 0u) << "no job byte went out";
 }
 
+// And one whose buffer is smaller: it never reports the profile's 1024 free, yet it does empty.
+TEST(SendJob, AProfileThatOverstatesTheBufferStillSeesTheJobEnd) {
+  const DeviceProfile secabo = load_profile(config("secabo.toml"));
+  DeviceProfile smaller = secabo;
+  smaller.transport.buffer_bytes = secabo.transport.buffer_bytes / 4;
+  auto cutter = std::make_shared<SimCutter>(smaller);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const EncodedJob job = encode_job(townhouse_plan(secabo), secabo.dialect, secabo.tools);
+  const SendResult r = send_job(t, job, send_options(secabo));
+  ASSERT_TRUE(r.complete()) << "the job ends when the device's own buffer is empty: " << r.status.message;
+  EXPECT_EQ(cutter->buffer_used(), 0u) << "and it is";
+  EXPECT_EQ(cutter->report().overflow_bytes, 0u) << "its answers paced popcut, not the profile's size";
+}
+
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
   expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
   // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)
