@@ -197,7 +197,7 @@ void Daemon::device_loop(Worker& w) {
     {
       std::lock_guard lock(mutex_);
       w.job = job->id;
-      w.run_started_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+      w.run_started_s = unix_now_s();
       w.user_cancel = false;
       w.stop_cut = stopping_.load();
     }

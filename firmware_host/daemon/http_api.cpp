@@ -250,7 +250,6 @@ class Api {
   // The queue played forward once per request (docs/api.md eta_s), shared by every job listed.
   using Forecast = std::unordered_map<std::int64_t, double>;
   Forecast forecast();
-  static double now_s();
   static double busy_s(const DeviceStatus& device, const std::vector<Job>& cutting);
   json job_json(const Job& j, const Forecast* forecast = nullptr);
   void submit(const httplib::Request& req, httplib::Response& res);
@@ -277,12 +276,10 @@ class Api {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };
 
-double Api::now_s() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
-
 // What the cut on `device` has left, by the device's clock; 0 when it is idle.
 double Api::busy_s(const DeviceStatus& device, const std::vector<Job>& cutting) {
   for (const Job& j : cutting) {
-    if (j.id == device.job) return cut_left_s(j, device.time_factor, device.run_started_s, now_s());
+    if (j.id == device.job) return cut_left_s(j, device.time_factor, device.run_started_s, unix_now_s());
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 
 namespace popcut::daemon {
 namespace {
@@ -83,6 +84,8 @@ std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<Waiti
   }
   return done_s;
 }
+
+double unix_now_s() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 double cut_left_s(const Job& j, double time_factor, double run_started_s, double now_s) {
   if (j.strokes_total <= 0) return j.est_time_s * time_factor;

@@ -41,6 +41,9 @@ enum class ApiError {
 const char* to_string(ApiError error);
 int http_status(ApiError error);
 
+// The wall clock in unix seconds, as jobs record their times.
+double unix_now_s();
+
 // A job's claim on the devices: the device it names, else any device with its profile.
 struct Targets {
   std::string device, profile;

@@ -11,10 +11,6 @@
 namespace popcut::daemon {
 namespace {
 
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
 // One prepared statement; binds by position from 1, steps, finalises on scope exit.
 class Stmt {
  public:
@@ -203,7 +199,7 @@ std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length)
       return std::nullopt;
     }
     Stmt ins(db_, "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES (?,?,?,?,'queued',?)");
-    ins.bind(1, nj.owner).bind(2, nj.name).bind(3, nj.target_device).bind(4, nj.target_profile).bind(5, now_s()).step();
+    ins.bind(1, nj.owner).bind(2, nj.name).bind(3, nj.target_device).bind(4, nj.target_profile).bind(5, unix_now_s()).step();
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();
     exec("COMMIT");
@@ -310,7 +306,7 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
       return std::nullopt;
     }
     Job j = read_job(s);
-    j.started_at = j.started_at > 0 ? j.started_at : now_s();
+    j.started_at = j.started_at > 0 ? j.started_at : unix_now_s();
     Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL WHERE id=?").bind(1, device).bind(2, j.started_at).bind(3, j.id).step();
     exec("COMMIT");
     j.state = JobState::cutting;
@@ -338,7 +334,7 @@ void JobStore::finish(std::int64_t id, JobState state, const std::string& code, 
             " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END"
             " WHERE id=? AND state IN ('planning','cutting')")
       .bind(1, std::string(to_string(state))).bind(2, code).bind(3, message)
-      .bind(4, is_terminal(state) ? now_s() : 0.0).bind(5, static_cast<std::int64_t>(sim_match)).bind(6, id).step();
+      .bind(4, is_terminal(state) ? unix_now_s() : 0.0).bind(5, static_cast<std::int64_t>(sim_match)).bind(6, id).step();
 }
 
 CancelResult JobStore::cancel(std::int64_t id) {
@@ -346,7 +342,7 @@ CancelResult JobStore::cancel(std::int64_t id) {
   Stmt(db_, "UPDATE jobs SET state='cancelled', finished_at=?, error_code='cancelled',"
             " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut' ELSE 'cancelled before the cut' END"
             " WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
-      .bind(1, now_s()).bind(2, id).step();
+      .bind(1, unix_now_s()).bind(2, id).step();
   if (sqlite3_changes(db_) > 0) return CancelResult::cancelled;
   Stmt(db_, "UPDATE jobs SET cancel_requested=1 WHERE id=? AND state='cutting'").bind(1, id).step();
   if (sqlite3_changes(db_) > 0) return CancelResult::requested;
