@@ -62,18 +62,28 @@ HpglCommand esc_command(const std::string& e, std::size_t offset) {
 }
 
 void HpglReader::feed(std::string_view bytes, std::vector<HpglCommand>& out) {
-  for (char c : bytes) {
+  while (!bytes.empty()) bytes.remove_prefix(feed_to_control(bytes, out));
+}
+
+std::size_t HpglReader::feed_to_control(std::string_view bytes, std::vector<HpglCommand>& out) {
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    const char c = bytes[i];
     if (!esc_.empty() || c == kEsc) {
+      // Commands complete before the sequence come out before it: an ESC.B answer must count
+      // every byte that arrived ahead of the query, and none after it.
+      if (esc_.empty()) parse(out, false);
       esc_ += c;
       if (esc_complete(esc_)) {
         out.push_back(esc_command(esc_, consumed_ + pending_.size() - synthetic_));
         esc_.clear();
+        return i + 1;
       }
       continue;
     }
     pending_ += c;
   }
   parse(out, false);
+  return bytes.size();
 }
 
 void HpglReader::finish(std::vector<HpglCommand>& out) {

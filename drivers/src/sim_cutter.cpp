@@ -64,6 +64,27 @@ void SimCutter::advance_to(double t_s) {
   report_.clock_s = std::max(report_.clock_s, now_s_);
 }
 
+void SimCutter::take(std::string_view bytes) {
+  std::vector<HpglCommand> cmds;
+  while (!bytes.empty()) {
+    bytes.remove_prefix(reader_.feed_to_control(bytes, cmds));
+    dispatch(cmds);
+    cmds.clear();
+  }
+}
+
+void SimCutter::dispatch(std::vector<HpglCommand>& cmds) {
+  for (HpglCommand& c : cmds) {  // in stream order: a query counts every byte ahead of it
+    ++report_.commands;
+    if (c.name.rfind("ESC", 0) == 0) {
+      answer(c);  // device control bypasses the buffer, as on HP plotters
+    } else {
+      queued_bytes_ += c.buffer_bytes;
+      queue_.push_back(std::move(c));
+    }
+  }
+}
+
 IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double max_wait_s) {
   IoResult r;
   const double byte_s = 10.0 / profile_.transport.baud;  // start + 8 data + stop bits
@@ -90,29 +111,20 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
       n = std::min(n, cap - buffer_used());
     }
     advance_to(now_s_ + byte_s * static_cast<double>(n));
-    std::vector<HpglCommand> cmds;
     const std::string_view slice(reinterpret_cast<const char*>(data) + r.bytes, n);
     if (held || buffer_used() + n <= cap) {
-      reader_.feed(slice, cmds);
+      take(slice);
     } else {
       // Paced by XON/XOFF or ESC.B and the host overran the buffer: HP-GL bytes that find it
       // full are lost, but device-control sequences never enter the buffer and still arrive.
+      // Byte by byte, each command queued as it completes, so the fill level is exact.
       for (char c : slice) {
-        if (c == '\x1b' || reader_.in_device_control() || buffer_used() < cap) reader_.feed(std::string_view(&c, 1), cmds);
+        if (c == '\x1b' || reader_.in_device_control() || buffer_used() < cap) take(std::string_view(&c, 1));
         else ++report_.overflow_bytes;
       }
     }
     r.bytes += n;
     report_.bytes_received += n;
-    for (HpglCommand& c : cmds) {
-      ++report_.commands;
-      if (c.name.rfind("ESC", 0) == 0) {
-        answer(c);  // device control bypasses the buffer, as on HP plotters
-      } else {
-        queued_bytes_ += c.buffer_bytes;
-        queue_.push_back(std::move(c));
-      }
-    }
     report_.max_buffer_used = std::max(report_.max_buffer_used, buffer_used());
     check_water_marks();
   }
@@ -150,14 +162,7 @@ bool SimCutter::run_to_end(bool input_whole) {
     for (const HpglCommand& c : tail) report_.errors.push_back({c.offset, c.name, "cut short when the line ended: not executed"});
     tail.clear();
   }
-  for (HpglCommand& c : tail) {
-    ++report_.commands;
-    if (c.name.rfind("ESC", 0) == 0) answer(c);
-    else {
-      queued_bytes_ += c.buffer_bytes;
-      queue_.push_back(std::move(c));
-    }
-  }
+  dispatch(tail);
   while (!queue_.empty()) advance_to(std::max(busy_until_s_, now_s_));
   advance_to(std::max(busy_until_s_, now_s_));
   end_stroke();

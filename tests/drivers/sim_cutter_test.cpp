@@ -137,7 +137,43 @@ TEST(SimCutter, AnswersBufferAndStatusQueries) {
   const std::string q2 = "IN;SP1;PA5,5;\x1b.B";
   t.write({reinterpret_cast<const std::uint8_t*>(q2.data()), q2.size()}, std::chrono::milliseconds(100));
   const std::string free_bytes = drain_replies(t);
-  EXPECT_LT(std::stol(free_bytes), 1024) << "commands waiting behind a move occupy the buffer: " << free_bytes;
+  // The PD's first pair is executing; the rest of it ("PD" is the device's, "0,0,1000,1000;" 14
+  // bytes arrived) and the 13 bytes that came in the same read as the query wait in the buffer.
+  EXPECT_EQ(free_bytes, std::to_string(1024 - 14 - 13) + "\r") << "every byte ahead of the query is counted";
+}
+
+// A pacing host sends exactly what ESC.B said was free; the answer must count every byte that
+// arrived ahead of the query, however the line groups them, or the host overruns the buffer.
+TEST(SimCutter, BufferAnswerCountsEveryByteAheadOfTheQuery) {
+  DeviceProfile p = sim_profile();
+  p.transport.flow = FlowControl::esc_b;
+  p.transport.buffer_bytes = 256;
+  p.kinematics.travel_speed_mm_s = 1;  // nothing leaves the buffer while this test sends
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    auto cutter = std::make_shared<SimCutter>(p);
+    SimTransport t(cutter);
+    ASSERT_TRUE(t.open().ok());
+    const std::string start = "IN;PU0,0;PD4000,4000;";  // the long move holds everything behind it
+    ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(start.data()), start.size()}, std::chrono::milliseconds(100)).status.ok());
+    std::string line, expected;
+    std::size_t hpgl = 0;
+    for (int k = 0; k < 6; ++k) {
+      std::string cmd = "PU" + std::to_string(rng() % 100) + "," + std::to_string(rng() % 100) + ";";
+      if (rng() % 2) cmd += "\n";  // separators occupy the buffer too
+      line += cmd;
+      hpgl += cmd.size();
+      line += "\x1b.B";
+      expected += std::to_string(256 - hpgl) + "\r";
+    }
+    // Split the line into writes of random sizes, as a pseudo-terminal delivers it.
+    for (std::size_t i = 0; i < line.size();) {
+      const std::size_t n = std::min<std::size_t>(line.size() - i, 1 + rng() % 40);
+      ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(line.data()) + i, n}, std::chrono::milliseconds(100)).status.ok());
+      i += n;
+    }
+    EXPECT_EQ(drain_replies(t), expected) << "trial " << trial << ": " << line;
+  }
 }
 
 TEST(SimCutter, XonXoffKeepsTheBufferFromOverflowing) {

@@ -184,6 +184,28 @@ TEST_F(SerialPty, WholeJobArrivesIntactAndASmallerBufferThanTheProfileSaysNeverO
   EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
 }
 
+// ESC.B pacing against a 256-byte plotter while the profile says 1024: popcut sends what the
+// answers allow and knows the job is done when the device's own buffer is empty (it waited for
+// 1024 free, which never came, and failed after hold_timeout_ms).
+TEST_F(SerialPty, EscBPacingFollowsTheDevicesAnswersNotTheProfilesSize) {
+  std::string p = slurp(profile_);
+  replace(p, "flow_control = \"xon_xoff\"", "flow_control = \"esc_b\"");
+  replace(p, "drain_query = \"esc_o\"", "drain_query = \"esc_b\"");
+  profile_ = (dir_ / "host-escb.toml").string();
+  std::ofstream(profile_) << p;
+  std::string port;
+  auto plot = plotter("pb", {"--profile", profile_, "--slowdown", "0.1"}, port);
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "pb.err");
+  const json pr = plotter_report("pb");
+  EXPECT_EQ(pr["overflow_bytes"], 0) << "the answers kept popcut within the plotter's buffer";
+  EXPECT_LE(pr["max_buffer_used"].get<int>(), 256) << "never past its 256 bytes";
+  EXPECT_EQ(r.report["sent"]["drained_by"], "esc_b") << "done when the device said its buffer was free";
+  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
+}
+
 TEST_F(SerialPty, ADeviceThatNeverHoldsTheLineCountsNoHolds) {
   std::string port;
   auto plot = plotter("roomy", {"--buffer", "65536", "--slowdown", "0.05"}, port);  // the whole job fits: never XOFF

@@ -30,12 +30,16 @@ struct HpglCommand {
 class HpglReader {
  public:
   void feed(std::string_view bytes, std::vector<HpglCommand>& out);
+  // The same, but stops just after a device-control sequence completes, so a device can answer
+  // it with exactly the bytes ahead of it in its buffer; returns the bytes it took.
+  std::size_t feed_to_control(std::string_view bytes, std::vector<HpglCommand>& out);
   // End of input: the last command may lack its terminator.
   void finish(std::vector<HpglCommand>& out);
   // Whether the next byte continues a device-control sequence (those bypass the buffer).
   bool in_device_control() const { return !esc_.empty(); }
-  // Bytes held for a command not yet complete.
-  std::size_t pending() const { return pending_.size() - synthetic_ + esc_.size() + separators_; }
+  // Buffer bytes held for a command not yet complete (a device-control sequence being received
+  // is not among them: those never enter the buffer).
+  std::size_t pending() const { return pending_.size() - synthetic_ + separators_; }
 
  private:
   void parse(std::vector<HpglCommand>& out, bool final);
@@ -44,7 +48,6 @@ class HpglReader {
   std::size_t synthetic_ = 0; // leading bytes of pending_ we put back (a split command's name)
   std::size_t separators_ = 0; // separators read since the last command (its buffer_bytes count them)
   std::string esc_;           // a device-control sequence being received
-  std::size_t esc_count_ = 0;
 };
 
 std::vector<HpglCommand> parse_hpgl(std::string_view text);

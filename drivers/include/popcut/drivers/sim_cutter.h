@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "popcut/drivers/hpgl_reader.h"
@@ -89,6 +90,9 @@ class SimCutter {
 
  private:
   void advance_to(double t_s);
+  // Bytes that reached the reader: queues the commands they complete, answers device control.
+  void take(std::string_view bytes);
+  void dispatch(std::vector<HpglCommand>& cmds);
   void execute(const HpglCommand& c);
   void answer(const HpglCommand& c);
   void move_to(std::array<std::int64_t, 2> p);
