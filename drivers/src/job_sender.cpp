@@ -126,37 +126,59 @@ class Sender {
                  job_.total_strokes});
   }
 
-  // Writes the next n job bytes. A device holding the line (XOFF or CTS in the OS, USB NAKs)
-  // blocks the write: that is waited out up to hold_timeout in short slices, so a cancel is
-  // noticed. False with r_.status set.
+  // Writes the next n job bytes; a cancel while the device holds the line stops them at a command
+  // boundary. False with r_.status set.
   bool write_job_bytes(std::size_t n) {
-    const std::size_t end = r_.bytes_sent + n;
-    const auto slice = t_.backpressure() ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
-    std::chrono::milliseconds held{0};
-    while (r_.bytes_sent < end) {
-      const IoResult w = t_.write(bytes_of(std::string_view(job_.bytes).substr(r_.bytes_sent, end - r_.bytes_sent)), slice);
-      r_.bytes_sent += w.bytes;
-      credit_ -= std::min(credit_, w.bytes);
+    const std::size_t from = r_.bytes_sent;
+    const auto taken = [&](std::size_t k) {
+      r_.bytes_sent += k;
+      credit_ -= std::min(credit_, k);
       report_progress();
-      if (w.status.ok()) continue;
-      if (w.status.error != TransportError::timeout || !t_.backpressure()) {
+    };
+    const auto may_stop = [&](std::size_t) { return at_boundary_and_cancelled(); };
+    return through_holds(std::string_view(job_.bytes).substr(from, n), taken, may_stop) != Held::failed;
+  }
+
+  // How a write through a line the device may hold ended.
+  enum class Held { written, stopped, failed };
+
+  // Writes `bytes` (job bytes or a query). A device holding the line (XOFF or CTS in the OS, USB
+  // NAKs) blocks the write: that is waited out up to hold_timeout in short slices, so that a cancel
+  // is noticed; `taken(k)` follows every write. On a cancel meanwhile, `may_stop(done)` says
+  // whether it can stop after `done` bytes (never inside a command: a half command swallows the
+  // abort), else a second interrupt may give up the wait. Failed with r_.status set.
+  template <class Taken, class MayStop>
+  Held through_holds(std::string_view bytes, Taken taken, MayStop may_stop) {
+    const bool held_line = t_.backpressure();
+    const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
+    std::size_t done = 0;
+    std::chrono::milliseconds held{0};
+    while (done < bytes.size()) {
+      const IoResult w = t_.write(bytes_of(bytes.substr(done)), slice);
+      done += w.bytes;
+      taken(w.bytes);
+      if (w.status.ok() || done == bytes.size()) continue;  // all of it queued for the line
+      if (w.status.error != TransportError::timeout || !held_line) {
         r_.status = w.status;
-        return false;
+        return Held::failed;
       }
-      // A slice without a byte taken: the device holds the line (USB NAKs). Counted once per
-      // hold, where the transport does not count them itself.
+      // A slice without a byte taken: the device holds the line. Counted once per hold, where the
+      // transport does not count them itself.
       if (w.bytes == 0 && held.count() == 0) ++slice_holds_;
       held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
       if (held >= o_.hold_timeout) {
         r_.status = {TransportError::timeout, w.status.os_error,
-                     "the device held popcut off for " + duration_text(o_.hold_timeout) + " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
-        return false;
+                     "the device held popcut off for " + duration_text(o_.hold_timeout) +
+                         " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
+        return Held::failed;
       }
-      if (at_boundary_and_cancelled()) return true;
-      if (cancel_requested() && given_up_while_held()) return false;  // a half command: no abort can follow
-      if (!take_replies(std::chrono::milliseconds(0))) return false;
+      if (cancel_requested()) {
+        if (may_stop(done)) return Held::stopped;
+        if (given_up_while_held()) return Held::failed;  // inside a command: no abort can follow
+      }
+      if (!take_replies(std::chrono::milliseconds(0))) return Held::failed;
     }
-    return true;
+    return Held::written;
   }
 
   static std::string duration_text(std::chrono::milliseconds d) {
@@ -179,38 +201,12 @@ class Sender {
 
   // Sends a status query without waiting for its answer: when it comes, every job byte written
   // before the query has reached the device (answers come back in order). A line the device
-  // holds (XOFF or CTS in the OS) holds a query like any byte, waited out up to hold_timeout; a
-  // cancel before a byte of it has gone leaves it unsent (query_skipped_), so the abort follows.
+  // holds holds a query like any byte; a cancel before a byte of it has gone leaves it unsent
+  // (query_skipped_), so the abort follows.
   bool send_query(DrainQuery q) {
-    query_skipped_ = false;
-    const std::string_view bytes = query_bytes(q);
-    const bool held_line = t_.backpressure();
-    const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
-    std::size_t done = 0;
-    std::chrono::milliseconds held{0};
-    while (done < bytes.size()) {
-      const IoResult w = t_.write(bytes_of(bytes.substr(done)), slice);
-      done += w.bytes;
-      if (w.status.ok()) continue;
-      if (done == bytes.size() && w.status.error == TransportError::timeout) break;  // queued for the line
-      if (w.status.error != TransportError::timeout || !held_line) {
-        r_.status = w.status;
-        return false;
-      }
-      if (w.bytes == 0 && held.count() == 0) ++slice_holds_;
-      held = w.bytes > 0 ? std::chrono::milliseconds(0) : held + slice;
-      if (done == 0 && cancel_requested()) {
-        query_skipped_ = true;
-        return true;
-      }
-      if (cancel_requested() && given_up_while_held()) return false;  // half a query: no abort can follow
-      if (held >= o_.hold_timeout) {
-        r_.status = {TransportError::timeout, w.status.os_error,
-                     "the device held popcut off for " + duration_text(o_.hold_timeout) +
-                         " without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (" + w.status.message + ")"};
-        return false;
-      }
-    }
+    const Held h = through_holds(query_bytes(q), [](std::size_t) {}, [](std::size_t done) { return done == 0; });
+    query_skipped_ = h == Held::stopped;
+    if (h != Held::written) return h == Held::stopped;
     pending_.push_back({r_.bytes_sent, q});
     ++r_.status_queries;
     return true;
