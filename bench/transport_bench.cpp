@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -39,7 +40,7 @@ StrokePlan plan_of(const std::string& model, const drivers::DeviceProfile& p) {
 // `popcut sim-plotter` in its own process; its port from the first line of its output.
 class Plotter {
  public:
-  Plotter(int baud, long buffer) {
+  Plotter(int baud, long buffer, const std::string& profile) {
     out_ = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + ".port");
     pid_ = ::fork();
     if (pid_ == 0) {
@@ -48,8 +49,8 @@ class Plotter {
       const int null = ::open("/dev/null", O_WRONLY);
       ::dup2(null, 2);
       const std::string b = std::to_string(baud), buf = std::to_string(buffer);
-      ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--baud", b.c_str(), "--buffer", buf.c_str(), "--slowdown", "0.0001",
-              static_cast<char*>(nullptr));
+      ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--profile", profile.c_str(), "--baud", b.c_str(), "--buffer", buf.c_str(),
+              "--slowdown", "0.0001", static_cast<char*>(nullptr));
       ::_exit(127);
     }
     for (int i = 0; i < 500 && port_.empty(); ++i) {
@@ -73,11 +74,34 @@ class Plotter {
   std::string port_;
 };
 
+// sim.toml paced by XON/XOFF (as shipped) or by asking ESC.B before each chunk; the plotter
+// process reads the same file, so both ends agree.
+std::string profile_file(bool esc_b) {
+  const std::string shipped = kSource + "/configs/devices/sim.toml";
+  if (!esc_b) return shipped;
+  std::ifstream in(shipped);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string t = text.str();
+  const auto set = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = t.find(from);
+    if (at == std::string::npos) throw std::runtime_error("transport_bench: sim.toml has no " + from);
+    t.replace(at, from.size(), to);
+  };
+  set("flow_control = \"xon_xoff\"", "flow_control = \"esc_b\"");
+  set("drain_query = \"esc_o\"", "drain_query = \"esc_b\"");
+  const fs::path out = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + "-escb.toml");
+  std::ofstream(out) << t;
+  return out.string();
+}
+
 // Sends a job of at least 2 s of line time; reports achieved bytes/s against the line's.
 void BM_Stream(benchmark::State& state) {
   const int baud = static_cast<int>(state.range(0));
   const long buffer = state.range(1);
-  drivers::DeviceProfile p = drivers::load_profile(kSource + "/configs/devices/sim.toml");
+  const bool esc_b = state.range(2) != 0;
+  const std::string profile = profile_file(esc_b);
+  drivers::DeviceProfile p = drivers::load_profile(profile);
   p.transport.baud = baud;
   p.transport.buffer_bytes = static_cast<std::size_t>(buffer);
   // The profile's ESC.O status queries stay on: they are what a real job carries.
@@ -89,7 +113,7 @@ void BM_Stream(benchmark::State& state) {
   }
   double fraction = 0;
   for (auto _ : state) {
-    Plotter plotter(baud, buffer);
+    Plotter plotter(baud, buffer, profile);
     drivers::MadeTransport t = drivers::make_transport("serial:" + plotter.port(), p);
     if (!t.status.ok() || !t.transport->open().ok()) {
       state.SkipWithError("cannot open the sim-plotter's port");
@@ -107,6 +131,8 @@ void BM_Stream(benchmark::State& state) {
   state.counters["buffer"] = static_cast<double>(buffer);
   state.counters["bytes"] = static_cast<double>(job.bytes.size());
   state.counters["line_fraction"] = fraction;
+  state.counters["esc_b"] = esc_b ? 1 : 0;
+  if (esc_b) fs::remove(profile);
 }
 
 void BM_BytesPerMm(benchmark::State& state) {
@@ -125,7 +151,14 @@ void BM_BytesPerMm(benchmark::State& state) {
   state.counters["bytes_per_cut_mm"] = static_cast<double>(bytes) / plan.total().cut_mm;
 }
 
-BENCHMARK(BM_Stream)->Args({9600, 1024})->Args({115200, 1024})->Args({115200, 256})->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stream)
+    ->Args({9600, 1024, 0})
+    ->Args({115200, 1024, 0})
+    ->Args({115200, 256, 0})
+    ->Args({9600, 1024, 1})
+    ->Args({115200, 1024, 1})
+    ->Args({115200, 256, 1})
+    ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BytesPerMm)->DenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
@@ -142,11 +175,11 @@ int main(int argc, char** argv) {
   }
   return popcut::bench::run_with_table(argc, argv, [](const popcut::bench::CollectingReporter& rep) {
     std::printf("\nstreaming over a pseudo-terminal to popcut sim-plotter (target >= 95%% of line rate)\n");
-    std::printf("%-8s %-8s %-8s %-10s\n", "baud", "buffer", "bytes", "of line");
+    std::printf("%-9s %-8s %-8s %-8s %-10s\n", "pacing", "baud", "buffer", "bytes", "of line");
     for (const auto& r : rep.rows()) {
       if (r.name.rfind("BM_Stream", 0) != 0) continue;
-      std::printf("%-8.0f %-8.0f %-8.0f %5.1f %%\n", r.counters.at("baud"), r.counters.at("buffer"), r.counters.at("bytes"),
-                  100 * r.counters.at("line_fraction"));
+      std::printf("%-9s %-8.0f %-8.0f %-8.0f %5.1f %%\n", r.counters.at("esc_b") != 0 ? "ESC.B" : "XON/XOFF", r.counters.at("baud"),
+                  r.counters.at("buffer"), r.counters.at("bytes"), 100 * r.counters.at("line_fraction"));
     }
     std::printf("\nencoder: bytes per cut mm, townhouse, per profile\n%-16s %-8s %-8s %-8s\n", "profile", "bytes", "cut mm", "B/mm");
     const std::vector<std::string> files = popcut::testing::shipped_profiles();
