@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <deque>
 #include <string>
+#include <thread>
 #include <utility>
 
 namespace popcut::drivers {
@@ -253,11 +254,16 @@ class Sender {
   // which confirms the oldest query outstanding. False with r_.status set on a transport error or
   // an answer that is not a number.
   bool take_replies(std::chrono::milliseconds wait) {
-    if (!t_.answers() && wait.count() == 0) return true;
-    // Nothing expected: only let the time pass (a transport may have nothing to read from).
+    if (!t_.answers()) {
+      // Nothing can come back (a file or printer node, USB without bulk IN): only let the time
+      // pass. Such a transport's clock is the real one, and its read() refuses.
+      if (wait.count() > 0) std::this_thread::sleep_for(wait);
+      return true;
+    }
+    // Nothing expected: only let the time pass (on the transport's clock).
     const bool expect = flow_ == FlowControl::xon_xoff || !pending_.empty();
     std::uint8_t buf[64];
-    const IoResult got = t_.read(std::span<std::uint8_t>(buf, expect && t_.answers() ? sizeof buf : 0), wait);
+    const IoResult got = t_.read(std::span<std::uint8_t>(buf, expect ? sizeof buf : 0), wait);
     bytes_heard_ += got.bytes;
     for (std::size_t i = 0; i < got.bytes; ++i) {
       const std::uint8_t b = buf[i];

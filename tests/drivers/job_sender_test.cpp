@@ -538,6 +538,24 @@ TEST(DeviceString, FactoryBuildsSimAndFile) {
   EXPECT_EQ(file.transport->open().error, TransportError::not_found) << "open reports the missing directory";
 }
 
+// A printer-port node cannot answer and does not hold popcut off by byte count alone: the job is
+// paced and drained by the plan's time estimate, never by reading from it (which it refuses).
+TEST(SendJob, APrinterPortNodeIsPacedByTimeAndNeverRead) {
+  for (const std::string& profile : {std::string("generic-hpgl.toml"), std::string("sim.toml")}) {
+    const DeviceProfile p = load_profile(config(profile));
+    const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+    const MadeTransport made = make_transport("file:/dev/null", p);
+    ASSERT_TRUE(made.status.ok()) << made.status.message;
+    ASSERT_TRUE(made.transport->open().ok());
+    SendOptions o = send_options(p);
+    o.job_motion_estimate = std::chrono::milliseconds(200);  // a short wait for the drain share
+    const SendResult r = send_job(*made.transport, job, o);
+    EXPECT_TRUE(r.complete()) << profile << ": " << r.status.message;
+    EXPECT_EQ(r.bytes_sent, job.bytes.size()) << profile << ": every byte written";
+    made.transport->close();
+  }
+}
+
 TEST(Profile, AbortAndTransportKeysAreValidated) {
   const std::string base = "[device]\nname = \"x\"\n[transport]\n";
   const std::pair<const char*, const char*> cases[] = {
