@@ -435,14 +435,18 @@ class Sender {
         ++r_.buffer_queries;
         credit_ = static_cast<std::size_t>(std::max(0L, last_answer_));
         if (credit_ >= n) break;
-        if (credit_ >= chunk / 2) {
+        // Enough to be worth a write: half a chunk, or half of the most the device ever said
+        // was free when its buffer is smaller than the profile says (a 64-byte buffer holding
+        // part of a long command never reports half of a 1024-byte profile's chunk).
+        const std::size_t worth = std::max<std::size_t>(1, largest_free_ > 0 ? std::min(chunk, largest_free_) / 2 : chunk / 2);
+        if (credit_ >= worth) {
           n = credit_;
           break;
         }
         if (at_boundary_and_cancelled()) return true;
         if (waited_ms > o_.hold_timeout.count()) {
-          r_.status = {TransportError::timeout, 0, "device buffer stayed full for longer than " +
-                                                       std::to_string(o_.hold_timeout.count()) + " ms"};
+          r_.status = {TransportError::timeout, 0, "the device's buffer stayed full for " + duration_text(o_.hold_timeout) +
+                                                       " (hold_timeout_ms), by its answers to ESC.B: is it paused, out of media or stuck?"};
           return false;
         }
         const long wait_ms = std::min(200L, 20L << std::min(polls, 4));

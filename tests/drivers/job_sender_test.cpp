@@ -320,6 +320,28 @@ TEST(SendJob, AProfileThatOverstatesTheBufferStillSeesTheJobEnd) {
   EXPECT_EQ(cutter->report().overflow_bytes, 0u) << "its answers paced popcut, not the profile's size";
 }
 
+// A buffer smaller than the profile's chunk and than the longest command (castle's 72-byte PA):
+// popcut sends what the device says is free rather than waiting for a share of the profile's size
+// that a tiny buffer, partly holding the command in progress, never reports.
+TEST(SendJob, ATinyBufferIsFedWhatItHasRoomFor) {
+  DeviceProfile escb = load_profile(config("sim.toml"));
+  escb.transport.flow = FlowControl::esc_b;
+  escb.transport.drain_query = DrainQuery::esc_b;
+  DeviceProfile tiny = escb;
+  tiny.transport.buffer_bytes = 64;
+  PlanOptions po = escb.plan;
+  po.optimise_work = 1000;
+  const StrokePlan plan = plan_strokes(make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/castle.json")), po);
+  const EncodedJob job = encode_job(plan, escb.dialect, escb.tools);
+  std::size_t longest = 0;
+  for (std::size_t i = 0, from = 0; i < job.command_end.size(); from = job.command_end[i++]) longest = std::max(longest, job.command_end[i] - from);
+  ASSERT_GT(longest, 64u) << "the job has a command longer than the device's buffer";
+  const SimRun run = run_on_sim(tiny, job, send_options(escb));
+  ASSERT_TRUE(run.sent.complete()) << run.sent.status.message;
+  EXPECT_EQ(run.report.overflow_bytes, 0u) << "paced by its answers";
+  EXPECT_EQ(first_difference(plan_in_plotter_units(plan, escb.dialect), run.strokes), std::nullopt) << "the device cut exactly the job";
+}
+
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
   expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
   // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)
