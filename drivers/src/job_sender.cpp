@@ -183,7 +183,8 @@ class Sender {
   }
 
   static std::string duration_text(std::chrono::milliseconds d) {
-    return d.count() % 1000 == 0 ? std::to_string(d.count() / 1000) + " s" : std::to_string(d.count()) + " ms";
+    if (d.count() % 1000 == 0 || d.count() >= 10000) return std::to_string((d.count() + 500) / 1000) + " s";
+    return std::to_string(d.count()) + " ms";
   }
 
   // Ends a chunk of up to n bytes on the last command boundary inside it, when there is one.
@@ -429,12 +430,18 @@ class Sender {
     } else if (flow_ == FlowControl::esc_b && credit_ < n) {
       // Ask for free space; poll again (letting the device work, backing off) while there is
       // too little. The answer is credit for the next chunks: the device only drains meanwhile.
-      long waited_ms = 0;
+      // Time without progress: an answer with more free space than any before in this wait
+      // shows the device working, and restarts the count.
+      long waited_ms = 0, most_free = -1;
       for (int polls = 0;; ++polls) {
         if (!ask(DrainQuery::esc_b, "while sending")) return false;
         ++r_.buffer_queries;
         credit_ = static_cast<std::size_t>(std::max(0L, last_answer_));
         if (credit_ >= n) break;
+        if (last_answer_ > most_free) {
+          most_free = last_answer_;
+          waited_ms = 0;
+        }
         // Enough to be worth a write: half a chunk, or half of the most the device ever said
         // was free when its buffer is smaller than the profile says (a 64-byte buffer holding
         // part of a long command never reports half of a 1024-byte profile's chunk).
@@ -446,7 +453,7 @@ class Sender {
         if (at_boundary_and_cancelled()) return true;
         if (waited_ms > o_.hold_timeout.count()) {
           r_.status = {TransportError::timeout, 0, "the device's buffer stayed full for " + duration_text(o_.hold_timeout) +
-                                                       " (hold_timeout_ms), by its answers to ESC.B: is it paused, out of media or stuck?"};
+                                                       " (hold_timeout_ms) without freeing a byte, by its answers to ESC.B: is it paused, out of media or stuck?"};
           return false;
         }
         const long wait_ms = std::min(200L, 20L << std::min(polls, 4));
@@ -464,12 +471,13 @@ class Sender {
       return;
     }
     std::chrono::milliseconds waited{0};
+    // The device can hold at most a buffer's worth: that share of the job's motion time.
+    const double share = job_.bytes.empty() ? 0
+                                            : std::min(1.0, static_cast<double>(device_buffer()) /
+                                                                static_cast<double>(job_.bytes.size()));
+    const auto buffered_time = std::chrono::milliseconds(static_cast<long>(static_cast<double>(o_.job_motion_estimate.count()) * share));
     if (query_ == DrainQuery::none) {
-      // The device can hold at most a buffer's worth: that share of the job's motion time.
-      const double share = job_.bytes.empty() ? 0
-                                              : std::min(1.0, static_cast<double>(o_.buffer_bytes) /
-                                                                  static_cast<double>(job_.bytes.size()));
-      const auto wait = std::chrono::milliseconds(static_cast<long>(static_cast<double>(o_.job_motion_estimate.count()) * share));
+      const auto wait = buffered_time;
       while (waited < wait) {
         if (cancel_requested()) {
           r_.cancelled = true;
@@ -482,6 +490,11 @@ class Sender {
       r_.drained_by = "estimate";
       return;
     }
+    // A device that answers is working (or paused): it is given what its buffer should take to
+    // cut, by the plan's estimate, plus hold_timeout; under ESC.B each answer with more free space
+    // than before shows progress and restarts the hold_timeout.
+    long most_free = -1;
+    std::chrono::milliseconds stalled{0};
     for (int polls = 0;; ++polls) {
       if (cancel_requested()) {
         r_.cancelled = true;
@@ -495,14 +508,21 @@ class Sender {
                                       : (last_answer_ & 8) != 0) {  // ESC.O bit 3: buffer empty
         break;
       }
-      if (waited >= o_.hold_timeout) {
-        r_.status = {TransportError::timeout, 0, "device still busy " + std::to_string(o_.hold_timeout.count()) +
-                                                     " ms after the last byte"};
+      if (query_ == DrainQuery::esc_b && last_answer_ > most_free) {
+        most_free = last_answer_;
+        stalled = std::chrono::milliseconds(0);
+      }
+      if (stalled >= o_.hold_timeout && waited >= buffered_time + o_.hold_timeout) {
+        r_.status = {TransportError::timeout, 0,
+                     "every byte reached the device, but its buffer is still not empty " + duration_text(waited) +
+                         " after the last byte (" + (query_ == DrainQuery::esc_b ? "no progress by its ESC.B answers for " + duration_text(stalled) : std::string("ESC.O says busy")) +
+                         "; the plan expected about " + duration_text(buffered_time) + " for a full buffer, plus hold_timeout_ms): it answers, so it is paused or stuck; check it — if it finishes, the card is complete"};
         return;
       }
       const auto step = std::chrono::milliseconds(std::min(200L, 20L << std::min(polls, 4)));
       if (!idle(step)) return;
       waited += step;
+      stalled += step;
     }
     r_.drained_by = to_string(query_);
   }

@@ -342,6 +342,26 @@ TEST(SendJob, ATinyBufferIsFedWhatItHasRoomFor) {
   EXPECT_EQ(first_difference(plan_in_plotter_units(plan, escb.dialect), run.strokes), std::nullopt) << "the device cut exactly the job";
 }
 
+// A device far slower than the plan's estimate that keeps freeing its buffer is waited for: its
+// ESC.B answers show progress, so hold_timeout counts only time without any.
+TEST(SendJob, ASlowDeviceThatKeepsCuttingIsWaitedForAfterTheLastByte) {
+  const DeviceProfile secabo = load_profile(config("secabo.toml"));
+  SimFaults slow;
+  slow.slowdown = 40;
+  auto cutter = std::make_shared<SimCutter>(secabo, slow);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(secabo);
+  o.hold_timeout = std::chrono::seconds(60);  // longer than any one command takes it
+  o.job_motion_estimate = std::chrono::seconds(1);
+  const EncodedJob job = encode_job(townhouse_plan(secabo), secabo.dialect, secabo.tools);
+  const SendResult r = send_job(t, job, o);
+  ASSERT_TRUE(r.complete()) << r.status.message;
+  EXPECT_GT(cutter->now_s(), 60 + 1) << "it took longer than the estimate and hold_timeout together";
+  EXPECT_EQ(cutter->buffer_used(), 0u) << "done when the device's buffer was empty";
+  EXPECT_EQ(cutter->strokes().size(), job.stroke_end.size()) << "every stroke cut";
+}
+
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
   expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
   // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)
