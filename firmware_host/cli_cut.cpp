@@ -369,23 +369,32 @@ int run_cut(const CutCommands& s) {
     if (sent.bytes_sent == 0) {
       resume = "; nothing was sent: run the same command again";
     } else {
+      // Two cases, two resume points. A cancel whose abort sequence went out leads with the
+      // buffer lost (the abort tells the device to discard it); anything else with the buffer kept.
+      const bool aborted = sent.cancelled && sent.abort_sent && !j.profile.transport.abort.empty();
+      std::string kept;
       if (m < sent.total_strokes) {
-        resume = "; if the device still holds its buffer and goes on cutting, finish with the same command and --resume-from " +
-                 std::to_string(m + 1);
+        kept = "if the device " + std::string(aborted ? "ignored the abort and goes on cutting its buffer" : "still holds its buffer and goes on cutting") +
+               ", finish with the same command and --resume-from " + std::to_string(m + 1);
         if (n > m) {
-          resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
-                    " may have been cut already and are then cut a second time)";
+          kept += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) + " may have been cut already and are then cut a second time)";
         }
       } else {
-        resume = "; if the device still holds its buffer and goes on cutting, it has the whole job";
+        kept = "if the device " + std::string(aborted ? "ignored the abort and goes on cutting its buffer" : "still holds its buffer and goes on cutting") +
+               ", it has the whole job";
       }
-      // After a reset or power cycle the buffer is gone: only what it executed is cut.
+      // After a reset, a power cycle or an honoured abort the buffer is gone: only what it
+      // executed is cut.
       const std::size_t safe = e ? *e + 1 : sent.first_stroke;
+      std::string lost;
       if (safe <= m) {
-        resume += "; if it was reset or power-cycled, or lost its buffer, use --resume-from " + std::to_string(safe) + " (" +
-                  (e ? "" : "what it executed is not known: ") + "strokes " + std::to_string(safe) + ".." + std::to_string(m) +
-                  " may have been cut already)";
+        lost = "if " + std::string(aborted ? "it honoured the abort (discarded its buffer), or was reset or power-cycled"
+                                           : "it was reset or power-cycled, or lost its buffer") +
+               ", use --resume-from " + std::to_string(safe) + " (" + (e ? "" : "what it executed is not known: ") + "strokes " +
+               std::to_string(safe) + ".." + std::to_string(m) + " may have been cut already)";
       }
+      if (aborted && !lost.empty()) resume = "; " + lost + "; " + kept;
+      else resume = "; " + kept + (lost.empty() ? "" : "; " + lost);
     }
     if (sent.cancelled && sent.bytes_sent == 0) {
       std::cerr << "popcut: cancelled on " << transport.describe() << " before any byte of the job was sent: nothing was cut\n";

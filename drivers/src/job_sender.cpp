@@ -593,8 +593,11 @@ class Sender {
     if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
       const TransportStatus keep = r_.status;
       if (ask(DrainQuery::esc_b, "after the cancel") && !query_skipped_) {
-        r_.buffered_bytes = device_buffer() - std::min<std::size_t>(device_buffer(), static_cast<std::size_t>(std::max(0L, last_answer_)));
-        r_.buffer_known = true;
+        // Exact when the device once said its whole buffer was free (so its size is known);
+        // else an upper bound: a device smaller than the profile says holds less.
+        const std::size_t free_now = static_cast<std::size_t>(std::max(0L, last_answer_));
+        r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() - std::min(device_buffer(), free_now));
+        r_.buffer_known = largest_free_ >= device_buffer();
       }
       r_.status = keep;
     }
