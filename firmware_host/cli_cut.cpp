@@ -211,6 +211,9 @@ Target cut_target(const CutCommands& s) {
 
 int run_cut(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
+    if (s.cut->count("--device") > 0 && s.device.empty()) {
+      throw Error(ErrorCode::invalid_input, "", "--device", "is empty: expected sim, file:PATH, serial:/dev/PORT, serial:VID:PID or usb:VID:PID");
+    }
     Target target = cut_target(s);
     if (s.resume_from < 1) throw Error(ErrorCode::invalid_input, "", "--resume-from", "strokes are numbered from 1");
     const Job j = make_job(s.model_path, target.profile_path, static_cast<std::size_t>(s.resume_from));
@@ -275,7 +278,7 @@ int run_cut(const CutCommands& s) {
       g_waiting = true;
       progress.done();
       std::cerr << "popcut: the device holds the line (XOFF or CTS): waiting up to " << j.profile.transport.hold_timeout_ms / 1000
-                << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C again gives up, and the "
+                << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C (or SIGTERM) again gives up, and the "
                    "device may then cut everything its buffer holds\n";
     };
     drivers::SendResult sent;
@@ -450,7 +453,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
 
   s.cut = app.add_subcommand("cut", "Plan, encode and send a job to a cutter: the simulated one (sim) or a file/device node.\n"
-                                    "Writes DIR/job.hpgl (the bytes sent), DIR/report.json and, on sim, DIR/cut.svg.\n"
+                                    "Writes DIR/job.hpgl (the job this run sends, whole; report.json says how much went out), DIR/report.json and, on sim, DIR/cut.svg.\n"
                                     "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
                                     "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
                                     "message names the last stroke the device is known to have executed (E), the last it certainly\n"

@@ -463,6 +463,9 @@ TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
   EXPECT_EQ(run("plan " + model + " --profile " + (dir_ / "none.toml").string() + " -o x.hpgl").code, 2) << "missing profile";
   EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --device serial:/dev/ttyS0").code, 2) << "unsupported device";
   EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --sim-slowdown 0").code, 2) << "slowdown below 1";
+  const Result empty = run("cut " + model + " --out " + dir_.string() + " --profile " + profile("generic-hpgl.toml") + " --device ''");
+  EXPECT_EQ(empty.code, 2) << "an empty --device is not the profile's default: " << empty.err;
+  EXPECT_NE(empty.err.find("--device"), std::string::npos) << empty.err;
   const std::string tiny = file("tiny.toml", "[device]\nname = \"tiny\"\narea_max_x_mm = 5\narea_max_y_mm = 5\n");
   const Result small = run("plan " + model + " --profile " + tiny + " -o " + (dir_ / "t.hpgl").string());
   EXPECT_EQ(small.code, 2) << "a sheet larger than the device is refused";
