@@ -313,7 +313,8 @@ int run_cut(const CutCommands& s) {
                       {"status_queries", sent.status_queries},
                       {"drained_by", sent.drained_by},
                       {"holds", sent.holds},
-                      {"buffer_queries", sent.buffer_queries}};
+                      {"buffer_queries", sent.buffer_queries},
+                      {"device_io_error", sent.device_io_error == 0 ? json(nullptr) : json(sent.device_io_error)}};
     // Knife-down length of the strokes this run sends (all of them unless --resume-from).
     double run_cut_mm = 0;
     for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i) run_cut_mm += path_length_mm(j.plan.strokes[i].points);
@@ -371,6 +372,9 @@ int run_cut(const CutCommands& s) {
     std::string resume;
     if (sent.bytes_sent == 0) {
       resume = "; nothing was sent: run the same command again";
+    } else if (sent.device_io_error != 0) {
+      resume = "; what it cut is not the job, and no --resume-from can repair that: fix the profile (or the line) and cut the "
+               "whole job again on a fresh sheet";
     } else {
       // Two cases, two resume points. A cancel whose abort sequence went out leads with the
       // buffer lost (the abort tells the device to discard it); anything else with the buffer kept.

@@ -74,6 +74,7 @@ class Sender {
       if (!r_.status.ok()) return fail_tail();
       if (!r_.cancelled) {
         drained_ = true;  // the device said it has executed everything (or the estimate passed)
+        if (!check_device_errors()) return fail_tail();
         settle_counts();
         return r_;
       }
@@ -198,8 +199,8 @@ class Sender {
     return *it > r_.bytes_sent ? *it - r_.bytes_sent : n;
   }
 
-  const char* query_bytes(DrainQuery q) const { return q == DrainQuery::esc_b ? "\x1b.B" : "\x1b.O"; }
-  const char* query_name(DrainQuery q) const { return q == DrainQuery::esc_b ? "ESC.B" : "ESC.O"; }
+  const char* query_bytes(DrainQuery q) const { return q == DrainQuery::esc_b ? "\x1b.B" : q == DrainQuery::esc_e ? "\x1b.E" : "\x1b.O"; }
+  const char* query_name(DrainQuery q) const { return q == DrainQuery::esc_b ? "ESC.B" : q == DrainQuery::esc_e ? "ESC.E" : "ESC.O"; }
 
   // Sends a status query without waiting for its answer: when it comes, every job byte written
   // before the query has reached the device (answers come back in order). A line the device
@@ -236,7 +237,7 @@ class Sender {
       largest_free_ = std::max(largest_free_, free_bytes);
       const std::size_t held = device_buffer() - free_bytes;
       executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
-    } else if ((last_answer_ & 8) != 0) {
+    } else if (asked.query == DrainQuery::esc_o && (last_answer_ & 8) != 0) {
       executed_ = std::max(executed_, asked.bytes_before);
     }
   }
@@ -464,6 +465,23 @@ class Sender {
     return true;
   }
 
+  // The device's own word on the line (ESC.E, where the profile says it answers): bytes lost to
+  // a framing error or a full buffer mean it cut something else than the job, which looked sent.
+  bool check_device_errors() {
+    if (!o_.error_query || !t_.answers()) return true;
+    if (!ask(DrainQuery::esc_e, "after the job")) return false;
+    if (query_skipped_ || last_answer_ == 0) return true;
+    const std::string code = std::to_string(last_answer_);
+    r_.device_io_error = static_cast<int>(last_answer_);
+    const char* meaning = last_answer_ == 16   ? "its input buffer overflowed: bytes were lost, so the cut is wrong; the device does not do the "
+                                                 "flow control the profile says (flow_control, buffer_bytes)"
+                          : last_answer_ == 15 ? "framing, parity or overrun errors on the line: bytes were garbled; check the baud rate, "
+                                                 "data bits, parity and stop bits of the profile against the device, and the cable"
+                                               : "an HP-GL device-control error (10-14): a query or set-up it did not take";
+    r_.status = {TransportError::io, 0, "every byte went out, but the device reports I/O error " + code + " (ESC.E): " + meaning};
+    return false;
+  }
+
   // Every byte is out: wait until the device has executed them, by query or by estimate.
   void wait_until_drained() {
     if (!t_.answers() && o_.job_motion_estimate.count() == 0) {
@@ -657,6 +675,7 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.timeout = std::chrono::milliseconds(profile.transport.timeout_ms);
   o.hold_timeout = std::chrono::milliseconds(profile.transport.hold_timeout_ms);
   o.drain_query = profile.transport.drain_query;
+  o.error_query = profile.transport.error_query;
   o.baud = profile.transport.baud;
   const HpglDialect& d = profile.dialect;
   o.abort_bytes = profile.transport.abort + "PU" + d.terminator + (d.newline ? "\n" : "");

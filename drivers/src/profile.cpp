@@ -62,7 +62,7 @@ std::string hpgl_text_problem(const std::string& text) {
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
 constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
 constexpr std::array<const char*, 5> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b", "dtr_dsr"};
-constexpr std::array<const char*, 3> kDrainNames = {"none", "esc_b", "esc_o"};
+constexpr std::array<const char*, 4> kDrainNames = {"none", "esc_b", "esc_o", "esc_e"};
 
 // "vvvv:pppp" in hex, as lsusb prints USB ids.
 bool usb_id_text(const std::string& s) {
@@ -169,7 +169,8 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   p.transport.parity = static_cast<Parity>(t.choice("parity", 0, std::array<const char*, 3>{"none", "odd", "even"}));
   p.transport.stop_bits = t.integer("stop_bits", 1, 1, 2);
   p.transport.drain_query = static_cast<DrainQuery>(
-      t.choice("drain_query", p.transport.flow == FlowControl::esc_b ? 1 : 0, kDrainNames));
+      t.choice("drain_query", p.transport.flow == FlowControl::esc_b ? 1 : 0, std::array<const char*, 3>{"none", "esc_b", "esc_o"}));
+  p.transport.error_query = t.choice("error_query", 0, std::array<const char*, 2>{"none", "esc_e"}) == 1;
   p.transport.abort = t.text("abort", "", 64);
   for (char c : p.transport.abort) {
     // ESC plus printable HP-GL: anything else is a typo that a device would take as data.

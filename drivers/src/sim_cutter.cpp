@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <ostream>
+#include <utility>
 
 namespace popcut::drivers {
 namespace {
@@ -120,7 +121,10 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
       // Byte by byte, each command queued as it completes, so the fill level is exact.
       for (char c : slice) {
         if (c == '\x1b' || reader_.in_device_control() || buffer_used() < cap) take(std::string_view(&c, 1));
-        else ++report_.overflow_bytes;
+        else {
+          ++report_.overflow_bytes;
+          io_error_ = 16;  // HP's ESC.E code: the input buffer has overflowed
+        }
       }
     }
     r.bytes += n;
@@ -174,7 +178,7 @@ void SimCutter::answer(const HpglCommand& c) {
   const std::string& n = c.name;
   if (n == "ESC.B") queue_reply(std::to_string(profile_.transport.buffer_bytes - std::min(profile_.transport.buffer_bytes, buffer_used())) + "\r");
   else if (n == "ESC.O") queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r");
-  else if (n == "ESC.E") queue_reply(std::string(report_.errors.empty() ? "0" : "1") + "\r");
+  else if (n == "ESC.E") queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r");  // read clears it, as on HP
   else if (n == "ESC.A") queue_reply("popcut-sim,0\r");
   else if (n == "ESC.K") {  // abort: drop what is buffered
     for (const HpglCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;

@@ -362,6 +362,36 @@ TEST(SendJob, ASlowDeviceThatKeepsCuttingIsWaitedForAfterTheLastByte) {
   EXPECT_EQ(cutter->strokes().size(), job.stroke_end.size()) << "every stroke cut";
 }
 
+// A profile whose flow control the device does not do: the device never says XOFF, its buffer
+// overflows and it cuts something else. Every byte went out and the drain succeeded, so only the
+// device's own error report (ESC.E 16) can tell; popcut must not call that job done.
+TEST(SendJob, ADeviceThatLostBytesToOverflowFailsTheJob) {
+  const DeviceProfile host = load_profile(config("sim.toml"));  // XON/XOFF, asks ESC.E
+  ASSERT_TRUE(host.transport.error_query) << "sim.toml asks ESC.E";
+  DeviceProfile device = host;
+  device.transport.flow = FlowControl::esc_b;  // paced by ESC.B: it never says XOFF
+  device.transport.buffer_bytes = 256;
+  SimFaults slow;
+  slow.slowdown = 5;
+  auto cutter = std::make_shared<SimCutter>(device, slow);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  const SendResult r = send_job(t, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(host));
+  ASSERT_GT(cutter->report().overflow_bytes, 0u) << "the mismatch lost bytes";
+  EXPECT_FALSE(r.complete()) << "a job the device did not get whole is not done";
+  EXPECT_NE(r.status.message.find("I/O error 16 (ESC.E): its input buffer overflowed"), std::string::npos) << r.status.message;
+
+  // The same device with a matching profile reports no error, and the job is done.
+  DeviceProfile matching = device;
+  matching.transport.drain_query = DrainQuery::esc_b;
+  auto fine = std::make_shared<SimCutter>(device, slow);
+  SimTransport t2(fine);
+  ASSERT_TRUE(t2.open().ok());
+  const SendResult ok = send_job(t2, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
+  EXPECT_TRUE(ok.complete()) << ok.status.message;
+  EXPECT_EQ(fine->report().overflow_bytes, 0u);
+}
+
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
   expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
   // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)
@@ -418,6 +448,7 @@ class QueuedLine final : public Transport {
 TEST(SendJob, AJobThatDrainedCountsEveryStrokeReceivedWhateverThePortHoldsBack) {
   DeviceProfile p = load_profile(config("sim.toml"));
   p.transport.drain_query = DrainQuery::none;
+  p.transport.error_query = false;  // a device that cannot be asked anything
   p.transport.flow = FlowControl::none;
   p.transport.buffer_bytes = 1 << 20;
   const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
@@ -501,6 +532,7 @@ TEST(SendJob, SilenceOrGarbageInsteadOfAnAnswerStopsBeforeTheJob) {
   const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
   SendOptions o = send_options(p);
   o.timeout = std::chrono::milliseconds(200);
+  o.error_query = false;  // these doubles answer every query alike ("8" would be an ESC.E error)
   Answering silent("");
   const SendResult r = send_job(silent, job, o);
   EXPECT_EQ(r.status.error, TransportError::timeout) << r.status.message;
@@ -607,6 +639,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
       {"data_bits = 9", "out of range"},
       {"flow_control = \"cts\"", "is not one of"},
       {"drain_query = \"esc_x\"", "is not one of"},
+      {"drain_query = \"esc_e\"", "is not one of"},  // ESC.E says nothing of the buffer
+      {"error_query = \"esc_o\"", "is not one of"},
       {"usb_ids = [\"0b4d-110a\"]", "is not a USB id"},
       {"adapter_fifo_bytes = 0", "out of range"},
       {"adapter_fifo_bytes = 2000000", "out of range"},
@@ -626,6 +660,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
   EXPECT_EQ(ok.transport.usb_ids, std::vector<std::string>{"0b4d:110a"});
   EXPECT_EQ(ok.transport.adapter_fifo_bytes, 4096u) << "unknown adapters: a margin above every FIFO checked";
   EXPECT_EQ(parse_profile(base + "adapter_fifo_bytes = 640\n", "t.toml").transport.adapter_fifo_bytes, 640u);
+  EXPECT_FALSE(ok.transport.error_query) << "ESC.E is asked only where the profile says the device answers it";
+  EXPECT_TRUE(parse_profile(base + "error_query = \"esc_e\"\n", "t.toml").transport.error_query);
 }
 
 }  // namespace

@@ -206,6 +206,26 @@ TEST_F(SerialPty, EscBPacingFollowsTheDevicesAnswersNotTheProfilesSize) {
   EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
 }
 
+// The profile says XON/XOFF; the plotter is set up for ESC.B pacing and never says XOFF, so its
+// buffer overflows while every write of popcut's succeeds. Its ESC.E answer is the only witness:
+// exit 3, and advice to cut again rather than resume.
+TEST_F(SerialPty, AProfileWhoseFlowControlTheDeviceDoesNotDoFailsTheJob) {
+  std::string p = slurp(profile_);
+  replace(p, "flow_control = \"xon_xoff\"", "flow_control = \"esc_b\"");
+  const std::string device_profile = (dir_ / "device-escb.toml").string();
+  std::ofstream(device_profile) << p;
+  std::string port;
+  auto plot = plotter("mismatch", {"--profile", device_profile, "--slowdown", "0.5"}, port);
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "mismatch.err");
+  const json pr = plotter_report("mismatch");
+  ASSERT_GT(pr["overflow_bytes"].get<int>(), 0) << "the plotter lost bytes";
+  EXPECT_EQ(r.code, 3) << "not a job that got through: " << r.err;
+  EXPECT_NE(r.err.find("I/O error 16 (ESC.E)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cut the whole job again"), std::string::npos) << "no resume point repairs lost bytes: " << r.err;
+  EXPECT_EQ(r.report["sent"]["device_io_error"], 16) << r.report.dump();
+}
+
 TEST_F(SerialPty, ADeviceThatNeverHoldsTheLineCountsNoHolds) {
   std::string port;
   auto plot = plotter("roomy", {"--buffer", "65536", "--slowdown", "0.05"}, port);  // the whole job fits: never XOFF

@@ -40,6 +40,9 @@ struct SendOptions {
   // status_every_bytes while sending, and counts as received only what an answer confirms.
   DrainQuery drain_query = DrainQuery::none;
   std::size_t status_every_bytes = 0;  // 0: a quarter of buffer_bytes
+  // After the drain, ask ESC.E: a device reporting an I/O error (15: framing, parity, overrun;
+  // 16: input buffer overflow) lost bytes, so a job that seemed to get through did not.
+  bool error_query = false;
   int baud = 0;                         // named in the "did not answer" message of a serial line
   // With no query: how long the whole job's motion takes (the plan's estimate). The sender waits
   // the share of it that a full device buffer holds before calling the job done.
@@ -102,7 +105,10 @@ struct SendResult {
   // NAKs), counted once per hold however long it lasts. ESC.B waits count in buffer_queries.
   int holds = 0;
   int buffer_queries = 0;  // ESC.B round trips to pace the job (ESC.B flow control)
-  int status_queries = 0;  // every ESC.B/ESC.O sent: before the job, pacing, confirmations, drain
+  int status_queries = 0;  // every ESC.B/ESC.O/ESC.E sent: before the job, pacing, confirmations, drain, errors
+  // ESC.E's answer after the job, when nonzero (the status then says what it means): the device
+  // lost or garbled bytes, so what it cut is not the job and no resume point can repair it.
+  int device_io_error = 0;
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
   bool complete() const { return status.ok() && !cancelled; }
 };

@@ -16,8 +16,9 @@ namespace popcut::drivers {
 enum class FlowControl { none, xon_xoff, rts_cts, esc_b, dtr_dsr };  // esc_b: ask ESC.B for free space
 const char* to_string(FlowControl flow);
 
-// How to ask a device whether it has executed everything (HP-GL device-control queries).
-enum class DrainQuery { none, esc_b, esc_o };  // esc_b: whole buffer free; esc_o: status bit 3
+// How to ask a device whether it has executed everything (HP-GL device-control queries). esc_e
+// is not a drain query (a profile's drain_query cannot name it): the sender's I/O-error check.
+enum class DrainQuery { none, esc_b, esc_o, esc_e };  // esc_b: whole buffer free; esc_o: status bit 3
 const char* to_string(DrainQuery query);
 
 enum class Parity { none, odd, even };
@@ -30,6 +31,9 @@ struct TransportDefaults {
   int stop_bits = 1;
   FlowControl flow = FlowControl::none;
   DrainQuery drain_query = DrainQuery::none;  // default: esc_b when flow is esc_b
+  // error_query = "esc_e": after the job, ask the device's I/O error (ESC.E); 15 (framing, parity,
+  // overrun) or 16 (input buffer overflow) means bytes were lost and the cut is wrong.
+  bool error_query = false;
   // Device-specific bytes sent on cancel before the knife goes up (e.g. ESC.K: discard the buffer).
   std::string abort;
   // USB ids ("vvvv:pppp", lower-case hex) of the devices this profile is for.

@@ -109,6 +109,7 @@ class SimCutter {
   double now_s_ = 0;
   std::string replies_;
   bool xoff_ = false;
+  int io_error_ = 0;  // what ESC.E answers: 16 after an overflow, until asked
   // Device state.
   bool pen_down_ = false;
   bool relative_ = false;
