@@ -345,7 +345,8 @@ class Sender {
     // In slices, so that a cancel before the first job byte (a device that does not answer
     // yet) is noticed at once rather than after the whole timeout. Silence is counted on the
     // transport's clock (the simulator's runs faster than real time), chatter on the real one.
-    std::chrono::milliseconds silent{0};
+    std::chrono::milliseconds silent{0}, held{0};
+    auto until = deadline;
     while (pending_.size() > keep) {
       if (r_.bytes_sent == 0 && cancel_requested()) {
         r_.cancelled = true;
@@ -354,9 +355,18 @@ class Sender {
       const std::size_t before = bytes_heard_;
       const auto slice = std::min(left, kSlice);
       if (!take_replies(slice)) return false;
+      if (held < o_.hold_timeout && t_.holding_line()) {
+        // The query waits behind a line the device holds (it is cutting a full buffer): not
+        // silence yet. Up to hold_timeout, as for any byte the device holds back.
+        held += slice;
+        silent = std::chrono::milliseconds(0);
+        until += slice;
+        left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
+        continue;
+      }
       silent = bytes_heard_ == before ? silent + slice : std::chrono::milliseconds(0);
       if (silent >= o_.timeout) break;  // silence for the whole timeout
-      left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
       if (left.count() <= 0) break;  // chatter, but no answer
     }
     if (pending_.size() <= keep) return true;

@@ -218,6 +218,11 @@ class SerialTransport final : public Transport {
   }
   bool backpressure() const override { return settings_.flow != FlowControl::none && settings_.flow != FlowControl::esc_b; }
   bool os_flow_control() const override { return settings_.flow == FlowControl::xon_xoff; }
+  bool holding_line() override {
+    if (!open_) return false;
+    const sp_return queued = sp_output_waiting(port_);
+    return queued > 0 && Clock::now() >= line_free_at_ + kHoldSeen;  // queued past its line time
+  }
 
  private:
   TransportStatus fail(TransportStatus st) {

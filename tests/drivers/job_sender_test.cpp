@@ -527,6 +527,57 @@ class Answering final : public Transport {
   std::string answer_, replies_;
 };
 
+// A serial line whose device holds XOFF for a while after each query (cutting a full buffer): the
+// query waits in the OS queue with the job's bytes, and its answer comes only after XON.
+class HeldAnswers final : public Transport {
+ public:
+  HeldAnswers(int hold_reads, bool shows_hold) : hold_reads_(hold_reads), shows_hold_(shows_hold) {}
+  TransportStatus open() override { return {}; }
+  IoResult write(std::span<const std::uint8_t> d, std::chrono::milliseconds) override {
+    for (const std::uint8_t b : d) {
+      if (b == 0x1b) held_.push_back(hold_reads_);
+    }
+    return {d.size(), {}};
+  }
+  IoResult read(std::span<std::uint8_t> b, std::chrono::milliseconds) override {
+    for (int& left : held_) --left;
+    while (!held_.empty() && held_.front() <= 0) {
+      held_.erase(held_.begin());
+      replies_ += "8\r";
+    }
+    const std::size_t n = std::min(b.size(), replies_.size());
+    std::copy_n(replies_.begin(), n, b.begin());
+    replies_.erase(0, n);
+    if (n == 0) return {0, {TransportError::timeout, ETIMEDOUT, "silence"}};
+    return {n, {}};
+  }
+  bool holding_line() override { return shows_hold_ && !held_.empty(); }
+  TransportStatus drain(std::chrono::milliseconds) override { return {}; }
+  void close() override {}
+  std::string describe() const override { return "serial:/dev/held"; }
+
+ private:
+  int hold_reads_;
+  bool shows_hold_;
+  std::vector<int> held_;
+  std::string replies_;
+};
+
+TEST(SendJob, AQueryBehindAHeldLineIsWaitedForUpToTheHoldTimeout) {
+  const DeviceProfile p = load_profile(config("sim.toml"));
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  SendOptions o = send_options(p);
+  o.timeout = std::chrono::milliseconds(100);  // a few reads' worth
+  o.hold_timeout = std::chrono::seconds(60);
+  o.error_query = false;
+  HeldAnswers held(40, true);
+  const SendResult r = send_job(held, job, o);
+  EXPECT_TRUE(r.complete()) << "answers held back by XOFF are not silence: " << r.status.message;
+  HeldAnswers unseen(40, false);
+  const SendResult u = send_job(unseen, job, o);
+  EXPECT_FALSE(u.complete()) << "where no hold can be seen, the timeout stands";
+}
+
 TEST(SendJob, SilenceOrGarbageInsteadOfAnAnswerStopsBeforeTheJob) {
   const DeviceProfile p = load_profile(config("sim.toml"));
   const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);

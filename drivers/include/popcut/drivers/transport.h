@@ -58,6 +58,10 @@ class Transport {
   // byte for a while, a queue that stops draining past its line time), once per hold. nullopt:
   // the transport does not watch, and the sender counts write slices that made no progress.
   virtual std::optional<int> holds() const { return std::nullopt; }
+  // Whether the device holds the line right now (XOFF or CTS in the OS: written bytes queued and
+  // not moving). A status query behind them has not reached the device, so no answer is no sign
+  // that it stopped. False where that cannot be seen (a pseudo-terminal's queue reads empty).
+  virtual bool holding_line() { return false; }
   // Drops what was written and still waits in popcut's side of the line (a serial port's OS
   // queue), when a cancel gives up on a device that holds the line: nothing stale reaches it
   // later, and closing the port does not wait for it.
