@@ -7,6 +7,7 @@
 #include <poll.h>
 #include <pty.h>
 #include <signal.h>
+#include <sys/inotify.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -32,6 +33,52 @@ using nlohmann::json;
 
 std::atomic<bool> g_stop{false};
 extern "C" void on_stop(int) { g_stop = true; }
+
+// Tells when a host opens the port. The pty's master reports a hang-up (POLLHUP, and EIO once
+// the bytes written are read) while no fd of the slave is open, and so from the start when none
+// ever was: a plotter not holding the slave cannot tell "nobody opened it yet" from "a host
+// opened and closed it between two polls". So the plotter holds the slave until a host has
+// opened it, and learns of that open from inotify: the VFS reports IN_OPEN on the slave's inode
+// (/dev/pts/N, also opened through --link) once an open has succeeded, whatever the host does
+// next. Then the plotter lets go of the slave, and the kernel's own count of open fds ends the
+// session when the host's last one closes: however soon (closed already, the hang-up comes as
+// the plotter lets go), with any bytes written still read first, and however many fds or child
+// processes the host has. Not usable: TIOCPKT (reports flow control and flushes, a termios change
+// only in EXTPROC mode; a host may open and close without changing anything), a first byte (a
+// host may write none).
+class OpenWatch {
+ public:
+  explicit OpenWatch(const std::string& path) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
+    if (fd_ >= 0 && ::inotify_add_watch(fd_, path.c_str(), IN_OPEN) >= 0) return;
+    error_ = std::strerror(errno);
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+  ~OpenWatch() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  OpenWatch(const OpenWatch&) = delete;
+  OpenWatch& operator=(const OpenWatch&) = delete;
+  // Why opens go unnoticed (empty when watching).
+  const std::string& error() const { return error_; }
+  // Whether the port was opened since the last call.
+  bool opened() {
+    alignas(inotify_event) char events[4096];
+    bool any = false;
+    for (ssize_t n; fd_ >= 0 && (n = ::read(fd_, events, sizeof events)) > 0;) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const inotify_event*>(events + at);
+        any = any || (e->mask & IN_OPEN) != 0;
+        at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+      }
+    }
+    return any;
+  }
+
+ private:
+  int fd_;
+  std::string error_;
+};
 
 json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, bool host_ixon, const std::string& ended) {
   const drivers::SimReport& r = c.report();
@@ -89,6 +136,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     ::fcntl(master, F_SETFD, FD_CLOEXEC);
     ::fcntl(slave, F_SETFD, FD_CLOEXEC);
     const std::string path = ::ttyname(slave);
+    OpenWatch opens(path);  // before anyone can know the port
     if (!s.link.empty()) {
       std::error_code ec;
       std::filesystem::remove(s.link, ec);
@@ -99,6 +147,10 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     std::cerr << "sim-plotter: " << profile.name << " on " << path << " at " << profile.transport.baud << " baud, "
               << profile.transport.buffer_bytes << "-byte buffer, flow " << drivers::to_string(profile.transport.flow)
               << "; stops when the host closes the port (or on Ctrl-C)\n";
+    if (!opens.error().empty()) {
+      std::cerr << "sim-plotter: warning: cannot watch " << path << " for a host opening it (inotify: " << opens.error()
+                << "); a host that closes the port without writing a byte is not noticed: end it with Ctrl-C\n";
+    }
 
     struct sigaction sa {};
     sa.sa_handler = on_stop;
@@ -116,8 +168,15 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     int host_baud = 0;
     std::string ended = "stopped";
     bool seen_host = false;
+    // A host has opened the port: from now on its closing it (the last fd of the slave) ends the session.
+    const auto host_arrived = [&] {
+      seen_host = true;
+      ::close(slave);
+      slave = -1;
+    };
     std::uint8_t buf[4096];
     while (!g_stop) {
+      if (!seen_host && opens.opened()) host_arrived();
       const double t = now_s();
       // Replies first: XOFF must not wait behind anything.
       const drivers::IoResult rep = cutter.reply(buf, sizeof buf, 0);
@@ -173,11 +232,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         cutter.advance(std::max(t, cutter.now_s()));
         continue;
       }
-      if (!seen_host) {
-        seen_host = true;
-        ::close(slave);  // from now on the host closing the port ends the session
-        slave = -1;
-      }
+      if (!seen_host) host_arrived();  // a byte shows it too, should opens go unnoticed
       if (!host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
@@ -216,7 +271,8 @@ void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app = app.add_subcommand("sim-plotter",
                              "Run the simulated cutter on the far side of a pseudo-terminal, in real time: prints the port\n"
                              "(e.g. /dev/pts/3) on the first line, then serves one session; point `popcut cut --device\n"
-                             "serial:PORT` at it. Writes what it cut on exit (--report JSON, --svg).");
+                             "serial:PORT` at it. The session ends when the host closes the port (whether it wrote or\n"
+                             "not) or on Ctrl-C; then it writes what it cut (--report JSON, --svg) and exits.");
   s.app->add_option("--profile", s.profile_path, "Device profile it behaves like (default: configs/devices/sim.toml)");
   s.app->add_option("--baud", s.baud, "Line rate (default: the profile's); a host at another rate sends garbage")
       ->check(CLI::Range(300, 4000000));

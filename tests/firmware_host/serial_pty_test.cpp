@@ -4,11 +4,13 @@
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/wait.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -149,6 +151,18 @@ class SerialPty : public ::testing::Test {
     return out;
   }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
+  // Opens the port as a raw host at the simulator's 115200 baud (a pty starts at 38400 with line
+  // editing: the plotter would hear garbage), for tests that write bytes themselves.
+  static int open_host(const std::string& port) {
+    const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+    if (fd < 0) return fd;
+    termios tio{};
+    ::tcgetattr(fd, &tio);
+    ::cfmakeraw(&tio);
+    ::cfsetspeed(&tio, B115200);
+    ::tcsetattr(fd, TCSANOW, &tio);
+    return fd;
+  }
   static long first_difference_at(const std::vector<popcut::PlotterPath>& a, const std::vector<popcut::PlotterPath>& b) {
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
       if (a[i] != b[i]) return static_cast<long>(i);
@@ -351,6 +365,40 @@ TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAsALineProblem) {
   EXPECT_NE(mute.err.find("check the cable, the port and the baud rate (the profile says 115200 baud)"), std::string::npos) << mute.err;
   EXPECT_EQ(mute.report["sent"]["bytes"], 0) << "no byte of the job went out";
   ASSERT_EQ(plot->wait(), 0);
+}
+
+// A host that opens the port and closes it without a byte (a terminal program, a probe, a host
+// failing before it sends) ends the session: the plotter holds the pty's slave until a host opens
+// it, so only noticing the open lets the hang-up through.
+TEST_F(SerialPty, AHostThatClosesThePortWithoutWritingEndsTheSession) {
+  std::string port;
+  auto plot = plotter("silent", {}, port);
+  const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0) << port;
+  ::close(fd);  // at once: a quick open and close must not be missed
+  ASSERT_EQ(plot->wait(), 0) << "the plotter ended after the host closed the port: " << slurp(dir_ / "silent.err");
+  const json pr = plotter_report("silent");
+  EXPECT_EQ(pr["ended"], "host closed the port") << pr.dump();
+  EXPECT_EQ(pr["bytes_received"], 0) << "nothing was written";
+  EXPECT_NE(slurp(dir_ / "silent.err").find("sim-plotter: host closed the port"), std::string::npos) << slurp(dir_ / "silent.err");
+}
+
+// A host that opens the port and writes only later keeps the session: the open alone ends nothing.
+TEST_F(SerialPty, AHostThatPausesAfterOpeningIsStillServed) {
+  std::string port;
+  auto plot = plotter("pause", {}, port);
+  const int fd = open_host(port);
+  ASSERT_GE(fd, 0) << port;
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // many polls of the plotter's loop
+  const std::string job = "IN;PU0,0;PD400,0,400,400;PU;";
+  ASSERT_EQ(::write(fd, job.data(), job.size()), static_cast<ssize_t>(job.size()))
+      << "the port is still there after the pause: " << std::strerror(errno);
+  ::close(fd);
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "pause.err");
+  const json pr = plotter_report("pause");
+  EXPECT_EQ(pr["ended"], "host closed the port") << pr.dump();
+  EXPECT_EQ(pr["bytes_received"], job.size()) << "every byte written after the pause arrived: " << pr.dump();
+  EXPECT_EQ(pr["strokes"].size(), 1u) << "and was cut: " << pr.dump();
 }
 
 // A device that stops mid-job cuts nothing more of its buffer: popcut names E (known executed)
