@@ -88,9 +88,7 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
     for (const auto& p : s.points_pu) pts.push_back({p[0], p[1]});
     strokes.push_back({{"pen", s.pen}, {"force", s.force}, {"speed_cm_s", s.speed_cm_s}, {"points_pu", pts}});
   }
-  json unknown = json::array();
-  for (const auto& u : r.unknown) unknown.push_back({{"offset", u.offset}, {"command", u.command}});
-  return {{"format", "popcut.sim-plotter.v1"},
+  return {{"format", "popcut.sim-plotter.v2"},
           {"port", path},
           {"ended", ended},
           {"device_baud", c.profile().transport.baud},
@@ -107,9 +105,18 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
           {"knife_down_at_end", c.knife_down()},
           {"cut_mm", r.knife_down_mm},
           {"motion_time_s", r.motion_time_s},
-          {"unknown_commands", unknown},
-          {"errors", r.errors.size()},
+          {"unknown_commands", sim_issues_json(r.unknown)},
+          {"errors", sim_issues_json(r.errors)},
           {"strokes", strokes}};
+}
+
+// "; 2 commands in error (first: PD at byte 9: odd number of coordinates)" for the summary line.
+std::string issues_summary(const std::vector<drivers::SimIssue>& issues, const std::string& what) {
+  if (issues.empty()) return "";
+  const drivers::SimIssue& first = issues.front();
+  return "; " + std::to_string(issues.size()) + " " + what + (issues.size() == 1 ? "" : "s") + " (" +
+         (issues.size() == 1 ? "" : "first: ") + json(first.command).dump() + " at byte " + std::to_string(first.offset) + ": " +
+         first.message + ")";
 }
 
 int run_sim_plotter(const SimPlotterCommand& s) {
@@ -259,13 +266,24 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     const json report = report_json(cutter, path, host_baud, host_ixon, ended);
     if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (!s.svg_path.empty()) write_cli_output(s.svg_path, [&](std::ostream& o) { cutter.write_svg(o); });
-    std::cerr << "sim-plotter: " << ended << "; received " << cutter.report().bytes_received << " bytes, cut "
-              << cutter.strokes().size() << " strokes, " << cutter.report().overflow_bytes << " bytes lost to overflow\n";
+    const drivers::SimReport& r = cutter.report();
+    std::string issues = issues_summary(r.errors, "malformed command") + issues_summary(r.unknown, "unknown command");
+    if (r.errors.size() > 1 || r.unknown.size() > 1) {  // the line shows the first of each kind
+      issues += s.report_path.empty() ? " (--report FILE lists them all)" : " (" + s.report_path + " lists them all)";
+    }
+    std::cerr << "sim-plotter: " << ended << "; received " << r.bytes_received << " bytes, cut " << cutter.strokes().size()
+              << " strokes, " << r.overflow_bytes << " bytes lost to overflow" << issues << "\n";
     return static_cast<int>(kOk);
   });
 }
 
 }  // namespace
+
+json sim_issues_json(const std::vector<drivers::SimIssue>& issues) {
+  json out = json::array();
+  for (const drivers::SimIssue& i : issues) out.push_back({{"offset", i.offset}, {"command", i.command}, {"message", i.message}});
+  return out;
+}
 
 void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app = app.add_subcommand("sim-plotter",
@@ -282,7 +300,7 @@ void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes")->check(finite_range(0, 1e12));
   s.app->add_option("--stop-after", s.stop_after, "Stop answering (and cutting) after N bytes")->check(finite_range(0, 1e12));
   s.app->add_option("--link", s.link, "Also make PATH a symlink to the port while running");
-  s.app->add_option("--report", s.report_path, "Write what it received and cut as JSON (popcut.sim-plotter.v1)");
+  s.app->add_option("--report", s.report_path, "Write what it received and cut as JSON (popcut.sim-plotter.v2, docs/formats.md)");
   s.app->add_option("--svg", s.svg_path, "Write what it cut as SVG");
 }
 

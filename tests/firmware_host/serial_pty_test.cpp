@@ -401,6 +401,34 @@ TEST_F(SerialPty, AHostThatPausesAfterOpeningIsStillServed) {
   EXPECT_EQ(pr["strokes"].size(), 1u) << "and was cut: " << pr.dump();
 }
 
+// Bytes from a host that is not popcut: the report names each malformed and unknown command with
+// its byte offset and what was wrong, and the summary line on stderr mentions them.
+TEST_F(SerialPty, MalformedAndUnknownCommandsAreListedWithTheirOffsets) {
+  std::string port;
+  auto plot = plotter("bad", {}, port);
+  const int fd = open_host(port);
+  ASSERT_GE(fd, 0) << port;
+  //                       0  3     9           21          32 35
+  const std::string job = "IN;PU0,0;PD400,0,400;PD1..2,5,7;ZZ;PU;";
+  ASSERT_EQ(::write(fd, job.data(), job.size()), static_cast<ssize_t>(job.size())) << std::strerror(errno);
+  ::close(fd);
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "bad.err");
+  const json pr = plotter_report("bad");
+  EXPECT_EQ(pr["format"], "popcut.sim-plotter.v2") << "errors became a list: a new version";
+  EXPECT_EQ(pr["bytes_received"], job.size()) << pr.dump();
+  const json want_errors = json::array({{{"offset", 9}, {"command", "PD"}, {"message", "odd number of coordinates"}},
+                                        {{"offset", 21}, {"command", "PD"}, {"message", "malformed parameters"}}});
+  EXPECT_EQ(pr["errors"], want_errors) << "each malformed command with its offset: " << pr["errors"].dump();
+  const json want_unknown = json::array({{{"offset", 32}, {"command", "ZZ"}, {"message", "unknown command"}}});
+  EXPECT_EQ(pr["unknown_commands"], want_unknown) << pr["unknown_commands"].dump();
+  const std::string err = slurp(dir_ / "bad.err");
+  EXPECT_NE(err.find("; 2 malformed commands (first: \"PD\" at byte 9: odd number of coordinates); 1 unknown command (\"ZZ\" at byte "
+                     "32: unknown command) (" +
+                     (dir_ / "bad.json").string() + " lists them all)"),
+            std::string::npos)
+      << "the summary line names them: " << err;
+}
+
 // A device that stops mid-job cuts nothing more of its buffer: popcut names E (known executed)
 // <= M (certainly received) <= N (written) and both resume points; after a power cycle (a fresh
 // plotter) the advised --resume-from E+1 completes the card with no stroke missing.
