@@ -146,6 +146,11 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     OpenWatch opens(path);  // before anyone can know the port
     if (!s.link.empty()) {
       std::error_code ec;
+      // A stale link from an earlier run is replaced; anything else there is the user's.
+      const std::filesystem::file_status there = std::filesystem::symlink_status(s.link, ec);
+      if (std::filesystem::exists(there) && !std::filesystem::is_symlink(there)) {
+        throw Error(ErrorCode::invalid_input, s.link, "--link", "exists and is not a symlink: not replacing it");
+      }
       std::filesystem::remove(s.link, ec);
       std::filesystem::create_symlink(path, s.link, ec);
       if (ec) throw Error(ErrorCode::io, s.link, "output", "cannot create the link: " + ec.message());
@@ -289,19 +294,44 @@ void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app = app.add_subcommand("sim-plotter",
                              "Run the simulated cutter on the far side of a pseudo-terminal, in real time: prints the port\n"
                              "(e.g. /dev/pts/3) on the first line, then serves one session; point `popcut cut --device\n"
-                             "serial:PORT` at it. The session ends when the host closes the port (whether it wrote or\n"
-                             "not) or on Ctrl-C; then it writes what it cut (--report JSON, --svg) and exits.");
-  s.app->add_option("--profile", s.profile_path, "Device profile it behaves like (default: configs/devices/sim.toml)");
-  s.app->add_option("--baud", s.baud, "Line rate (default: the profile's); a host at another rate sends garbage")
+                             "serial:PORT` at it (under the test shim, docs/transports.md). It waits for a host to open the\n"
+                             "port; the session ends when the host closes it (whether it wrote or not) or on Ctrl-C, and it\n"
+                             "then writes what it cut (--report, --svg), prints a summary line on stderr and exits.\n"
+                             "One session per process: start one per job.\n"
+                             "Exit 0: the session ended. Exit 2: a bad option or profile. Exit 3: no pseudo-terminal, link\n"
+                             "or output file could be made.");
+  s.app->add_option("--profile", s.profile_path,
+                    "Device profile (TOML) it behaves like: line rate, buffer, flow control, answers, kinematics\n"
+                    "(default: devices/sim.toml from popcut's configs: 115200 baud, 1024 bytes, XON/XOFF, answers ESC.O)")
+      ->type_name("FILE");
+  s.app->add_option("--baud", s.baud,
+                    "Line rate in baud (bits/s; default: the profile's); bytes from a host at another rate arrive\n"
+                    "garbled, as on a UART")
       ->check(CLI::Range(300, 4000000));
-  s.app->add_option("--buffer", s.buffer_bytes, "Input buffer in bytes (default: the profile's)")->check(CLI::Range(64, 1 << 26));
-  s.app->add_option("--slowdown", s.slowdown, "Motion takes this many times longer (below 1: faster than the profile)")
+  s.app->add_option("--buffer", s.buffer_bytes,
+                    "Input buffer in bytes (default: the profile's buffer_bytes); with XON/XOFF it says XOFF at 3/4\n"
+                    "full and XON at 1/4")
+      ->check(CLI::Range(64, 1 << 26));
+  s.app->add_option("--slowdown", s.slowdown,
+                    "Factor on the time every motion takes (default 1: the profile's kinematics; 2: half as fast;\n"
+                    "0.1: ten times faster)")
       ->check(finite_range(0.0001, 1000.0));
-  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes")->check(finite_range(0, 1e12));
-  s.app->add_option("--stop-after", s.stop_after, "Stop answering (and cutting) after N bytes")->check(finite_range(0, 1e12));
-  s.app->add_option("--link", s.link, "Also make PATH a symlink to the port while running");
-  s.app->add_option("--report", s.report_path, "Write what it received and cut as JSON (popcut.sim-plotter.v2, docs/formats.md)");
-  s.app->add_option("--svg", s.svg_path, "Write what it cut as SVG");
+  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes, as a pulled cable (default: never)")
+      ->type_name("N")
+      ->check(finite_range(0, 1e12));
+  s.app->add_option("--stop-after", s.stop_after,
+                    "After receiving N bytes, stop answering and cutting, as a paused or stuck device (default: never)")
+      ->type_name("N")
+      ->check(finite_range(0, 1e12));
+  s.app->add_option("--link", s.link,
+                    "Also make PATH a symlink to the port, a fixed name for scripts (--device serial:PATH); an old\n"
+                    "link there is replaced, anything else refused; removed on exit")
+      ->type_name("PATH");
+  s.app->add_option("--report", s.report_path,
+                    "When the session ends, write what it received and cut as JSON (popcut.sim-plotter.v2,\n"
+                    "docs/formats.md): bytes, overflow, XOFFs, malformed and unknown commands, strokes")
+      ->type_name("FILE");
+  s.app->add_option("--svg", s.svg_path, "When the session ends, write what it cut as SVG, one colour per pen")->type_name("FILE");
 }
 
 std::optional<int> run_sim_plotter_command(const SimPlotterCommand& s) {

@@ -429,6 +429,26 @@ TEST_F(SerialPty, MalformedAndUnknownCommandsAreListedWithTheirOffsets) {
       << "the summary line names them: " << err;
 }
 
+// --link gives the port a fixed name; popcut opens a port through a symlink (as udev's
+// /dev/serial/by-id names are) as the node it points at, which libserialport alone cannot.
+TEST_F(SerialPty, APortNamedThroughASymlinkIsCutTo) {
+  const fs::path link = dir_ / "plotter";
+  std::string port;
+  auto plot = plotter("linked", {"--link", link.string(), "--slowdown", "0.05"}, port);
+  ASSERT_TRUE(fs::is_symlink(link)) << "the link exists once the port is printed: " << slurp(dir_ / "linked.err");
+  const Cut r = cut("box.json", "serial:" + link.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "linked.err");
+  EXPECT_EQ(strokes_of(plotter_report("linked")), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_FALSE(fs::exists(fs::symlink_status(link))) << "the link is removed when the plotter ends";
+
+  std::ofstream(dir_ / "precious.txt") << "keep me";  // --link never replaces what is not a link
+  Child refused({POPCUT_CLI, "sim-plotter", "--link", (dir_ / "precious.txt").string()}, dir_ / "refused.out", dir_ / "refused.err");
+  EXPECT_EQ(refused.wait(), 2) << slurp(dir_ / "refused.err");
+  EXPECT_NE(slurp(dir_ / "refused.err").find("exists and is not a symlink"), std::string::npos) << slurp(dir_ / "refused.err");
+  EXPECT_EQ(slurp(dir_ / "precious.txt"), "keep me") << "the file is intact";
+}
+
 // A device that stops mid-job cuts nothing more of its buffer: popcut names E (known executed)
 // <= M (certainly received) <= N (written) and both resume points; after a power cycle (a fresh
 // plotter) the advised --resume-from E+1 completes the card with no stroke missing.
