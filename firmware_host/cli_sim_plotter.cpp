@@ -68,7 +68,7 @@ class OpenWatch {
     for (ssize_t n; fd_ >= 0 && (n = ::read(fd_, events, sizeof events)) > 0;) {
       for (ssize_t at = 0; at < n;) {
         const auto* e = reinterpret_cast<const inotify_event*>(events + at);
-        any = any || (e->mask & IN_OPEN) != 0;
+        any = any || (e->mask & (IN_OPEN | IN_Q_OVERFLOW)) != 0;  // events lost: opens, surely
         at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
       }
     }
@@ -110,7 +110,7 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
           {"strokes", strokes}};
 }
 
-// "; 2 commands in error (first: PD at byte 9: odd number of coordinates)" for the summary line.
+// '; 2 malformed commands (first: "PD" at byte 9: odd number of coordinates)' for the summary line.
 std::string issues_summary(const std::vector<drivers::SimIssue>& issues, const std::string& what) {
   if (issues.empty()) return "";
   const drivers::SimIssue& first = issues.front();
