@@ -179,7 +179,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     const std::size_t slice = std::max<std::size_t>(1, static_cast<std::size_t>(profile.transport.baud / 10 / 250));
     int host_baud = 0;
     std::string ended = "stopped";
-    bool seen_host = false;
+    bool seen_host = false, host_wrote = false;
     // A host has opened the port: from now on its closing it (the last fd of the slave) ends the session.
     const auto host_arrived = [&] {
       seen_host = true;
@@ -201,11 +201,13 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       // The host's line settings (a pty's master sees the slave's termios): its rate, and whether
       // its OS stops transmitting on XOFF (IXON), as a UART driver does within a character.
       // Once the host has closed the port its settings are gone: keep the last ones it used (a
-      // transmitter stopped by XOFF sends nothing more after the close either).
+      // transmitter stopped by XOFF sends nothing more after the close either). Read only once it
+      // has written: between its open and its first byte a host is still setting the port up,
+      // and one that sets it, writes and closes within a poll would leave its defaults behind.
       pollfd closed{master, 0, 0};
       const bool host_gone = ::poll(&closed, 1, 0) > 0 && (closed.revents & POLLHUP);
       termios host{};
-      if (seen_host && !host_gone && ::tcgetattr(master, &host) == 0) {
+      if (host_wrote && !host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
       }
@@ -245,6 +247,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         continue;
       }
       if (!seen_host) host_arrived();  // a byte shows it too, should opens go unnoticed
+      host_wrote = true;
       if (!host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
