@@ -201,13 +201,12 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       // The host's line settings (a pty's master sees the slave's termios): its rate, and whether
       // its OS stops transmitting on XOFF (IXON), as a UART driver does within a character.
       // Once the host has closed the port its settings are gone: keep the last ones it used (a
-      // transmitter stopped by XOFF sends nothing more after the close either). Read only once it
-      // has written: between its open and its first byte a host is still setting the port up,
-      // and one that sets it, writes and closes within a poll would leave its defaults behind.
+      // transmitter stopped by XOFF sends nothing more after the close either). Read from the
+      // host's open on, so that its IXON already bounds the first read after a stall.
       pollfd closed{master, 0, 0};
       const bool host_gone = ::poll(&closed, 1, 0) > 0 && (closed.revents & POLLHUP);
       termios host{};
-      if (host_wrote && !host_gone && ::tcgetattr(master, &host) == 0) {
+      if (seen_host && !host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
       }
@@ -247,11 +246,17 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         continue;
       }
       if (!seen_host) host_arrived();  // a byte shows it too, should opens go unnoticed
-      host_wrote = true;
       if (!host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
+      } else if (!host_wrote) {
+        // Gone before its first byte was read: the settings last read may be those it opened the
+        // port with, before it set the port up (set, write and close within one poll). Unknown,
+        // then: its bytes are taken as sent.
+        host_baud = 0;
+        host_ixon = false;
       }
+      host_wrote = true;
       if (host_baud != 0 && host_baud != profile.transport.baud) {
         // A UART at the wrong rate sees framing errors, not the bytes that were sent.
         for (ssize_t i = 0; i < n; ++i) buf[i] = static_cast<std::uint8_t>(buf[i] ^ 0x5a);

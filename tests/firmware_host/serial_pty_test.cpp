@@ -151,16 +151,18 @@ class SerialPty : public ::testing::Test {
     return out;
   }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
-  // Opens the port as a raw host at the simulator's 115200 baud (a pty starts at 38400 with line
+  // Sets the port up as a raw host at the simulator's 115200 baud (a pty starts at 38400 with line
   // editing: the plotter would hear garbage), for tests that write bytes themselves.
-  static int open_host(const std::string& port) {
-    const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
-    if (fd < 0) return fd;
+  static void set_up_host(int fd) {
     termios tio{};
     ::tcgetattr(fd, &tio);
     ::cfmakeraw(&tio);
     ::cfsetspeed(&tio, B115200);
     ::tcsetattr(fd, TCSANOW, &tio);
+  }
+  static int open_host(const std::string& port) {
+    const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+    if (fd >= 0) set_up_host(fd);
     return fd;
   }
   static long first_difference_at(const std::vector<popcut::PlotterPath>& a, const std::vector<popcut::PlotterPath>& b) {
@@ -384,12 +386,15 @@ TEST_F(SerialPty, AHostThatClosesThePortWithoutWritingEndsTheSession) {
 }
 
 // A host that opens the port and writes only later keeps the session: the open alone ends nothing.
+// Meanwhile the plotter sees the port's settings as opened (38400 baud); the host then sets it
+// up, writes and closes at once: its bytes arrive at the rate it set, not garbled.
 TEST_F(SerialPty, AHostThatPausesAfterOpeningIsStillServed) {
   std::string port;
   auto plot = plotter("pause", {}, port);
-  const int fd = open_host(port);
+  const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
   ASSERT_GE(fd, 0) << port;
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // many polls of the plotter's loop
+  set_up_host(fd);
   const std::string job = "IN;PU0,0;PD400,0,400,400;PU;";
   ASSERT_EQ(::write(fd, job.data(), job.size()), static_cast<ssize_t>(job.size()))
       << "the port is still there after the pause: " << std::strerror(errno);
