@@ -16,6 +16,7 @@
 
 #include "cli_checks.h"
 #include "cli_commands.h"
+#include "cli_sim_plotter.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"
@@ -332,10 +333,6 @@ int run_cut(const CutCommands& s) {
       planned.erase(planned.begin(), planned.begin() + static_cast<std::ptrdiff_t>(std::min(planned.size(), j.encoded.first_stroke - 1)));
       const std::optional<std::size_t> diff = drivers::first_difference(planned, cutter->strokes());
       match = finished && !diff && r.overflow_bytes == 0 && !r.outside_area;
-      json unknown = json::array();
-      for (const auto& u : r.unknown) unknown.push_back({{"offset", u.offset}, {"command", u.command}});
-      json errors = json::array();
-      for (const auto& e : r.errors) errors.push_back({{"offset", e.offset}, {"command", e.command}, {"message", e.message}});
       report["sim"] = {{"strokes", cutter->strokes().size()},
                        {"knife_downs", r.knife_downs},
                        {"cut_mm", r.knife_down_mm},
@@ -348,8 +345,8 @@ int run_cut(const CutCommands& s) {
                        {"overflow_bytes", r.overflow_bytes},
                        {"xoff_sent", r.xoff_sent},
                        {"outside_area", r.outside_area},
-                       {"unknown_commands", unknown},
-                       {"errors", errors},
+                       {"unknown_commands", sim_issues_json(r.unknown)},
+                       {"errors", sim_issues_json(r.errors)},
                        {"strokes_match_plan", !diff},
                        {"first_mismatch", diff ? json(*diff + j.encoded.first_stroke) : json(nullptr)}};
       write_cli_output((dir / "cut.svg").string(), [&](std::ostream& o) { cutter->write_svg(o); });

@@ -7,6 +7,7 @@
 #include <poll.h>
 #include <pty.h>
 #include <signal.h>
+#include <sys/inotify.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -33,6 +34,52 @@ using nlohmann::json;
 std::atomic<bool> g_stop{false};
 extern "C" void on_stop(int) { g_stop = true; }
 
+// Tells when a host opens the port. The pty's master reports a hang-up (POLLHUP, and EIO once
+// the bytes written are read) while no fd of the slave is open, and so from the start when none
+// ever was: a plotter not holding the slave cannot tell "nobody opened it yet" from "a host
+// opened and closed it between two polls". So the plotter holds the slave until a host has
+// opened it, and learns of that open from inotify: the VFS reports IN_OPEN on the slave's inode
+// (/dev/pts/N, also opened through --link) once an open has succeeded, whatever the host does
+// next. Then the plotter lets go of the slave, and the kernel's own count of open fds ends the
+// session when the host's last one closes: however soon (closed already, the hang-up comes as
+// the plotter lets go), with any bytes written still read first, and however many fds or child
+// processes the host has. Not usable: TIOCPKT (reports flow control and flushes, a termios change
+// only in EXTPROC mode; a host may open and close without changing anything), a first byte (a
+// host may write none).
+class OpenWatch {
+ public:
+  explicit OpenWatch(const std::string& path) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
+    if (fd_ >= 0 && ::inotify_add_watch(fd_, path.c_str(), IN_OPEN) >= 0) return;
+    error_ = std::strerror(errno);
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+  ~OpenWatch() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  OpenWatch(const OpenWatch&) = delete;
+  OpenWatch& operator=(const OpenWatch&) = delete;
+  // Why opens go unnoticed (empty when watching).
+  const std::string& error() const { return error_; }
+  // Whether the port was opened since the last call.
+  bool opened() {
+    alignas(inotify_event) char events[4096];
+    bool any = false;
+    for (ssize_t n; fd_ >= 0 && (n = ::read(fd_, events, sizeof events)) > 0;) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const inotify_event*>(events + at);
+        any = any || (e->mask & (IN_OPEN | IN_Q_OVERFLOW)) != 0;  // events lost: opens, surely
+        at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+      }
+    }
+    return any;
+  }
+
+ private:
+  int fd_;
+  std::string error_;
+};
+
 json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, bool host_ixon, const std::string& ended) {
   const drivers::SimReport& r = c.report();
   json strokes = json::array();
@@ -41,9 +88,7 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
     for (const auto& p : s.points_pu) pts.push_back({p[0], p[1]});
     strokes.push_back({{"pen", s.pen}, {"force", s.force}, {"speed_cm_s", s.speed_cm_s}, {"points_pu", pts}});
   }
-  json unknown = json::array();
-  for (const auto& u : r.unknown) unknown.push_back({{"offset", u.offset}, {"command", u.command}});
-  return {{"format", "popcut.sim-plotter.v1"},
+  return {{"format", "popcut.sim-plotter.v2"},
           {"port", path},
           {"ended", ended},
           {"device_baud", c.profile().transport.baud},
@@ -60,9 +105,18 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
           {"knife_down_at_end", c.knife_down()},
           {"cut_mm", r.knife_down_mm},
           {"motion_time_s", r.motion_time_s},
-          {"unknown_commands", unknown},
-          {"errors", r.errors.size()},
+          {"unknown_commands", sim_issues_json(r.unknown)},
+          {"errors", sim_issues_json(r.errors)},
           {"strokes", strokes}};
+}
+
+// '; 2 malformed commands (first: "PD" at byte 9: odd number of coordinates)' for the summary line.
+std::string issues_summary(const std::vector<drivers::SimIssue>& issues, const std::string& what) {
+  if (issues.empty()) return "";
+  const drivers::SimIssue& first = issues.front();
+  return "; " + std::to_string(issues.size()) + " " + what + (issues.size() == 1 ? "" : "s") + " (" +
+         (issues.size() == 1 ? "" : "first: ") + json(first.command).dump() + " at byte " + std::to_string(first.offset) + ": " +
+         first.message + ")";
 }
 
 int run_sim_plotter(const SimPlotterCommand& s) {
@@ -89,8 +143,14 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     ::fcntl(master, F_SETFD, FD_CLOEXEC);
     ::fcntl(slave, F_SETFD, FD_CLOEXEC);
     const std::string path = ::ttyname(slave);
+    OpenWatch opens(path);  // before anyone can know the port
     if (!s.link.empty()) {
       std::error_code ec;
+      // A stale link from an earlier run is replaced; anything else there is the user's.
+      const std::filesystem::file_status there = std::filesystem::symlink_status(s.link, ec);
+      if (std::filesystem::exists(there) && !std::filesystem::is_symlink(there)) {
+        throw Error(ErrorCode::invalid_input, s.link, "--link", "exists and is not a symlink: not replacing it");
+      }
       std::filesystem::remove(s.link, ec);
       std::filesystem::create_symlink(path, s.link, ec);
       if (ec) throw Error(ErrorCode::io, s.link, "output", "cannot create the link: " + ec.message());
@@ -99,6 +159,10 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     std::cerr << "sim-plotter: " << profile.name << " on " << path << " at " << profile.transport.baud << " baud, "
               << profile.transport.buffer_bytes << "-byte buffer, flow " << drivers::to_string(profile.transport.flow)
               << "; stops when the host closes the port (or on Ctrl-C)\n";
+    if (!opens.error().empty()) {
+      std::cerr << "sim-plotter: warning: cannot watch " << path << " for a host opening it (inotify: " << opens.error()
+                << "); a host that closes the port without writing a byte is not noticed: end it with Ctrl-C\n";
+    }
 
     struct sigaction sa {};
     sa.sa_handler = on_stop;
@@ -115,9 +179,16 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     const std::size_t slice = std::max<std::size_t>(1, static_cast<std::size_t>(profile.transport.baud / 10 / 250));
     int host_baud = 0;
     std::string ended = "stopped";
-    bool seen_host = false;
+    bool seen_host = false, host_wrote = false;
+    // A host has opened the port: from now on its closing it (the last fd of the slave) ends the session.
+    const auto host_arrived = [&] {
+      seen_host = true;
+      ::close(slave);
+      slave = -1;
+    };
     std::uint8_t buf[4096];
     while (!g_stop) {
+      if (!seen_host && opens.opened()) host_arrived();
       const double t = now_s();
       // Replies first: XOFF must not wait behind anything.
       const drivers::IoResult rep = cutter.reply(buf, sizeof buf, 0);
@@ -130,7 +201,8 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       // The host's line settings (a pty's master sees the slave's termios): its rate, and whether
       // its OS stops transmitting on XOFF (IXON), as a UART driver does within a character.
       // Once the host has closed the port its settings are gone: keep the last ones it used (a
-      // transmitter stopped by XOFF sends nothing more after the close either).
+      // transmitter stopped by XOFF sends nothing more after the close either). Read from the
+      // host's open on, so that its IXON already bounds the first read after a stall.
       pollfd closed{master, 0, 0};
       const bool host_gone = ::poll(&closed, 1, 0) > 0 && (closed.revents & POLLHUP);
       termios host{};
@@ -173,15 +245,18 @@ int run_sim_plotter(const SimPlotterCommand& s) {
         cutter.advance(std::max(t, cutter.now_s()));
         continue;
       }
-      if (!seen_host) {
-        seen_host = true;
-        ::close(slave);  // from now on the host closing the port ends the session
-        slave = -1;
-      }
+      if (!seen_host) host_arrived();  // a byte shows it too, should opens go unnoticed
       if (!host_gone && ::tcgetattr(master, &host) == 0) {
         host_baud = drivers::baud_of_speed(::cfgetospeed(&host));
         host_ixon = (host.c_iflag & IXON) != 0;
+      } else if (!host_wrote) {
+        // Gone before its first byte was read: the settings last read may be those it opened the
+        // port with, before it set the port up (set, write and close within one poll). Unknown,
+        // then: its bytes are taken as sent.
+        host_baud = 0;
+        host_ixon = false;
       }
+      host_wrote = true;
       if (host_baud != 0 && host_baud != profile.transport.baud) {
         // A UART at the wrong rate sees framing errors, not the bytes that were sent.
         for (ssize_t i = 0; i < n; ++i) buf[i] = static_cast<std::uint8_t>(buf[i] ^ 0x5a);
@@ -204,30 +279,67 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     const json report = report_json(cutter, path, host_baud, host_ixon, ended);
     if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (!s.svg_path.empty()) write_cli_output(s.svg_path, [&](std::ostream& o) { cutter.write_svg(o); });
-    std::cerr << "sim-plotter: " << ended << "; received " << cutter.report().bytes_received << " bytes, cut "
-              << cutter.strokes().size() << " strokes, " << cutter.report().overflow_bytes << " bytes lost to overflow\n";
+    const drivers::SimReport& r = cutter.report();
+    std::string issues = issues_summary(r.errors, "malformed command") + issues_summary(r.unknown, "unknown command");
+    if (r.errors.size() > 1 || r.unknown.size() > 1) {  // the line shows the first of each kind
+      issues += s.report_path.empty() ? " (--report FILE lists them all)" : " (" + s.report_path + " lists them all)";
+    }
+    std::cerr << "sim-plotter: " << ended << "; received " << r.bytes_received << " bytes, cut " << cutter.strokes().size()
+              << " strokes, " << r.overflow_bytes << " bytes lost to overflow" << issues << "\n";
     return static_cast<int>(kOk);
   });
 }
 
 }  // namespace
 
+json sim_issues_json(const std::vector<drivers::SimIssue>& issues) {
+  json out = json::array();
+  for (const drivers::SimIssue& i : issues) out.push_back({{"offset", i.offset}, {"command", i.command}, {"message", i.message}});
+  return out;
+}
+
 void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app = app.add_subcommand("sim-plotter",
                              "Run the simulated cutter on the far side of a pseudo-terminal, in real time: prints the port\n"
                              "(e.g. /dev/pts/3) on the first line, then serves one session; point `popcut cut --device\n"
-                             "serial:PORT` at it. Writes what it cut on exit (--report JSON, --svg).");
-  s.app->add_option("--profile", s.profile_path, "Device profile it behaves like (default: configs/devices/sim.toml)");
-  s.app->add_option("--baud", s.baud, "Line rate (default: the profile's); a host at another rate sends garbage")
+                             "serial:PORT` at it (under the test shim, docs/transports.md). It waits for a host to open the\n"
+                             "port; the session ends when the host closes it (whether it wrote or not) or on Ctrl-C, and it\n"
+                             "then writes what it cut (--report, --svg), prints a summary line on stderr and exits.\n"
+                             "One session per process: start one per job.\n"
+                             "Exit 0: the session ended. Exit 2: a bad option or profile. Exit 3: no pseudo-terminal, link\n"
+                             "or output file could be made.");
+  s.app->add_option("--profile", s.profile_path,
+                    "Device profile (TOML) it behaves like: line rate, buffer, flow control, answers, kinematics\n"
+                    "(default: devices/sim.toml from popcut's configs: 115200 baud, 1024 bytes, XON/XOFF, answers ESC.O)")
+      ->type_name("FILE");
+  s.app->add_option("--baud", s.baud,
+                    "Line rate in baud (bits/s; default: the profile's); bytes from a host at another rate arrive\n"
+                    "garbled, as on a UART")
       ->check(CLI::Range(300, 4000000));
-  s.app->add_option("--buffer", s.buffer_bytes, "Input buffer in bytes (default: the profile's)")->check(CLI::Range(64, 1 << 26));
-  s.app->add_option("--slowdown", s.slowdown, "Motion takes this many times longer (below 1: faster than the profile)")
+  s.app->add_option("--buffer", s.buffer_bytes,
+                    "Input buffer in bytes (default: the profile's buffer_bytes); with XON/XOFF it says XOFF at 3/4\n"
+                    "full and XON at 1/4")
+      ->check(CLI::Range(64, 1 << 26));
+  s.app->add_option("--slowdown", s.slowdown,
+                    "Factor on the time every motion takes (default 1: the profile's kinematics; 2: half as fast;\n"
+                    "0.1: ten times faster)")
       ->check(finite_range(0.0001, 1000.0));
-  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes")->check(finite_range(0, 1e12));
-  s.app->add_option("--stop-after", s.stop_after, "Stop answering (and cutting) after N bytes")->check(finite_range(0, 1e12));
-  s.app->add_option("--link", s.link, "Also make PATH a symlink to the port while running");
-  s.app->add_option("--report", s.report_path, "Write what it received and cut as JSON (popcut.sim-plotter.v1)");
-  s.app->add_option("--svg", s.svg_path, "Write what it cut as SVG");
+  s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes, as a pulled cable (default: never)")
+      ->type_name("N")
+      ->check(finite_range(0, 1e12));
+  s.app->add_option("--stop-after", s.stop_after,
+                    "After receiving N bytes, stop answering and cutting, as a paused or stuck device (default: never)")
+      ->type_name("N")
+      ->check(finite_range(0, 1e12));
+  s.app->add_option("--link", s.link,
+                    "Also make PATH a symlink to the port, a fixed name for scripts (--device serial:PATH); an old\n"
+                    "link there is replaced, anything else refused; removed on exit")
+      ->type_name("PATH");
+  s.app->add_option("--report", s.report_path,
+                    "When the session ends, write what it received and cut as JSON (popcut.sim-plotter.v2,\n"
+                    "docs/formats.md): bytes, overflow, XOFFs, malformed and unknown commands, strokes")
+      ->type_name("FILE");
+  s.app->add_option("--svg", s.svg_path, "When the session ends, write what it cut as SVG, one colour per pen")->type_name("FILE");
 }
 
 std::optional<int> run_sim_plotter_command(const SimPlotterCommand& s) {

@@ -2,10 +2,18 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "popcut/drivers/sim_cutter.h"
 
 namespace popcut::cli {
+
+// A simulated cutter's unknown or malformed commands for a report: each one's byte offset in what
+// it received, the command and what was wrong.
+nlohmann::json sim_issues_json(const std::vector<drivers::SimIssue>& issues);
 
 struct SimPlotterCommand {
   CLI::App* app = nullptr;

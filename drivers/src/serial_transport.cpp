@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <thread>
 
 #include "backends.h"
@@ -67,7 +68,11 @@ class SerialTransport final : public Transport {
       return st;
     }
     if (!S_ISCHR(info.st_mode)) return {TransportError::bad_argument, 0, path_ + " is not a serial port (not a terminal device)"};
-    if (sp_get_port_by_name(path_.c_str(), &port_) != SP_OK) {
+    // libserialport 0.1.1 looks a port up in sysfs by its name after /dev/, so the stable names
+    // udev makes (/dev/serial/by-id/..., symlinks) are not found: it gets the node they point at.
+    std::error_code ec;
+    const std::string node = std::filesystem::canonical(path_, ec).string();
+    if (sp_get_port_by_name(ec ? path_.c_str() : node.c_str(), &port_) != SP_OK) {
       port_ = nullptr;
       return {TransportError::bad_argument, 0,
               path_ + " is not a serial port (libserialport finds no tty device behind it; a pseudo-terminal needs "

@@ -4,11 +4,13 @@
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/wait.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -149,6 +151,20 @@ class SerialPty : public ::testing::Test {
     return out;
   }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
+  // Sets the port up as a raw host at the simulator's 115200 baud (a pty starts at 38400 with line
+  // editing: the plotter would hear garbage), for tests that write bytes themselves.
+  static void set_up_host(int fd) {
+    termios tio{};
+    ::tcgetattr(fd, &tio);
+    ::cfmakeraw(&tio);
+    ::cfsetspeed(&tio, B115200);
+    ::tcsetattr(fd, TCSANOW, &tio);
+  }
+  static int open_host(const std::string& port) {
+    const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+    if (fd >= 0) set_up_host(fd);
+    return fd;
+  }
   static long first_difference_at(const std::vector<popcut::PlotterPath>& a, const std::vector<popcut::PlotterPath>& b) {
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
       if (a[i] != b[i]) return static_cast<long>(i);
@@ -379,6 +395,91 @@ TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAsALineProblem) {
   EXPECT_NE(mute.err.find("check the cable, the port and the baud rate (the profile says 115200 baud)"), std::string::npos) << mute.err;
   EXPECT_EQ(mute.report["sent"]["bytes"], 0) << "no byte of the job went out";
   ASSERT_EQ(plot->wait(), 0);
+}
+
+// A host that opens the port and closes it without a byte (a terminal program, a probe, a host
+// failing before it sends) ends the session: the plotter holds the pty's slave until a host opens
+// it, so only noticing the open lets the hang-up through.
+TEST_F(SerialPty, AHostThatClosesThePortWithoutWritingEndsTheSession) {
+  std::string port;
+  auto plot = plotter("silent", {}, port);
+  const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0) << port;
+  ::close(fd);  // at once: a quick open and close must not be missed
+  ASSERT_EQ(plot->wait(), 0) << "the plotter ended after the host closed the port: " << slurp(dir_ / "silent.err");
+  const json pr = plotter_report("silent");
+  EXPECT_EQ(pr["ended"], "host closed the port") << pr.dump();
+  EXPECT_EQ(pr["bytes_received"], 0) << "nothing was written";
+  EXPECT_NE(slurp(dir_ / "silent.err").find("sim-plotter: host closed the port"), std::string::npos) << slurp(dir_ / "silent.err");
+}
+
+// A host that opens the port and writes only later keeps the session: the open alone ends nothing.
+// Meanwhile the plotter sees the port's settings as opened (38400 baud); the host then sets it
+// up, writes and closes at once: its bytes arrive at the rate it set, not garbled.
+TEST_F(SerialPty, AHostThatPausesAfterOpeningIsStillServed) {
+  std::string port;
+  auto plot = plotter("pause", {}, port);
+  const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0) << port;
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // many polls of the plotter's loop
+  set_up_host(fd);
+  const std::string job = "IN;PU0,0;PD400,0,400,400;PU;";
+  ASSERT_EQ(::write(fd, job.data(), job.size()), static_cast<ssize_t>(job.size()))
+      << "the port is still there after the pause: " << std::strerror(errno);
+  ::close(fd);
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "pause.err");
+  const json pr = plotter_report("pause");
+  EXPECT_EQ(pr["ended"], "host closed the port") << pr.dump();
+  EXPECT_EQ(pr["bytes_received"], job.size()) << "every byte written after the pause arrived: " << pr.dump();
+  EXPECT_EQ(pr["strokes"].size(), 1u) << "and was cut: " << pr.dump();
+}
+
+// Bytes from a host that is not popcut: the report names each malformed and unknown command with
+// its byte offset and what was wrong, and the summary line on stderr mentions them.
+TEST_F(SerialPty, MalformedAndUnknownCommandsAreListedWithTheirOffsets) {
+  std::string port;
+  auto plot = plotter("bad", {}, port);
+  const int fd = open_host(port);
+  ASSERT_GE(fd, 0) << port;
+  //                       0  3     9           21          32 35
+  const std::string job = "IN;PU0,0;PD400,0,400;PD1..2,5,7;ZZ;PU;";
+  ASSERT_EQ(::write(fd, job.data(), job.size()), static_cast<ssize_t>(job.size())) << std::strerror(errno);
+  ::close(fd);
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "bad.err");
+  const json pr = plotter_report("bad");
+  EXPECT_EQ(pr["format"], "popcut.sim-plotter.v2") << "errors became a list: a new version";
+  EXPECT_EQ(pr["bytes_received"], job.size()) << pr.dump();
+  const json want_errors = json::array({{{"offset", 9}, {"command", "PD"}, {"message", "odd number of coordinates"}},
+                                        {{"offset", 21}, {"command", "PD"}, {"message", "malformed parameters"}}});
+  EXPECT_EQ(pr["errors"], want_errors) << "each malformed command with its offset: " << pr["errors"].dump();
+  const json want_unknown = json::array({{{"offset", 32}, {"command", "ZZ"}, {"message", "unknown command"}}});
+  EXPECT_EQ(pr["unknown_commands"], want_unknown) << pr["unknown_commands"].dump();
+  const std::string err = slurp(dir_ / "bad.err");
+  EXPECT_NE(err.find("; 2 malformed commands (first: \"PD\" at byte 9: odd number of coordinates); 1 unknown command (\"ZZ\" at byte "
+                     "32: unknown command) (" +
+                     (dir_ / "bad.json").string() + " lists them all)"),
+            std::string::npos)
+      << "the summary line names them: " << err;
+}
+
+// --link gives the port a fixed name; popcut opens a port through a symlink (as udev's
+// /dev/serial/by-id names are) as the node it points at, which libserialport alone cannot.
+TEST_F(SerialPty, APortNamedThroughASymlinkIsCutTo) {
+  const fs::path link = dir_ / "plotter";
+  std::string port;
+  auto plot = plotter("linked", {"--link", link.string(), "--slowdown", "0.05"}, port);
+  ASSERT_TRUE(fs::is_symlink(link)) << "the link exists once the port is printed: " << slurp(dir_ / "linked.err");
+  const Cut r = cut("box.json", "serial:" + link.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "linked.err");
+  EXPECT_EQ(strokes_of(plotter_report("linked")), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_FALSE(fs::exists(fs::symlink_status(link))) << "the link is removed when the plotter ends";
+
+  std::ofstream(dir_ / "precious.txt") << "keep me";  // --link never replaces what is not a link
+  Child refused({POPCUT_CLI, "sim-plotter", "--link", (dir_ / "precious.txt").string()}, dir_ / "refused.out", dir_ / "refused.err");
+  EXPECT_EQ(refused.wait(), 2) << slurp(dir_ / "refused.err");
+  EXPECT_NE(slurp(dir_ / "refused.err").find("exists and is not a symlink"), std::string::npos) << slurp(dir_ / "refused.err");
+  EXPECT_EQ(slurp(dir_ / "precious.txt"), "keep me") << "the file is intact";
 }
 
 // A device that stops mid-job cuts nothing more of its buffer: popcut names E (known executed)
