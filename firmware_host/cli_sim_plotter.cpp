@@ -10,6 +10,7 @@
 #include <sys/inotify.h>
 #include <termios.h>
 #include <unistd.h>
+#include <sys/ioctl.h>
 
 #include <atomic>
 #include <chrono>
@@ -180,6 +181,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
     int host_baud = 0;
     std::string ended = "stopped";
     bool seen_host = false, host_wrote = false;
+    double gone_at_s = -1;  // when the host was seen gone with bytes still on their way
     // A host has opened the port: from now on its closing it (the last fd of the slave) ends the session.
     const auto host_arrived = [&] {
       seen_host = true;
@@ -214,8 +216,10 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       // (a loaded machine), so the device keeps up with the line rate.
       const double behind_s = std::max(0.0, t - cutter.now_s());
       std::size_t room = std::min(sizeof buf, slice + static_cast<std::size_t>(behind_s * profile.transport.baud / 10));
-      // A host stopping on XOFF: never more than XOFF's headroom at once, so XOFF goes out in time.
-      if (xon_xoff && host_ixon) room = std::min(room, std::max(slice, cap * 3 / 4 - std::min(cap * 3 / 4, cutter.buffer_used())));
+      // A host stopping on XOFF: never more than XOFF's headroom at once, so XOFF goes out in time
+      // (a slice can be more than the headroom of a small buffer: 46 bytes at 115200 baud against
+      // 16 left of 64).
+      if (xon_xoff && host_ixon) room = std::min(room, std::max<std::size_t>(1, cap * 3 / 4 - std::min(cap * 3 / 4, cutter.buffer_used())));
       if (held) room = std::min(room, cap - std::min(cap, cutter.buffer_used()));  // hardware flow: stop reading
       // After XOFF a transmitter stopped by its OS sends nothing: bytes waiting in the pty are
       // still the host's, not on the line. A host doing XON/XOFF itself already put them on the
@@ -223,8 +227,15 @@ int run_sim_plotter(const SimPlotterCommand& s) {
       if (xon_xoff && host_ixon && cutter.holding_off()) room = 0;
       if (room == 0) {
         if (seen_host && host_gone) {
-          ended = "host closed the port";
-          break;
+          // A host closing a serial port leaves what it wrote to go out (Linux waits up to its
+          // closing_wait, 30 s) once the device lets it: keep taking it while there is any and the
+          // device can make room, as the device would receive it.
+          int waiting = 0;
+          if (gone_at_s < 0) gone_at_s = t;
+          if (::ioctl(master, FIONREAD, &waiting) != 0 || waiting <= 0 || cutter.frozen() || t - gone_at_s > 30) {
+            ended = "host closed the port";
+            break;
+          }
         }
         cutter.advance(t);
         std::this_thread::sleep_for(std::chrono::milliseconds(2));

@@ -242,6 +242,20 @@ TEST_F(SerialPty, AProfileWhoseFlowControlTheDeviceDoesNotDoFailsTheJob) {
   EXPECT_EQ(r.report["sent"]["device_io_error"], 16) << r.report.dump();
 }
 
+// A 64-byte plotter at 115200 baud: 4 ms of line (46 bytes) is more than the 16 bytes its XOFF
+// leaves, so it must take no more than that at once, or it overruns itself before XOFF goes out.
+TEST_F(SerialPty, ATinyBufferUnderXonXoffIsNeverOverrun) {
+  std::string port;
+  auto plot = plotter("tiny", {"--buffer", "64", "--slowdown", "0.01"}, port);
+  const Cut r = cut("pyramid.json", "serial:" + port);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "tiny.err");
+  const json pr = plotter_report("tiny");
+  EXPECT_EQ(pr["overflow_bytes"], 0) << "XOFF in time";
+  EXPECT_LE(pr["max_buffer_used"].get<int>(), 64);
+  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+}
+
 TEST_F(SerialPty, ADeviceThatNeverHoldsTheLineCountsNoHolds) {
   std::string port;
   auto plot = plotter("roomy", {"--buffer", "65536", "--slowdown", "0.05"}, port);  // the whole job fits: never XOFF
