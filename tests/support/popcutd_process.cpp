@@ -34,7 +34,8 @@ std::string TempDir::write(const std::string& name, const std::string& content) 
   return p.string();
 }
 
-PopcutdProcess::PopcutdProcess(const std::string& binary, const std::string& config, const std::string& data_dir) {
+PopcutdProcess::PopcutdProcess(const std::string& binary, const std::string& config, const std::string& data_dir,
+                               const std::vector<std::string>& env) {
   log_path_ = data_dir + ".log";
   int out[2];
   if (::pipe(out) != 0) throw std::runtime_error("pipe failed");
@@ -46,6 +47,7 @@ PopcutdProcess::PopcutdProcess(const std::string& binary, const std::string& con
     if (err >= 0) ::dup2(err, STDERR_FILENO);
     ::close(out[0]);
     ::close(out[1]);
+    for (const std::string& e : env) ::putenv(const_cast<char*>(e.c_str()));  // the child's own copy of `env`
     ::execl(binary.c_str(), binary.c_str(), "--config", config.c_str(), "--data-dir", data_dir.c_str(), "--port", "0",
             static_cast<char*>(nullptr));
     ::_exit(127);
@@ -115,6 +117,58 @@ bool wait_until(const std::function<bool()>& condition, double give_up_s) {
   }
   return false;
 }
+
+SimPlotterProcess::SimPlotterProcess(const std::string& popcut, const std::vector<std::string>& args, const std::string& report_path)
+    : report_path_(report_path), log_path_(report_path + ".log") {
+  int out[2];
+  if (::pipe(out) != 0) throw std::runtime_error("pipe failed");
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {
+    ::dup2(out[1], STDOUT_FILENO);
+    const int err = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (err >= 0) ::dup2(err, STDERR_FILENO);
+    ::close(out[0]);
+    ::close(out[1]);
+    std::vector<std::string> all = {popcut, "sim-plotter"};
+    all.insert(all.end(), args.begin(), args.end());
+    all.insert(all.end(), {"--report", report_path});
+    std::vector<char*> argv;
+    for (std::string& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  // The first line is the port; EOF first means it exited (a bad option).
+  char ch;
+  while (::read(out[0], &ch, 1) == 1 && ch != '\n') port_ += ch;
+  ::close(out[0]);
+  if (port_.rfind("/dev/pts/", 0) != 0) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+    throw std::runtime_error("sim-plotter printed no port: " + log());
+  }
+}
+
+SimPlotterProcess::~SimPlotterProcess() {
+  if (pid_ <= 0) return;
+  ::kill(pid_, SIGKILL);
+  ::waitpid(pid_, nullptr, 0);
+}
+
+int SimPlotterProcess::wait(double give_up_s) {
+  if (pid_ <= 0) return -1;
+  int status = 0;
+  if (!wait_until([&] { return ::waitpid(pid_, &status, WNOHANG) == pid_; }, give_up_s)) return -1;
+  pid_ = -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string SimPlotterProcess::log() const { return read_file(log_path_); }
+
+nlohmann::json SimPlotterProcess::report() const { return nlohmann::json::parse(read_file(report_path_), nullptr, false); }
 
 int connect_loopback(int port) {
   const int s = ::socket(AF_INET, SOCK_STREAM, 0);
