@@ -116,6 +116,8 @@ void print_job_line(const json& j) {
   if (j["state"] == "interrupted" && j.contains("strokes_executed")) {
     std::cout << "  executed " << (j["strokes_executed"].is_number() ? j["strokes_executed"].dump() : "unknown");
   }
+  // A cancel under way: waiting_for_device means another `popcut cancel` gives the wait up.
+  if (j.contains("cancel") && j["cancel"].is_string()) std::cout << "  cancel " << j["cancel"].get<std::string>();
   if (j.contains("resume_point") && j["resume_point"].is_string()) {
     std::cout << "  resumed after stroke " << j["resume_from"] << " (" << j["resume_point"].get<std::string>() << ")";
   }
@@ -211,7 +213,9 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   common(s.jobs);
-  s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.");
+  s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
+                                          "If the cutter holds the line (the job shows 'cancel waiting_for_device'), cancelling again\n"
+                                          "gives up the wait: the abort is not sent and the cutter may cut all its buffer holds.");
   s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
   common(s.cancel);
   s.resume = app.add_subcommand("resume", "Cut the rest of an interrupted job (a device error, SIGTERM or a crash stopped its cut).\n"

@@ -240,6 +240,15 @@ class Api {
     if (!point) fail(ApiError::bad_request, "'from' must be \"received\" (after the strokes the device certainly received, the default) or \"executed\" (after those it is known to have executed: for a device that was reset or power-cycled)", "from");
     return *point;
   }
+  // Polls until job `id` is in a final state (or interrupted), at most `limit`.
+  void wait_for_final(std::int64_t id, std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end) {
+      const std::optional<Job> j = d_.store().get(id);
+      if (!j || j->state != JobState::cutting) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
   // Rounded to a multiple of kAngleStepDeg (the kiosk slider's step): at most 37 pictures per model.
   static constexpr int kAngleStepDeg = 5;
   // A query parameter given at most once: ?angle=10&angle=20 is a malformed request, not a guess.
@@ -339,8 +348,11 @@ json Api::job_json(const Job& j, const Forecast* shared) {
       if (const auto it = f.find(j.id); it != f.end()) r["eta_s"] = it->second;
     }
   } else if (j.state == JobState::cutting) {
+    r["cancel"] = nullptr;
     for (const DeviceStatus& dev : d_.devices()) {
-      if (dev.job == j.id) r["eta_s"] = busy_s(dev, {j});
+      if (dev.job != j.id) continue;
+      r["eta_s"] = busy_s(dev, {j});
+      if (dev.cancel != CancelStage::none) r["cancel"] = to_string(dev.cancel);
     }
   }
   return rounded_numbers(std::move(r));
@@ -784,6 +796,13 @@ void Api::install() {
     switch (d_.cancel(j.id)) {
       case CancelResult::cancelled:
       case CancelResult::requested: break;
+      case CancelResult::giving_up: {
+        // The sender notices within one write slice (a quarter second) and the worker records the
+        // job: answer with that outcome (200), or, should it take longer, with the job as it is (202).
+        wait_for_final(j.id, std::chrono::seconds(10));
+        const Job now = *d_.store().get(j.id);
+        return send_json(res, job_json(now), is_terminal(now.state) ? 200 : 202);
+      }
       case CancelResult::already_final:
         fail(ApiError::conflict, "job " + std::to_string(j.id) + " is already " + to_string(d_.store().get(j.id)->state));
       case CancelResult::not_found: fail(ApiError::not_found, "no job " + std::to_string(j.id));

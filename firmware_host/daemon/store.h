@@ -21,7 +21,9 @@ struct NewJob {
   std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
 };
 
-enum class CancelResult { cancelled, requested, already_final, not_found };
+// giving_up: Daemon::cancel only, a repeated cancel of a cut whose stop waits for a device that
+// holds the line: the wait is given up and the abort is not sent.
+enum class CancelResult { cancelled, requested, giving_up, already_final, not_found };
 // executed_unknown: resuming after the executed strokes was asked, but the device never said what
 // it executed (a transport without status answers, or a cut cut short by a crash).
 enum class ResumeResult { resumed, not_interrupted, executed_unknown };

@@ -848,4 +848,42 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
   EXPECT_EQ(cut_by(fresh_b->report()), from_stroke(planned(ib), m)) << "the cutter cut exactly strokes " << m + 1 << "..";
 }
 
+TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {
+  // The cutter says XOFF at 192 bytes and, a thousand times slower than the profile, keeps holding
+  // the line: the abort cannot go out before the hold timeout of 60 s.
+  edit_profile("hold_timeout_ms = 8000", "hold_timeout_ms = 60000");
+  auto held = plotter("held", {"--slowdown", "1000"});
+  const auto d = start_on(*held);
+  httplib::Client c = d->client(kKiosk);
+  const std::int64_t id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "held"));
+  const std::string cancel = "/api/v1/jobs/" + std::to_string(id) + "/cancel";
+  ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 1; }, 120))
+      << "the cut starts; log:\n" << d->log();
+  EXPECT_TRUE(job(c, id)["cancel"].is_null()) << "no cancel yet: " << job(c, id).dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));  // its buffer is full and the line held by now
+  const Reply first = post_json(c, cancel, "");
+  EXPECT_EQ(first.status, 202) << "the first cancel is accepted: " << first.body.dump();
+  EXPECT_EQ(first.body["state"], "cutting") << first.body.dump();
+  EXPECT_EQ(first.body["cancel"], "requested") << first.body.dump();
+  ASSERT_TRUE(wait_until([&] { return job(c, id)["cancel"] == "waiting_for_device"; }, 30))
+      << "the job says its cancel waits for the cutter to let the abort through: " << job(c, id).dump() << "\n" << d->log();
+  EXPECT_NE(d->log().find("holds the line (XOFF or CTS): waiting up to 60 s"), std::string::npos) << "and the log says so: " << d->log();
+  const Reply second = post_json(c, cancel, "");
+  EXPECT_EQ(second.status, 200) << "the second cancel gives up the wait, well before the 60 s hold timeout, and answers the "
+                                   "outcome: " << second.body.dump();
+  EXPECT_EQ(second.body["state"], "cancelled") << second.body.dump();
+  EXPECT_EQ(second.body["error"]["code"], "device_error") << "the knife-up did not reach the cutter: " << second.body.dump();
+  const std::string message = second.body["error"].value("message", "");
+  EXPECT_EQ(message.find("cancelled during the cut: gave up waiting for the device"), 0u) << message;
+  EXPECT_NE(message.find("neither the abort sequence nor the knife-up reached it"), std::string::npos) << message;
+  EXPECT_NE(message.find("the device may still cut up to "), std::string::npos) << "says how much it may still cut: " << message;
+  EXPECT_NE(message.find(" bytes (strokes "), std::string::npos) << "in bytes and strokes: " << message;
+  EXPECT_EQ(job(c, id)["error"]["message"], message) << "the job keeps it";
+  EXPECT_FALSE(job(c, id).contains("cancel")) << "a finished job has no cancel under way: " << job(c, id).dump();
+  const Reply third = post_json(c, cancel, "");
+  EXPECT_EQ(third.status, 409) << "a cancelled job is final: " << third.body.dump();
+  EXPECT_EQ(d->stop(SIGTERM), 0) << "popcutd stops cleanly";
+  EXPECT_EQ(held->wait(), 0) << held->log();
+}
+
 }  // namespace
