@@ -717,15 +717,6 @@ class SerialPopcutd : public PopcutClient {
     return popcut::plan_in_plotter_units(popcut::daemon::plan_from_json(read_file(path), path),
                                          popcut::drivers::load_profile(profile_).dialect);
   }
-  static std::vector<popcut::PlotterPath> cut_by(const json& plotter_report) {
-    std::vector<popcut::PlotterPath> out;
-    for (const auto& s : plotter_report["strokes"]) {
-      popcut::PlotterPath p;
-      for (const auto& q : s["points_pu"]) p.push_back({q[0].get<std::int64_t>(), q[1].get<std::int64_t>()});
-      out.push_back(p);
-    }
-    return out;
-  }
   static std::vector<popcut::PlotterPath> from_stroke(const std::vector<popcut::PlotterPath>& all, std::int64_t after) {
     return {all.begin() + std::min<std::ptrdiff_t>(after, static_cast<std::ptrdiff_t>(all.size())), all.end()};
   }
@@ -749,7 +740,7 @@ class SerialPopcutd : public PopcutClient {
         << "the cutter holds strokes it received and never cut (else this test proves nothing): " << j.dump();
     EXPECT_EQ(j["resume_from"], j["strokes_sent"]) << "by default it resumes after the strokes received";
     EXPECT_TRUE(j["resume_point"].is_null()) << "not resumed yet: " << j.dump();
-    const auto cut = cut_by(stuck->report());
+    const auto cut = popcut::testing::sim_plotter_strokes(stuck->report());
     const auto plan = planned(id);
     EXPECT_GE(cut.size(), j.value("strokes_executed", std::size_t{0})) << "E never claims a stroke the cutter did not cut";
     EXPECT_LT(cut.size(), static_cast<std::size_t>(j["strokes_sent"].get<std::int64_t>()) + 1) << "it cut no more than it received";
@@ -820,7 +811,7 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
   ASSERT_EQ(fresh_a->wait(), 0) << fresh_a->log();
   const json ra = fresh_a->report();
   EXPECT_EQ(ra["overflow_bytes"], 0) << "the resumed job reached the plotter intact";
-  EXPECT_EQ(cut_by(ra), from_stroke(planned(ia), e)) << "the power-cycled cutter cut exactly strokes " << e + 1 << ".." << total;
+  EXPECT_EQ(popcut::testing::sim_plotter_strokes(ra), from_stroke(planned(ia), e)) << "the power-cycled cutter cut exactly strokes " << e + 1 << ".." << total;
 
   // The other job, resumed after the strokes received (through the CLI): strokes M+1.. only.
   const std::int64_t m = b["strokes_sent"];
@@ -845,7 +836,7 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
     EXPECT_EQ(d->stop(SIGTERM), 0);
   }
   ASSERT_EQ(fresh_b->wait(), 0) << fresh_b->log();
-  EXPECT_EQ(cut_by(fresh_b->report()), from_stroke(planned(ib), m)) << "the cutter cut exactly strokes " << m + 1 << "..";
+  EXPECT_EQ(popcut::testing::sim_plotter_strokes(fresh_b->report()), from_stroke(planned(ib), m)) << "the cutter cut exactly strokes " << m + 1 << "..";
 }
 
 TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {

@@ -17,6 +17,7 @@
 
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
+#include "popcutd_process.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -139,15 +140,7 @@ class SerialPty : public ::testing::Test {
     for (const auto& s : c.strokes()) out.push_back(s.points_pu);
     return out;
   }
-  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) {
-    std::vector<popcut::PlotterPath> out;
-    for (const auto& s : plotter_report["strokes"]) {
-      popcut::PlotterPath p;
-      for (const auto& q : s["points_pu"]) p.push_back({q[0].get<std::int64_t>(), q[1].get<std::int64_t>()});
-      out.push_back(p);
-    }
-    return out;
-  }
+  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) { return popcut::testing::sim_plotter_strokes(plotter_report); }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
   static long first_difference_at(const std::vector<popcut::PlotterPath>& a, const std::vector<popcut::PlotterPath>& b) {
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {

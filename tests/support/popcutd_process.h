@@ -1,9 +1,11 @@
-// A real popcutd process for tests and benchmarks: started on a free loopback port, killed and reaped on scope exit.
+// Real popcutd and sim-plotter processes for tests and benchmarks: started, talked to, killed and reaped on scope exit.
 #pragma once
 
 #include <httplib.h>
 #include <sys/types.h>
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -72,6 +74,9 @@ class SimPlotterProcess {
   pid_t pid_ = -1;
   std::string port_, report_path_, log_path_;
 };
+
+// The strokes a sim-plotter report says it cut (points in plotter units): popcut::PlotterPath's.
+std::vector<std::vector<std::array<std::int64_t, 2>>> sim_plotter_strokes(const nlohmann::json& report);
 
 // A TCP connection to 127.0.0.1:port, as a raw socket to send bytes on (-1 if it cannot connect).
 int connect_loopback(int port);
