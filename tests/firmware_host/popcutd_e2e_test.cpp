@@ -851,7 +851,9 @@ TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {
   ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 1; }, 120))
       << "the cut starts; log:\n" << d->log();
   EXPECT_TRUE(job(c, id)["cancel"].is_null()) << "no cancel yet: " << job(c, id).dump();
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));  // its buffer is full and the line held by now
+  // Its buffer is full and the line held by now (it says XOFF at 192 bytes and then cuts a
+  // thousand times slower than planned); else the abort goes through and the test fails below.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   const Reply first = post_json(c, cancel, "");
   EXPECT_EQ(first.status, 202) << "the first cancel is accepted: " << first.body.dump();
   EXPECT_EQ(first.body["state"], "cutting") << first.body.dump();
