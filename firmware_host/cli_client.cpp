@@ -112,6 +112,15 @@ void print_job_line(const json& j) {
                                         : (j["device"].is_string() ? j["device"].get<std::string>() : "profile " + j["profile"].get<std::string>()))
             << "  strokes " << j["strokes_sent"] << "/" << j["strokes_total"];
   if (j["place_in_line"].is_number()) std::cout << "  place " << j["place_in_line"];
+  // An interrupted job's two resume points; a resumed one's start.
+  if (j["state"] == "interrupted" && j.contains("strokes_executed")) {
+    std::cout << "  executed " << (j["strokes_executed"].is_number() ? j["strokes_executed"].dump() : "unknown");
+  }
+  // A cancel under way: waiting_for_device means another `popcut cancel` gives the wait up.
+  if (j.contains("cancel") && j["cancel"].is_string()) std::cout << "  cancel " << j["cancel"].get<std::string>();
+  if (j.contains("resume_point") && j["resume_point"].is_string()) {
+    std::cout << "  resumed after stroke " << j["resume_from"] << " (" << j["resume_point"].get<std::string>() << ")";
+  }
   if (j.contains("error")) std::cout << "  (" << j["error"].value("code", "") << ": " << j["error"].value("message", "") << ")";
   std::cout << "\n";
 }
@@ -204,9 +213,20 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   common(s.jobs);
-  s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.");
+  s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
+                                          "If the cutter holds the line (the job shows 'cancel waiting_for_device'), cancelling again\n"
+                                          "gives up the wait: the abort is not sent and the cutter may cut all its buffer holds.");
   s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
   common(s.cancel);
+  s.resume = app.add_subcommand("resume", "Cut the rest of an interrupted job (a device error, SIGTERM or a crash stopped its cut).\n"
+                                          "Exit 2 if refused (not interrupted; --from executed where the device's executed strokes are unknown).");
+  s.resume->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+  s.resume->add_option("--from", s.resume_from,
+                       "received (default): continue after the strokes the device certainly received, for a device that kept\n"
+                       "its buffer; executed: after the strokes it is known to have executed, for a device that was reset or\n"
+                       "power-cycled (the strokes between may be cut twice)")
+      ->check(CLI::IsMember({"received", "executed"}));
+  common(s.resume);
 }
 
 std::optional<int> run_client_commands(const ClientCommands& s) {
@@ -219,14 +239,17 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
       return kOk;
     });
   }
-  if (s.cancel && *s.cancel) {
+  // Both act on one job and print it as the daemon answers.
+  const auto job_action = [&](const std::string& action, const std::string& body) {
     return run(s, [&](Connection& c) {
-      const json j = c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/cancel");
+      const json j = c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/" + action, body);
       if (s.json_out) print_json_line(j);
       else print_job_line(j);
       return kOk;
     });
-  }
+  };
+  if (s.cancel && *s.cancel) return job_action("cancel", "");
+  if (s.resume && *s.resume) return job_action("resume", json{{"from", s.resume_from}}.dump());
   return std::nullopt;
 }
 

@@ -14,6 +14,7 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 
+#include "cancel_text.h"
 #include "cli_checks.h"
 #include "cli_commands.h"
 #include "cli_sim_plotter.h"
@@ -405,11 +406,7 @@ int run_cut(const CutCommands& s) {
       return static_cast<int>(kCancelled);
     }
     if (sent.cancelled) {
-      std::string left = "nothing more";
-      if (sent.buffered_bytes > 0) {
-        left = (sent.buffer_known ? "" : "up to ") + std::to_string(sent.buffered_bytes) + " bytes (strokes " +
-               std::to_string(sent.buffered_first_stroke) + ".." + std::to_string(sent.buffered_last_stroke) + ")";
-      }
+      const std::string left = still_buffered_text(sent);
       std::cerr << "popcut: cancelled on " << transport.describe() << ": "
                 << (sent.abort_sent ? "sent the abort sequence and lifted the knife" : "could NOT send the abort sequence: " + sent.status.message)
                 << "; the device may still cut " << left << " from its buffer"

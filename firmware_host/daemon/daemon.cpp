@@ -109,15 +109,30 @@ std::string Daemon::job_dir(std::int64_t id) const {
   return (std::filesystem::path(config_.data_dir) / "jobs" / std::to_string(id)).string();
 }
 
+const char* to_string(CancelStage stage) {
+  switch (stage) {
+    case CancelStage::none: return "none";
+    case CancelStage::requested: return "requested";
+    case CancelStage::waiting_for_device: return "waiting_for_device";
+    case CancelStage::giving_up: return "giving_up";
+  }
+  return "none";
+}
+
 CancelResult Daemon::cancel(std::int64_t id) {
-  const CancelResult r = store_.cancel(id);
+  CancelResult r = store_.cancel(id);
   if (r == CancelResult::requested) {
     std::lock_guard lock(mutex_);
     for (auto& w : workers_) {
-      if (w->job == id) {
-        w->user_cancel = true;
-        w->stop_cut = true;
+      if (w->job != id) continue;
+      // The second cancel gives up only a wait the user was told of (the job showed
+      // waiting_for_device), as a second Ctrl-C does in popcut cut; earlier it is absorbed.
+      if (w->user_cancel && w->cancel_waiting) {
+        w->give_up = true;
+        r = CancelResult::giving_up;
       }
+      w->user_cancel = true;
+      w->stop_cut = true;
     }
   }
   return r;
@@ -133,7 +148,14 @@ std::vector<DeviceStatus> Daemon::devices() {
   for (auto& w : workers_) {
     const DeviceConfig& d = *w->device;
     const double time_factor = d.transport == "sim" ? d.sim_slowdown * d.sim_time_scale : 1.0;
-    out.push_back({d.name, profile_key(d), d.transport, store_.paused(d.name), w->job.load(), w->run_started_s.load(), time_factor});
+    CancelStage cancel = CancelStage::none;
+    {
+      std::lock_guard lock(mutex_);
+      if (w->user_cancel) {
+        cancel = w->give_up ? CancelStage::giving_up : w->cancel_waiting ? CancelStage::waiting_for_device : CancelStage::requested;
+      }
+    }
+    out.push_back({d.name, profile_key(d), d.transport, store_.paused(d.name), w->job.load(), w->run_started_s.load(), time_factor, cancel});
   }
   return out;
 }
@@ -199,6 +221,8 @@ void Daemon::device_loop(Worker& w) {
       w.job = job->id;
       w.run_started_s = unix_now_s();
       w.user_cancel = false;
+      w.cancel_waiting = false;
+      w.give_up = false;
       w.stop_cut = stopping_.load();
     }
     // A cancel that arrived between the claim and now is in the database only.
@@ -234,7 +258,14 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     const double share = cut.total_strokes ? 1.0 - static_cast<double>(done_before) / static_cast<double>(cut.total_strokes) : 1.0;
-    const CutOutcome out = link->cut(cut, job.est_time_s * share, w.stop_cut, [&](std::size_t last) {
+    // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
+    const CutControl control{w.stop_cut, w.give_up, [&] {
+                               log_line("job ", job.id, ": ", dev.name, " holds the line (XOFF or CTS): waiting up to ",
+                                        dev.profile.transport.hold_timeout_ms / 1000, " s (hold_timeout_ms) for it to take the abort; "
+                                        "cancelling again gives up, and the device may then cut everything its buffer holds");
+                               w.cancel_waiting = true;
+                             }};
+    const CutOutcome out = link->cut(cut, job.est_time_s * share, control, [&](std::size_t last) {
       store_.set_progress(job.id, static_cast<std::int64_t>(last));
     });
     store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
@@ -260,13 +291,19 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         break;
       }
       case CutOutcome::Kind::stopped:
-        // No transport error: the abort bytes and knife-up reached the device.
+        // What the device may still cut from its buffer: nothing after an abort it honours
+        // (the profile's abort discards the buffer on HP-style devices), all of it when the abort
+        // did not reach it.
         if (user_cancel) {
-          store_.finish(job.id, JobState::cancelled, to_string(out.error.empty() ? ApiError::cancelled : ApiError::device_error),
-                        out.error.empty() ? "cancelled during the cut; the knife was lifted" : out.error);
+          store_.finish(job.id, JobState::cancelled, to_string(out.abort_sent ? ApiError::cancelled : ApiError::device_error),
+                        out.abort_sent ? "cancelled during the cut; the knife was lifted"
+                                       : "cancelled during the cut: " + out.error + "; the device may still cut " + out.still_buffered +
+                                             " from its buffer");
         } else {
-          store_.finish(job.id, JobState::interrupted, to_string(out.error.empty() ? ApiError::interrupted : ApiError::device_error),
-                        out.error.empty() ? "popcutd stopped during the cut; the knife was lifted" : out.error);
+          store_.finish(job.id, JobState::interrupted, to_string(out.abort_sent ? ApiError::interrupted : ApiError::device_error),
+                        out.abort_sent ? "popcutd stopped during the cut; the knife was lifted"
+                                       : "popcutd stopped during the cut: " + out.error + "; the device may still cut " +
+                                             out.still_buffered + " from its buffer");
         }
         break;
       case CutOutcome::Kind::failed:

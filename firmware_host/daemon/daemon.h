@@ -17,12 +17,18 @@
 
 namespace popcut::daemon {
 
+// Where a user's cancel of a cut stands (docs/api.md "Cancelling a cut"): asked; waiting for a
+// device that holds the line to take the abort; the wait given up by a second cancel.
+enum class CancelStage { none, requested, waiting_for_device, giving_up };
+const char* to_string(CancelStage stage);
+
 struct DeviceStatus {
   std::string name, profile, transport;
   bool paused = false;
   std::int64_t job = 0;      // the job cutting, 0 = idle
   double run_started_s = 0;  // unix seconds this run of it began (a resumed job's started_at is its first run's)
   double time_factor = 1;    // wall-clock seconds per planned second: a simulated cutter's slowdown and time scale
+  CancelStage cancel = CancelStage::none;  // of the job being cut
 };
 
 class Daemon {
@@ -39,7 +45,8 @@ class Daemon {
   // Wakes planners and workers: a job was queued or resumed, or a device resumed.
   void notify();
   // Cancel: queued..ready/interrupted at once; cutting: the device stops at a command boundary,
-  // lifts the knife, and the worker records `cancelled`.
+  // lifts the knife, and the worker records `cancelled`. Cancelled again while that stop waits
+  // for a device holding the line: the wait is given up (giving_up); before then it changes nothing.
   CancelResult cancel(std::int64_t id);
   void set_paused(const std::string& device, bool paused);
   std::vector<DeviceStatus> devices();
@@ -65,6 +72,8 @@ class Daemon {
     std::atomic<std::int64_t> job{0};
     std::atomic<double> run_started_s{0};
     std::atomic<bool> stop_cut{false};
+    std::atomic<bool> cancel_waiting{false};  // the stop waits for the device to let the abort through
+    std::atomic<bool> give_up{false};         // ... and a second cancel gave that wait up
     bool user_cancel = false;  // guarded by mutex_: why stop_cut was set
   };
   void plan_loop();

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <thread>
 
+#include "../cancel_text.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/job_sender.h"
 
@@ -53,8 +54,9 @@ class DriversLink final : public DeviceLink {
  public:
   explicit DriversLink(const DeviceConfig& d) : device_(d) {}
 
-  CutOutcome cut(const EncodedJob& job, double est_motion_s, const std::atomic<bool>& stop,
+  CutOutcome cut(const EncodedJob& job, double est_motion_s, const CutControl& control,
                  const std::function<void(std::size_t)>& progress) override {
+    const std::atomic<bool>& stop = control.stop;
     const drivers::DeviceProfile& profile = device_.profile;
     drivers::SimFaults faults;
     faults.slowdown = device_.sim_slowdown;
@@ -74,6 +76,8 @@ class DriversLink final : public DeviceLink {
     }
     drivers::SendOptions opts = drivers::send_options(profile);
     opts.cancel = &stop;
+    opts.give_up = &control.give_up;
+    opts.waiting_to_cancel = control.waiting_to_cancel;
     // A real device holds up to a buffer of motion after the last byte; the simulator's virtual
     // clock is run to its end below instead, and a plain file (not a /dev/ node) needs no waiting,
     // as `popcut cut` treats it.
@@ -87,11 +91,16 @@ class DriversLink final : public DeviceLink {
     t.close();
     out.last_stroke_sent = r.last_stroke_sent;
     out.last_stroke_executed = r.last_stroke_executed;
+    out.abort_sent = r.abort_sent;
+    out.still_buffered = still_buffered_text(r);
     if (r.complete()) {
       out.kind = CutOutcome::Kind::complete;
     } else if (r.cancelled) {
       out.kind = CutOutcome::Kind::stopped;
-      if (!r.abort_sent) out.error = "the knife-up after the stop did not reach the device: " + r.status.message;
+      // Given up, the sender's message says what was not sent; otherwise the line failed.
+      if (!r.abort_sent) {
+        out.error = control.give_up ? r.status.message : "the abort sequence and the knife-up did not reach the device: " + r.status.message;
+      }
     } else {
       // Both numbers: strokes after the first may have been cut and are cut again on resume.
       out.error = t.describe() + ": " + r.status.message + "; last stroke known executed " +

@@ -19,19 +19,30 @@ struct CutOutcome {
   enum class Kind { complete, stopped, failed } kind = Kind::failed;
   std::size_t last_stroke_sent = 0;  // stroke number (from 1) of the last stroke the device certainly received
   std::optional<std::size_t> last_stroke_executed;  // the last it is known to have executed (nullopt: unknown)
-  std::string error;                 // failed: what the transport said
+  std::string error;                 // failed: what the transport said; stopped: why the knife-up did not reach the device
+  bool abort_sent = false;           // stopped: the abort sequence and knife-up reached the device
+  std::string still_buffered;        // stopped or failed: what the device may still cut ("up to 212 bytes (strokes 5..9)")
   // sim devices: the knife-down paths the simulated cutter made (complete cuts only), for the
   // caller to hold against its plan
   std::optional<std::vector<drivers::SimStroke>> sim_cut;
 };
 
+// How a cut is stopped: `stop` asks for it; a device that holds the line (XOFF, CTS) takes the
+// abort only when it lets popcut send again, so `waiting_to_cancel` is called once when the stop
+// waits for that, and `give_up` set afterwards ends the wait without sending the abort.
+struct CutControl {
+  const std::atomic<bool>& stop;
+  const std::atomic<bool>& give_up;
+  std::function<void()> waiting_to_cancel;
+};
+
 class DeviceLink {
  public:
   virtual ~DeviceLink() = default;
-  // Sends `job`; `progress` whenever another stroke is fully sent. When `stop` becomes true the
-  // command in flight is completed, the profile's abort bytes and a knife-up follow, and the
-  // outcome is `stopped`.
-  virtual CutOutcome cut(const EncodedJob& job, double est_motion_s, const std::atomic<bool>& stop,
+  // Sends `job`; `progress` whenever another stroke is fully sent. When `control.stop` becomes
+  // true the command in flight is completed, the profile's abort bytes and a knife-up follow,
+  // and the outcome is `stopped`.
+  virtual CutOutcome cut(const EncodedJob& job, double est_motion_s, const CutControl& control,
                          const std::function<void(std::size_t last_stroke_sent)>& progress) = 0;
   virtual std::string describe() const = 0;
 };

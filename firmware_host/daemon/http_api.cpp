@@ -226,6 +226,29 @@ class Api {
     if (!j || (!c.admin() && j->owner != c.name)) fail(ApiError::not_found, "no job " + std::to_string(id));
     return *j;
   }
+  // POST resume's optional body {"from": "received" | "executed"}; none (or {}) is "received".
+  static ResumePoint resume_point(const httplib::Request& req) {
+    if (req.body.empty()) return ResumePoint::received;
+    const json body = parse_body(req);
+    if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object such as {\"from\": \"executed\"}, or empty");
+    for (const auto& [k, v] : body.items()) {
+      if (k != "from") fail(ApiError::bad_request, "unknown field '" + k + "' (resume takes 'from')", k);
+    }
+    const std::string from = string_field(body, "from", false);
+    if (!body.contains("from") || body["from"].is_null()) return ResumePoint::received;
+    const std::optional<ResumePoint> point = parse_resume_point(from);
+    if (!point) fail(ApiError::bad_request, "'from' must be \"received\" (after the strokes the device certainly received, the default) or \"executed\" (after those it is known to have executed: for a device that was reset or power-cycled)", "from");
+    return *point;
+  }
+  // Polls until job `id` is in a final state (or interrupted), at most `limit`.
+  void wait_for_final(std::int64_t id, std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end) {
+      const std::optional<Job> j = d_.store().get(id);
+      if (!j || j->state != JobState::cutting) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
   // Rounded to a multiple of kAngleStepDeg (the kiosk slider's step): at most 37 pictures per model.
   static constexpr int kAngleStepDeg = 5;
   // A query parameter given at most once: ?angle=10&angle=20 is a malformed request, not a guess.
@@ -304,6 +327,7 @@ json Api::job_json(const Job& j, const Forecast* shared) {
             {"strokes_total", j.strokes_total},
             {"strokes_sent", j.strokes_sent},
             {"resume_from", j.resume_from},
+            {"resume_point", j.resume_point ? json(to_string(*j.resume_point)) : json(nullptr)},
             {"strokes_executed", j.strokes_executed ? json(*j.strokes_executed) : json(nullptr)},
             {"progress", j.strokes_total > 0 ? static_cast<double>(j.strokes_sent) / static_cast<double>(j.strokes_total) : 0.0},
             {"est_time_s", j.est_time_s},
@@ -324,8 +348,11 @@ json Api::job_json(const Job& j, const Forecast* shared) {
       if (const auto it = f.find(j.id); it != f.end()) r["eta_s"] = it->second;
     }
   } else if (j.state == JobState::cutting) {
+    r["cancel"] = nullptr;
     for (const DeviceStatus& dev : d_.devices()) {
-      if (dev.job == j.id) r["eta_s"] = busy_s(dev, {j});
+      if (dev.job != j.id) continue;
+      r["eta_s"] = busy_s(dev, {j});
+      if (dev.cancel != CancelStage::none) r["cancel"] = to_string(dev.cancel);
     }
   }
   return rounded_numbers(std::move(r));
@@ -769,6 +796,13 @@ void Api::install() {
     switch (d_.cancel(j.id)) {
       case CancelResult::cancelled:
       case CancelResult::requested: break;
+      case CancelResult::giving_up: {
+        // The sender notices within one write slice (a quarter second) and the worker records the
+        // job: answer with that outcome (200), or, should it take longer, with the job as it is (202).
+        wait_for_final(j.id, std::chrono::seconds(10));
+        const Job now = *d_.store().get(j.id);
+        return send_json(res, job_json(now), is_terminal(now.state) ? 200 : 202);
+      }
       case CancelResult::already_final:
         fail(ApiError::conflict, "job " + std::to_string(j.id) + " is already " + to_string(d_.store().get(j.id)->state));
       case CancelResult::not_found: fail(ApiError::not_found, "no job " + std::to_string(j.id));
@@ -777,7 +811,17 @@ void Api::install() {
   });
   post(R"(/api/v1/jobs/(\d+)/resume)", [this](const httplib::Request& req, httplib::Response& res) {
     const Job j = visible_job(req, auth(req));
-    if (!d_.store().resume(j.id)) fail(ApiError::conflict, "only an interrupted job resumes; job " + std::to_string(j.id) + " is " + to_string(j.state));
+    const ResumePoint from = resume_point(req);
+    switch (d_.store().resume(j.id, from)) {
+      case ResumeResult::resumed: break;
+      case ResumeResult::not_interrupted:
+        fail(ApiError::conflict, "only an interrupted job resumes; job " + std::to_string(j.id) + " is " + to_string(d_.store().get(j.id)->state));
+      case ResumeResult::executed_unknown:
+        fail(ApiError::conflict, "job " + std::to_string(j.id) + ": the strokes the device executed are unknown (its transport gives no "
+                                 "status answers, or the cut ended without asking, e.g. popcutd was killed), so there is no "
+                                 "executed point to resume from; resume from \"received\" if the device kept its buffer",
+             "from");
+    }
     d_.notify();
     send_json(res, job_json(*d_.store().get(j.id)), 202);
   });

@@ -19,6 +19,14 @@ std::optional<JobState> parse_job_state(const std::string& text) {
   return std::nullopt;
 }
 
+const char* to_string(ResumePoint point) { return point == ResumePoint::executed ? "executed" : "received"; }
+
+std::optional<ResumePoint> parse_resume_point(const std::string& text) {
+  if (text == "received") return ResumePoint::received;
+  if (text == "executed") return ResumePoint::executed;
+  return std::nullopt;
+}
+
 bool is_terminal(JobState s) { return s == JobState::done || s == JobState::failed || s == JobState::cancelled; }
 
 const char* to_string(ApiError e) {

@@ -16,6 +16,13 @@ const char* to_string(JobState state);
 std::optional<JobState> parse_job_state(const std::string& text);
 bool is_terminal(JobState state);
 
+// Where a resumed job continues (docs/api.md "Resuming"): after the strokes the device certainly
+// received (it kept its buffer: the default), or after those it is known to have executed (it was
+// reset or power-cycled and lost its buffer; strokes between may then be cut twice).
+enum class ResumePoint { received, executed };
+const char* to_string(ResumePoint point);
+std::optional<ResumePoint> parse_resume_point(const std::string& text);
+
 // Stable error codes (grbl-style catalogue): HTTP answers and failed jobs carry one of these.
 enum class ApiError {
   bad_json,          // 400: the body is not JSON
@@ -85,6 +92,7 @@ struct Job {
   std::string error_code, error_message;
   std::int64_t strokes_total = 0, strokes_sent = 0;  // strokes_sent: fully sent to the device
   std::int64_t resume_from = 0;                      // the stroke the next cut starts at
+  std::optional<ResumePoint> resume_point;           // how the last resume chose resume_from (nullopt: never resumed)
   // After a cut: the last stroke the device is known to have executed (nullopt: unknown, or
   // the device cannot be asked); after a reset or power cycle only these are certainly cut.
   std::optional<std::int64_t> strokes_executed;

@@ -66,7 +66,7 @@ class Stmt {
 
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
-    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed";
+    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, resume_point";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -88,6 +88,7 @@ Job read_job(const Stmt& s) {
   j.finished_at = s.real(15);
   j.sim_match = s.integer(16) != 0;
   j.strokes_executed = s.nullable_integer(17);
+  j.resume_point = parse_resume_point(s.text(18));  // NULL (never resumed) reads as "": nullopt
   return j;
 }
 
@@ -128,9 +129,13 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
          " strokes_total INTEGER NOT NULL DEFAULT 0, strokes_sent INTEGER NOT NULL DEFAULT 0,"
          " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
          " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
-         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0, strokes_executed INTEGER)");
+         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0, strokes_executed INTEGER,"
+         " resume_point TEXT)");
     // A database from before strokes_executed: the column is added, unknown (NULL) for old jobs.
     if (!has_column("jobs", "strokes_executed")) exec("ALTER TABLE jobs ADD COLUMN strokes_executed INTEGER");
+    // From before resume_point: old jobs resumed only after the strokes received, but whether
+    // one was resumed at all is not recorded, so NULL (shown as never resumed).
+    if (!has_column("jobs", "resume_point")) exec("ALTER TABLE jobs ADD COLUMN resume_point TEXT");
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -358,11 +363,21 @@ bool JobStore::cancel_requested(std::int64_t id) {
   return s.step() && s.integer(0) != 0;
 }
 
-bool JobStore::resume(std::int64_t id) {
+ResumeResult JobStore::resume(std::int64_t id, ResumePoint from) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET state='ready', resume_from=strokes_sent, error_code='', error_message='' WHERE id=? AND state='interrupted'")
-      .bind(1, id).step();
-  return sqlite3_changes(db_) > 0;
+  if (from == ResumePoint::executed) {
+    Stmt(db_, "UPDATE jobs SET state='ready', resume_from=strokes_executed, strokes_sent=strokes_executed, resume_point='executed',"
+              " error_code='', error_message='' WHERE id=? AND state='interrupted' AND strokes_executed IS NOT NULL")
+        .bind(1, id).step();
+  } else {
+    Stmt(db_, "UPDATE jobs SET state='ready', resume_from=strokes_sent, resume_point='received', error_code='', error_message=''"
+              " WHERE id=? AND state='interrupted'")
+        .bind(1, id).step();
+  }
+  if (sqlite3_changes(db_) > 0) return ResumeResult::resumed;
+  Stmt s(db_, "SELECT 1 FROM jobs WHERE id=? AND state='interrupted'");
+  s.bind(1, id);
+  return s.step() ? ResumeResult::executed_unknown : ResumeResult::not_interrupted;
 }
 
 void JobStore::set_paused(const std::string& device, bool paused) {

@@ -21,7 +21,12 @@ struct NewJob {
   std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
 };
 
-enum class CancelResult { cancelled, requested, already_final, not_found };
+// giving_up: Daemon::cancel only, a repeated cancel of a cut whose stop waits for a device that
+// holds the line: the wait is given up and the abort is not sent.
+enum class CancelResult { cancelled, requested, giving_up, already_final, not_found };
+// executed_unknown: resuming after the executed strokes was asked, but the device never said what
+// it executed (a transport without status answers, or a cut cut short by a crash).
+enum class ResumeResult { resumed, not_interrupted, executed_unknown };
 
 class JobStore {
  public:
@@ -69,8 +74,11 @@ class JobStore {
   // device worker stops the cut and records it).
   CancelResult cancel(std::int64_t id);
   bool cancel_requested(std::int64_t id);
-  // interrupted -> ready, continuing at the last stroke fully sent. False if not interrupted.
-  bool resume(std::int64_t id);
+  // interrupted -> ready, continuing after the strokes the device certainly received, or after
+  // those it is known to have executed (then strokes_sent drops to them too: a power-cycled
+  // device holds nothing, and a crash before the next confirmation must not resume past them).
+  // The choice is committed with the state, so a restart before the cut keeps it.
+  ResumeResult resume(std::int64_t id, ResumePoint from = ResumePoint::received);
 
   void set_paused(const std::string& device, bool paused);
   bool paused(const std::string& device);

@@ -147,6 +147,7 @@ TEST_F(Store, StrokesExecutedIsKeptPerCutAndAddedToAnOlderDatabase) {
   }
   JobStore s(db());
   EXPECT_FALSE(s.get(1)->strokes_executed.has_value()) << "an old job's executed strokes are unknown";
+  EXPECT_FALSE(s.get(1)->resume_point.has_value()) << "an old job shows no resume point";
   const std::int64_t a = *s.insert(job("dev1"), 100);
   ASSERT_EQ(s.claim_for_planning()->id, a);
   s.set_planned(a, 10, 5.0);
@@ -156,9 +157,23 @@ TEST_F(Store, StrokesExecutedIsKeptPerCutAndAddedToAnOlderDatabase) {
   s.finish(a, JobState::interrupted, "device_error", "stopped");
   EXPECT_EQ(s.get(a)->strokes_executed, std::optional<std::int64_t>(3)) << "the cut's executed strokes are kept";
   EXPECT_EQ(s.get(a)->resume_from, 7) << "resume stays at the strokes certainly received";
-  ASSERT_TRUE(s.resume(a));
+  EXPECT_FALSE(s.get(a)->resume_point.has_value()) << "not resumed yet";
+  ASSERT_EQ(s.resume(a, ResumePoint::executed), ResumeResult::resumed);
+  EXPECT_EQ(s.get(a)->resume_from, 3) << "resumed after the executed strokes";
+  EXPECT_EQ(s.get(a)->strokes_sent, 3) << "a power-cycled device holds nothing beyond them";
+  EXPECT_EQ(s.get(a)->resume_point, std::optional<ResumePoint>(ResumePoint::executed)) << "the choice is kept";
   ASSERT_TRUE(s.claim_for_device("dev1", "sim").has_value());
   EXPECT_FALSE(s.get(a)->strokes_executed.has_value()) << "a new cut starts with executed unknown";
+  EXPECT_EQ(s.get(a)->strokes_sent, 3) << "the new run counts from where it starts";
+  // Killed before the device confirmed a stroke of the new run: it resumes where that run began.
+  s.set_executed(a, std::nullopt);
+  s.finish(a, JobState::interrupted, "interrupted", "killed");
+  EXPECT_EQ(s.get(a)->resume_from, 3) << "not at the strokes the earlier run had sent";
+  EXPECT_EQ(s.resume(a, ResumePoint::executed), ResumeResult::executed_unknown) << "no executed point is known for this run";
+  EXPECT_EQ(s.get(a)->state, JobState::interrupted) << "a refused resume changes nothing";
+  EXPECT_EQ(s.resume(a, ResumePoint::received), ResumeResult::resumed);
+  EXPECT_EQ(s.get(a)->resume_point, std::optional<ResumePoint>(ResumePoint::received));
+  EXPECT_EQ(s.resume(a, ResumePoint::received), ResumeResult::not_interrupted) << "a ready job does not resume again";
 }
 
 TEST_F(Store, TransitionsAreGuardedAndSurviveReopen) {
@@ -188,8 +203,8 @@ TEST_F(Store, TransitionsAreGuardedAndSurviveReopen) {
   EXPECT_EQ(ja.resume_from, 4) << "it will resume at the first stroke not fully sent";
   EXPECT_EQ(s.get(b)->state, JobState::queued) << "a planning job goes back to the queue";
   EXPECT_FALSE(s.claim_for_device("dev1", "sim").has_value()) << "an interrupted job is not cut again unasked";
-  EXPECT_TRUE(s.resume(a)) << "an interrupted job resumes when asked";
-  EXPECT_FALSE(s.resume(a)) << "a ready job cannot resume again";
+  EXPECT_EQ(s.resume(a), ResumeResult::resumed) << "an interrupted job resumes when asked";
+  EXPECT_EQ(s.resume(a), ResumeResult::not_interrupted) << "a ready job cannot resume again";
   EXPECT_EQ(s.claim_for_device("dev1", "sim")->id, a) << "the resumed job is ready for its device";
   EXPECT_EQ(s.cancel(a), CancelResult::requested) << "cancelling a cutting job asks the worker";
   EXPECT_TRUE(s.cancel_requested(a)) << "the request is recorded";

@@ -19,6 +19,7 @@
 
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
+#include "popcutd_process.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -141,15 +142,7 @@ class SerialPty : public ::testing::Test {
     for (const auto& s : c.strokes()) out.push_back(s.points_pu);
     return out;
   }
-  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) {
-    std::vector<popcut::PlotterPath> out;
-    for (const auto& s : plotter_report["strokes"]) {
-      popcut::PlotterPath p;
-      for (const auto& q : s["points_pu"]) p.push_back({q[0].get<std::int64_t>(), q[1].get<std::int64_t>()});
-      out.push_back(p);
-    }
-    return out;
-  }
+  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) { return popcut::testing::sim_plotter_strokes(plotter_report); }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
   // Sets the port up as a raw host at the simulator's 115200 baud (a pty starts at 38400 with line
   // editing: the plotter would hear garbage), for tests that write bytes themselves.

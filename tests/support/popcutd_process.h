@@ -1,9 +1,11 @@
-// A real popcutd process for tests and benchmarks: started on a free loopback port, killed and reaped on scope exit.
+// Real popcutd and sim-plotter processes for tests and benchmarks: started, talked to, killed and reaped on scope exit.
 #pragma once
 
 #include <httplib.h>
 #include <sys/types.h>
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -30,8 +32,10 @@ class TempDir {
 class PopcutdProcess {
  public:
   // Runs `binary --config config --data-dir data_dir --port 0` and reads the port it prints;
-  // throws std::runtime_error (with its standard error) if it exits first.
-  PopcutdProcess(const std::string& binary, const std::string& config, const std::string& data_dir);
+  // throws std::runtime_error (with its standard error) if it exits first. `env`: NAME=VALUE
+  // entries added to its environment (LD_PRELOAD for a serial device on a pseudo-terminal).
+  PopcutdProcess(const std::string& binary, const std::string& config, const std::string& data_dir,
+                 const std::vector<std::string>& env = {});
   ~PopcutdProcess();  // SIGKILL if still running, then reaped
   PopcutdProcess(const PopcutdProcess&) = delete;
   PopcutdProcess& operator=(const PopcutdProcess&) = delete;
@@ -49,6 +53,30 @@ class PopcutdProcess {
   int port_ = 0;
   std::string log_path_;
 };
+
+// `popcut sim-plotter ARGS --report REPORT`: a simulated cutter on the far side of a fresh
+// pseudo-terminal, serving one session; killed and reaped on scope exit if still running.
+class SimPlotterProcess {
+ public:
+  // Throws std::runtime_error (with its standard error) if it prints no /dev/pts/ port.
+  SimPlotterProcess(const std::string& popcut, const std::vector<std::string>& args, const std::string& report_path);
+  ~SimPlotterProcess();
+  SimPlotterProcess(const SimPlotterProcess&) = delete;
+  SimPlotterProcess& operator=(const SimPlotterProcess&) = delete;
+
+  const std::string& port() const { return port_; }
+  // Its exit status once the host has closed the port, or -1 if it still runs after `give_up_s`.
+  int wait(double give_up_s = 120);
+  std::string log() const;            // its standard error
+  nlohmann::json report() const;      // what it received and cut (popcut.sim-plotter.v1), after wait()
+
+ private:
+  pid_t pid_ = -1;
+  std::string port_, report_path_, log_path_;
+};
+
+// The strokes a sim-plotter report says it cut (points in plotter units): popcut::PlotterPath's.
+std::vector<std::vector<std::array<std::int64_t, 2>>> sim_plotter_strokes(const nlohmann::json& report);
 
 // A TCP connection to 127.0.0.1:port, as a raw socket to send bytes on (-1 if it cannot connect).
 int connect_loopback(int port);
