@@ -307,6 +307,13 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         }
         break;
       case CutOutcome::Kind::failed:
+        if (out.bytes_lost) {
+          // Not resumable: the device cut something else than the job.
+          store_.finish(job.id, JobState::failed, to_string(ApiError::device_error),
+                        out.error + "; what it cut is not the job: fix the device's profile (or the line) and submit the job again");
+          log_line("job ", job.id, ": ", dev.name, " lost bytes: ", out.error);
+          break;
+        }
         // The cutter may be fixed and the job resumed from the last stroke fully sent.
         store_.finish(job.id, JobState::interrupted, to_string(ApiError::device_error), out.error);
         log_line("job ", job.id, ": ", dev.name, " failed: ", out.error);

@@ -101,6 +101,9 @@ class DriversLink final : public DeviceLink {
       if (!r.abort_sent) {
         out.error = control.give_up ? r.status.message : "the abort sequence and the knife-up did not reach the device: " + r.status.message;
       }
+    } else if (r.device_io_error != 0) {
+      out.bytes_lost = true;
+      out.error = t.describe() + ": " + r.status.message;
     } else {
       // Both numbers: strokes after the first may have been cut and are cut again on resume.
       out.error = t.describe() + ": " + r.status.message + "; last stroke known executed " +

@@ -22,6 +22,9 @@ struct CutOutcome {
   std::string error;                 // failed: what the transport said; stopped: why the knife-up did not reach the device
   bool abort_sent = false;           // stopped: the abort sequence and knife-up reached the device
   std::string still_buffered;        // stopped or failed: what the device may still cut ("up to 212 bytes (strokes 5..9)")
+  // failed: the device reported lost or garbled bytes (ESC.E 15 or 16): what it cut is not the
+  // job, so no resume point repairs it.
+  bool bytes_lost = false;
   // sim devices: the knife-down paths the simulated cutter made (complete cuts only), for the
   // caller to hold against its plan
   std::optional<std::vector<drivers::SimStroke>> sim_cut;

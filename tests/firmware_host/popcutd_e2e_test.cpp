@@ -839,6 +839,30 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
   EXPECT_EQ(popcut::testing::sim_plotter_strokes(fresh_b->report()), from_stroke(planned(ib), m)) << "the cutter cut exactly strokes " << m + 1 << "..";
 }
 
+// The device's profile says XON/XOFF; the plotter never says XOFF (it is set up for ESC.B), so
+// its buffer overflows while every write succeeds. Its ESC.E answer fails the job for good: what
+// it cut is not the job, and a resume would only cut the rest of a spoiled sheet.
+TEST_F(SerialPopcutd, ACutterThatLostBytesFailsTheJobInsteadOfOfferingAResume) {
+  std::string p = read_file(profile_);
+  const std::size_t at = p.find("flow_control = \"xon_xoff\"");
+  ASSERT_NE(at, std::string::npos);
+  p.replace(at, std::string("flow_control = \"xon_xoff\"").size(), "flow_control = \"esc_b\"");
+  const std::string plotter_profile = dir_.write("plotter-escb.toml", p);
+  auto plot = plotter("lossy", {"--profile", plotter_profile, "--slowdown", "0.5"});
+  const auto d = start_on(*plot);
+  httplib::Client c = d->client(kKiosk);
+  const std::int64_t id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "lossy"));
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); }, 120)) << "the cut ends; log:\n" << d->log();
+  const json j = job(c, id);
+  EXPECT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "").status, 409) << "a failed job does not resume";
+  EXPECT_EQ(d->stop(SIGTERM), 0);
+  ASSERT_EQ(plot->wait(), 0) << plot->log();
+  ASSERT_GT(plot->report()["overflow_bytes"].get<int>(), 0) << "the plotter lost bytes";
+  EXPECT_EQ(j["state"], "failed") << "not done, and not resumable: " << j.dump();
+  EXPECT_EQ(j["error"]["code"], "device_error") << j.dump();
+  EXPECT_NE(j["error"]["message"].get<std::string>().find("I/O error 16"), std::string::npos) << j.dump();
+}
+
 TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {
   // The cutter says XOFF at 192 bytes and, a thousand times slower than the profile, keeps holding
   // the line: the abort cannot go out before the hold timeout of 60 s.
