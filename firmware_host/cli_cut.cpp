@@ -414,6 +414,12 @@ int run_cut(const CutCommands& s) {
                 << resume << "\n";
       return static_cast<int>(kCancelled);
     }
+    if (!sent.status.ok() && sent.device_io_error != 0) {
+      // Stroke numbers mean nothing here: the device cut something else than the job.
+      std::cerr << "popcut: error: the job did not reach the cutter intact (" << transport.describe() << "): " << sent.status.message
+                << resume << "\n";
+      return static_cast<int>(kCannotWrite);
+    }
     if (!sent.status.ok()) {
       std::cerr << "popcut: error: the job did not reach the cutter (" << transport.describe() << "): " << sent.status.message
                 << "; " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " job bytes written; " << where << resume << "\n";

@@ -46,6 +46,12 @@ class Sender {
       if (r_.cancelled) return r_;  // Ctrl-C before the first byte: nothing went out, nothing to abort
       return fail_tail();
     }
+    // Reading ESC.E clears it: an error left from before this job must not fail it. A device
+    // the profile says answers ESC.E and does not is found here, before any byte of the job.
+    if (o_.error_query && t_.answers() && !ask(DrainQuery::esc_e, "before sending")) {
+      if (r_.cancelled) return r_;
+      return fail_tail();
+    }
     // Small chunks: under XON/XOFF the device says XOFF at 3/4 full, so one chunk in flight must
     // fit in the last quarter.
     const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(256, o_.buffer_bytes / 8));
@@ -73,8 +79,8 @@ class Sender {
       wait_until_drained();
       if (!r_.status.ok()) return fail_tail();
       if (!r_.cancelled) {
+        if (!check_device_errors()) return fail_tail();  // lost bytes: nothing is known executed
         drained_ = true;  // the device said it has executed everything (or the estimate passed)
-        if (!check_device_errors()) return fail_tail();
         settle_counts();
         return r_;
       }
@@ -113,10 +119,10 @@ class Sender {
     r_.last_stroke_written = job_.last_stroke_within(r_.bytes_sent);
     // Executed is known only from the device's answers (or an answered drain); it never runs
     // ahead of what it received.
-    if (query_ != DrainQuery::none && answers_ > 0) {
+    if (query_ != DrainQuery::none && answers_ > 0 && r_.device_io_error == 0) {
       const std::size_t bytes = drained_ ? r_.bytes_sent : std::min(executed_, r_.bytes_received);
       r_.last_stroke_executed = std::min(stroke_executed_by(bytes), r_.last_stroke_sent);
-    } else {
+    } else {  // unknown: no answers, or lost bytes made what it executed something else than the job
       r_.last_stroke_executed.reset();
     }
   }
@@ -292,7 +298,7 @@ class Sender {
     const bool number = !text.empty() && text.size() <= 12 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
     if (pending_.empty() || !number) {
       r_.status = {TransportError::io, 0,
-                   "the device answered " + printable(text) + (pending_.empty() ? " unasked" : std::string(" to ") + query_name(query_)) +
+                   "the device answered " + printable(text) + (pending_.empty() ? " unasked" : std::string(" to ") + query_name(pending_.front().query)) +
                        ", not a status number: " + check_line_hint()};
       return false;
     }
@@ -353,15 +359,17 @@ class Sender {
         return false;
       }
       const std::size_t before = bytes_heard_;
-      const auto slice = std::min(left, kSlice);
+      const auto slice = std::max(std::chrono::milliseconds(1), std::min(left, kSlice));
       if (!take_replies(slice)) return false;
-      if (held < o_.hold_timeout && t_.holding_line()) {
+      if (held < o_.hold_timeout && !cancel_requested() && t_.holding_line()) {
         // The query waits behind a line the device holds (it is cutting a full buffer): not
-        // silence yet. Up to hold_timeout, as for any byte the device holds back.
+        // silence yet. Up to hold_timeout, as for any byte the device holds back; the silence
+        // count starts again when the line moves. A cancel ends this grace (its own wait for
+        // the held line, which a second interrupt may give up, follows).
         held += slice;
         silent = std::chrono::milliseconds(0);
-        until += slice;
-        left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
+        until = std::chrono::steady_clock::now() + o_.timeout;
+        left = o_.timeout;
         continue;
       }
       silent = bytes_heard_ == before ? silent + slice : std::chrono::milliseconds(0);
@@ -370,7 +378,9 @@ class Sender {
       if (left.count() <= 0) break;  // chatter, but no answer
     }
     if (pending_.size() <= keep) return true;
-    const std::string waited = std::to_string(o_.timeout.count()) + " ms" + (line_.empty() ? "" : " (it sent " + printable(line_) + ")");
+    const std::string waited = std::to_string(o_.timeout.count()) + " ms" +
+                               (held.count() > 0 ? " after " + duration_text(held) + " behind a line it held" : "") +
+                               (line_.empty() ? "" : " (it sent " + printable(line_) + ")");
     if (answers_ > 0) {
       r_.status = {TransportError::timeout, ETIMEDOUT,
                    "the device stopped answering: no answer to " + std::string(query_name(q)) + " " + when + " within " + waited +
@@ -480,14 +490,14 @@ class Sender {
   bool check_device_errors() {
     if (!o_.error_query || !t_.answers()) return true;
     if (!ask(DrainQuery::esc_e, "after the job")) return false;
-    if (query_skipped_ || last_answer_ == 0) return true;
+    // 10-14 are device-control complaints (a query or set-up it did not take): no HP-GL byte lost.
+    if (query_skipped_ || (last_answer_ != 15 && last_answer_ != 16)) return true;
     const std::string code = std::to_string(last_answer_);
     r_.device_io_error = static_cast<int>(last_answer_);
-    const char* meaning = last_answer_ == 16   ? "its input buffer overflowed: bytes were lost, so the cut is wrong; the device does not do the "
-                                                 "flow control the profile says (flow_control, buffer_bytes)"
-                          : last_answer_ == 15 ? "framing, parity or overrun errors on the line: bytes were garbled; check the baud rate, "
-                                                 "data bits, parity and stop bits of the profile against the device, and the cable"
-                                               : "an HP-GL device-control error (10-14): a query or set-up it did not take";
+    const char* meaning = last_answer_ == 16 ? "its input buffer overflowed: bytes were lost, so the cut is wrong; the device does not do the "
+                                               "flow control the profile says (flow_control, buffer_bytes)"
+                                             : "framing, parity or overrun errors on the line: bytes were garbled; check the baud rate, "
+                                               "data bits, parity and stop bits of the profile against the device, and the cable";
     r_.status = {TransportError::io, 0, "every byte went out, but the device reports I/O error " + code + " (ESC.E): " + meaning};
     return false;
   }

@@ -380,6 +380,7 @@ TEST(SendJob, ADeviceThatLostBytesToOverflowFailsTheJob) {
   ASSERT_GT(cutter->report().overflow_bytes, 0u) << "the mismatch lost bytes";
   EXPECT_FALSE(r.complete()) << "a job the device did not get whole is not done";
   EXPECT_NE(r.status.message.find("I/O error 16 (ESC.E): its input buffer overflowed"), std::string::npos) << r.status.message;
+  EXPECT_FALSE(r.last_stroke_executed.has_value()) << "with bytes lost, nothing it did is known to be the job's strokes";
 
   // The same device with a matching profile reports no error, and the job is done.
   DeviceProfile matching = device;
@@ -390,6 +391,18 @@ TEST(SendJob, ADeviceThatLostBytesToOverflowFailsTheJob) {
   const SendResult ok = send_job(t2, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
   EXPECT_TRUE(ok.complete()) << ok.status.message;
   EXPECT_EQ(fine->report().overflow_bytes, 0u);
+
+  // An error left from an earlier job nobody asked about does not fail the next one: popcut
+  // reads (and so clears) ESC.E before sending.
+  auto used = std::make_shared<SimCutter>(device, slow);
+  SimTransport t3(used);
+  ASSERT_TRUE(t3.open().ok());
+  SendOptions careless = send_options(host);
+  careless.error_query = false;
+  EXPECT_TRUE(send_job(t3, encode_job(townhouse_plan(host), host.dialect, host.tools), careless).complete()) << "not asked, not seen";
+  ASSERT_GT(used->report().overflow_bytes, 0u) << "the earlier job lost bytes";
+  const SendResult next = send_job(t3, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
+  EXPECT_TRUE(next.complete()) << "the stale error is cleared before the job: " << next.status.message;
 }
 
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
@@ -576,6 +589,12 @@ TEST(SendJob, AQueryBehindAHeldLineIsWaitedForUpToTheHoldTimeout) {
   HeldAnswers unseen(40, false);
   const SendResult u = send_job(unseen, job, o);
   EXPECT_FALSE(u.complete()) << "where no hold can be seen, the timeout stands";
+  // A line held for good: hold_timeout, then the usual timeout, then a message that says so.
+  o.hold_timeout = std::chrono::seconds(2);
+  HeldAnswers forever(1 << 30, true);
+  const SendResult f = send_job(forever, job, o);
+  EXPECT_FALSE(f.complete());
+  EXPECT_NE(f.status.message.find("behind a line it held"), std::string::npos) << f.status.message;
 }
 
 TEST(SendJob, SilenceOrGarbageInsteadOfAnAnswerStopsBeforeTheJob) {
