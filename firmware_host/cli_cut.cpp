@@ -408,7 +408,9 @@ int run_cut(const CutCommands& s) {
     if (sent.cancelled) {
       const std::string left = still_buffered_text(sent);
       std::cerr << "popcut: cancelled on " << transport.describe() << ": "
-                << (sent.abort_sent ? "sent the abort sequence and lifted the knife" : "could NOT send the abort sequence: " + sent.status.message)
+                << (sent.abort_sent ? (j.profile.transport.abort.empty() ? "lifted the knife (the profile names no abort sequence)"
+                                                                       : "sent the abort sequence and lifted the knife")
+                                    : "could NOT send the abort sequence: " + sent.status.message)
                 << "; the device may still cut " << left << " from its buffer"
                 << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 || !sent.abort_sent ? "" : " unless it honours the abort sequence") << "; " << where
                 << resume << "\n";

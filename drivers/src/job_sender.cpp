@@ -339,7 +339,13 @@ class Sender {
       last_answer_ = 0;  // a cancel came first: nothing learnt (no free space, not empty)
       return true;
     }
-    return await_answers(0, q, when);
+    answer_dropped_ = false;
+    if (!await_answers(0, q, when)) return false;
+    if (std::exchange(answer_dropped_, false)) {
+      query_skipped_ = true;  // a cancel ended the wait: nothing learnt, as above
+      last_answer_ = 0;
+    }
+    return true;
   }
 
   // Waits up to the timeout until at most `keep` queries are unanswered. False with r_.status
@@ -357,6 +363,12 @@ class Sender {
       if (r_.bytes_sent == 0 && cancel_requested()) {
         r_.cancelled = true;
         return false;
+      }
+      if (cancel_requested() && !aborting_) {
+        // A cancel while a device is slow to answer (or has stopped): stop waiting and go on to
+        // the abort; the answer, should it come, is taken for this query later.
+        answer_dropped_ = true;
+        return true;
       }
       const std::size_t before = bytes_heard_;
       const auto slice = std::max(std::chrono::milliseconds(1), std::min(left, kSlice));
@@ -456,6 +468,12 @@ class Sender {
       long waited_ms = 0, most_free = -1;
       for (int polls = 0;; ++polls) {
         if (!ask(DrainQuery::esc_b, "while sending")) return false;
+        // Cancelled while waiting for the answer: finish the command in flight without it (the
+        // abort that follows discards what the device holds).
+        if (query_skipped_ && cancel_requested()) {
+          n = std::max<std::size_t>(1, job_.command_boundary_at_or_after(r_.bytes_sent) - r_.bytes_sent);
+          return true;
+        }
         ++r_.buffer_queries;
         credit_ = static_cast<std::size_t>(std::max(0L, last_answer_));
         if (credit_ >= n) break;
@@ -567,6 +585,7 @@ class Sender {
 
   // Cancel: the profile's abort sequence and knife up, then how much the device may still hold.
   void send_abort() {
+    aborting_ = true;  // from here a query's answer is waited for: it tells what the device holds
     // Under XON/XOFF in the OS the abort waits for XON like any byte, up to the hold timeout:
     // the device is cutting its buffer meanwhile, and the abort is what stops it. In slices, so
     // that the user is told and may give up (o_.give_up).
@@ -683,7 +702,9 @@ class Sender {
   int xoffs_read_ = 0;           // XOFFs popcut read itself (flow control not in the OS)
   int slice_holds_ = 0;          // holds seen as write slices that moved no byte
   bool told_waiting_ = false;    // o_.waiting_to_cancel was called
-  bool query_skipped_ = false;   // the last query was not sent: a cancel came while the line was held
+  bool query_skipped_ = false;
+  bool answer_dropped_ = false;  // a cancel ended await_answers before the answer came
+  bool aborting_ = false;        // the abort is under way: cancels no longer cut waits short   // the last query was not sent: a cancel came while the line was held
 };
 
 }  // namespace

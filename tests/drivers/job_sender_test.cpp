@@ -287,6 +287,46 @@ TEST(SendJob, AProfileThatUnderstatesTheBufferDoesNotEndTheJobEarly) {
   EXPECT_EQ(cutter->strokes().size(), job.stroke_end.size()) << "every stroke was cut when popcut said done";
 }
 
+// Ctrl-C while popcut waits for the answer of a device that stopped mid-job: the wait ends and
+// the cancel goes on to the abort (it used to wait out timeout_ms and end in a device error,
+// with no abort and no knife-up sent).
+// The user presses Ctrl-C while popcut listens for an answer from a device that went silent.
+class CancelWhileListening final : public Transport {
+ public:
+  CancelWhileListening(std::shared_ptr<SimCutter> c, std::atomic<bool>& cancel) : cutter_(c), sim_(c), cancel_(cancel) {}
+  TransportStatus open() override { return sim_.open(); }
+  IoResult write(std::span<const std::uint8_t> d, std::chrono::milliseconds t) override { return sim_.write(d, t); }
+  IoResult read(std::span<std::uint8_t> b, std::chrono::milliseconds t) override {
+    if (cutter_->frozen() && !b.empty()) cancel_ = true;
+    return sim_.read(b, t);
+  }
+  TransportStatus drain(std::chrono::milliseconds t) override { return sim_.drain(t); }
+  void close() override { sim_.close(); }
+  std::string describe() const override { return "sim"; }
+
+ private:
+  std::shared_ptr<SimCutter> cutter_;
+  SimTransport sim_;
+  std::atomic<bool>& cancel_;
+};
+
+TEST(SendJob, ACancelWhileWaitingForAnAnswerStillAborts) {
+  for (const char* profile : {"secabo.toml", "sim.toml"}) {  // ESC.B pacing; ESC.O pings under XON/XOFF
+    const DeviceProfile p = load_profile(config(profile));
+    SimFaults stuck;
+    stuck.stop_answering_after_bytes = 700;
+    auto cutter = std::make_shared<SimCutter>(p, stuck);
+    std::atomic<bool> cancel{false};
+    CancelWhileListening t(cutter, cancel);
+    ASSERT_TRUE(t.open().ok());
+    SendOptions o = send_options(p);
+    o.cancel = &cancel;
+    const SendResult r = send_job(t, encode_job(townhouse_plan(p), p.dialect, p.tools), o);
+    EXPECT_TRUE(r.cancelled) << profile << ": a cancel, not a device error: " << r.status.message;
+    EXPECT_TRUE(r.abort_sent) << profile << ": the abort and knife-up went out";
+  }
+}
+
 // Ctrl-C while popcut waits for a silent device's first answer: cancelled at once, nothing sent
 // (it used to wait out the timeout and report the device as not answering).
 TEST(SendJob, ACancelBeforeTheFirstAnswerEndsTheWaitWithNothingSent) {
