@@ -412,7 +412,10 @@ int run_cut(const CutCommands& s) {
                                                                        : "sent the abort sequence and lifted the knife")
                                     : "could NOT send the abort sequence: " + sent.status.message)
                 << "; the device may still cut " << left << " from its buffer"
-                << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 || !sent.abort_sent ? "" : " unless it honours the abort sequence") << "; " << where
+                << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 || !sent.abort_sent || sent.buffer_known
+                        ? ""  // known: the device answered after the abort, so the figure already counts it
+                        : " unless it honours the abort sequence")
+                << "; " << where
                 << resume << "\n";
       return static_cast<int>(kCancelled);
     }

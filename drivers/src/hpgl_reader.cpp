@@ -86,6 +86,13 @@ std::size_t HpglReader::feed_to_control(std::string_view bytes, std::vector<Hpgl
   return bytes.size();
 }
 
+void HpglReader::discard_pending() {
+  consumed_ += pending_.size() - synthetic_;
+  pending_.clear();
+  synthetic_ = 0;
+  separators_ = 0;
+}
+
 void HpglReader::finish(std::vector<HpglCommand>& out) {
   if (!esc_.empty()) {
     out.push_back(esc_command(esc_.size() >= 2 ? esc_ : esc_ + "?", consumed_));

@@ -1,5 +1,6 @@
 // Job streaming: chunks on command boundaries, paced by XON/XOFF or ESC.B, with cancel and drain.
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/hpgl_reader.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -653,7 +654,11 @@ class Sender {
         // Exact when the device once said its whole buffer was free (so its size is known);
         // else an upper bound: a device smaller than the profile says holds less.
         const std::size_t free_now = static_cast<std::size_t>(std::max(0L, last_answer_));
-        r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() - std::min(device_buffer(), free_now));
+        std::size_t held = device_buffer() - std::min(device_buffer(), free_now);
+        // Asked after the abort: the knife-up sent with it is in the buffer too, and is no part
+        // of the job (a device that honoured ESC.K holds only that).
+        if (r_.abort_sent) held -= std::min(held, buffered_abort_bytes());
+        r_.buffered_bytes = std::min(r_.bytes_sent, held);
         r_.buffer_known = largest_free_ >= device_buffer();
       }
       r_.status = keep;
@@ -663,6 +668,21 @@ class Sender {
     if (r_.last_stroke_executed) r_.buffered_first_stroke = std::min(r_.buffered_first_stroke, *r_.last_stroke_executed + 1);
     r_.buffered_last_stroke = stroke_touched_by(r_.bytes_sent);
     if (r_.buffered_bytes == 0) r_.buffered_first_stroke = r_.buffered_last_stroke + 1;
+  }
+
+  // Bytes of the abort that enter the device's buffer: all but its device-control sequences.
+  std::size_t buffered_abort_bytes() const {
+    std::size_t n = 0;
+    std::string esc;
+    for (const char c : o_.abort_bytes) {
+      if (!esc.empty() || c == '\x1b') {
+        esc += c;
+        if (esc_complete(esc)) esc.clear();
+      } else {
+        ++n;
+      }
+    }
+    return n;
   }
 
   // The last stroke the first `bytes` may cut: the last complete one, or the next one when more

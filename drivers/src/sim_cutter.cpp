@@ -180,9 +180,10 @@ void SimCutter::answer(const HpglCommand& c) {
   else if (n == "ESC.O") queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r");
   else if (n == "ESC.E") queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r");  // read clears it, as on HP
   else if (n == "ESC.A") queue_reply("popcut-sim,0\r");
-  else if (n == "ESC.K") {  // abort: drop what is buffered
+  else if (n == "ESC.K") {  // abort: drop what is buffered, a command in progress too
     for (const HpglCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
     queue_.clear();
+    reader_.discard_pending();
   } else if (n == "ESC.@" || n == "ESC.H" || n == "ESC.I" || n == "ESC.M" || n == "ESC.N" || n == "ESC.R" || n == "ESC.T") {
     // Handshake configuration: the sim's pacing comes from the profile, so only counted.
   } else {

@@ -290,6 +290,30 @@ TEST(SendJob, AProfileThatUnderstatesTheBufferDoesNotEndTheJobEarly) {
 // Ctrl-C while popcut waits for the answer of a device that stopped mid-job: the wait ends and
 // the cancel goes on to the abort (it used to wait out timeout_ms and end in a device error,
 // with no abort and no knife-up sent).
+// Under ESC.B the device is asked after the abort: one that honoured ESC.K holds only the
+// knife-up, so it may cut nothing more of the job (it used to say "3 bytes (strokes 7..15)").
+TEST(SendJob, AfterAnHonouredAbortTheDeviceMayCutNothingMore) {
+  DeviceProfile p = load_profile(config("secabo.toml"));
+  p.transport.abort = "\x1b.K";
+  SimFaults slow;
+  slow.slowdown = 5;  // a full buffer when the cancel comes
+  auto cutter = std::make_shared<SimCutter>(p, slow);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  std::atomic<bool> cancel{false};
+  SendOptions o = send_options(p);
+  o.cancel = &cancel;
+  int chunks = 0;
+  o.progress = [&](const SendProgress&) {
+    if (++chunks == 12) cancel = true;
+  };
+  const SendResult r = send_job(t, encode_job(townhouse_plan(p), p.dialect, p.tools), o);
+  ASSERT_TRUE(r.cancelled && r.abort_sent) << r.status.message;
+  ASSERT_TRUE(r.buffer_known) << "asked after the abort";
+  EXPECT_EQ(r.buffered_bytes, 0u) << "the knife-up is not the job's";
+  EXPECT_GT(r.buffered_first_stroke, r.buffered_last_stroke) << "no stroke left to cut";
+}
+
 // The user presses Ctrl-C while popcut listens for an answer from a device that went silent.
 class CancelWhileListening final : public Transport {
  public:

@@ -35,6 +35,8 @@ class HpglReader {
   std::size_t feed_to_control(std::string_view bytes, std::vector<HpglCommand>& out);
   // End of input: the last command may lack its terminator.
   void finish(std::vector<HpglCommand>& out);
+  // Drops the bytes of a command not yet complete (a device discarding its buffer, ESC.K).
+  void discard_pending();
   // Whether the next byte continues a device-control sequence (those bypass the buffer).
   bool in_device_control() const { return !esc_.empty(); }
   // Buffer bytes held for a command not yet complete (a device-control sequence being received
