@@ -685,14 +685,16 @@ class Sender {
     return n;
   }
 
-  // The last stroke the first `bytes` may cut: the last complete one, or the next one when more
-  // than its opening knife-up move went out (a cancel stops it at a command boundary).
+  // The last stroke the first `bytes` may cut: the last complete one, or the next one when its
+  // knife went down (a cancel stops it at a command boundary).
   std::size_t stroke_touched_by(std::size_t bytes) const {
     const std::size_t done = job_.last_stroke_within(bytes);
     const std::size_t last = job_.first_stroke + job_.stroke_end.size() - 1;
     const std::size_t done_end = done >= job_.first_stroke ? job_.stroke_end[done - job_.first_stroke] : 0;
-    const std::size_t move_end = job_.command_boundary_at_or_after(done_end + 1);
-    return done < last && bytes > move_end ? done + 1 : done;
+    // The next stroke is touched once its first knife-down (PD, in every dialect) went out: its
+    // travel and tool set-up before that cut nothing.
+    const std::size_t knife_down = job_.bytes.find("PD", done_end);
+    return done < last && knife_down != std::string::npos && bytes > knife_down ? done + 1 : done;
   }
 
   Transport& t_;

@@ -314,6 +314,37 @@ TEST(SendJob, AfterAnHonouredAbortTheDeviceMayCutNothingMore) {
   EXPECT_GT(r.buffered_first_stroke, r.buffered_last_stroke) << "no stroke left to cut";
 }
 
+// A cancel that stops after the next stroke's travel (knife up) but before its knife-down: that
+// stroke cannot be cut, so it is not among those the device may still cut.
+TEST(SendJob, AStrokeWhoseKnifeNeverWentDownIsNotLeftToCut) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.flow = FlowControl::none;
+  p.transport.drain_query = DrainQuery::none;
+  p.transport.error_query = false;
+  p.transport.buffer_bytes = 64;  // chunks of 8 bytes, ending on command boundaries
+  EncodedJob job;
+  job.bytes = "IN;PU;PA0,0;PD10,0;PU;PA20,0;PD30,0;";
+  for (std::size_t i = 0; i < job.bytes.size(); ++i) {
+    if (job.bytes[i] == ';') job.command_end.push_back(i + 1);
+  }
+  job.stroke_end = {job.bytes.find("PD10,0;") + 7, job.bytes.size()};
+  job.total_strokes = 2;
+  const std::size_t travel_end = job.bytes.find("PD30");  // "...PU;PA20,0;" went out, "PD30,0;" did not
+  auto cutter = std::make_shared<SimCutter>(p);
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  std::atomic<bool> cancel{false};
+  SendOptions o = send_options(p);
+  o.cancel = &cancel;
+  o.progress = [&](const SendProgress& s) {
+    if (s.bytes_sent >= travel_end) cancel = true;
+  };
+  const SendResult r = send_job(t, job, o);
+  ASSERT_TRUE(r.cancelled) << r.status.message;
+  ASSERT_EQ(r.bytes_sent, travel_end) << "stopped after the travel, before the knife-down";
+  EXPECT_EQ(r.buffered_last_stroke, 1u) << "stroke 2's knife never went down";
+}
+
 // The user presses Ctrl-C while popcut listens for an answer from a device that went silent.
 class CancelWhileListening final : public Transport {
  public:
