@@ -22,6 +22,7 @@
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/job_sender.h"
+#include "popcut/text.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/error.h"
@@ -266,13 +267,11 @@ int run_cut(const CutCommands& s) {
     }
     Progress progress(!s.no_progress && !s.json_out);
     drivers::SendOptions opts = drivers::send_options(j.profile);
-    // The simulator's clock is virtual and run_to_end() below waits for it; a plain file needs
-    // no waiting. A real device (or a printer node) holds up to a buffer of motion.
+    // The device's pace: a real device (or a printer node) holds up to a buffer of motion, and one
+    // with no handshake is paced by it (the simulator too, on its virtual clock). A plain file
+    // needs no waiting.
     const bool plain_file = made.address.kind == drivers::DeviceKind::file && made.address.path.rfind("/dev/", 0) != 0;
-    if (!sim && !plain_file && !j.hpgl.empty()) {
-      const double share = static_cast<double>(j.encoded.bytes.size()) / static_cast<double>(j.hpgl.size());
-      opts.job_motion_estimate = std::chrono::milliseconds(static_cast<long>(j.time.total_s * share * 1000));
-    }
+    if (!plain_file) opts.motion = drivers::motion_schedule(j.encoded.bytes, j.profile);
     opts.progress = [&](const drivers::SendProgress& p) { progress(p); };
     opts.cancel = &g_cancel;
     opts.give_up = &g_give_up;
@@ -428,6 +427,19 @@ int run_cut(const CutCommands& s) {
     if (!sent.status.ok()) {
       std::cerr << "popcut: error: the job did not reach the cutter (" << transport.describe() << "): " << sent.status.message
                 << "; " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " job bytes written; " << where << resume << "\n";
+      return static_cast<int>(kCannotWrite);
+    }
+    if (cutter && !match && cutter->report().overflow_bytes > 0) {
+      // A device fault the simulator was asked for (--sim-slowdown past what the pacing allows),
+      // not popcut's: what a real device would have done, told as such.
+      std::cerr << "popcut: error: the simulated cutter lost " << cutter->report().overflow_bytes
+                << " bytes to a full buffer, so it did not cut the job: "
+                << (j.profile.transport.flow == drivers::FlowControl::none
+                        ? "popcut paced it by time (flow_control \"none\"), and --sim-slowdown " + format_decimal(s.slowdown, 3) +
+                              " is slower than the profile allows for with pace_margin_percent (" +
+                              std::to_string(j.profile.transport.pace_margin_percent) + " %)"
+                        : std::string("its flow control did not keep up"))
+                << " (see " << (dir / "report.json").string() << ")\n";
       return static_cast<int>(kCannotWrite);
     }
     if (cutter && !match) {

@@ -172,7 +172,7 @@ int run_sim_plotter(const SimPlotterCommand& s) {
 
     const auto start = std::chrono::steady_clock::now();
     const auto now_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    const bool held = profile.transport.flow == drivers::FlowControl::none || profile.transport.flow == drivers::FlowControl::rts_cts;
+    const bool held = cutter.holds_line();  // hardware flow control: a full buffer stops the line
     const bool xon_xoff = profile.transport.flow == drivers::FlowControl::xon_xoff;
     bool host_ixon = false;
     const std::size_t cap = profile.transport.buffer_bytes;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <deque>
@@ -424,6 +425,29 @@ class Sender {
   // what it says; false on a transport error other than silence.
   bool idle(std::chrono::milliseconds wait) { return take_replies(wait); }
 
+  // No handshake and a line that cannot hold popcut off: only the motion model tells the pace.
+  bool time_paced() const { return flow_ == FlowControl::none && !t_.backpressure() && !o_.motion.empty(); }
+  double slowdown() const { return 1 + o_.pace_margin_percent / 100.0; }
+
+  // Moves the modelled device on by the transport's clock, at the model's pace slowed by the
+  // margin, and returns the job bytes it has read out of its buffer. It cannot start a command
+  // before it has all of it: waiting for bytes (a slow line, a late write) costs it time, so it
+  // never runs ahead of the device, which could then be sent more than it has room for.
+  std::size_t advance_model() {
+    const auto now = t_.now();
+    const double dt_s = std::chrono::duration<double>(now - model_at_).count() / slowdown();
+    model_at_ = now;
+    const std::size_t has = all_out_ ? r_.bytes_sent : r_.bytes_sent - std::min(r_.bytes_sent, t_.expected_in_flight());
+    const auto waits_for = std::upper_bound(o_.motion.begin(), o_.motion.end(), has,
+                                            [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+    const double limit_s = waits_for == o_.motion.end() ? o_.motion.back().start_s : waits_for->start_s;
+    model_s_ = std::min(model_s_ + std::max(0.0, dt_s), std::max(model_s_, limit_s));
+    model_needs_ = waits_for != o_.motion.end() && model_s_ >= limit_s ? waits_for->bytes_read : 0;
+    const auto started = std::upper_bound(o_.motion.begin(), o_.motion.end(), model_s_,
+                                          [](double t, const MotionMark& m) { return t < m.start_s; });
+    return started == o_.motion.begin() ? 0 : std::prev(started)->bytes_read;
+  }
+
   // Waits until `n` bytes may go out; may shrink n (ESC.B credit). False with r_.status set.
   bool pace(std::size_t& n, std::size_t chunk) {
     if (flow_ == FlowControl::xon_xoff) {
@@ -448,17 +472,25 @@ class Sender {
         if (!take_replies(kSlice)) return false;
         held += kSlice;
       }
-    } else if (flow_ == FlowControl::none && !t_.backpressure() && o_.job_motion_estimate.count() > 0) {
-      // No handshake at all: keep at most half a buffer ahead of where the device should be,
-      // assuming it works through the job's bytes at the pace of its estimated motion.
-      const double rate_bytes_s = static_cast<double>(job_.bytes.size()) /
-                                  (static_cast<double>(o_.job_motion_estimate.count()) / 1000.0);
+    } else if (time_paced()) {
+      // No handshake at all: keep at most half a buffer more than the modelled device has read.
+      // Half: a device may free a command's bytes only when it ends it, not when it starts it.
+      const std::size_t ahead = std::max<std::size_t>(1, o_.buffer_bytes / 2);
       for (;;) {
-        const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        const double allowed = rate_bytes_s * elapsed_s + static_cast<double>(o_.buffer_bytes) / 2;
-        if (static_cast<double>(r_.bytes_sent + n) <= allowed || cancel_requested()) break;
-        const auto wait = std::chrono::milliseconds(
-            1 + static_cast<long>((static_cast<double>(r_.bytes_sent + n) - allowed) / rate_bytes_s * 1000));
+        const std::size_t read = advance_model();
+        if (r_.bytes_sent + n <= read + ahead || cancel_requested()) break;
+        // A single command longer than `ahead` that the device cannot start until it is all
+        // there: it holds only what it waits for, so what it lacks goes.
+        if (model_needs_ > r_.bytes_sent) {
+          n = std::min(n, model_needs_ - r_.bytes_sent);
+          break;
+        }
+        // When the model reads far enough, at its (slowed) pace.
+        const std::size_t target = r_.bytes_sent + n - ahead;
+        const auto mark = std::lower_bound(o_.motion.begin(), o_.motion.end(), target,
+                                           [](const MotionMark& m, std::size_t b) { return m.bytes_read < b; });
+        const double at_s = mark == o_.motion.end() ? o_.motion.back().start_s : mark->start_s;
+        const auto wait = std::chrono::milliseconds(1 + static_cast<long>(std::max(0.0, at_s - model_s_) * slowdown() * 1000));
         if (!idle(std::min(kSlice, wait))) return false;
       }
     } else if (flow_ == FlowControl::esc_b && credit_ < n) {
@@ -513,17 +545,21 @@ class Sender {
     if (query_skipped_ || (last_answer_ != 15 && last_answer_ != 16)) return true;
     const std::string code = std::to_string(last_answer_);
     r_.device_io_error = static_cast<int>(last_answer_);
-    const char* meaning = last_answer_ == 16 ? "its input buffer overflowed: bytes were lost, so the cut is wrong; the device does not do the "
-                                               "flow control the profile says (flow_control, buffer_bytes)"
-                                             : "framing, parity or overrun errors on the line: bytes were garbled; check the baud rate, "
-                                               "data bits, parity and stop bits of the profile against the device, and the cable";
+    const std::string meaning =
+        last_answer_ != 16 ? "framing, parity or overrun errors on the line: bytes were garbled; check the baud rate, data bits, parity and "
+                             "stop bits of the profile against the device, and the cable"
+        : time_paced()     ? "its input buffer overflowed: bytes were lost, so the cut is wrong; popcut paced the job by time (flow_control "
+                             "\"none\"), and the device is slower than the profile's kinematics and tool speeds allow, with pace_margin_percent (" +
+                                 std::to_string(o_.pace_margin_percent) + " %), or its buffer is smaller than buffer_bytes"
+                           : "its input buffer overflowed: bytes were lost, so the cut is wrong; the device does not do the flow control the "
+                             "profile says (flow_control, buffer_bytes)";
     r_.status = {TransportError::io, 0, "every byte went out, but the device reports I/O error " + code + " (ESC.E): " + meaning};
     return false;
   }
 
   // Every byte is out: wait until the device has executed them, by query or by estimate.
   void wait_until_drained() {
-    if (!t_.answers() && o_.job_motion_estimate.count() == 0) {
+    if (!t_.answers() && o_.motion.empty()) {
       r_.drained_by = "none";
       return;
     }
@@ -532,9 +568,16 @@ class Sender {
     const double share = job_.bytes.empty() ? 0
                                             : std::min(1.0, static_cast<double>(device_buffer()) /
                                                                 static_cast<double>(job_.bytes.size()));
-    const auto buffered_time = std::chrono::milliseconds(static_cast<long>(static_cast<double>(o_.job_motion_estimate.count()) * share));
+    const double motion_s = o_.motion.empty() ? 0 : o_.motion.back().start_s;
+    const auto buffered_time = std::chrono::milliseconds(static_cast<long>(motion_s * share * 1000));
     if (query_ == DrainQuery::none) {
-      const auto wait = buffered_time;
+      // Time-paced: until the modelled device ends the job's motion; else a full buffer's share.
+      auto wait = buffered_time;
+      if (time_paced()) {
+        all_out_ = true;  // drained out of popcut's side: the device has every byte
+        advance_model();
+        wait = std::chrono::milliseconds(static_cast<long>(std::ceil((o_.motion.back().start_s - model_s_) * slowdown() * 1000)));
+      }
       while (waited < wait) {
         if (cancel_requested()) {
           r_.cancelled = true;
@@ -704,7 +747,12 @@ class Sender {
   DrainQuery query_;
   SendResult r_;
   bool paused_ = false;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  // Time pacing's model of the device: seconds of motion done, by the transport's clock at
+  // model_at_; all_out_: every byte has left popcut.
+  double model_s_ = 0;
+  std::size_t model_needs_ = 0;  // starved: the bytes it must have to go on (0: it is not)
+  std::chrono::steady_clock::time_point model_at_ = t_.now();
+  bool all_out_ = false;
   std::size_t credit_ = 0;  // ESC.B: bytes the device last said it could take, less those sent since
   std::size_t status_every_ = 0;
   std::size_t last_ping_ = 0;
@@ -740,6 +788,7 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.drain_query = profile.transport.drain_query;
   o.error_query = profile.transport.error_query;
   o.baud = profile.transport.baud;
+  o.pace_margin_percent = profile.transport.pace_margin_percent;
   const HpglDialect& d = profile.dialect;
   o.abort_bytes = profile.transport.abort + "PU" + d.terminator + (d.newline ? "\n" : "");
   return o;

@@ -165,6 +165,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   p.transport.adapter_fifo_bytes = static_cast<std::size_t>(t.integer("adapter_fifo_bytes", 4096, 16, 1 << 20));
   p.transport.timeout_ms = t.integer("timeout_ms", 5000, 10, 600000);
   p.transport.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
+  p.transport.pace_margin_percent = t.integer("pace_margin_percent", 25, 0, 1000);
   p.transport.data_bits = t.integer("data_bits", 8, 5, 8);
   p.transport.parity = static_cast<Parity>(t.choice("parity", 0, std::array<const char*, 3>{"none", "odd", "even"}));
   p.transport.stop_bits = t.integer("stop_bits", 1, 1, 2);

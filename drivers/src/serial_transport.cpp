@@ -197,13 +197,17 @@ class SerialTransport final : public Transport {
     // Besides the OS queue: the last two requests' bytes (a write returns with one of them still
     // on the line, and a UART FIFO, a USB adapter or a pty may hold them), or more if their line
     // time has not passed yet (a pty's buffer is not in the OS queue).
-    const double on_line_s = std::chrono::duration<double>(line_free_at_ - Clock::now()).count();
-    const auto by_time = static_cast<std::size_t>(std::max(0.0, std::ceil(on_line_s / char_time_.count())));
     // And what no one reports: a USB adapter's transmit FIFO or a UART's, the profile's
     // adapter_fifo_bytes. Without device answers the count must stay below what the device got,
     // even if that makes a resume re-cut more: a skipped stroke spoils the card.
-    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, by_time) +
+    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, on_line_by_time()) +
            settings_.adapter_fifo_bytes;
+  }
+  std::size_t expected_in_flight() override {
+    if (!open_) return 0;
+    const sp_return queued = sp_output_waiting(port_);
+    // The queue's bytes are among those the line time counts (unless the line was held).
+    return std::max(queued > 0 ? static_cast<std::size_t>(queued) : 0, on_line_by_time());
   }
 
   void close() override {
@@ -230,6 +234,11 @@ class SerialTransport final : public Transport {
   }
 
  private:
+  // Bytes written whose line time, at the baud rate, has not yet passed.
+  std::size_t on_line_by_time() const {
+    const double on_line_s = std::chrono::duration<double>(line_free_at_ - Clock::now()).count();
+    return static_cast<std::size_t>(std::max(0.0, std::ceil(on_line_s / char_time_.count())));
+  }
   TransportStatus fail(TransportStatus st) {
     close();
     return st;

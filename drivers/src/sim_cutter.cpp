@@ -1,6 +1,8 @@
 // Simulated cutter: a discrete-event model of a plotter's line, buffer, executor and replies.
 #include "popcut/drivers/sim_cutter.h"
 
+#include "popcut/drivers/job_sender.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -18,6 +20,22 @@ constexpr std::size_t kSlice = 16;
 }  // namespace
 
 SimCutter::SimCutter(const DeviceProfile& profile, SimFaults faults) : profile_(profile), faults_(faults) {}
+
+bool SimCutter::holds_line() const {
+  return profile_.transport.flow == FlowControl::rts_cts || profile_.transport.flow == FlowControl::dtr_dsr;
+}
+
+std::optional<double> SimCutter::next_start_s() const {
+  if (queue_.empty() || frozen()) return std::nullopt;
+  return std::max(busy_until_s_, now_s_);
+}
+
+void SimCutter::preload(std::string_view bytes) {
+  // Byte by byte: a long PA/PD comes out pair by pair, as a device that gets it over a line
+  // reads it, so its bytes leave the buffer as each pair starts (not all when the first does).
+  for (std::size_t i = 0; i < bytes.size(); ++i) take(bytes.substr(i, 1));
+  report_.bytes_received += bytes.size();
+}
 
 std::size_t SimCutter::buffer_used() const { return queued_bytes_ + reader_.pending(); }
 
@@ -89,7 +107,7 @@ void SimCutter::dispatch(std::vector<HpglCommand>& cmds) {
 IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double max_wait_s) {
   IoResult r;
   const double byte_s = 10.0 / profile_.transport.baud;  // start + 8 data + stop bits
-  const bool held = profile_.transport.flow == FlowControl::none || profile_.transport.flow == FlowControl::rts_cts;
+  const bool held = holds_line();
   const std::size_t cap = profile_.transport.buffer_bytes;
   const double give_up = now_s_ + max_wait_s;
   while (r.bytes < size) {
@@ -116,8 +134,8 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
     if (held || buffer_used() + n <= cap) {
       take(slice);
     } else {
-      // Paced by XON/XOFF or ESC.B and the host overran the buffer: HP-GL bytes that find it
-      // full are lost, but device-control sequences never enter the buffer and still arrive.
+      // No hardware handshake, and the host overran the buffer: HP-GL bytes that find it full
+      // are lost, but device-control sequences never enter the buffer and still arrive.
       // Byte by byte, each command queued as it completes, so the fill level is exact.
       for (char c : slice) {
         if (c == '\x1b' || reader_.in_device_control() || buffer_used() < cap) take(std::string_view(&c, 1));
@@ -318,6 +336,31 @@ std::optional<std::size_t> first_difference(const std::vector<PlotterPath>& plan
   }
   if (planned.size() != cut.size()) return n;
   return std::nullopt;
+}
+
+std::chrono::steady_clock::time_point SimTransport::now() const {
+  return std::chrono::steady_clock::time_point(
+      std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(cutter_ ? cutter_->now_s() : 0.0)));
+}
+
+std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile) {
+  DeviceProfile p = profile;
+  p.transport.flow = FlowControl::rts_cts;  // nothing lost: this is about time, not the buffer
+  SimCutter device(p);
+  device.preload(job);
+  std::vector<MotionMark> marks;
+  // Each step starts the next command (and any that take no time after it).
+  while (const std::optional<double> at = device.next_start_s()) {
+    device.advance(*at);
+    const std::size_t read = job.size() - device.buffer_used();
+    if (!marks.empty() && marks.back().start_s == *at) marks.back().bytes_read = read;
+    else marks.push_back({*at, read});
+  }
+  device.run_to_end();
+  // Done: the last command's motion has ended (at once, when it takes none).
+  if (!marks.empty() && marks.back().start_s == device.now_s()) marks.back().bytes_read = job.size();
+  else marks.push_back({device.now_s(), job.size()});
+  return marks;
 }
 
 TransportStatus SimTransport::open() {

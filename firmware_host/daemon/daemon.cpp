@@ -257,7 +257,6 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     const EncodedJob cut = encode_job(plan, dev.profile.dialect, dev.profile.tools, done_before + 1);
     log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
-    const double share = cut.total_strokes ? 1.0 - static_cast<double>(done_before) / static_cast<double>(cut.total_strokes) : 1.0;
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
     const CutControl control{w.stop_cut, w.give_up, [&] {
                                log_line("job ", job.id, ": ", dev.name, " holds the line (XOFF or CTS): waiting up to ",
@@ -265,7 +264,7 @@ void Daemon::cut_one(Worker& w, const Job& job) {
                                         "cancelling again gives up, and the device may then cut everything its buffer holds");
                                w.cancel_waiting = true;
                              }};
-    const CutOutcome out = link->cut(cut, job.est_time_s * share, control, [&](std::size_t last) {
+    const CutOutcome out = link->cut(cut, control, [&](std::size_t last) {
       store_.set_progress(job.id, static_cast<std::int64_t>(last));
     });
     store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));

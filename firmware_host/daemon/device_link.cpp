@@ -34,6 +34,8 @@ class PacedTransport final : public drivers::Transport {
   void close() override { inner_.close(); }
   std::string describe() const override { return inner_.describe(); }
   bool answers() const override { return inner_.answers(); }
+  bool backpressure() const override { return inner_.backpressure(); }
+  std::chrono::steady_clock::time_point now() const override { return inner_.now(); }
 
  private:
   void pace() {
@@ -54,7 +56,7 @@ class DriversLink final : public DeviceLink {
  public:
   explicit DriversLink(const DeviceConfig& d) : device_(d) {}
 
-  CutOutcome cut(const EncodedJob& job, double est_motion_s, const CutControl& control,
+  CutOutcome cut(const EncodedJob& job, const CutControl& control,
                  const std::function<void(std::size_t)>& progress) override {
     const std::atomic<bool>& stop = control.stop;
     const drivers::DeviceProfile& profile = device_.profile;
@@ -78,11 +80,11 @@ class DriversLink final : public DeviceLink {
     opts.cancel = &stop;
     opts.give_up = &control.give_up;
     opts.waiting_to_cancel = control.waiting_to_cancel;
-    // A real device holds up to a buffer of motion after the last byte; the simulator's virtual
-    // clock is run to its end below instead, and a plain file (not a /dev/ node) needs no waiting,
-    // as `popcut cut` treats it.
+    // The device's pace: a real device holds up to a buffer of motion after the last byte, and one
+    // with no handshake is paced by it (the simulator too, on its own clock); a plain file (not a
+    // /dev/ node) needs no waiting, as `popcut cut` treats it.
     const bool plain_file = made.address.kind == drivers::DeviceKind::file && made.address.path.rfind("/dev/", 0) != 0;
-    if (!made.sim && !plain_file) opts.job_motion_estimate = std::chrono::milliseconds(static_cast<long>(est_motion_s * 1000));
+    if (!plain_file) opts.motion = drivers::motion_schedule(job.bytes, profile);
     std::size_t reported = out.last_stroke_sent;
     opts.progress = [&](const drivers::SendProgress& p) {
       if (p.last_stroke_sent != reported) progress(reported = p.last_stroke_sent);

@@ -45,7 +45,7 @@ class DeviceLink {
   // Sends `job`; `progress` whenever another stroke is fully sent. When `control.stop` becomes
   // true the command in flight is completed, the profile's abort bytes and a knife-up follow,
   // and the outcome is `stopped`.
-  virtual CutOutcome cut(const EncodedJob& job, double est_motion_s, const CutControl& control,
+  virtual CutOutcome cut(const EncodedJob& job, const CutControl& control,
                          const std::function<void(std::size_t last_stroke_sent)>& progress) = 0;
   virtual std::string describe() const = 0;
 };

@@ -32,7 +32,9 @@ struct SimRun {
   std::vector<SimStroke> strokes;
   SimReport report;
 };
+// As `popcut cut --device sim` runs it: paced by the device's motion where it has no handshake.
 SimRun run_on_sim(const DeviceProfile& p, const EncodedJob& job, SendOptions o) {
+  if (o.motion.empty()) o.motion = motion_schedule(job.bytes, p);
   auto cutter = std::make_shared<SimCutter>(p);
   SimTransport t(cutter);
   EXPECT_TRUE(t.open().ok());
@@ -448,8 +450,8 @@ TEST(SendJob, ASlowDeviceThatKeepsCuttingIsWaitedForAfterTheLastByte) {
   ASSERT_TRUE(t.open().ok());
   SendOptions o = send_options(secabo);
   o.hold_timeout = std::chrono::seconds(60);  // longer than any one command takes it
-  o.job_motion_estimate = std::chrono::seconds(1);
   const EncodedJob job = encode_job(townhouse_plan(secabo), secabo.dialect, secabo.tools);
+  o.motion = {{0, 0}, {1.0, job.bytes.size()}};  // the plan's estimate: one second
   const SendResult r = send_job(t, job, o);
   ASSERT_TRUE(r.complete()) << r.status.message;
   EXPECT_GT(cutter->now_s(), 60 + 1) << "it took longer than the estimate and hold_timeout together";
@@ -777,6 +779,93 @@ TEST(DeviceString, FactoryBuildsSimAndFile) {
   EXPECT_EQ(file.transport->open().error, TransportError::not_found) << "open reports the missing directory";
 }
 
+// Time pacing: a device with no handshake on a line that cannot hold popcut off (flow "none").
+struct PacedRun {
+  SendResult sent;
+  SimReport report;
+  std::vector<SimStroke> strokes;
+  std::size_t left_after_send = 0;  // bytes the device still held when send_job returned
+};
+PacedRun run_paced(DeviceProfile p, const EncodedJob& job, double slowdown, int margin_percent) {
+  p.transport.flow = FlowControl::none;
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, slowdown});
+  SimTransport t(cutter);
+  EXPECT_TRUE(t.open().ok());
+  EXPECT_FALSE(t.backpressure()) << "nothing holds popcut off";
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  o.pace_margin_percent = margin_percent;
+  PacedRun r;
+  r.sent = send_job(t, job, o);
+  r.left_after_send = cutter->buffer_used();
+  cutter->run_to_end();
+  r.report = cutter->report();
+  r.strokes = cutter->strokes();
+  return r;
+}
+
+// The device is modelled working through the job at the motion model's pace, slowed by the
+// margin: one up to that much slower than the plan never loses a byte, with a buffer a quarter of
+// a typical one, whatever the dialect's bytes per mm; without the margin the same device
+// overflows (so the simulator does show a device that loses bytes).
+TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    DeviceProfile p = load_profile(file);
+    p.transport.buffer_bytes = 256;
+    p.transport.drain_query = DrainQuery::none;
+    p.transport.error_query = false;
+    const StrokePlan plan = townhouse_plan(p);
+    const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+    const PacedRun r = run_paced(p, job, 1.2, 25);
+    ASSERT_TRUE(r.sent.complete()) << file << ": " << r.sent.status.message;
+    EXPECT_EQ(r.sent.drained_by, "estimate") << file;
+    EXPECT_EQ(r.left_after_send, 0u) << file << ": done only once the device, by the model, has worked through the job";
+    EXPECT_EQ(r.report.overflow_bytes, 0u) << file << ": 20 % slower than the plan, within the 25 % margin";
+    EXPECT_LE(r.report.max_buffer_used, 256u) << file;
+    EXPECT_FALSE(first_difference(plan_in_plotter_units(plan, p.dialect), r.strokes).has_value()) << file << ": the whole job cut";
+    // Pacing costs little: the device waits for bytes for a small part of the job.
+    EXPECT_LT(r.report.clock_s, 1.15 * r.report.motion_time_s) << file << ": clock " << r.report.clock_s << " s for "
+                                                                  << r.report.motion_time_s << " s of motion";
+    const PacedRun tight = run_paced(p, job, 1.2, 0);
+    EXPECT_GT(tight.report.overflow_bytes, 0u) << file << ": paced at the plan's pace, a slower device overflows";
+  }
+}
+
+// A device far slower than the margin loses bytes whatever popcut does; one that reports it
+// (ESC.E 16) fails the job rather than passing a spoiled card as done.
+TEST(SendJob, ADeviceFarSlowerThanThePaceMarginIsCaughtByItsErrorReport) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  ASSERT_TRUE(p.transport.error_query);
+  p.transport.buffer_bytes = 256;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  const PacedRun r = run_paced(p, job, 3, 25);
+  EXPECT_GT(r.report.overflow_bytes, 0u);
+  EXPECT_FALSE(r.sent.complete());
+  EXPECT_EQ(r.sent.device_io_error, 16) << r.sent.status.message;
+}
+
+// A line slower than the device: it waits for bytes, and the model must wait with it. Were the
+// modelled device to run on meanwhile, it would be counted as having read the slow moves that
+// follow long before it does, and be sent more than it holds.
+TEST(SendJob, TimePacingWaitsWithADeviceStarvedByASlowLine) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.baud = 300;  // 30 bytes/s: slower than the short strokes take them
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::none;
+  p.transport.error_query = false;
+  EncodedJob job;
+  job.bytes = "IN;SP1;";
+  for (int i = 0; i < 400; ++i) job.bytes += "PU0,0;PD1,0;";     // 12 bytes per 60 ms of knife up and down
+  for (int i = 0; i < 100; ++i) job.bytes += "PU0,0;PD2000,0;";  // 15 bytes per second or so
+  for (std::size_t i = 0; i < job.bytes.size(); ++i) {
+    if (job.bytes[i] == ';') job.command_end.push_back(i + 1);
+  }
+  const PacedRun r = run_paced(p, job, 1, 25);
+  ASSERT_TRUE(r.sent.complete()) << r.sent.status.message;
+  EXPECT_EQ(r.report.overflow_bytes, 0u) << "most held " << r.report.max_buffer_used;
+  EXPECT_EQ(r.strokes.size(), 500u);
+}
+
 // A printer-port node cannot answer and does not hold popcut off by byte count alone: the job is
 // paced and drained by the plan's time estimate, never by reading from it (which it refuses).
 TEST(SendJob, APrinterPortNodeIsPacedByTimeAndNeverRead) {
@@ -787,7 +876,7 @@ TEST(SendJob, APrinterPortNodeIsPacedByTimeAndNeverRead) {
     ASSERT_TRUE(made.status.ok()) << made.status.message;
     ASSERT_TRUE(made.transport->open().ok());
     SendOptions o = send_options(p);
-    o.job_motion_estimate = std::chrono::milliseconds(200);  // a short wait for the drain share
+    o.motion = {{0, 0}, {0.2, job.bytes.size()}};  // a short wait for the drain share
     const SendResult r = send_job(*made.transport, job, o);
     EXPECT_TRUE(r.complete()) << profile << ": " << r.status.message;
     EXPECT_EQ(r.bytes_sent, job.bytes.size()) << profile << ": every byte written";

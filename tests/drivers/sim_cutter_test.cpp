@@ -345,5 +345,34 @@ TEST(SimCutter, SvgHasOnePolylinePerStrokeColouredByPen) {
   EXPECT_NE(s.find("stroke=\"#1f77b4\""), std::string::npos) << "pen 2 has its own colour: " << s;
 }
 
+// The pace time pacing assumes is the simulator's own: the schedule ends when the device's motion
+// does, reads the job in order, and frees a long coordinate command pair by pair.
+TEST(SimCutter, MotionScheduleIsTheDevicesOwnPace) {
+  DeviceProfile p = sim_profile();
+  std::string job = "IN;SP1;VS10;";
+  for (int i = 0; i < 40; ++i) job += "PU" + std::to_string(i * 40) + ",0;PD" + std::to_string(i * 40) + ",400;";
+  job += "PU0,0;PD";
+  for (int i = 1; i <= 30; ++i) job += std::to_string(i * 100) + "," + std::to_string(i % 2 * 100) + (i < 30 ? "," : ";");
+  job += "PU;SP0;";
+  const std::vector<MotionMark> marks = motion_schedule(job, p);
+  ASSERT_GE(marks.size(), 2u);
+  for (std::size_t i = 1; i < marks.size(); ++i) {
+    EXPECT_GT(marks[i].start_s, marks[i - 1].start_s) << "one mark per moment";
+    EXPECT_GE(marks[i].bytes_read, marks[i - 1].bytes_read) << "read in order";
+  }
+  EXPECT_EQ(marks.back().bytes_read, job.size());
+  p.transport.flow = FlowControl::rts_cts;  // nothing lost
+  p.transport.buffer_bytes = 1 << 20;
+  SimCutter device(p);
+  device.receive(reinterpret_cast<const std::uint8_t*>(job.data()), job.size(), 1e9);
+  ASSERT_TRUE(device.run_to_end());
+  EXPECT_NEAR(marks.back().start_s, device.report().motion_time_s, 1e-9) << "ends when the device's motion does";
+  const std::size_t long_pd = job.rfind("PD");
+  const auto inside = std::count_if(marks.begin(), marks.end(), [&](const MotionMark& m) {
+    return m.bytes_read > long_pd + 2 && m.bytes_read < job.rfind("PU;");
+  });
+  EXPECT_GE(inside, 25) << "the 30-pair PD leaves the buffer pair by pair";
+}
+
 }  // namespace
 }  // namespace popcut::drivers

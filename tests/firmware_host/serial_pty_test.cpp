@@ -133,7 +133,7 @@ class SerialPty : public ::testing::Test {
   // The strokes a device cuts from `hpgl`, by the in-process simulator (the reference).
   std::vector<popcut::PlotterPath> strokes_of(const std::string& hpgl) const {
     popcut::drivers::DeviceProfile p = popcut::drivers::load_profile(profile_);
-    p.transport.flow = popcut::drivers::FlowControl::none;  // held line: nothing lost, whatever the size
+    p.transport.flow = popcut::drivers::FlowControl::rts_cts;  // held line: nothing lost, whatever the size
     p.transport.buffer_bytes = 1 << 20;
     popcut::drivers::SimCutter c(p);
     c.receive(reinterpret_cast<const std::uint8_t*>(hpgl.data()), hpgl.size(), 1e9);
@@ -247,6 +247,49 @@ TEST_F(SerialPty, ATinyBufferUnderXonXoffIsNeverOverrun) {
   EXPECT_EQ(pr["overflow_bytes"], 0) << "XOFF in time";
   EXPECT_LE(pr["max_buffer_used"].get<int>(), 64);
   EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+}
+
+// No handshake at all (flow "none"): popcut paces the job by the device's motion, assuming it may
+// be 25 % slower than the plan. A plotter 20 % slower loses nothing; paced with no margin, the same
+// plotter overflows, and its ESC.E answer fails the job. Kinematics far faster than the sim's, so
+// that the real-time plotter cuts the job in about five seconds.
+TEST_F(SerialPty, TimePacingKeepsAPlotterWithNoHandshakeWithinItsBuffer) {
+  std::string p = slurp(profile_);
+  replace(p, "flow_control = \"xon_xoff\"", "flow_control = \"none\"");
+  replace(p, "buffer_bytes = 1024", "buffer_bytes = 256");
+  replace(p, "travel_speed_cm_s = 30.0", "travel_speed_cm_s = 300.0");
+  replace(p, "accel_mm_s2 = 2000.0", "accel_mm_s2 = 50000.0");
+  replace(p, "knife_up_s = 0.03", "knife_up_s = 0.001");
+  replace(p, "knife_down_s = 0.03", "knife_down_s = 0.001");
+  for (std::size_t at; (at = p.find("\nspeed_cm_s = 1")) != std::string::npos;) p.replace(at, 15, "\nspeed_cm_s = 9");  // 10, 15 cm/s: 90, 95
+  const std::string fast = (dir_ / "fast.toml").string();
+  std::ofstream(fast) << p;
+  const std::string tight = (dir_ / "tight.toml").string();
+  std::string t = p;
+  replace(t, "buffer_bytes = 256", "buffer_bytes = 256\npace_margin_percent = 0");
+  std::ofstream(tight) << t;
+
+  std::string port;
+  auto plot = plotter("paced", {"--profile", fast, "--slowdown", "1.2"}, port);
+  profile_ = fast;
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "paced.err");
+  const json pr = plotter_report("paced");
+  EXPECT_EQ(pr["overflow_bytes"], 0) << "paced within the buffer";
+  EXPECT_LE(pr["max_buffer_used"].get<int>(), 256);
+  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_EQ(r.report["sent"]["drained_by"], "esc_o") << r.report.dump();
+
+  std::string port2;
+  auto plot2 = plotter("unpaced", {"--profile", fast, "--slowdown", "1.2"}, port2);
+  profile_ = tight;
+  const Cut r2 = cut("townhouse.json", "serial:" + port2, "", "tight");
+  ASSERT_EQ(plot2->wait(), 0) << slurp(dir_ / "unpaced.err");
+  EXPECT_GT(plotter_report("unpaced")["overflow_bytes"].get<int>(), 0) << "a plotter with no handshake loses what overruns it";
+  EXPECT_EQ(r2.code, 3) << r2.err;
+  EXPECT_NE(r2.err.find("I/O error 16 (ESC.E)"), std::string::npos) << r2.err;
+  EXPECT_NE(r2.err.find("pace_margin_percent"), std::string::npos) << "names what to change: " << r2.err;
 }
 
 TEST_F(SerialPty, ADeviceThatNeverHoldsTheLineCountsNoHolds) {

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/transport.h"
@@ -27,6 +28,18 @@ struct SendProgress {
   std::size_t total_strokes = 0;
 };
 
+// A point of a device's progress through a job at the pace of the motion model: after start_s
+// seconds of motion it starts a command, having read the first bytes_read bytes of the job out of
+// its buffer (that command's among them).
+struct MotionMark {
+  double start_s = 0;
+  std::size_t bytes_read = 0;
+};
+// One mark per moment a command starts, ascending in both; the last is {when the job's motion
+// ends, job size}. By the simulated cutter's model (the profile's kinematics, the job's VS), the
+// one the plan's time estimate uses, with the device at the job's first byte from the start.
+std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
+
 struct SendOptions {
   FlowControl flow = FlowControl::none;
   std::size_t buffer_bytes = 1024;  // the device's buffer: chunks stay well inside it
@@ -44,9 +57,14 @@ struct SendOptions {
   // 16: input buffer overflow) lost bytes, so a job that seemed to get through did not.
   bool error_query = false;
   int baud = 0;                         // named in the "did not answer" message of a serial line
-  // With no query: how long the whole job's motion takes (the plan's estimate). The sender waits
-  // the share of it that a full device buffer holds before calling the job done.
-  std::chrono::milliseconds job_motion_estimate{0};
+  // The device's pace by the motion model (motion_schedule below); empty where there is no device
+  // to wait for (a plain file, the simulator whose clock the sender follows). Used where nothing
+  // else tells how far the device has got: with no query, the sender waits until a full buffer's
+  // share of the job's motion has passed before calling the job done; with no handshake (flow
+  // none on a line that cannot hold popcut off) it also paces the job by it (time pacing).
+  std::vector<MotionMark> motion;
+  // Time pacing assumes the device may take this much longer than the model says.
+  int pace_margin_percent = 25;
   // Sent on cancel, after the last complete command: the profile's abort sequence, then knife up.
   std::string abort_bytes = "PU;";
   // Set (from any thread, e.g. a signal handler) to stop the job safely. Checked between chunks

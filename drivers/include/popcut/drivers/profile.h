@@ -46,6 +46,9 @@ struct TransportDefaults {
   std::size_t adapter_fifo_bytes = 4096;
   int timeout_ms = 5000;        // one write or one reply
   int hold_timeout_ms = 120000; // the device holding the host off while it cuts
+  // Time pacing (flow_control "none" on a line that cannot hold popcut off): the device is
+  // assumed to take up to this much longer than the plan's motion estimate.
+  int pace_margin_percent = 25;
 };
 
 struct DeviceProfile {

@@ -60,8 +60,9 @@ class SimCutter {
   explicit SimCutter(const DeviceProfile& profile, SimFaults faults = {});
 
   // Bytes arriving on the line, each taking one character time at the profile's baud rate.
-  // With hardware or no flow control a full buffer holds the line until space frees (up to
-  // max_wait_s of virtual time); with XON/XOFF or ESC.B pacing the bytes are lost instead.
+  // With hardware flow control (RTS/CTS, DTR/DSR) a full buffer holds the line until space frees
+  // (up to max_wait_s of virtual time); otherwise (XON/XOFF, ESC.B, none) HP-GL bytes that find it
+  // full are lost, as on a device the host overran.
   IoResult receive(const std::uint8_t* data, std::size_t size, double max_wait_s);
   // Replies waiting (XON/XOFF, query answers); waits up to max_wait_s of virtual time for one.
   IoResult reply(std::uint8_t* data, std::size_t size, double max_wait_s);
@@ -74,6 +75,14 @@ class SimCutter {
   // executes what the clock reaches; receive() moves it by each byte's line time.
   double now_s() const { return now_s_; }
   void advance(double t_s) { advance_to(t_s); }
+  // When the next buffered command starts (now or when the one in motion ends); nullopt when
+  // none waits or the device is frozen.
+  std::optional<double> next_start_s() const;
+  // The whole input at once, ahead of the clock, as if the buffer held any amount: for a model of
+  // the device's pace (motion_schedule), not for a line.
+  void preload(std::string_view bytes);
+  // Whether a full buffer holds the line (hardware flow control) rather than losing bytes.
+  bool holds_line() const;
 
   const std::vector<SimStroke>& strokes() const { return strokes_; }
   const SimReport& report() const { return report_; }
@@ -138,6 +147,11 @@ class SimTransport final : public Transport {
   TransportStatus drain(std::chrono::milliseconds timeout) override;
   void close() override { open_ = false; }
   std::string describe() const override { return "sim"; }
+  // Hardware flow control holds the writer; XON/XOFF and ESC.B are popcut's to honour, and a
+  // device with none loses what overruns it (the sender paces it by time).
+  bool backpressure() const override { return cutter_ && cutter_->holds_line(); }
+  // The simulator's virtual clock, which the sender's waits move.
+  std::chrono::steady_clock::time_point now() const override;
 
  private:
   std::shared_ptr<SimCutter> cutter_;

@@ -53,6 +53,10 @@ class Transport {
   // Where writes are not acknowledged: bytes write() accepted that the device cannot yet be shown
   // to have received (the OS output queue, and data a UART, an adapter or a pty may still hold).
   virtual std::size_t in_flight() { return 0; }
+  // The best guess (not a bound) of how many of those are still on their way by now: the OS queue
+  // and what the line's baud rate cannot have carried yet, without in_flight()'s allowance for
+  // buffers no one reports. Time pacing uses it: the device cannot work on bytes not yet there.
+  virtual std::size_t expected_in_flight() { return in_flight(); }
   // Where the OS applies the device's flow control (a serial port: XOFF, CTS or DSR), popcut
   // never sees the XOFF byte: the transport counts the holds it observes (a write that moves no
   // byte for a while, a queue that stops draining past its line time), once per hold. nullopt:
@@ -66,6 +70,9 @@ class Transport {
   // queue), when a cancel gives up on a device that holds the line: nothing stale reaches it
   // later, and closing the port does not wait for it.
   virtual void discard_output() {}
+  // The clock the far end works by: real time, or a simulator's virtual time (which waiting on
+  // the transport, a read with a timeout, moves on).
+  virtual std::chrono::steady_clock::time_point now() const { return std::chrono::steady_clock::now(); }
 };
 
 // Builds a status from an errno value, classifying it.
