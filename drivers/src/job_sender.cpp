@@ -425,6 +425,14 @@ class Sender {
   // what it says; false on a transport error other than silence.
   bool idle(std::chrono::milliseconds wait) { return take_replies(wait); }
 
+  // The longest the device may go without reading a byte: the longest command of the job by the
+  // motion model, slowed by the margin (at least a few answers' worth where there is no model).
+  std::chrono::milliseconds quiet_for() const {
+    double longest_s = 0;
+    for (std::size_t i = 1; i < o_.motion.size(); ++i) longest_s = std::max(longest_s, o_.motion[i].start_s - o_.motion[i - 1].start_s);
+    return std::max(std::chrono::milliseconds(500), std::chrono::milliseconds(static_cast<long>(std::ceil(longest_s * slowdown() * 1000))));
+  }
+
   // No handshake and a line that cannot hold popcut off: only the motion model tells the pace.
   bool time_paced() const { return flow_ == FlowControl::none && !t_.backpressure() && !o_.motion.empty(); }
   double slowdown() const { return 1 + o_.pace_margin_percent / 100.0; }
@@ -595,6 +603,7 @@ class Sender {
     // than before shows progress and restarts the hold_timeout.
     long most_free = -1;
     std::chrono::milliseconds stalled{0};
+    const std::chrono::milliseconds quiet = quiet_for();
     for (int polls = 0;; ++polls) {
       if (cancel_requested()) {
         r_.cancelled = true;
@@ -604,13 +613,19 @@ class Sender {
       // ESC.B: as much free as the device ever said it had (asked idle before the job, that is
       // its whole buffer). The profile's size can be wrong either way: 1024 free of 65536 is not
       // empty, and a 256-byte device never reports 1024 free.
-      if (query_ == DrainQuery::esc_b ? static_cast<std::size_t>(std::max(0L, last_answer_)) >= (largest_free_ ? largest_free_ : o_.buffer_bytes)
-                                      : (last_answer_ & 8) != 0) {  // ESC.O bit 3: buffer empty
-        break;
-      }
-      if (query_ == DrainQuery::esc_b && last_answer_ > most_free) {
-        most_free = last_answer_;
-        stalled = std::chrono::milliseconds(0);
+      if (query_ == DrainQuery::esc_o && (last_answer_ & 8) != 0) break;  // ESC.O bit 3: buffer empty
+      if (query_ == DrainQuery::esc_b) {
+        const auto free_now = static_cast<std::size_t>(std::max(0L, last_answer_));
+        if (free_now >= device_buffer()) break;  // the whole buffer, by the profile or any answer
+        if (last_answer_ > most_free) {
+          most_free = last_answer_;
+          stalled = std::chrono::milliseconds(0);
+        }
+        // As free as it ever said but less than the profile's size: a device smaller than the
+        // profile says, now empty, or one that was busy when first asked and still holds what
+        // it held then. Empty once it has read no byte for longer than any one command of the
+        // job takes it (a device reads the next command when one ends).
+        if (free_now >= largest_free_ && stalled >= quiet) break;
       }
       if (stalled >= o_.hold_timeout && waited >= buffered_time + o_.hold_timeout) {
         r_.status = {TransportError::timeout, 0,

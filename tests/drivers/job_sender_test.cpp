@@ -779,6 +779,33 @@ TEST(DeviceString, FactoryBuildsSimAndFile) {
   EXPECT_EQ(file.transport->open().error, TransportError::not_found) << "open reports the missing directory";
 }
 
+// A device still cutting an earlier job when asked before this one reports less than its whole
+// buffer free. At the end, as much free as then is not empty: it may still hold what it held
+// then. It is done once it has read nothing for longer than any command takes it.
+TEST(SendJob, AnEscBDrainWaitsOutADeviceThatWasBusyWhenFirstAsked) {
+  const DeviceProfile p = load_profile(config("secabo.toml"));
+  ASSERT_EQ(p.transport.flow, FlowControl::esc_b);
+  auto cutter = std::make_shared<SimCutter>(p);
+  std::string earlier = "IN;SP1;";
+  while (earlier.size() < p.transport.buffer_bytes / 2) earlier += "PU0,0;PD800,0;";  // 20 mm: under half a second each
+  cutter->receive(reinterpret_cast<const std::uint8_t*>(earlier.data()), earlier.size(), 1);
+  ASSERT_GT(cutter->buffer_used(), p.transport.buffer_bytes / 4) << "still busy with the earlier job";
+  EncodedJob job;
+  job.bytes = "IN;SP1;";
+  for (int i = 0; i < 10; ++i) job.bytes += "PU0,0;PD400,0;";
+  for (std::size_t i = 0; i < job.bytes.size(); ++i) {
+    if (job.bytes[i] == ';') job.command_end.push_back(i + 1);
+  }
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  const SendResult r = send_job(t, job, o);
+  ASSERT_TRUE(r.complete()) << r.status.message;
+  EXPECT_EQ(r.drained_by, "esc_b");
+  EXPECT_EQ(cutter->buffer_used(), 0u) << "called done while the device still held bytes";
+}
+
 // Time pacing: a device with no handshake on a line that cannot hold popcut off (flow "none").
 struct PacedRun {
   SendResult sent;
