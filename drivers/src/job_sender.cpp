@@ -749,10 +749,11 @@ class Sender {
     const std::size_t done = job_.last_stroke_within(bytes);
     const std::size_t last = job_.first_stroke + job_.stroke_end.size() - 1;
     const std::size_t done_end = done >= job_.first_stroke ? job_.stroke_end[done - job_.first_stroke] : 0;
-    // The next stroke is touched once its first knife-down (PD, in every dialect) went out: its
-    // travel and tool set-up before that cut nothing.
-    const std::size_t knife_down = job_.bytes.find("PD", done_end);
-    return done < last && knife_down != std::string::npos && bytes > knife_down ? done + 1 : done;
+    // The next stroke is touched once its knife-down command went out: its travel and tool
+    // set-up before that cut nothing. A job with no such record (raw bytes): from its end.
+    const std::size_t next = done + 1 - job_.first_stroke;
+    const std::size_t knife_down = next < job_.stroke_cut_start.size() ? job_.stroke_cut_start[next] : done_end;
+    return done < last && bytes > knife_down ? done + 1 : done;
   }
 
   Transport& t_;

@@ -62,6 +62,10 @@ TEST(EncodedJob, StrokeEndsFollowTheBytes) {
           << file << ": stroke " << i + 1 << " ends on a command boundary";
       EXPECT_EQ(job.last_stroke_within(job.stroke_end[i]), i + 1) << file << ": its last byte completes stroke " << i + 1;
       EXPECT_EQ(job.last_stroke_within(job.stroke_end[i] - 1), i) << file << ": one byte short it is not complete";
+      ASSERT_EQ(job.stroke_cut_start.size(), job.stroke_end.size()) << file;
+      EXPECT_EQ(job.bytes.compare(job.stroke_cut_start[i], 2, "PD"), 0) << file << ": stroke " << i + 1 << " cuts from a knife-down";
+      EXPECT_EQ(job.bytes.find("PD", i ? job.stroke_end[i - 1] : 0), job.stroke_cut_start[i]) << file << ": its first knife-down";
+      EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), job.stroke_cut_start[i])) << file << ": on a boundary";
     }
   }
 }
@@ -330,6 +334,7 @@ TEST(SendJob, AStrokeWhoseKnifeNeverWentDownIsNotLeftToCut) {
     if (job.bytes[i] == ';') job.command_end.push_back(i + 1);
   }
   job.stroke_end = {job.bytes.find("PD10,0;") + 7, job.bytes.size()};
+  job.stroke_cut_start = {job.bytes.find("PD10"), job.bytes.find("PD30")};
   job.total_strokes = 2;
   const std::size_t travel_end = job.bytes.find("PD30");  // "...PU;PA20,0;" went out, "PD30,0;" did not
   auto cutter = std::make_shared<SimCutter>(p);

@@ -226,6 +226,7 @@ EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::a
       if (d.force != ForceStyle::none && f != force) w.cmd((d.force == ForceStyle::roland ? "!FS" : "FS") + std::to_string(force = f));
     }
     move(false, {pts.front()});
+    job.stroke_cut_start.push_back(w.size());  // the knife goes down with the next command
     move(true, PlotterPath(pts.begin() + 1, pts.end()));
     job.stroke_end.push_back(w.size());
   }

@@ -82,6 +82,9 @@ struct EncodedJob {
   std::size_t total_strokes = 0;  // strokes in the whole plan (numbers 1..total_strokes)
   // stroke_end[i]: offset just past the last command of stroke first_stroke + i.
   std::vector<std::size_t> stroke_end;
+  // stroke_cut_start[i]: offset of the knife-down command of stroke first_stroke + i; the bytes
+  // before it (tool set-up, knife-up travel) cut nothing. Empty for raw bytes with no strokes.
+  std::vector<std::size_t> stroke_cut_start;
   // Offsets just past every command (init and finish count as one each), ascending; the last is
   // bytes.size(). A sender that stops at one of these leaves no command half-sent.
   std::vector<std::size_t> command_end;
