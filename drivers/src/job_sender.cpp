@@ -247,6 +247,13 @@ class Sender {
       executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
     } else if (asked.query == DrainQuery::esc_o && (last_answer_ & 8) != 0) {
       executed_ = std::max(executed_, asked.bytes_before);
+      // Time pacing: the device is no later than the model says once it has read all that, so
+      // a device faster than the margin assumes is not held back by it.
+      if (time_paced()) {
+        const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), asked.bytes_before,
+                                            [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+        if (after != o_.motion.begin()) model_s_ = std::max(model_s_, std::prev(after)->start_s);
+      }
     }
   }
 
@@ -492,6 +499,13 @@ class Sender {
         if (model_needs_ > r_.bytes_sent) {
           n = std::min(n, model_needs_ - r_.bytes_sent);
           break;
+        }
+        // A device that answers ESC.O says when it has caught up (bit 3, buffer empty): the model
+        // then moves on to where it is (learn_executed). Asked while held back, every kSlice.
+        if (query_ == DrainQuery::esc_o && pending_.empty() && t_.now() - asked_idle_at_ >= kSlice) {
+          asked_idle_at_ = t_.now();
+          if (!ask(DrainQuery::esc_o, "while pacing")) return false;
+          continue;
         }
         // When the model reads far enough, at its (slowed) pace.
         const std::size_t target = r_.bytes_sent + n - ahead;
@@ -767,6 +781,7 @@ class Sender {
   // model_at_; all_out_: every byte has left popcut.
   double model_s_ = 0;
   std::size_t model_needs_ = 0;  // starved: the bytes it must have to go on (0: it is not)
+  std::chrono::steady_clock::time_point asked_idle_at_{};  // last ESC.O while held back
   std::chrono::steady_clock::time_point model_at_ = t_.now();
   bool all_out_ = false;
   std::size_t credit_ = 0;  // ESC.B: bytes the device last said it could take, less those sent since

@@ -863,6 +863,24 @@ TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
   }
 }
 
+// The margin costs a device as fast as the plan a quarter more time. One that answers ESC.O says
+// when it has caught up ("buffer empty"), and the model moves on to where it is.
+TEST(SendJob, TimePacingCatchesUpWithADeviceThatSaysItsBufferIsEmpty) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.buffer_bytes = 256;
+  p.transport.error_query = false;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  p.transport.drain_query = DrainQuery::none;
+  const PacedRun blind = run_paced(p, job, 1, 25);
+  p.transport.drain_query = DrainQuery::esc_o;
+  const PacedRun told = run_paced(p, job, 1, 25);
+  ASSERT_TRUE(blind.sent.complete() && told.sent.complete()) << blind.sent.status.message << told.sent.status.message;
+  EXPECT_NEAR(blind.report.clock_s / blind.report.motion_time_s, 1.25, 0.02) << "paced a quarter slower than the plan";
+  EXPECT_LT(told.report.clock_s, 1.1 * told.report.motion_time_s) << "its answers let it go at its own pace: " << told.report.clock_s
+                                                                   << " s for " << told.report.motion_time_s << " s of motion";
+  EXPECT_EQ(told.report.overflow_bytes, 0u);
+}
+
 // A device far slower than the margin loses bytes whatever popcut does; one that reports it
 // (ESC.E 16) fails the job rather than passing a spoiled card as done.
 TEST(SendJob, ADeviceFarSlowerThanThePaceMarginIsCaughtByItsErrorReport) {
