@@ -452,8 +452,8 @@ class Sender {
     const auto now = t_.now();
     const double dt_s = std::chrono::duration<double>(now - model_at_).count() / slowdown();
     model_at_ = now;
-    const std::size_t has = all_out_ ? r_.bytes_sent : r_.bytes_sent - std::min(r_.bytes_sent, t_.expected_in_flight());
-    const auto waits_for = std::upper_bound(o_.motion.begin(), o_.motion.end(), has,
+    const std::size_t has_bytes = all_out_ ? r_.bytes_sent : r_.bytes_sent - std::min(r_.bytes_sent, t_.expected_in_flight());
+    const auto waits_for = std::upper_bound(o_.motion.begin(), o_.motion.end(), has_bytes,
                                             [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
     const double limit_s = waits_for == o_.motion.end() ? o_.motion.back().start_s : waits_for->start_s;
     model_s_ = std::min(model_s_ + std::max(0.0, dt_s), std::max(model_s_, limit_s));
@@ -490,11 +490,11 @@ class Sender {
     } else if (time_paced()) {
       // No handshake at all: keep at most half a buffer more than the modelled device has read.
       // Half: a device may free a command's bytes only when it ends it, not when it starts it.
-      const std::size_t ahead = std::max<std::size_t>(1, o_.buffer_bytes / 2);
+      const std::size_t ahead_bytes = std::max<std::size_t>(1, o_.buffer_bytes / 2);
       for (;;) {
-        const std::size_t read = advance_model();
-        if (r_.bytes_sent + n <= read + ahead || cancel_requested()) break;
-        // A single command longer than `ahead` that the device cannot start until it is all
+        const std::size_t read_bytes = advance_model();
+        if (r_.bytes_sent + n <= read_bytes + ahead_bytes || cancel_requested()) break;
+        // A single command longer than `ahead_bytes` that the device cannot start until it is all
         // there: it holds only what it waits for, so what it lacks goes.
         if (model_needs_ > r_.bytes_sent) {
           n = std::min(n, model_needs_ - r_.bytes_sent);
@@ -508,8 +508,8 @@ class Sender {
           continue;
         }
         // When the model reads far enough, at its (slowed) pace.
-        const std::size_t target = r_.bytes_sent + n - ahead;
-        const auto mark = std::lower_bound(o_.motion.begin(), o_.motion.end(), target,
+        const std::size_t target_bytes = r_.bytes_sent + n - ahead_bytes;
+        const auto mark = std::lower_bound(o_.motion.begin(), o_.motion.end(), target_bytes,
                                            [](const MotionMark& m, std::size_t b) { return m.bytes_read < b; });
         const double at_s = mark == o_.motion.end() ? o_.motion.back().start_s : mark->start_s;
         const auto wait = std::chrono::milliseconds(1 + static_cast<long>(std::max(0.0, at_s - model_s_) * slowdown() * 1000));

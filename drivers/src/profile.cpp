@@ -55,6 +55,10 @@ std::string hpgl_text_problem(const std::string& text) {
     if (cmd.malformed) return "'" + what + "' is not a command with numeric parameters";
     const char last = cmd.offset + cmd.length > 0 ? plain[cmd.offset + cmd.length - 1] : '\0';
     if (last != ';' && last != '\n') return "'" + what + "' is not ended by ';' or a newline";
+    // HP-GL's output instructions (OI, OS, OA, ...) all start with O: the device answers them.
+    if (cmd.name.size() == 2 && cmd.name[0] == 'O') {
+      return "'" + what + "' is an output instruction: the device's reply would be taken for a status answer or stray input";
+    }
   }
   return "";
 }

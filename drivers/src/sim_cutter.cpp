@@ -160,6 +160,13 @@ IoResult SimCutter::reply(std::uint8_t* data, std::size_t size, double max_wait_
     return r;
   }
   const double until = now_s_ + max_wait_s;
+  if (size == 0) {
+    // A host letting time pass, not reading: the wait is all of it, replies or not (a reply
+    // nobody reads must not stop the clock).
+    advance_to(until);
+    r.status = {TransportError::timeout, 0, "sim: nothing read"};
+    return r;
+  }
   while (replies_.empty() && now_s_ < until) {
     const double next = (!queue_.empty() && !frozen()) ? std::max(busy_until_s_, now_s_) : until;
     advance_to(std::min(next, until));
@@ -343,6 +350,12 @@ std::chrono::steady_clock::time_point SimTransport::now() const {
       std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(cutter_ ? cutter_->now_s() : 0.0)));
 }
 
+double longest_first_travel_mm(const HpglDialect& d) {
+  const double x_mm = static_cast<double>(d.area_max_x_pu - d.area_min_x_pu) / d.units_per_mm_x;
+  const double y_mm = static_cast<double>(d.area_max_y_pu - d.area_min_y_pu) / d.units_per_mm_y;
+  return std::hypot(x_mm, std::min(y_mm, 2 * x_mm));
+}
+
 std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile) {
   DeviceProfile p = profile;
   p.transport.flow = FlowControl::rts_cts;  // nothing lost: this is about time, not the buffer
@@ -360,6 +373,14 @@ std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfil
   // Done: the last command's motion has ended (at once, when it takes none).
   if (!marks.empty() && marks.back().start_s == device.now_s()) marks.back().bytes_read = job.size();
   else marks.push_back({device.now_s(), job.size()});
+  // The model starts at the origin, but where the device is is unknown (a finish need not send it
+  // home): its first travel may cross the usable area, so all that follows it may be later. Along
+  // a roll feeder's length only twice its width: the next card's origin is near the last one.
+  const double across_mm = longest_first_travel_mm(profile.dialect);
+  const double first_travel_s = move_time_s(across_mm, profile.kinematics.travel_speed_mm_s, profile.kinematics.accel_mm_s2);
+  for (MotionMark& m : marks) {
+    if (m.start_s > 0) m.start_s += first_travel_s;
+  }
   return marks;
 }
 

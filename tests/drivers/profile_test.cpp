@@ -76,6 +76,7 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;PA\"\n", "[hpgl] init", "'PA' is not ended by ';'"},
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"INSP1;\"\n", "[hpgl] init", "'IN' is not ended"},
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;VS1.2.3;\"\n", "[hpgl] init", "numeric parameters"},
+      {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;OI;\"\n", "[hpgl] init", "'OI;' is an output instruction"},
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;\\u0013\"\n", "[hpgl] init", "control or non-ASCII byte 0x13"},
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"\\u0000IN;\"\n", "[hpgl] init", "byte 0x00 at byte 1"},
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"\\u001b.B\"\n", "[hpgl] init", "not a set-up"},

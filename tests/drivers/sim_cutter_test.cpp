@@ -1,6 +1,7 @@
 // HP-GL reader and simulated cutter: parsing, flow control, faults, and plan ⇄ recovered strokes.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -366,12 +367,34 @@ TEST(SimCutter, MotionScheduleIsTheDevicesOwnPace) {
   SimCutter device(p);
   device.receive(reinterpret_cast<const std::uint8_t*>(job.data()), job.size(), 1e9);
   ASSERT_TRUE(device.run_to_end());
-  EXPECT_NEAR(marks.back().start_s, device.report().motion_time_s, 1e-9) << "ends when the device's motion does";
+  // It ends when the device's motion does, plus a first travel across the whole usable area: the
+  // device may start anywhere, the model starts at the origin.
+  const double across_mm = std::hypot(600, 1000);  // sim.toml: 600 x 1000 mm
+  EXPECT_DOUBLE_EQ(longest_first_travel_mm(p.dialect), across_mm);
+  EXPECT_NEAR(marks.back().start_s - device.report().motion_time_s,
+              move_time_s(across_mm, p.kinematics.travel_speed_mm_s, p.kinematics.accel_mm_s2), 1e-9)
+      << "ends when the device's motion does, after the longest first travel";
+  EXPECT_EQ(marks.front().start_s, 0) << "the set-up and the first travel are read at once";
   const std::size_t long_pd = job.rfind("PD");
   const auto inside = std::count_if(marks.begin(), marks.end(), [&](const MotionMark& m) {
     return m.bytes_read > long_pd + 2 && m.bytes_read < job.rfind("PU;");
   });
   EXPECT_GE(inside, 25) << "the 30-pair PD leaves the buffer pair by pair";
+}
+
+// A host that lets time pass without reading (nothing expected) must see the clock move even
+// when the device has something to say: time pacing would otherwise wait forever.
+TEST(SimCutter, AReplyNobodyReadsDoesNotStopTheClock) {
+  SimCutter device(sim_profile());
+  const std::string ask = "IN;OI;";
+  device.receive(reinterpret_cast<const std::uint8_t*>(ask.data()), ask.size(), 1);
+  device.advance(device.now_s() + 0.01);
+  const double before = device.now_s();
+  const IoResult r = device.reply(nullptr, 0, 0.5);
+  EXPECT_EQ(r.bytes, 0u);
+  EXPECT_NEAR(device.now_s(), before + 0.5, 1e-9) << "the wait passed";
+  std::uint8_t buf[32];
+  EXPECT_GT(device.reply(buf, sizeof buf, 0).bytes, 0u) << "the reply is still there for a host that reads";
 }
 
 }  // namespace

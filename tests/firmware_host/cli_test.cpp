@@ -473,7 +473,7 @@ TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
 }
 
 // A profile with no handshake (generic HP-GL: flow_control "none") is paced by time on the
-// simulator too: a device within pace_margin_percent of the plan cuts the job; one twice as slow
+// simulator too: a device within pace_margin_percent of the plan cuts the job; one three times as slow
 // loses bytes, which is the device's fault (exit 3, naming the margin), not popcut's (exit 4).
 TEST_F(Cli, TimePacingOnTheSimulatorKeepsUpOrNamesTheMargin) {
   const std::string base = "cut " + example("voxel/castle.json") + " --profile " + profile("generic-hpgl.toml") + " --device sim --out ";
@@ -482,7 +482,7 @@ TEST_F(Cli, TimePacingOnTheSimulatorKeepsUpOrNamesTheMargin) {
   const auto j = nlohmann::json::parse(slurp(dir_ / "ok" / "report.json"));
   EXPECT_EQ(j["sim"]["overflow_bytes"], 0) << j.dump();
   EXPECT_TRUE(j["sim"]["strokes_match_plan"].get<bool>());
-  const Result slow = run(base + (dir_ / "slow").string() + " --sim-slowdown 2");
+  const Result slow = run(base + (dir_ / "slow").string() + " --sim-slowdown 3");
   EXPECT_EQ(slow.code, 3) << slow.err;
   EXPECT_NE(slow.err.find("pace_margin_percent (25 %)"), std::string::npos) << slow.err;
   EXPECT_GT(nlohmann::json::parse(slurp(dir_ / "slow" / "report.json"))["sim"]["overflow_bytes"].get<int>(), 0);

@@ -37,8 +37,13 @@ struct MotionMark {
 };
 // One mark per moment a command starts, ascending in both; the last is {when the job's motion
 // ends, job size}. By the simulated cutter's model (the profile's kinematics, the job's VS), the
-// one the plan's time estimate uses, with the device at the job's first byte from the start.
+// one the plan's time estimate uses, with the whole job there from the start and a long PA/PD
+// read pair by pair. Where the device starts is unknown: everything after the first command is
+// later by a travel of longest_first_travel_mm.
 std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
+// The usable area's diagonal; on a roll feeder (more than twice as long as wide) that of a piece
+// twice as long as wide.
+double longest_first_travel_mm(const HpglDialect& dialect);
 
 struct SendOptions {
   FlowControl flow = FlowControl::none;
@@ -57,8 +62,8 @@ struct SendOptions {
   // 16: input buffer overflow) lost bytes, so a job that seemed to get through did not.
   bool error_query = false;
   int baud = 0;                         // named in the "did not answer" message of a serial line
-  // The device's pace by the motion model (motion_schedule below); empty where there is no device
-  // to wait for (a plain file, the simulator whose clock the sender follows). Used where nothing
+  // The device's pace by the motion model (motion_schedule above); empty where there is no device
+  // to wait for (a plain file). Used where nothing
   // else tells how far the device has got: with no query, the sender waits until a full buffer's
   // share of the job's motion has passed before calling the job done; with no handshake (flow
   // none on a line that cannot hold popcut off) it also paces the job by it (time pacing).
