@@ -7,12 +7,23 @@
 
 namespace popcut {
 
+// ", for up to 12 s (let it stop before sending it anything more)": a device paced by time that
+// may go on cutting; a job sent meanwhile would find its buffer part full and overrun it.
+inline std::string busy_text(const drivers::SendResult& sent) {
+  return ", for up to " + std::to_string(static_cast<long>(sent.busy_for_s + 0.999)) +
+         " s by the profile's pace (let it stop before sending it anything more, a resume too)";
+}
+
 // "up to 1180 bytes (strokes 17..24)", exact ("212 bytes ...") when the device answered ESC.B, or
 // "nothing more".
+// A device paced by time adds how long that may take: "..., for up to 12 s (let it stop before
+// sending it anything more)".
 inline std::string still_buffered_text(const drivers::SendResult& sent) {
   if (sent.buffered_bytes == 0) return "nothing more";
-  return (sent.buffer_known ? "" : "up to ") + std::to_string(sent.buffered_bytes) + " bytes (strokes " +
-         std::to_string(sent.buffered_first_stroke) + ".." + std::to_string(sent.buffered_last_stroke) + ")";
+  std::string text = (sent.buffer_known ? "" : "up to ") + std::to_string(sent.buffered_bytes) + " bytes (strokes " +
+                     std::to_string(sent.buffered_first_stroke) + ".." + std::to_string(sent.buffered_last_stroke) + ")";
+  if (sent.busy_for_s >= 0.5) text += busy_text(sent);
+  return text;
 }
 
 }  // namespace popcut

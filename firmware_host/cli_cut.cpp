@@ -315,7 +315,8 @@ int run_cut(const CutCommands& s) {
                       {"drained_by", sent.drained_by},
                       {"holds", sent.holds},
                       {"buffer_queries", sent.buffer_queries},
-                      {"device_io_error", sent.device_io_error == 0 ? json(nullptr) : json(sent.device_io_error)}};
+                      {"device_io_error", sent.device_io_error == 0 ? json(nullptr) : json(sent.device_io_error)},
+                      {"busy_for_s", sent.busy_for_s}};
     // Knife-down length of the strokes this run sends (all of them unless --resume-from).
     double run_cut_mm = 0;
     for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i) run_cut_mm += path_length_mm(j.plan.strokes[i].points);
@@ -350,6 +351,13 @@ int run_cut(const CutCommands& s) {
                        {"strokes_match_plan", !diff},
                        {"first_mismatch", diff ? json(*diff + j.encoded.first_stroke) : json(nullptr)}};
       write_cli_output((dir / "cut.svg").string(), [&](std::ostream& o) { cutter->write_svg(o); });
+      if (r.overflow_bytes > 0 && sent.complete()) {
+        // Every byte went out, but the device lost some: for a script reading `sent`, the job
+        // did not get through (a real device tells only through error_query).
+        report["sent"]["complete"] = false;
+        report["sent"]["error"] = std::string(drivers::to_string(drivers::TransportError::io));
+        report["sent"]["message"] = "the simulated cutter lost " + std::to_string(r.overflow_bytes) + " bytes to a full buffer: what it cut is not the job";
+      }
     }
     write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
@@ -364,6 +372,8 @@ int run_cut(const CutCommands& s) {
                         " (" + (m < sent.first_stroke ? std::string("none confirmed")
                                  : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
                                  : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
+                                 : sent.received_counted_by == "buffer_size"
+                                     ? std::string("what its buffer holds from the start: with no handshake and no answers, a device that stopped lost the rest")
                                                                          : std::string("taken by the device")) +
                         "), last stroke written " + std::to_string(n);
     std::string resume;
@@ -399,6 +409,8 @@ int run_cut(const CutCommands& s) {
       }
       if (aborted && !lost.empty()) resume = "; " + lost + "; " + kept;
       else resume = "; " + kept + (lost.empty() ? "" : "; " + lost);
+      // A failure says nothing of the buffer otherwise (a cancel does, in still_buffered_text).
+      if (!sent.cancelled && sent.busy_for_s >= 0.5) resume = "; the device may go on cutting" + busy_text(sent) + resume;
     }
     if (sent.cancelled && sent.bytes_sent == 0) {
       std::cerr << "popcut: cancelled on " << transport.describe() << " before any byte of the job was sent: nothing was cut\n";

@@ -38,7 +38,10 @@ class Sender {
     r_.last_stroke_sent = job.first_stroke - 1;
     r_.last_stroke_written = job.first_stroke - 1;
     r_.total_strokes = job.total_strokes;
-    r_.received_counted_by = t.writes_acknowledged() ? "transport" : query_ != DrainQuery::none ? "status_answers" : "os_queue";
+    r_.received_counted_by = query_ != DrainQuery::none    ? (t.writes_acknowledged() ? "transport" : "status_answers")
+                             : time_paced()                 ? "buffer_size"
+                             : t.writes_acknowledged()      ? "transport"
+                                                            : "os_queue";
   }
 
   SendResult run() {
@@ -109,9 +112,14 @@ class Sender {
   // OS queue and what may still be in flight).
   std::size_t received() {
     // Drained: everything arrived, whatever the port's own counts still hold back as unseen.
-    if (drained_ || t_.writes_acknowledged()) return r_.bytes_sent;
-    if (query_ != DrainQuery::none) return std::min(confirmed_, r_.bytes_sent);
-    return r_.bytes_sent - std::min(r_.bytes_sent, t_.in_flight());
+    if (drained_) return r_.bytes_sent;
+    const std::size_t gone = t_.writes_acknowledged() ? r_.bytes_sent : r_.bytes_sent - std::min(r_.bytes_sent, t_.in_flight());
+    if (query_ != DrainQuery::none) return t_.writes_acknowledged() ? r_.bytes_sent : std::min(confirmed_, r_.bytes_sent);
+    // No handshake and no answers: a device that stopped (paused, stuck) went on taking bytes and
+    // lost all that found its buffer full, and nothing tells when it stopped. Only its buffer's
+    // worth from the start is certainly in it.
+    if (time_paced()) return std::min(gone, o_.buffer_bytes);
+    return gone;
   }
 
   void settle_counts() {
@@ -245,15 +253,14 @@ class Sender {
       largest_free_ = std::max(largest_free_, free_bytes);
       const std::size_t held = device_buffer() - free_bytes;
       executed_ = std::max(executed_, asked.bytes_before - std::min(held, asked.bytes_before));
+      // Time pacing: the device said where it was, later or sooner than the model: from here
+      // the model goes on from there.
+      if (time_paced()) model_s_ = model_time_at(asked.bytes_before - std::min(held, asked.bytes_before));
     } else if (asked.query == DrainQuery::esc_o && (last_answer_ & 8) != 0) {
       executed_ = std::max(executed_, asked.bytes_before);
       // Time pacing: the device is no later than the model says once it has read all that, so
       // a device faster than the margin assumes is not held back by it.
-      if (time_paced()) {
-        const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), asked.bytes_before,
-                                            [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
-        if (after != o_.motion.begin()) model_s_ = std::max(model_s_, std::prev(after)->start_s);
-      }
+      if (time_paced()) model_s_ = std::max(model_s_, model_time_at(asked.bytes_before));
     }
   }
 
@@ -440,6 +447,14 @@ class Sender {
     return std::max(std::chrono::milliseconds(500), std::chrono::milliseconds(static_cast<long>(std::ceil(longest_s * slowdown() * 1000))));
   }
 
+  // When the model has read no more than `read_bytes`, at the latest: the start of the last
+  // command within them.
+  double model_time_at(std::size_t read_bytes) const {
+    const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), read_bytes,
+                                        [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+    return after == o_.motion.begin() ? 0 : std::prev(after)->start_s;
+  }
+
   // No handshake and a line that cannot hold popcut off: only the motion model tells the pace.
   bool time_paced() const { return flow_ == FlowControl::none && !t_.backpressure() && !o_.motion.empty(); }
   double slowdown() const { return 1 + o_.pace_margin_percent / 100.0; }
@@ -491,6 +506,7 @@ class Sender {
       // No handshake at all: keep at most half a buffer more than the modelled device has read.
       // Half: a device may free a command's bytes only when it ends it, not when it starts it.
       const std::size_t ahead_bytes = std::max<std::size_t>(1, o_.buffer_bytes / 2);
+      const auto began = t_.now();
       for (;;) {
         const std::size_t read_bytes = advance_model();
         if (r_.bytes_sent + n <= read_bytes + ahead_bytes || cancel_requested()) break;
@@ -500,12 +516,18 @@ class Sender {
           n = std::min(n, model_needs_ - r_.bytes_sent);
           break;
         }
-        // A device that answers ESC.O says when it has caught up (bit 3, buffer empty): the model
-        // then moves on to where it is (learn_executed). Asked while held back, every kSlice.
-        if (query_ == DrainQuery::esc_o && pending_.empty() && t_.now() - asked_idle_at_ >= kSlice) {
+        // A device that answers says where it is (learn_executed): ESC.O when it has caught up
+        // (bit 3, buffer empty), ESC.B how much it still holds. Asked while held back, every kSlice.
+        if (query_ != DrainQuery::none && pending_.empty() && t_.now() - asked_idle_at_ >= kSlice) {
           asked_idle_at_ = t_.now();
-          if (!ask(DrainQuery::esc_o, "while pacing")) return false;
+          if (!ask(query_, "while pacing")) return false;
           continue;
+        }
+        // Answers that keep the model where it is show a device that does not move.
+        if (query_ != DrainQuery::none && t_.now() - began > o_.hold_timeout) {
+          r_.status = {TransportError::timeout, 0, "the device's answers to " + std::string(query_name(query_)) + " showed no progress for " +
+                                                       duration_text(o_.hold_timeout) + " (hold_timeout_ms): is it paused, out of media or stuck?"};
+          return false;
         }
         // When the model reads far enough, at its (slowed) pace.
         const std::size_t target_bytes = r_.bytes_sent + n - ahead_bytes;
@@ -717,6 +739,15 @@ class Sender {
   void estimate_buffered() {
     if (r_.status.ok()) take_replies(std::chrono::milliseconds(0));  // answers already on their way
     settle_counts();
+    if (time_paced()) {
+      // How long the device may go on cutting, at the paced rate: until the model would have
+      // ended everything sent. A job sent to it again meanwhile would find its buffer part full.
+      advance_model();
+      const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), r_.bytes_sent,
+                                          [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+      const double done_s = after == o_.motion.end() ? o_.motion.back().start_s : after->start_s;
+      r_.busy_for_s = std::max(0.0, done_s - model_s_) * slowdown();
+    }
     // What the device may still cut: its buffer plus what is on its way to it.
     r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() + (r_.bytes_sent - r_.bytes_received));
     r_.buffer_known = false;

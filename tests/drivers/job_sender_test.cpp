@@ -906,6 +906,94 @@ TEST(SendJob, TimePacingAllowsForADeviceLeftAnywhereInItsArea) {
   }
 }
 
+// A profile with no handshake whose device answers ESC.B: its answers say where it is, later or
+// sooner than the model, so even a device three times slower than the plan loses nothing.
+TEST(SendJob, TimePacingFollowsADeviceThatAnswersEscB) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::esc_b;
+  p.transport.error_query = false;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  for (const double slowdown : {0.5, 1.0, 3.0}) {
+    const PacedRun r = run_paced(p, job, slowdown, 25);
+    ASSERT_TRUE(r.sent.complete()) << slowdown << ": " << r.sent.status.message;
+    EXPECT_EQ(r.report.overflow_bytes, 0u) << slowdown << " times the plan's motion time";
+    EXPECT_EQ(r.strokes.size(), job.stroke_end.size()) << slowdown;
+  }
+}
+
+// A device that answers but does not move (paused) holds the model back for good: after
+// hold_timeout that is an error, not a wait forever.
+TEST(SendJob, TimePacingGivesUpOnADeviceWhoseAnswersShowNoProgress) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::esc_b;
+  p.transport.error_query = false;
+  p.transport.flow = FlowControl::none;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, 1e6});  // one move takes days
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  o.hold_timeout = std::chrono::seconds(30);
+  const SendResult r = send_job(t, job, o);
+  EXPECT_EQ(r.status.error, TransportError::timeout) << r.status.message;
+  EXPECT_NE(r.status.message.find("showed no progress"), std::string::npos) << r.status.message;
+  EXPECT_EQ(cutter->report().overflow_bytes, 0u);
+  EXPECT_LT(cutter->now_s(), 120) << "ended after hold_timeout, not a wait forever";
+}
+
+// A device with no handshake that stops (paused, stuck) goes on taking bytes and loses what
+// overruns its buffer; nothing tells popcut when. What it certainly holds is its buffer's worth
+// from the start, so a resume never skips strokes it lost.
+TEST(SendJob, TimePacingClaimsNoMoreReceivedThanTheBufferHolds) {
+  DeviceProfile p = load_profile(config("sim.toml"));  // answers ESC.E: the stop is found after the job
+  p.transport.flow = FlowControl::none;
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::none;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::size_t{1200}, std::nullopt, 1});
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  const SendResult r = send_job(t, job, o);
+  ASSERT_FALSE(r.complete()) << "the stop is found by the silence after the job";
+  EXPECT_EQ(r.received_counted_by, "buffer_size");
+  EXPECT_LE(r.bytes_received, 256u) << "not the " << r.bytes_sent << " bytes written";
+  EXPECT_LE(r.last_stroke_sent, job.last_stroke_within(256));
+}
+
+// After a cancel, a device with no abort sequence goes on cutting what it holds; popcut says for
+// how long, and that is long enough for a device within the margin.
+TEST(SendJob, TimePacingSaysHowLongACancelledDeviceMayGoOnCutting) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.flow = FlowControl::none;
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::none;
+  p.transport.error_query = false;
+  p.transport.abort.clear();  // only the knife-up: the device keeps its buffer
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, 1.2});
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  std::atomic<bool> cancel{false};
+  o.cancel = &cancel;
+  o.progress = [&](const SendProgress& s) {
+    if (s.bytes_sent > job.bytes.size() / 2) cancel = true;
+  };
+  const SendResult r = send_job(t, job, o);
+  ASSERT_TRUE(r.cancelled) << r.status.message;
+  ASSERT_GT(cutter->buffer_used(), 0u) << "still holds part of the job";
+  EXPECT_GT(r.busy_for_s, 0.5);
+  cutter->advance(cutter->now_s() + r.busy_for_s);
+  EXPECT_EQ(cutter->buffer_used(), 0u) << "still busy " << r.busy_for_s << " s later";
+  EXPECT_FALSE(cutter->next_start_s().has_value()) << "nothing left to start";
+}
+
 // A device far slower than the margin loses bytes whatever popcut does; one that reports it
 // (ESC.E 16) fails the job rather than passing a spoiled card as done.
 TEST(SendJob, ADeviceFarSlowerThanThePaceMarginIsCaughtByItsErrorReport) {

@@ -485,7 +485,9 @@ TEST_F(Cli, TimePacingOnTheSimulatorKeepsUpOrNamesTheMargin) {
   const Result slow = run(base + (dir_ / "slow").string() + " --sim-slowdown 3");
   EXPECT_EQ(slow.code, 3) << slow.err;
   EXPECT_NE(slow.err.find("pace_margin_percent (25 %)"), std::string::npos) << slow.err;
-  EXPECT_GT(nlohmann::json::parse(slurp(dir_ / "slow" / "report.json"))["sim"]["overflow_bytes"].get<int>(), 0);
+  const auto slow_report = nlohmann::json::parse(slurp(dir_ / "slow" / "report.json"));
+  EXPECT_GT(slow_report["sim"]["overflow_bytes"].get<int>(), 0);
+  EXPECT_FALSE(slow_report["sent"]["complete"].get<bool>()) << "a script reading `sent` sees the job did not get through";
 }
 
 TEST_F(Cli, CutOnTheSimulatorWritesJobSvgAndReport) {

@@ -108,9 +108,14 @@ struct SendResult {
   std::optional<std::size_t> last_stroke_executed;
   std::size_t total_strokes = 0;
   // How bytes_received was counted: "transport" (a write's count is what the device took: USB,
-  // a file, the simulator), "status_answers" (serial, device answers queries) or "os_queue"
-  // (serial, device cannot be asked: written less the OS queue and what may still be in flight).
+  // a file, the simulator), "status_answers" (serial, device answers queries), "os_queue"
+  // (serial, device cannot be asked: written less the OS queue and what may still be in flight)
+  // or "buffer_size" (paced by time, device cannot be asked: a device that stopped lost what
+  // overran its buffer, so only the first buffer_bytes are certain).
   std::string received_counted_by;
+  // Paced by time, after a cancel or failure: how long the device may go on cutting what it
+  // holds, by the model (0: not paced by time). A job sent to it meanwhile would overrun it.
+  double busy_for_s = 0;
   bool cancelled = false;
   bool abort_sent = false;           // the abort sequence and knife up reached the transport
   // After a cancel or a failure: bytes the device may still hold and go on cutting. Exact when
