@@ -117,8 +117,8 @@ class Sender {
     if (query_ != DrainQuery::none) return t_.writes_acknowledged() ? r_.bytes_sent : std::min(confirmed_, r_.bytes_sent);
     // No handshake and no answers: a device that stopped (paused, stuck) went on taking bytes and
     // lost all that found its buffer full, and nothing tells when it stopped. Only its buffer's
-    // worth from the start is certainly in it.
-    if (time_paced()) return std::min(gone, o_.buffer_bytes);
+    // worth from the start is certainly in it. While all goes well (progress) it is what left.
+    if (time_paced() && ended_badly_) return std::min(gone, o_.buffer_bytes);
     return gone;
   }
 
@@ -738,6 +738,7 @@ class Sender {
 
   void estimate_buffered() {
     if (r_.status.ok()) take_replies(std::chrono::milliseconds(0));  // answers already on their way
+    ended_badly_ = true;
     settle_counts();
     if (time_paced()) {
       // How long the device may go on cutting, at the paced rate: until the model would have
@@ -815,6 +816,7 @@ class Sender {
   std::chrono::steady_clock::time_point asked_idle_at_{};  // last ESC.O while held back
   std::chrono::steady_clock::time_point model_at_ = t_.now();
   bool all_out_ = false;
+  bool ended_badly_ = false;  // a cancel or failure: counts are final and must assume the worst
   std::size_t credit_ = 0;  // ESC.B: bytes the device last said it could take, less those sent since
   std::size_t status_every_ = 0;
   std::size_t last_ping_ = 0;

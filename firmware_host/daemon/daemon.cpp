@@ -210,6 +210,11 @@ void Daemon::plan_one(const Job& job) {
 void Daemon::device_loop(Worker& w) {
   const std::string profile = profile_key(*w.device);
   while (!stopping_) {
+    // A device paced by time may still be cutting what a stopped job left in its buffer.
+    if (const auto now = std::chrono::steady_clock::now(); now < w.busy_until) {
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(w.busy_until - now, std::chrono::milliseconds(200)));
+      continue;
+    }
     std::optional<Job> job;
     if (!store_.paused(w.device->name)) job = store_.claim_for_device(w.device->name, profile);
     if (!job) {
@@ -267,6 +272,11 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     const CutOutcome out = link->cut(cut, control, [&](std::size_t last) {
       store_.set_progress(job.id, static_cast<std::int64_t>(last));
     });
+    if (out.busy_for_s > 0) {
+      w.busy_until = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<long>(out.busy_for_s * 1000) + 1);
+      log_line("job ", job.id, ": ", dev.name, " has no handshake and may go on cutting for up to ", static_cast<long>(out.busy_for_s + 0.999),
+               " s by the profile's pace: no job is sent to it before then");
+    }
     store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
     store_.set_executed(job.id, out.last_stroke_executed ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
                                                           : std::nullopt);

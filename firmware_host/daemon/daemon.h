@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <map>
@@ -75,6 +76,9 @@ class Daemon {
     std::atomic<bool> cancel_waiting{false};  // the stop waits for the device to let the abort through
     std::atomic<bool> give_up{false};         // ... and a second cancel gave that wait up
     bool user_cancel = false;  // guarded by mutex_: why stop_cut was set
+    // The device thread's own: until when a device paced by time may still be cutting what the
+    // last job left in its buffer (no job is sent to it before).
+    std::chrono::steady_clock::time_point busy_until{};
   };
   void plan_loop();
   void plan_one(const Job& job);

@@ -10,6 +10,7 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -861,6 +862,42 @@ TEST_F(SerialPopcutd, ACutterThatLostBytesFailsTheJobInsteadOfOfferingAResume) {
   EXPECT_EQ(j["state"], "failed") << "not done, and not resumable: " << j.dump();
   EXPECT_EQ(j["error"]["code"], "device_error") << j.dump();
   EXPECT_NE(j["error"]["message"].get<std::string>().find("I/O error 16"), std::string::npos) << j.dump();
+}
+
+// A cutter with no handshake and no abort goes on cutting what a cancelled job left in its
+// buffer. popcutd sends it nothing more until, by the profile's pace, it has cut that: the next
+// job would otherwise overrun it. The test holds the port open, so that both jobs reach the same
+// plotter session, as on a real cutter. (Without the wait this plotter does not overflow either:
+// the allowance for a first travel across the area covers what a cutter within the margin holds
+// here; the log line is what shows the wait.)
+TEST_F(SerialPopcutd, ACutterWithNoHandshakeIsLeftToFinishItsBufferBeforeTheNextJob) {
+  edit_profile("flow_control = \"xon_xoff\"", "flow_control = \"none\"");
+  edit_profile("drain_query = \"esc_o\"", "drain_query = \"none\"");
+  edit_profile("error_query = \"esc_e\"", "error_query = \"none\"");
+  edit_profile("abort = \"\\u001b.K\"", "abort = \"\"");
+  edit_profile("buffer_bytes = 256", "buffer_bytes = 1024");  // half of it is several seconds of cutting
+  auto plot = std::make_unique<popcut::testing::SimPlotterProcess>(
+      POPCUT_CLI, std::vector<std::string>{"--profile", profile_, "--slowdown", "1.2"}, (dir_.path() / "nohandshake.json").string());
+  const int hold = ::open(plot->port().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);  // one session for both jobs
+  ASSERT_GE(hold, 0) << plot->port();
+  const auto d = start_on(*plot);
+  httplib::Client c = d->client(kKiosk);
+  const std::int64_t first = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "first"));
+  // Nothing answers, so nothing is confirmed received while it cuts (strokes_sent stays low):
+  // some seconds into the cut, its buffer holds strokes.
+  ASSERT_TRUE(wait_until([&] { return job(c, first)["state"] == "cutting"; }, 60)) << "the cut starts; log:\n" << d->log();
+  std::this_thread::sleep_for(std::chrono::seconds(6));
+  EXPECT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(first) + "/cancel", "").status / 100, 2);
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, first)); }, 60)) << d->log();
+  EXPECT_EQ(job(c, first)["state"], "cancelled") << job(c, first).dump();
+  const std::int64_t second = submit(c, submission(example("voxel/box.json"), "device", "cutter", "second"));
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, second)); }, 120)) << d->log();
+  EXPECT_EQ(job(c, second)["state"], "done") << job(c, second).dump();
+  EXPECT_NE(d->log().find("may go on cutting for up to"), std::string::npos) << "the wait is logged: " << d->log();
+  EXPECT_EQ(d->stop(SIGTERM), 0);
+  ::close(hold);
+  ASSERT_EQ(plot->wait(), 0) << plot->log();
+  EXPECT_EQ(plot->report()["overflow_bytes"], 0) << "the second job did not overrun what the first left";
 }
 
 TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {

@@ -22,7 +22,9 @@ namespace popcut::drivers {
 struct SendProgress {
   std::size_t bytes_sent = 0;
   std::size_t bytes_total = 0;
-  std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (0: none yet)
+  // Last stroke the device certainly received (0: none yet). Paced by time with no answers: what
+  // left the port, as long as all goes well (the result after a failure counts far less).
+  std::size_t last_stroke_sent = 0;
   std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
   std::size_t first_stroke = 1;      // where this transmission started (--resume-from)
   std::size_t total_strokes = 0;
