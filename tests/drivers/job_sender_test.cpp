@@ -818,6 +818,14 @@ struct PacedRun {
   std::vector<SimStroke> strokes;
   std::size_t left_after_send = 0;  // bytes the device still held when send_job returned
 };
+// A device that cannot be asked anything, with a 256-byte buffer (a quarter of a typical one).
+DeviceProfile cannot_be_asked(DeviceProfile p) {
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::none;
+  p.transport.error_query = false;
+  return p;
+}
+
 // `earlier`: what the device did before this job (it is left where that ended).
 PacedRun run_paced(DeviceProfile p, const EncodedJob& job, double slowdown, int margin_percent, const std::string& earlier = "") {
   p.transport.flow = FlowControl::none;
@@ -845,10 +853,7 @@ PacedRun run_paced(DeviceProfile p, const EncodedJob& job, double slowdown, int 
 // overflows (so the simulator does show a device that loses bytes).
 TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
   for (const std::string& file : testing::shipped_profiles()) {
-    DeviceProfile p = load_profile(file);
-    p.transport.buffer_bytes = 256;
-    p.transport.drain_query = DrainQuery::none;
-    p.transport.error_query = false;
+    const DeviceProfile p = cannot_be_asked(load_profile(file));
     const StrokePlan plan = townhouse_plan(p);
     const EncodedJob job = encode_job(plan, p.dialect, p.tools);
     const PacedRun r = run_paced(p, job, 1.2, 25);
@@ -891,10 +896,7 @@ TEST(SendJob, TimePacingCatchesUpWithADeviceThatSaysItsBufferIsEmpty) {
 // first travels across all of it, and must still not be sent more than it holds.
 TEST(SendJob, TimePacingAllowsForADeviceLeftAnywhereInItsArea) {
   for (const std::string& file : testing::shipped_profiles()) {
-    DeviceProfile p = load_profile(file);
-    p.transport.buffer_bytes = 256;
-    p.transport.drain_query = DrainQuery::none;
-    p.transport.error_query = false;
+    const DeviceProfile p = cannot_be_asked(load_profile(file));
     const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
     // The far corner; on a roll feeder, of a piece twice as long as wide (longest_first_travel_mm).
     const HpglDialect& d = p.dialect;
