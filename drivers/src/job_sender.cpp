@@ -99,6 +99,7 @@ class Sender {
   struct Pending {
     std::size_t bytes_before;
     DrainQuery query;
+    std::chrono::steady_clock::time_point sent_at;  // by the transport's clock
   };
 
   bool cancel_requested() const { return o_.cancel && o_.cancel->load(); }
@@ -226,7 +227,7 @@ class Sender {
     const Held h = through_holds(query_bytes(q), [](std::size_t) {}, [](std::size_t done) { return done == 0; });
     query_skipped_ = h == Held::stopped;
     if (h != Held::written) return h == Held::stopped;
-    pending_.push_back({r_.bytes_sent, q});
+    pending_.push_back({r_.bytes_sent, q, t_.now()});
     ++r_.status_queries;
     return true;
   }
@@ -429,7 +430,11 @@ class Sender {
     if (pending_.empty()) return true;
     const std::size_t after = r_.bytes_sent - pending_.front().bytes_before;
     const std::size_t on_the_way = t_.writes_acknowledged() ? 0 : t_.in_flight();
-    if (after <= std::max(status_every_, on_the_way)) return true;
+    // Paced by time, nothing holds the line: an answer later than timeout_ms is a device that
+    // stopped, and everything sent to it from here overruns its buffer and is lost. (Elsewhere
+    // answers may wait behind bytes a held line or an adapter still holds.)
+    const bool late = time_paced() && t_.now() - pending_.front().sent_at > o_.timeout;
+    if (!late && after <= std::max(status_every_, on_the_way)) return true;
     return await_answers(pending_.size() - 1, pending_.front().query, "while sending");
   }
 
@@ -523,6 +528,7 @@ class Sender {
           if (!ask(query_, "while pacing")) return false;
           continue;
         }
+        if (!check_overdue()) return false;
         // Answers that keep the model where it is show a device that does not move.
         if (query_ != DrainQuery::none && t_.now() - began > o_.hold_timeout) {
           r_.status = {TransportError::timeout, 0, "the device's answers to " + std::string(query_name(query_)) + " showed no progress for " +
@@ -747,7 +753,11 @@ class Sender {
       const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), r_.bytes_sent,
                                           [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
       const double done_s = after == o_.motion.end() ? o_.motion.back().start_s : after->start_s;
-      r_.busy_for_s = std::max(0.0, done_s - model_s_) * slowdown();
+      // From where it last said it was, if it answers: one that fell silent (paused) may
+      // resume with all it held then.
+      const bool fell_silent = query_ != DrainQuery::none && r_.status.error == TransportError::timeout;
+      const double from_s = fell_silent ? std::min(model_s_, model_time_at(executed_)) : model_s_;
+      r_.busy_for_s = std::max(0.0, done_s - from_s) * slowdown();
     }
     // What the device may still cut: its buffer plus what is on its way to it.
     r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() + (r_.bytes_sent - r_.bytes_received));

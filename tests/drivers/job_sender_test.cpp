@@ -547,8 +547,10 @@ class QueuedLine final : public Transport {
   std::string describe() const override { return "queued-line"; }
   bool backpressure() const override { return sim_.backpressure(); }
   bool writes_acknowledged() const override { return false; }
+  std::chrono::steady_clock::time_point now() const override { return sim_.now(); }
   // Like a serial port, which also holds back bytes an adapter or a pty may hide.
   std::size_t in_flight() override { return queue_.size() + unseen_; }
+  std::size_t expected_in_flight() override { return queue_.size(); }
   std::size_t delivered() const { return delivered_; }
   void hold_back_unseen(std::size_t bytes) { unseen_ = bytes; }
 
@@ -559,6 +561,28 @@ class QueuedLine final : public Transport {
   std::size_t delivered_ = 0;
   std::size_t unseen_ = 0;
 };
+
+// Paced by time over a line that may hide 4 KB (a USB-serial adapter): a status answer overdue
+// by timeout_ms is a device that stopped, not one behind a held line (nothing holds it), and all
+// sent to it from then on is lost. popcut stops there instead of writing the rest of the job.
+TEST(SendJob, TimePacingStopsSendingToADeviceThatFellSilent) {
+  DeviceProfile p = load_profile(config("sim.toml"));  // answers ESC.O
+  p.transport.flow = FlowControl::none;
+  p.transport.buffer_bytes = 256;
+  p.transport.error_query = false;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::size_t{800}, std::nullopt, 1});
+  QueuedLine t(cutter, job.bytes.size() * 2);
+  t.hold_back_unseen(4096);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  const SendResult r = send_job(t, job, o);
+  EXPECT_EQ(r.status.error, TransportError::timeout) << r.status.message;
+  EXPECT_NE(r.status.message.find("while"), std::string::npos) << "found while sending or pacing: " << r.status.message;
+  EXPECT_LT(r.bytes_sent, job.bytes.size() - 500) << "it stopped writing to a silent device";
+  EXPECT_GT(r.busy_for_s, 0) << "and says how long what it held may take, should it resume";
+}
 
 TEST(SendJob, AJobThatDrainedCountsEveryStrokeReceivedWhateverThePortHoldsBack) {
   DeviceProfile p = load_profile(config("sim.toml"));
