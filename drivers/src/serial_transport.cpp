@@ -10,6 +10,7 @@
 #include <poll.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <termios.h>
 
 #include <algorithm>
@@ -98,6 +99,9 @@ class SerialTransport final : public Transport {
       return fail(status_from_errno(err, "cannot lock " + path_));
     }
     if (TransportStatus st = configure(); !st.ok()) return fail(st);
+    // A pseudo-terminal (Unix98 slaves: majors 136-143) hides its queue from TIOCOUTQ.
+    struct stat st {};
+    is_pty_ = ::fstat(fd_, &st) == 0 && S_ISCHR(st.st_mode) && major(st.st_rdev) >= 136 && major(st.st_rdev) <= 143;
     sp_flush(port_, SP_BUF_BOTH);  // stale replies from an earlier session are not answers to us
     line_free_at_ = Clock::now();
     return TransportStatus::success();
@@ -130,6 +134,7 @@ class SerialTransport final : public Transport {
       note_hold(n == 0);
       r.bytes += static_cast<std::size_t>(n);
       cur_request_ += static_cast<std::size_t>(n);
+      written_ += static_cast<std::size_t>(n);
       line_free_at_ = std::max(line_free_at_, Clock::now()) +
                       std::chrono::duration_cast<Clock::duration>(char_time_ * static_cast<double>(n));
       if (r.bytes < data.size() && Clock::now() >= deadline) {
@@ -229,6 +234,10 @@ class SerialTransport final : public Transport {
   bool os_flow_control() const override { return settings_.flow == FlowControl::xon_xoff; }
   bool holding_line() override {
     if (!open_) return false;
+    // A pseudo-terminal under XON/XOFF: what the far end has not read yet waits in the pty, not
+    // in a queue popcut can see, so a hold can be neither seen nor ruled out once job bytes have
+    // gone (more than a few queries): assume it may be held, as a UART's visible queue would say.
+    if (is_pty_ && settings_.flow == FlowControl::xon_xoff) return written_ > kQueriesOnly;
     const sp_return queued = sp_output_waiting(port_);
     return queued > 0 && Clock::now() >= line_free_at_ + kHoldSeen;  // queued past its line time
   }
@@ -356,6 +365,10 @@ class SerialTransport final : public Transport {
   Clock::time_point line_free_at_{};
   int holds_ = 0;
   bool holding_ = false;
+  bool is_pty_ = false;
+  std::size_t written_ = 0;  // since open
+  // Status queries before a job (ESC.O, ESC.E) write a few bytes: no job byte to hold yet.
+  static constexpr std::size_t kQueriesOnly = 16;
 };
 
 }  // namespace

@@ -296,6 +296,25 @@ TEST_F(SerialPty, TimePacingKeepsAPlotterWithNoHandshakeWithinItsBuffer) {
   EXPECT_TRUE(r2.err.find("I/O error 16 (ESC.E)") != std::string::npos || r2.err.find("still not empty") != std::string::npos) << r2.err;
 }
 
+// At 9600 baud under XON/XOFF a status query waits behind what the plotter has not read while it
+// says XOFF, longer than timeout_ms. Over a UART the port's queue shows that; a pty's does not,
+// so popcut must not take the wait for a device that stopped answering.
+TEST_F(SerialPty, AQueryBehindAPtyLineHeldByXoffIsNotSilence) {
+  std::string p = slurp(profile_);
+  replace(p, "baud = 115200", "baud = 9600");
+  profile_ = (dir_ / "slow-line.toml").string();
+  std::ofstream(profile_) << p;
+  std::string port;
+  auto plot = plotter("xoff9600", {"--baud", "9600", "--buffer", "1024"}, port);  // the profile's size
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "xoff9600.err");
+  const json pr = plotter_report("xoff9600");
+  ASSERT_GT(pr["xoff_sent"].get<int>(), 0) << "the plotter held the line";
+  EXPECT_EQ(r.code, 0) << "a healthy plotter, not one that stopped answering: " << r.err;
+  EXPECT_EQ(pr["overflow_bytes"], 0);
+  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+}
+
 TEST_F(SerialPty, ADeviceThatNeverHoldsTheLineCountsNoHolds) {
   std::string port;
   auto plot = plotter("roomy", {"--buffer", "65536", "--slowdown", "0.05"}, port);  // the whole job fits: never XOFF
