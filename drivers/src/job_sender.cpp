@@ -760,7 +760,11 @@ class Sender {
       r_.busy_for_s = std::max(0.0, done_s - from_s) * slowdown();
     }
     // What the device may still cut: its buffer plus what is on its way to it.
-    r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() + (r_.bytes_sent - r_.bytes_received));
+    // Paced by time, what it holds is never more than its buffer (it loses the rest), plus what
+    // may still reach it: not all that is not certainly received.
+    const std::size_t on_the_way = time_paced() ? std::min(r_.bytes_sent, t_.writes_acknowledged() ? 0 : t_.in_flight())
+                                                : r_.bytes_sent - r_.bytes_received;
+    r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() + on_the_way);
     r_.buffer_known = false;
     if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
       const TransportStatus keep = r_.status;

@@ -989,6 +989,7 @@ TEST(SendJob, TimePacingClaimsNoMoreReceivedThanTheBufferHolds) {
   EXPECT_EQ(r.received_counted_by, "buffer_size");
   EXPECT_LE(r.bytes_received, 256u) << "not the " << r.bytes_sent << " bytes written";
   EXPECT_LE(r.last_stroke_sent, job.last_stroke_within(256));
+  EXPECT_LE(r.buffered_bytes, 256u) << "and it may still cut no more than its buffer holds (it lost the rest)";
 }
 
 // After a cancel, a device with no abort sequence goes on cutting what it holds; popcut says for
