@@ -452,11 +452,19 @@ class Sender {
     return std::max(std::chrono::milliseconds(500), std::chrono::milliseconds(static_cast<long>(std::ceil(longest_s * slowdown() * 1000))));
   }
 
+  // The first mark at which the model has read more than `bytes`, and when that is (the end of
+  // the job's motion past the last mark).
+  std::vector<MotionMark>::const_iterator first_mark_past(std::size_t bytes) const {
+    return std::upper_bound(o_.motion.begin(), o_.motion.end(), bytes, [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+  }
+  double start_of(std::vector<MotionMark>::const_iterator mark) const {
+    return mark == o_.motion.end() ? o_.motion.back().start_s : mark->start_s;
+  }
+
   // When the model has read no more than `read_bytes`, at the latest: the start of the last
   // command within them.
   double model_time_at(std::size_t read_bytes) const {
-    const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), read_bytes,
-                                        [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+    const auto after = first_mark_past(read_bytes);
     return after == o_.motion.begin() ? 0 : std::prev(after)->start_s;
   }
 
@@ -473,9 +481,8 @@ class Sender {
     const double dt_s = std::chrono::duration<double>(now - model_at_).count() / slowdown();
     model_at_ = now;
     const std::size_t has_bytes = all_out_ ? r_.bytes_sent : r_.bytes_sent - std::min(r_.bytes_sent, t_.expected_in_flight());
-    const auto waits_for = std::upper_bound(o_.motion.begin(), o_.motion.end(), has_bytes,
-                                            [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
-    const double limit_s = waits_for == o_.motion.end() ? o_.motion.back().start_s : waits_for->start_s;
+    const auto waits_for = first_mark_past(has_bytes);
+    const double limit_s = start_of(waits_for);
     model_s_ = std::min(model_s_ + std::max(0.0, dt_s), std::max(model_s_, limit_s));
     model_needs_ = waits_for != o_.motion.end() && model_s_ >= limit_s ? waits_for->bytes_read : 0;
     const auto started = std::upper_bound(o_.motion.begin(), o_.motion.end(), model_s_,
@@ -537,9 +544,7 @@ class Sender {
         }
         // When the model reads far enough, at its (slowed) pace.
         const std::size_t target_bytes = r_.bytes_sent + n - ahead_bytes;
-        const auto mark = std::lower_bound(o_.motion.begin(), o_.motion.end(), target_bytes,
-                                           [](const MotionMark& m, std::size_t b) { return m.bytes_read < b; });
-        const double at_s = mark == o_.motion.end() ? o_.motion.back().start_s : mark->start_s;
+        const double at_s = start_of(first_mark_past(target_bytes - 1));  // target_bytes > read_bytes >= 0
         const auto wait = std::chrono::milliseconds(1 + static_cast<long>(std::max(0.0, at_s - model_s_) * slowdown() * 1000));
         if (!idle(std::min(kSlice, wait))) return false;
       }
@@ -750,9 +755,7 @@ class Sender {
       // How long the device may go on cutting, at the paced rate: until the model would have
       // ended everything sent. A job sent to it again meanwhile would find its buffer part full.
       advance_model();
-      const auto after = std::upper_bound(o_.motion.begin(), o_.motion.end(), r_.bytes_sent,
-                                          [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
-      const double done_s = after == o_.motion.end() ? o_.motion.back().start_s : after->start_s;
+      const double done_s = start_of(first_mark_past(r_.bytes_sent));
       // From where it last said it was, if it answers: one that fell silent (paused) may
       // resume with all it held then.
       const bool fell_silent = query_ != DrainQuery::none && r_.status.error == TransportError::timeout;
