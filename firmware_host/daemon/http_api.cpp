@@ -323,6 +323,7 @@ json Api::job_json(const Job& j, const Forecast* shared) {
             {"device", j.target_device.empty() ? json(nullptr) : json(j.target_device)},
             {"profile", j.target_profile},
             {"cut_on", j.device.empty() ? json(nullptr) : json(j.device)},
+            {"bound_to", j.bound_device().empty() ? json(nullptr) : json(j.bound_device())},
             {"state", to_string(j.state)},
             {"strokes_total", j.strokes_total},
             {"strokes_sent", j.strokes_sent},
@@ -812,6 +813,12 @@ void Api::install() {
   post(R"(/api/v1/jobs/(\d+)/resume)", [this](const httplib::Request& req, httplib::Response& res) {
     const Job j = visible_job(req, auth(req));
     const ResumePoint from = resume_point(req);
+    // The rest of a half-cut sheet is cut on the device holding it: without that device, a
+    // resume would wait for good.
+    if (const std::string bound = j.bound_device(); j.state == JobState::interrupted && !bound.empty() && !d_.device(bound)) {
+      fail(ApiError::conflict, "job " + std::to_string(j.id) + " was cut on " + bound + ", which holds its half-cut sheet and is not " +
+                                   "configured any more; only that device may finish it: configure it again, or cancel the job and submit it anew");
+    }
     switch (d_.store().resume(j.id, from)) {
       case ResumeResult::resumed: break;
       case ResumeResult::not_interrupted:

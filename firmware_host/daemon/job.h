@@ -99,6 +99,17 @@ struct Job {
   double est_time_s = 0;
   double created_at = 0, started_at = 0, finished_at = 0;  // unix seconds; 0 = not yet
   bool sim_match = false;  // sim devices: what it cut equals the plan (strokes from resume_from on)
+
+  // The device holding this job's half-cut sheet: an interrupted job, or one resumed and waiting,
+  // continues there and nowhere else ("" when no sheet of it is on a device).
+  std::string bound_device() const {
+    return state == JobState::interrupted || state == JobState::ready ? device : std::string();
+  }
+  // Where it may be cut: the device holding its sheet, else the one it names, else its profile's.
+  Targets targets() const {
+    const std::string bound = bound_device();
+    return {bound.empty() ? target_device : bound, target_profile};
+  }
 };
 
 }  // namespace popcut::daemon

@@ -240,11 +240,15 @@ std::vector<Job> JobStore::list(const std::string& owner, int limit) {
   return out;
 }
 
-// Jobs that may take the same device: two naming devices, the same device; else (one or both
-// name only a profile) the same profile: a job naming a device also records its profile.
+// The device a waiting job must go to: the one holding its half-cut sheet (a resumed job: it was
+// cut there), else the one it names ('' when it names only a profile).
+#define POPCUT_JOB_DEVICE "(CASE WHEN device <> '' THEN device ELSE target_device END)"
+// Jobs that may take the same device: two bound to or naming devices, the same device; else (one
+// or both name only a profile) the same profile: a job naming a device also records its profile.
 static const char* kAheadWhere =
     " WHERE id < ?1 AND state IN ('queued','planning','ready') AND"
-    " ((?2 <> '' AND target_device <> '' AND target_device = ?2) OR ((?2 = '' OR target_device = '') AND target_profile = ?3))";
+    " ((?2 <> '' AND " POPCUT_JOB_DEVICE " <> '' AND " POPCUT_JOB_DEVICE " = ?2) OR ((?2 = '' OR " POPCUT_JOB_DEVICE
+    " = '') AND target_profile = ?3))";
 // Cutting time left of a job: the share of its strokes not yet cut (after resume_from, if resumed).
 static const char* kLeftS =
     "est_time_s * (CASE WHEN strokes_total > 0 THEN 1.0 - MAX(strokes_sent, resume_from) * 1.0 / strokes_total ELSE 1.0 END)";
@@ -252,14 +256,14 @@ static const char* kLeftS =
 int JobStore::place_in_line(const Job& j) {
   auto [db, lock] = reader();
   Stmt s(db, (std::string("SELECT COUNT(*) FROM jobs") + kAheadWhere).c_str());
-  s.bind(1, j.id).bind(2, j.target_device).bind(3, j.target_profile);
+  s.bind(1, j.id).bind(2, j.targets().device).bind(3, j.target_profile);
   s.step();
   return static_cast<int>(s.integer(0));
 }
 
 std::vector<WaitingJob> JobStore::waiting() {
   auto [db, lock] = reader();
-  Stmt s(db, (std::string("SELECT id, target_device, target_profile, ") + kLeftS +
+  Stmt s(db, (std::string("SELECT id, " POPCUT_JOB_DEVICE ", target_profile, ") + kLeftS +
               " FROM jobs WHERE state IN ('queued','planning','ready') ORDER BY id").c_str());
   std::vector<WaitingJob> out;
   while (s.step()) out.push_back({s.integer(0), {s.text(1), s.text(2)}, s.real(3)});
@@ -304,7 +308,9 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
-    Stmt s(db_, select_jobs("WHERE state='ready' AND (target_device=?1 OR (target_device='' AND target_profile=?2)) ORDER BY id LIMIT 1").c_str());
+    // A resumed job goes back to the device holding its half-cut sheet, and only there.
+    Stmt s(db_, select_jobs("WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
+                            "='' AND target_profile=?2)) ORDER BY id LIMIT 1").c_str());
     s.bind(1, device).bind(2, profile_name);
     if (!s.step()) {
       exec("COMMIT");

@@ -225,6 +225,45 @@ TEST_F(Store, QueueLengthLimit) {
   EXPECT_TRUE(s.insert(job("d"), 2).has_value()) << "finished jobs do not count against the queue";
 }
 
+// A job for a profile, cut on sim-a and interrupted, holds a half-cut sheet on sim-a: resumed,
+// only sim-a takes it, however long sim-b sits idle, across a reopen too; its place in line and
+// forecast count it as sim-a's. (sim-b used to take it and finish the card on a blank sheet.)
+TEST_F(Store, AResumedJobIsCutOnlyOnTheDeviceHoldingItsSheet) {
+  std::int64_t a = 0;
+  {
+    JobStore s(db());
+    a = *s.insert(job(""), 100);
+    ASSERT_EQ(s.claim_for_planning()->id, a);
+    s.set_planned(a, 10, 5.0);
+    ASSERT_EQ(s.claim_for_device("sim-a", "sim")->id, a);
+    s.set_progress(a, 6);
+    s.finish(a, JobState::interrupted, "interrupted", "stopped");
+    EXPECT_EQ(s.get(a)->bound_device(), "sim-a") << "interrupted, it is bound to the device holding its sheet";
+  }
+  JobStore s(db());
+  ASSERT_EQ(s.resume(a), ResumeResult::resumed);
+  EXPECT_EQ(s.get(a)->bound_device(), "sim-a") << "resumed and waiting, still bound";
+  const std::int64_t later = *s.insert(job(""), 100);
+  ASSERT_EQ(s.claim_for_planning()->id, later);
+  s.set_planned(later, 10, 5.0);
+  EXPECT_EQ(s.place_in_line(*s.get(later)), 1) << "a job for any sim device may wait behind the bound one (both may take sim-a)";
+  const std::int64_t for_b = *s.insert(job("sim-b"), 100);
+  EXPECT_EQ(s.place_in_line(*s.get(for_b)), 1) << "a job naming sim-b waits behind the later one only, not the one bound to sim-a";
+  bool bound_forecast = false;
+  for (const WaitingJob& w : s.waiting()) {
+    if (w.id == a) bound_forecast = w.targets.device == "sim-a";
+  }
+  EXPECT_TRUE(bound_forecast) << "the forecast plays it forward on sim-a";
+  const std::optional<Job> b = s.claim_for_device("sim-b", "sim");
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(b->id, later) << "sim-b takes the later job, never the half-cut one";
+  EXPECT_FALSE(s.claim_for_device("sim-b", "sim").has_value()) << "and nothing else";
+  const std::optional<Job> on_a = s.claim_for_device("sim-a", "sim");
+  ASSERT_TRUE(on_a.has_value());
+  EXPECT_EQ(on_a->id, a) << "sim-a finishes its sheet";
+  EXPECT_EQ(on_a->resume_from, 6);
+}
+
 // The reviewer's case: sim-a and sim-b (profile sim), jobs X (sim-a), Y (profile sim), Z (sim-b), W (sim-a).
 TEST_F(Store, PlaceInLineCountsOnlyJobsThatMayTakeTheSameDevice) {
   JobStore s(db());
