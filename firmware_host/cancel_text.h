@@ -26,4 +26,15 @@ inline std::string still_buffered_text(const drivers::SendResult& sent) {
   return text;
 }
 
+// "the device discarded its buffer on the abort: resuming starts after stroke 53 (strokes 54..58
+// may have been cut before it stopped and are then cut again)", or "" when it kept its buffer.
+inline std::string discarded_text(const drivers::SendResult& sent) {
+  if (!sent.buffer_discarded) return "";
+  const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
+  std::string text = "the device discarded its buffer on the abort: resuming starts after stroke " + std::to_string(m) +
+                     (sent.last_stroke_executed ? "" : " (what it executed is not known)");
+  if (n > m) text += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) + " may have been cut before it stopped and are then cut again)";
+  return text;
+}
+
 }  // namespace popcut

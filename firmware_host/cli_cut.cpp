@@ -298,6 +298,7 @@ int run_cut(const CutCommands& s) {
                       {"complete", sent.complete()},
                       {"cancelled", sent.cancelled},
                       {"abort_sent", sent.abort_sent},
+                      {"buffer_discarded", sent.buffer_discarded},
                       {"error", sent.status.ok() ? "" : std::string(drivers::to_string(sent.status.error))},
                       {"message", sent.status.message},
                       {"first_stroke", sent.first_stroke},
@@ -382,33 +383,46 @@ int run_cut(const CutCommands& s) {
     } else if (sent.device_io_error != 0) {
       resume = "; what it cut is not the job, and no --resume-from can repair that: fix the profile (or the line) and cut the "
                "whole job again on a fresh sheet";
+    } else if (sent.buffer_discarded) {
+      // The abort made the device drop its buffer: what it received and had not cut is gone, so
+      // M is E and one resume point covers the card; should it have ignored the abort, the old M.
+      const std::size_t before = sent.received_before_abort;
+      if (m < sent.total_strokes) {
+        resume = "; the abort makes the device discard its buffer, so finish with the same command and --resume-from " +
+                 std::to_string(m + 1) + (e ? "" : " (what it executed is not known)");
+        if (n > m) {
+          resume += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) +
+                    " may have been cut before it stopped and are then cut a second time)";
+        }
+      } else {
+        resume = "; the device had executed the whole job before the abort";
+      }
+      if (before > m && before < sent.total_strokes) {
+        resume += "; if it ignored the abort and goes on cutting its buffer, use --resume-from " + std::to_string(before + 1) + " instead";
+      } else if (before > m) {
+        resume += "; if it ignored the abort and goes on cutting its buffer, it has the whole job";
+      }
     } else {
-      // Two cases, two resume points. A cancel whose abort sequence went out leads with the
-      // buffer lost (the abort tells the device to discard it); anything else with the buffer kept.
-      const bool aborted = sent.cancelled && sent.abort_sent && !j.profile.transport.abort.empty();
+      // Two cases, two resume points: the device keeps its buffer and cuts it (no abort reached
+      // it, or the abort keeps the buffer), or it was reset or power-cycled and lost it.
       std::string kept;
       if (m < sent.total_strokes) {
-        kept = "if the device " + std::string(aborted ? "ignored the abort and goes on cutting its buffer" : "still holds its buffer and goes on cutting") +
-               ", finish with the same command and --resume-from " + std::to_string(m + 1);
+        kept = "if the device still holds its buffer and goes on cutting, finish with the same command and --resume-from " + std::to_string(m + 1);
         if (n > m) {
           kept += " (strokes " + std::to_string(m + 1) + ".." + std::to_string(n) + " may have been cut already and are then cut a second time)";
         }
       } else {
-        kept = "if the device " + std::string(aborted ? "ignored the abort and goes on cutting its buffer" : "still holds its buffer and goes on cutting") +
-               ", it has the whole job";
+        kept = "if the device still holds its buffer and goes on cutting, it has the whole job";
       }
-      // After a reset, a power cycle or an honoured abort the buffer is gone: only what it
-      // executed is cut.
+      // After a reset or a power cycle the buffer is gone: only what it executed is cut.
       const std::size_t safe = e ? *e + 1 : sent.first_stroke;
       std::string lost;
       if (safe <= m) {
-        lost = "if " + std::string(aborted ? "it honoured the abort (discarded its buffer), or was reset or power-cycled"
-                                           : "it was reset or power-cycled, or lost its buffer") +
-               ", use --resume-from " + std::to_string(safe) + " (" + (e ? "" : "what it executed is not known: ") + "strokes " +
-               std::to_string(safe) + ".." + std::to_string(m) + " may have been cut already)";
+        lost = "if it was reset or power-cycled, or lost its buffer, use --resume-from " + std::to_string(safe) + " (" +
+               (e ? "" : "what it executed is not known: ") + "strokes " + std::to_string(safe) + ".." + std::to_string(m) +
+               " may have been cut already)";
       }
-      if (aborted && !lost.empty()) resume = "; " + lost + "; " + kept;
-      else resume = "; " + kept + (lost.empty() ? "" : "; " + lost);
+      resume = "; " + kept + (lost.empty() ? "" : "; " + lost);
       // A failure says nothing of the buffer otherwise (a cancel does, in still_buffered_text).
       if (!sent.cancelled && sent.busy_for_s >= 0.5) resume = "; the device may go on cutting" + busy_text(sent) + resume;
     }
@@ -423,8 +437,8 @@ int run_cut(const CutCommands& s) {
                                                                        : "sent the abort sequence and lifted the knife")
                                     : "could NOT send the abort sequence: " + sent.status.message)
                 << "; the device may still cut " << left << " from its buffer"
-                << (j.profile.transport.abort.empty() || sent.buffered_bytes == 0 || !sent.abort_sent || sent.buffer_known
-                        ? ""  // known: the device answered after the abort, so the figure already counts it
+                << (sent.buffered_bytes == 0 || !sent.abort_sent || sent.buffer_known || !j.profile.transport.abort_discards_buffer
+                        ? ""  // known, or an abort that keeps the buffer: the figure stands
                         : " unless it honours the abort sequence")
                 << "; " << where
                 << resume << "\n";

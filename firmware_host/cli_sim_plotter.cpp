@@ -99,6 +99,7 @@ json report_json(const drivers::SimCutter& c, const std::string& path, int host_
           {"commands", r.commands},
           {"overflow_bytes", r.overflow_bytes},
           {"max_buffer_used", r.max_buffer_used},
+          {"discarded_bytes", r.discarded_bytes},
           {"buffer_bytes", c.profile().transport.buffer_bytes},
           {"xoff_sent", r.xoff_sent},
           {"queries_answered", r.queries_answered},

@@ -136,6 +136,15 @@ class Sender {
     } else {  // unknown: no answers, or lost bytes made what it executed something else than the job
       r_.last_stroke_executed.reset();
     }
+    r_.received_before_abort = r_.last_stroke_sent;
+    if (discarding_) {
+      // The abort makes the device drop its buffer: of what it received, only what it executed
+      // is cut, and the rest must be sent again (strokes E+1..N may have been cut already).
+      const std::size_t none = job_.first_stroke - 1;
+      const std::size_t e = std::min(r_.last_stroke_executed.value_or(none), r_.last_stroke_sent);
+      r_.last_stroke_sent = e;
+      r_.bytes_received = e > none ? std::min(r_.bytes_received, job_.stroke_end[e - job_.first_stroke]) : 0;
+    }
   }
 
   void report_progress() {
@@ -699,6 +708,10 @@ class Sender {
     const auto slice = held_line ? std::min(o_.timeout, std::chrono::milliseconds(250)) : o_.timeout;
     const auto limit = held_line ? std::max(o_.timeout, o_.hold_timeout) : o_.timeout;
     const std::string_view abort = o_.abort_bytes;
+    // Recorded before the abort goes out, so that a crash meanwhile leaves counts that never
+    // skip what the device is about to drop.
+    discarding_ = o_.abort_discards_buffer;
+    if (discarding_) report_progress();
     std::size_t done = 0;
     std::chrono::milliseconds waited{0};
     for (;;) {
@@ -726,7 +739,10 @@ class Sender {
       }
     }
     r_.abort_sent = r_.status.ok() && done == abort.size();
+    // Not through (given up, the line failed): the device keeps its buffer and goes on cutting.
+    if (!r_.abort_sent) discarding_ = false;
     estimate_buffered();
+    r_.buffer_discarded = discarding_;
   }
 
   // A cancel waiting on a device that holds the line: says so once (o_.waiting_to_cancel), and
@@ -769,6 +785,7 @@ class Sender {
                                                 : r_.bytes_sent - r_.bytes_received;
     r_.buffered_bytes = std::min(r_.bytes_sent, device_buffer() + on_the_way);
     r_.buffer_known = false;
+    bool measured = false;
     if (t_.answers() && flow_ == FlowControl::esc_b && r_.status.ok()) {
       const TransportStatus keep = r_.status;
       if (ask(DrainQuery::esc_b, "after the cancel") && !query_skipped_) {
@@ -781,8 +798,17 @@ class Sender {
         if (r_.abort_sent) held -= std::min(held, buffered_abort_bytes());
         r_.buffered_bytes = std::min(r_.bytes_sent, held);
         r_.buffer_known = largest_free_ >= device_buffer();
+        measured = true;
       }
       r_.status = keep;
+    }
+    if (discarding_) {
+      if (measured && r_.buffered_bytes > 0) {
+        discarding_ = false;  // it still holds job bytes after the abort: it kept its buffer
+        settle_counts();
+      } else {
+        r_.buffered_bytes = 0;  // it dropped what it held: it cuts nothing more
+      }
     }
     r_.buffered_first_stroke = job_.last_stroke_within(r_.bytes_sent - r_.buffered_bytes) + 1;
     // Nothing after the last stroke known executed is known cut: the range starts no later.
@@ -855,7 +881,8 @@ class Sender {
   bool told_waiting_ = false;    // o_.waiting_to_cancel was called
   bool query_skipped_ = false;
   bool answer_dropped_ = false;  // a cancel ended await_answers before the answer came
-  bool aborting_ = false;        // the abort is under way: cancels no longer cut waits short   // the last query was not sent: a cancel came while the line was held
+  bool aborting_ = false;        // the abort is under way: cancels no longer cut waits short
+  bool discarding_ = false;      // an abort that makes the device drop its buffer is going out or went
 };
 
 }  // namespace
@@ -872,6 +899,7 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.pace_margin_percent = profile.transport.pace_margin_percent;
   const HpglDialect& d = profile.dialect;
   o.abort_bytes = profile.transport.abort + "PU" + d.terminator + (d.newline ? "\n" : "");
+  o.abort_discards_buffer = profile.transport.abort_discards_buffer;
   return o;
 }
 

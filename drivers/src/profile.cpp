@@ -188,6 +188,13 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
     for (char c : p.transport.abort) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     if (upper.find("PD") != std::string::npos) t.fail("abort", "must not lower the knife (PD): it is sent to stop a job");
   }
+  // An abort is there to stop the device at once, which HP-style devices do by discarding their
+  // buffer (ESC.K): what was received but not cut is then gone. Assuming so unless the profile
+  // says otherwise never skips a stroke on resume; the opposite guess would leave strokes uncut.
+  p.transport.abort_discards_buffer = t.boolean("abort_discards_buffer", !p.transport.abort.empty());
+  if (p.transport.abort_discards_buffer && p.transport.abort.empty()) {
+    t.fail("abort_discards_buffer", "true needs an abort sequence that makes the device discard its buffer (e.g. abort = \"\\u001b.K\")");
+  }
   if (const toml::array* ids = t.array("usb_ids")) {
     for (const toml::node& n : *ids) {
       const std::string id = n.value<std::string>().value_or("");

@@ -206,6 +206,7 @@ void SimCutter::answer(const HpglCommand& c) {
   else if (n == "ESC.E") queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r");  // read clears it, as on HP
   else if (n == "ESC.A") queue_reply("popcut-sim,0\r");
   else if (n == "ESC.K") {  // abort: drop what is buffered, a command in progress too
+    report_.discarded_bytes += buffer_used();
     for (const HpglCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
     queue_.clear();
     reader_.discard_pending();

@@ -305,12 +305,12 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         // did not reach it.
         if (user_cancel) {
           store_.finish(job.id, JobState::cancelled, to_string(out.abort_sent ? ApiError::cancelled : ApiError::device_error),
-                        out.abort_sent ? "cancelled during the cut; the knife was lifted"
+                        out.abort_sent ? "cancelled during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
                                        : "cancelled during the cut: " + out.error + "; the device may still cut " + out.still_buffered +
                                              " from its buffer");
         } else {
           store_.finish(job.id, JobState::interrupted, to_string(out.abort_sent ? ApiError::interrupted : ApiError::device_error),
-                        out.abort_sent ? "popcutd stopped during the cut; the knife was lifted"
+                        out.abort_sent ? "popcutd stopped during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
                                        : "popcutd stopped during the cut: " + out.error + "; the device may still cut " +
                                              out.still_buffered + " from its buffer");
         }

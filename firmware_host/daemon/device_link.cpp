@@ -95,6 +95,7 @@ class DriversLink final : public DeviceLink {
     out.last_stroke_executed = r.last_stroke_executed;
     out.abort_sent = r.abort_sent;
     out.still_buffered = still_buffered_text(r);
+    out.discarded = discarded_text(r);
     // A simulated device is made afresh for each job: nothing of this one is left to wait for.
     out.busy_for_s = made.sim ? 0 : r.busy_for_s;
     if (r.complete()) {

@@ -22,6 +22,9 @@ struct CutOutcome {
   std::string error;                 // failed: what the transport said; stopped: why the knife-up did not reach the device
   bool abort_sent = false;           // stopped: the abort sequence and knife-up reached the device
   std::string still_buffered;        // stopped or failed: what the device may still cut ("up to 212 bytes (strokes 5..9)")
+  // stopped by an abort that makes the device drop its buffer: last_stroke_sent is then what it
+  // executed, and this says so and which strokes a resume may cut a second time ("" otherwise)
+  std::string discarded;
   // failed: the device reported lost or garbled bytes (ESC.E 15 or 16): what it cut is not the
   // job, so no resume point repairs it.
   bool bytes_lost = false;

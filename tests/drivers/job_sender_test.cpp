@@ -126,8 +126,11 @@ TEST(SendJob, CancelStopsOnACommandBoundaryAndLiftsTheKnife) {
   EXPECT_LE(r.sent.buffered_bytes, p.transport.buffer_bytes + r.sent.bytes_sent - r.sent.bytes_received)
       << "an honest bound: at most the device's buffer and what was on its way";
   EXPECT_GE(r.sent.buffered_last_stroke, r.sent.last_stroke_written) << "the strokes it may still cut run to the last one sent";
-  // Everything cut is a prefix of the plan (ESC.K may have discarded some of it).
-  ASSERT_LE(r.strokes.size(), r.sent.last_stroke_sent + 1);
+  // Everything cut is a prefix of the plan (ESC.K discarded the rest), and covers every stroke
+  // counted received: ESC.K leaves received at what the device executed.
+  EXPECT_TRUE(r.sent.buffer_discarded);
+  EXPECT_GE(r.strokes.size(), r.sent.last_stroke_sent) << "no stroke counted received was left uncut";
+  ASSERT_LE(r.strokes.size(), r.sent.last_stroke_written + 1);
   for (std::size_t i = 0; i + 1 < r.strokes.size(); ++i) {
     EXPECT_EQ(r.strokes[i].points_pu, planned[i]) << "stroke " << i + 1 << " as planned";
   }
@@ -296,6 +299,95 @@ TEST(SendJob, AProfileThatUnderstatesTheBufferDoesNotEndTheJobEarly) {
 // Ctrl-C while popcut waits for the answer of a device that stopped mid-job: the wait ends and
 // the cancel goes on to the abort (it used to wait out timeout_ms and end in a device error,
 // with no abort and no knife-up sent).
+// Cancels `job` on a simulator of `p` slowed by `slowdown` after `chunks` progress reports, then
+// resumes from the advised stroke (last received + 1) on the same, now idle, device: what both
+// runs cut must be the whole plan, each stroke at least once.
+struct CancelAndResume {
+  SendResult cancelled;
+  SimReport report;
+  std::size_t cut_before = 0;  // strokes cut before the abort took effect
+  std::vector<PlotterPath> cut;
+};
+CancelAndResume cancel_then_resume(const DeviceProfile& p, const StrokePlan& plan, double slowdown, int chunks) {
+  SimFaults slow;
+  slow.slowdown = slowdown;
+  auto cutter = std::make_shared<SimCutter>(p, slow);
+  SimTransport t(cutter);
+  EXPECT_TRUE(t.open().ok());
+  std::atomic<bool> cancel{false};
+  SendOptions o = send_options(p);
+  o.cancel = &cancel;
+  int seen = 0;
+  o.progress = [&](const SendProgress&) {
+    if (++seen == chunks) cancel = true;
+  };
+  const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+  o.motion = motion_schedule(job.bytes, p);
+  CancelAndResume r;
+  r.cancelled = send_job(t, job, o);
+  EXPECT_TRUE(cutter->run_to_end());
+  r.report = cutter->report();
+  r.cut_before = cutter->strokes().size();
+  for (const SimStroke& st : cutter->strokes()) r.cut.push_back(st.points_pu);
+  const EncodedJob rest = encode_job(plan, p.dialect, p.tools, r.cancelled.last_stroke_sent + 1);
+  SendOptions again = send_options(p);
+  again.motion = motion_schedule(rest.bytes, p);
+  const SimRun resumed = run_on_sim(p, rest, again);
+  EXPECT_TRUE(resumed.sent.complete()) << resumed.sent.status.message;
+  for (const SimStroke& st : resumed.strokes) r.cut.push_back(st.points_pu);
+  return r;
+}
+
+// Every planned stroke is among `cut`, in order, allowing strokes cut twice at the seam.
+bool covers_plan(const std::vector<PlotterPath>& cut, const std::vector<PlotterPath>& planned) {
+  std::size_t next = 0;
+  for (const PlotterPath& c : cut) {
+    if (next < planned.size() && c == planned[next]) ++next;
+  }
+  return next == planned.size();
+}
+
+// An abort that makes the device drop its buffer (ESC.K): what it received and had not cut is
+// gone, so "received" falls back to what it executed and the default resume point cuts the rest.
+// It used to stay at what had arrived, and a resume from there skipped the strokes dropped.
+TEST(SendJob, AnAbortThatDiscardsTheBufferLeavesReceivedAtExecuted) {
+  for (const char* flow : {"xon_xoff", "esc_b"}) {
+    SCOPED_TRACE(flow);
+    DeviceProfile p = load_profile(config("sim.toml"));
+    ASSERT_TRUE(p.transport.abort_discards_buffer) << "sim.toml's ESC.K discards the buffer by default";
+    if (std::string(flow) == "esc_b") {
+      p.transport.flow = FlowControl::esc_b;
+      p.transport.drain_query = DrainQuery::esc_b;
+    }
+    const StrokePlan plan = townhouse_plan(p);
+    const CancelAndResume r = cancel_then_resume(p, plan, 4, 10);
+    const SendResult& s = r.cancelled;
+    ASSERT_TRUE(s.cancelled && s.abort_sent) << s.status.message;
+    ASSERT_GT(r.report.discarded_bytes, 0u) << "the device held strokes it had not cut (else this test proves nothing)";
+    ASSERT_GT(s.received_before_abort, r.cut_before) << "it had received strokes it never cut (else this proves nothing)";
+    EXPECT_TRUE(s.buffer_discarded);
+    EXPECT_EQ(s.last_stroke_sent, s.last_stroke_executed.value_or(0)) << "received is what it executed";
+    EXPECT_LE(s.last_stroke_sent, r.cut_before) << "no stroke counted received was dropped uncut";
+    EXPECT_EQ(s.buffered_bytes, 0u) << "it cuts nothing more after dropping its buffer";
+    EXPECT_TRUE(covers_plan(r.cut, plan_in_plotter_units(plan, p.dialect))) << "the resume from the advised stroke covers the card";
+  }
+}
+
+// A profile that says its abort keeps the buffer (the device goes on cutting what it holds):
+// received stands, and resuming after it neither skips nor re-cuts.
+TEST(SendJob, AnAbortThatKeepsTheBufferLeavesReceivedAsItWas) {
+  DeviceProfile p = load_profile(config("sim.toml"));
+  p.transport.abort = "\x1b.J";  // abort device control: the sim ignores it and keeps cutting
+  p.transport.abort_discards_buffer = false;
+  const StrokePlan plan = townhouse_plan(p);
+  const CancelAndResume r = cancel_then_resume(p, plan, 4, 10);
+  ASSERT_TRUE(r.cancelled.cancelled && r.cancelled.abort_sent) << r.cancelled.status.message;
+  EXPECT_FALSE(r.cancelled.buffer_discarded);
+  EXPECT_EQ(r.report.discarded_bytes, 0u);
+  EXPECT_GE(r.cut_before, r.cancelled.last_stroke_sent) << "it cut everything it received";
+  EXPECT_TRUE(covers_plan(r.cut, plan_in_plotter_units(plan, p.dialect)));
+}
+
 // Under ESC.B the device is asked after the abort: one that honoured ESC.K holds only the
 // knife-up, so it may cut nothing more of the job (it used to say "3 bytes (strokes 7..15)").
 TEST(SendJob, AfterAnHonouredAbortTheDeviceMayCutNothingMore) {
@@ -1092,6 +1184,8 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
       {"pace_margin_percent = 1001", "out of range"},
       {"pace_margin_percent = 12.5", "whole number"},
       {"pace_margin_percent = \"25\"", "whole number"},
+      {"abort_discards_buffer = true", "needs an abort sequence"},
+      {"abort = \"\\u001b.K\"\nabort_discards_buffer = 1", "true or false"},
   };
   for (const auto& [line, expect] : cases) {
     try {
@@ -1104,6 +1198,9 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
   }
   const DeviceProfile ok = parse_profile(base + "abort = \"\\u001b.K\"\nflow_control = \"dtr_dsr\"\nusb_ids = [\"0B4D:110A\"]\n", "t.toml");
   EXPECT_EQ(ok.transport.abort, "\x1b.K");
+  EXPECT_TRUE(ok.transport.abort_discards_buffer) << "an abort is taken to drop the device's buffer unless the profile says not";
+  EXPECT_FALSE(parse_profile(base + "abort = \"\\u001b.K\"\nabort_discards_buffer = false\n", "t.toml").transport.abort_discards_buffer);
+  EXPECT_FALSE(parse_profile(base, "t.toml").transport.abort_discards_buffer) << "no abort: the device keeps its buffer";
   EXPECT_EQ(ok.transport.flow, FlowControl::dtr_dsr);
   EXPECT_EQ(ok.transport.usb_ids, std::vector<std::string>{"0b4d:110a"});
   EXPECT_EQ(ok.transport.adapter_fifo_bytes, 4096u) << "unknown adapters: a margin above every FIFO checked";

@@ -171,6 +171,62 @@ TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
       << "a done job does not resume";
 }
 
+// Two simulated cutters with one profile, "sim-a" and "sim-b": slowed to minutes for the castle
+// (time_scale > 0), or as fast as they go.
+std::string two_cutters_config(const TempDir& dir, double time_scale) {
+  std::ostringstream o;
+  o << "[server]\ndata_dir = \"unused\"\n";
+  for (const char* name : {"sim-a", "sim-b"}) {
+    o << "[[device]]\nname = \"" << name << "\"\nprofile = \"" << kSrc << "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+      << "sim_time_scale = " << time_scale << "\nsim_slowdown = " << (time_scale > 0 ? 20 : 1) << "\n";
+  }
+  o << "[[token]]\nname = \"kiosk\"\ntoken = \"" << kKiosk << "\"\n"
+    << "[[token]]\nname = \"admin\"\ntoken = \"" << kAdmin << "\"\nrole = \"admin\"\n";
+  return dir.write(time_scale > 0 ? "two-slow.toml" : "two-fast.toml", o.str());
+}
+
+// A job for a profile, half cut on one cutter when popcutd is killed: resumed, it waits for that
+// cutter (here paused) and is never finished on the other, idle one. It used to be.
+TEST_F(Popcutd, AResumedJobWaitsForTheCutterHoldingItsSheet) {
+  std::int64_t id = 0;
+  std::string first;
+  {
+    const auto d = start(two_cutters_config(dir_, 1.0));
+    httplib::Client c = d->client(kKiosk);
+    id = submit(c, submission(example("voxel/castle.json"), "profile", "sim", "castle"));
+    ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 2; })) << d->log();
+    first = job(c, id)["cut_on"];
+    EXPECT_EQ(d->stop(SIGKILL), 128 + SIGKILL);
+  }
+  const std::string other = first == "sim-a" ? "sim-b" : "sim-a";
+  const auto d = start(two_cutters_config(dir_, 0));
+  httplib::Client c = d->client(kKiosk);
+  httplib::Client admin = d->client(kAdmin);
+  json j = job(c, id);
+  ASSERT_EQ(j["state"], "interrupted") << j.dump();
+  EXPECT_EQ(j["bound_to"], first) << "the API says which cutter holds the sheet: " << j.dump();
+  ASSERT_EQ(post_json(admin, "/api/v1/devices/" + first + "/pause", "").status, 200);
+  ASSERT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "").status, 202);
+  // The other cutter is idle and takes other work meanwhile.
+  const std::int64_t box = submit(c, submission(example("voxel/box.json"), "profile", "sim", "box"));
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, box)); })) << d->log();
+  EXPECT_EQ(job(c, box)["cut_on"], other) << "the idle cutter cut the next job";
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  j = job(c, id);
+  EXPECT_EQ(j["state"], "ready") << "the resumed job waits for its cutter: " << j.dump();
+  EXPECT_EQ(j["cut_on"], first) << j.dump();
+  EXPECT_EQ(j["bound_to"], first) << j.dump();
+  EXPECT_TRUE(j["eta_s"].is_null()) << "its cutter is paused: no forecast: " << j.dump();
+  ASSERT_EQ(post_json(admin, "/api/v1/devices/" + first + "/resume", "").status, 200);
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << d->log();
+  j = job(c, id);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["cut_on"], first) << "finished on the cutter holding its sheet: " << j.dump();
+  EXPECT_TRUE(j["bound_to"].is_null()) << "done: no sheet waits any more: " << j.dump();
+  EXPECT_EQ(j.value("sim_match", false), true) << j.dump();
+  EXPECT_EQ(d->stop(SIGTERM), 0);
+}
+
 TEST_F(Popcutd, SigtermStopsTheCutSafelyAndCancelStopsAJob) {
   const std::string slow = slow_config(dir_, 1.0, 20.0);
   const std::string castle = example("voxel/castle.json");
@@ -838,6 +894,59 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
   }
   ASSERT_EQ(fresh_b->wait(), 0) << fresh_b->log();
   EXPECT_EQ(popcut::testing::sim_plotter_strokes(fresh_b->report()), from_stroke(planned(ib), m)) << "the cutter cut exactly strokes " << m + 1 << "..";
+}
+
+// SIGTERM while cutting: popcutd aborts with the profile's ESC.K, which makes the cutter drop what
+// its buffer holds. What it had received but not cut is gone, so the job's received count and the
+// default resume point fall back to what it executed: resuming (the default) on the same cutter
+// then cuts every stroke the first run left, none skipped. It used to resume after the strokes
+// received, and those the cutter had dropped were never cut.
+TEST_F(SerialPopcutd, AfterSigtermTheDefaultResumeCutsTheStrokesTheCutterDiscarded) {
+  edit_profile("buffer_bytes = 256", "buffer_bytes = 1024");
+  auto plot = std::make_unique<popcut::testing::SimPlotterProcess>(
+      POPCUT_CLI, std::vector<std::string>{"--profile", profile_, "--buffer", "1024", "--slowdown", "0.5"},
+      (dir_.path() / "sigterm.json").string());
+  const int hold = ::open(plot->port().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);  // one session: the same sheet
+  ASSERT_GE(hold, 0) << plot->port();
+  std::int64_t id = 0;
+  json j;
+  {
+    const auto d = start_on(*plot);
+    httplib::Client c = d->client(kKiosk);
+    id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "sigterm"));
+    ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 8; }, 120))
+        << "the cut is under way; log:\n" << d->log();
+    EXPECT_EQ(d->stop(SIGTERM), 0) << d->log();
+  }
+  const auto d = start_on(*plot);
+  httplib::Client c = d->client(kKiosk);
+  j = job(c, id);
+  ASSERT_EQ(j["state"], "interrupted") << j.dump();
+  const std::int64_t m = j["strokes_sent"], total = j["strokes_total"];
+  ASSERT_LT(m, total) << "stopped mid-cut (else this test proves nothing)";
+  const std::string message = j["error"].value("message", "");
+  EXPECT_NE(message.find("the device discarded its buffer on the abort"), std::string::npos) << message;
+  EXPECT_EQ(j["strokes_executed"].is_null() ? std::int64_t{0} : j["strokes_executed"].get<std::int64_t>(), m)
+      << "received is what it executed: " << j.dump();
+  ASSERT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "").status, 202);
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); }, 120)) << d->log();
+  EXPECT_EQ(job(c, id)["state"], "done") << job(c, id).dump();
+  EXPECT_EQ(job(c, id)["resume_from"], m) << job(c, id).dump();
+  EXPECT_EQ(d->stop(SIGTERM), 0);
+  ::close(hold);
+  ASSERT_EQ(plot->wait(), 0) << plot->log();
+  const json report = plot->report();
+  EXPECT_GT(report.value("discarded_bytes", 0), 0) << "the cutter dropped strokes it held (else this test proves nothing)";
+  EXPECT_EQ(report["overflow_bytes"], 0);
+  // Both runs on one sheet: every planned stroke cut, in order, the seam's cut twice at most.
+  const auto cut = popcut::testing::sim_plotter_strokes(report);
+  const auto plan = planned(id);
+  std::size_t next = 0;
+  for (const auto& st : cut) {
+    if (next < plan.size() && st == plan[next]) ++next;
+  }
+  EXPECT_EQ(next, plan.size()) << "every stroke of the card was cut: the first " << next << " of " << plan.size()
+                               << " in order (" << cut.size() << " cut, resumed from " << m + 1 << ")";
 }
 
 // The device's profile says XON/XOFF; the plotter never says XOFF (it is set up for ESC.B), so

@@ -402,14 +402,17 @@ TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwiceWithItsOwnExitCode) {
               std::string::npos)
         << "says how much the device may still cut, in bytes and strokes: " << err;
   }
-  // The abort (ESC.K) went out, so the device most likely discarded its buffer: the advice that
-  // leaves nothing uncut in that case comes first.
-  const std::size_t lost = err.find("if it honoured the abort"), kept = err.find("ignored the abort");
+  // The abort (ESC.K) makes the device discard its buffer: what it received and had not cut is
+  // gone, so received falls back to executed, and the one resume point is E+1: it leaves no
+  // stroke uncut, and the strokes the device dropped are among those it cuts.
   ASSERT_TRUE(rep["sent"]["last_stroke_executed"].is_number()) << "sim.toml's device answers ESC.O";
-  if (rep["sent"]["last_stroke_sent"].get<std::size_t>() > rep["sent"]["last_stroke_executed"].get<std::size_t>()) {
-    EXPECT_NE(lost, std::string::npos) << err;
-    EXPECT_LT(lost, kept) << "after an abort, --resume-from E+1 is the first advice: " << err;
-  }
+  const std::size_t e = rep["sent"]["last_stroke_executed"], m = rep["sent"]["last_stroke_sent"];
+  EXPECT_TRUE(rep["sent"]["buffer_discarded"].get<bool>()) << rep.dump();
+  EXPECT_EQ(m, e) << "received is what the device executed: " << rep["sent"].dump();
+  EXPECT_LE(m, popcut::testing::sim_plotter_strokes(pr).size()) << "every stroke counted received was cut: " << err;
+  EXPECT_NE(err.find("discard its buffer, so finish with the same command and --resume-from " + std::to_string(e + 1)), std::string::npos)
+      << "--resume-from E+1 is the advice: " << err;
+  EXPECT_GT(pr.value("discarded_bytes", 0), 0) << "the plotter dropped what it held (else this proves little): " << pr.dump();
   EXPECT_FALSE(pr["knife_down_at_end"].get<bool>()) << "the knife is up";
   EXPECT_EQ(pr["overflow_bytes"], 0);
 }

@@ -74,6 +74,9 @@ struct SendOptions {
   int pace_margin_percent = 25;
   // Sent on cancel, after the last complete command: the profile's abort sequence, then knife up.
   std::string abort_bytes = "PU;";
+  // The abort makes the device drop its buffer (ESC.K): after it, what was received but not
+  // executed is no longer received (see SendResult::buffer_discarded).
+  bool abort_discards_buffer = false;
   // Set (from any thread, e.g. a signal handler) to stop the job safely. Checked between chunks
   // and while waiting; the sender finishes the command in flight first.
   const std::atomic<bool>* cancel = nullptr;
@@ -120,6 +123,14 @@ struct SendResult {
   double busy_for_s = 0;
   bool cancelled = false;
   bool abort_sent = false;           // the abort sequence and knife up reached the transport
+  // The abort went out and the profile says the device drops its buffer on it (an ESC.B answer
+  // after it showing job bytes still held says otherwise and clears this): last_stroke_sent is
+  // then last_stroke_executed (first_stroke - 1 when unknown), since strokes it held uncut are
+  // gone, and nothing more is cut (buffered_bytes 0). Strokes last_stroke_sent+1..
+  // last_stroke_written may have been cut before it stopped. received_before_abort is what it had
+  // received: the resume point, should the device have ignored the abort.
+  bool buffer_discarded = false;
+  std::size_t received_before_abort = 0;
   // After a cancel or a failure: bytes the device may still hold and go on cutting. Exact when
   // the device answered ESC.B (buffer_known), else an upper bound (its buffer plus what is still
   // on its way, at most what was sent); they carry strokes buffered_first_stroke..last written

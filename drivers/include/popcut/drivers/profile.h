@@ -36,6 +36,10 @@ struct TransportDefaults {
   bool error_query = false;
   // Device-specific bytes sent on cancel before the knife goes up (e.g. ESC.K: discard the buffer).
   std::string abort;
+  // The device drops what its buffer holds when it gets `abort` (ESC.K does): after a cancel the
+  // strokes it received but had not cut are lost, so a resume starts after those it executed.
+  // Default: true when there is an abort sequence.
+  bool abort_discards_buffer = false;
   // USB ids ("vvvv:pppp", lower-case hex) of the devices this profile is for.
   std::vector<std::string> usb_ids;
   std::size_t usb_chunk_bytes = 4096;  // one bulk OUT transfer

@@ -43,6 +43,7 @@ struct SimReport {
   std::size_t commands = 0;
   std::size_t overflow_bytes = 0;   // bytes that arrived with the buffer full (lost)
   std::size_t max_buffer_used = 0;
+  std::size_t discarded_bytes = 0;  // dropped from the buffer by ESC.K (received, never cut)
   int xoff_sent = 0;
   int queries_answered = 0;
   int knife_downs = 0;
