@@ -108,5 +108,47 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       << "a well-formed default device";
 }
 
+// init, finish and abort go out around popcut's own commands (abort mid-job): none may cut. Only
+// set-up commands pass, so every drawing command of HP-GL is refused, by name.
+TEST(Profile, SetUpStringsNeverLowerTheKnifeOrDraw) {
+  const std::string base = "[device]\nname = \"x\"\n";
+  const auto refused = [&](const std::string& section, const std::string& key, const std::string& value, const std::string& says) {
+    const std::string text = base + "[" + section + "]\n" + key + " = \"" + value + "\"\n";
+    try {
+      parse_profile(text, "k.toml");
+      ADD_FAILURE() << key << " = " << value << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+      EXPECT_EQ(e.source(), "k.toml");
+      EXPECT_EQ(e.location(), "[" + section + "] " + key) << value;
+      EXPECT_NE(e.message().find(says), std::string::npos) << key << " = " << value << ": " << e.message();
+      EXPECT_NE(e.message().find("allowed are IN, DF, PU"), std::string::npos) << "says what may be used: " << e.message();
+    }
+  };
+  for (const char* key : {"init", "finish"}) {
+    refused("hpgl", key, "IN;PD4000,4000;", "'PD4000,4000;' lowers the knife");
+    refused("hpgl", key, "IN;pd;", "'pd;' lowers the knife");  // HP-GL mnemonics in either case
+    refused("hpgl", key, "SP1;PA100,100;", "'PA100,100;' moves with the knife perhaps down: put PU before it");
+    refused("hpgl", key, "SP1;PR5,5;", "'PR5,5;' moves with the knife perhaps down");
+    // Arcs, circles, edges and fills, labels, symbols, encoded polylines, ticks, and what changes
+    // the drawing of later strokes (line type, scaling, rotation, window, polygon mode).
+    for (const char* cmd : {"AA", "AR", "AT", "RT", "CI", "EA", "ER", "RA", "RR", "WG", "EW", "EP", "FP", "PM", "LB", "SM", "PE",
+                            "BZ", "BR", "TL", "XT", "YT", "CP", "LT", "IP", "IR", "SC", "RO", "IW", "DI", "UC", "!ZZ", "!PG"}) {
+      const std::string c = std::string(cmd) + "10,10;";
+      refused("hpgl", key, "IN;PU;" + c, "'" + c + "' is not a set-up command");
+    }
+  }
+  refused("transport", "abort", "PD;", "must not lower the knife");
+  refused("transport", "abort", "\\u001b.KPA0,0;", "'PA0,0;' moves with the knife perhaps down");
+  refused("transport", "abort", "\\u001b.KCI5;", "'CI5;' is not a set-up command");
+  refused("transport", "abort", "LBabc", "'LB' is not a set-up command");  // a label's text is not HP-GL
+  // What set-up needs still passes: initialise, lift, select and park the tool, absolute or
+  // relative mode, a move once the knife is up, Roland's force and tool commands, ESC set-ups.
+  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PA;DF;SP1;VS10;FS40;!FS50;!ST1;\"\nfinish = \"PU;PA0,0;PR;SP0;!NR;\"\n"
+                                           "[transport]\nabort = \"\\u001b.KPU;PA0,0;\"\n",
+                                "ok.toml"));
+  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PU0,0;PA100,100;\"\n", "ok.toml")) << "IN and PU lift the knife";
+}
+
 }  // namespace
 }  // namespace popcut::drivers
