@@ -107,6 +107,25 @@ bool usb_id_text(const std::string& s) {
   return true;
 }
 
+// HP-GL frames are right-handed seen from above, so the job must turn the pattern, never mirror
+// it: a swap, or one flip, is a reflection; a swap with one flip, or both flips, a turn. Only a
+// device whose own frame is mirrored (said by mirrored_frame) needs the job mirrored back.
+void check_turn_not_mirror(TomlSection& dev, const HpglDialect& d) {
+  const bool mirrors = d.swap_axes != (d.flip_x != d.flip_y);
+  const bool mirrored_frame = dev.boolean("mirrored_frame", false);
+  if (mirrors && !mirrored_frame) {
+    const auto on = [](bool b) { return b ? "true" : "false"; };
+    dev.fail(d.swap_axes ? "swap_axes" : d.flip_x ? "flip_x" : "flip_y",
+             std::string("swap_axes = ") + on(d.swap_axes) + ", flip_x = " + on(d.flip_x) + ", flip_y = " + on(d.flip_y) +
+                 " mirrors the card: a swap with one of flip_x/flip_y, or both flips, turns it instead (set "
+                 "mirrored_frame only for a device whose +y runs clockwise from +x seen from above)");
+  }
+  if (mirrored_frame && !mirrors) {
+    dev.fail("mirrored_frame", "a mirrored device frame needs a mirroring swap_axes/flip_x/flip_y (a swap alone, one "
+                               "flip alone, or all three), or the card comes out mirrored");
+  }
+}
+
 // The abort string is sent to stop a job, mid-stroke perhaps: its HP-GL must not cut on. Its ESC
 // sequences (ESC.K and the like) pass as they are.
 void check_abort(const TomlSection& t, const std::string& abort) {
@@ -177,6 +196,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   d.swap_axes = dev.boolean("swap_axes", false);
   d.flip_x = dev.boolean("flip_x", false);
   d.flip_y = dev.boolean("flip_y", false);
+  check_turn_not_mirror(dev, d);
   d.allow_negative = dev.boolean("negative_coords", false);
   const double lo = d.allow_negative ? -10000 : 0;
   const double min_x = dev.number("area_min_x_mm", 0, lo, 10000), min_y = dev.number("area_min_y_mm", 0, lo, 10000);

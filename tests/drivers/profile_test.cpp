@@ -31,7 +31,7 @@ TEST(Profiles, ValuesArriveWhereTheyBelong) {
   const DeviceProfile p = load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/roland-gx24.toml");
   EXPECT_EQ(p.dialect.move_style, MoveStyle::inline_xy);
   EXPECT_EQ(p.dialect.force, ForceStyle::roland);
-  EXPECT_TRUE(p.dialect.swap_axes);
+  EXPECT_FALSE(p.dialect.swap_axes) << "a swap alone would mirror the card";
   EXPECT_EQ(p.dialect.area_max_x_pu, 584 * 40) << "usable width in plotter units";
   EXPECT_EQ(p.transport.flow, FlowControl::xon_xoff);
   EXPECT_EQ(p.plan.kinds[index_of(PlanKind::mountain)].mode, ToolMode::perforate);
@@ -68,6 +68,10 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[plan]\nfold_gap_mm = -1\n", "[plan] fold_gap_mm", "out of range"},
       {"[device]\nname = \"x\"\narea_min_x_mm = -5\n", "[device] area_min_x_mm", "out of range 0"},
       {"[device]\nname = \"x\"\narea_max_x_mm = 0\n", "[device] area_max_x_mm", "must exceed"},
+      {"[device]\nname = \"x\"\nswap_axes = true\n", "[device] swap_axes", "mirrors the card"},
+      {"[device]\nname = \"x\"\nflip_y = true\n", "[device] flip_y", "flip_y = true mirrors the card"},
+      {"[device]\nname = \"x\"\nswap_axes = true\nflip_x = true\nflip_y = true\n", "[device] swap_axes", "mirrors"},
+      {"[device]\nname = \"x\"\nmirrored_frame = true\n", "[device] mirrored_frame", "needs a mirroring"},
       {"[hpgl]\ninit = \"IN;\"\n", "[device] name", "missing"},
       {"[device]\nname = \"x\"\n[hpgl]\nterminator = \"1\"\n", "[hpgl] terminator", "must be ';'"},
       {"[device]\nname = \"x\"\n[hpgl]\nterminator = \",\"\n", "[hpgl] terminator", "must be ';'"},
@@ -102,6 +106,9 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
   EXPECT_NO_THROW(parse_profile(ok, "ok.toml")) << "a name is all a profile needs";
   EXPECT_NO_THROW(parse_profile(ok + "[hpgl]\ninit = \"\\u001b.@1024;0:IN;\\n!ST1;\"\nfinish = \"PU;\\nSP0;\\n\"\nterminator = \";\\n\"\n", "ok.toml"))
       << "set-up sequences, Roland commands, newlines and a ';' + newline terminator are fine";
+  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nflip_x = true\n", "ok.toml")) << "a swap and a flip: a quarter turn";
+  EXPECT_NO_THROW(parse_profile(ok + "flip_x = true\nflip_y = true\n", "ok.toml")) << "two flips: a half turn";
+  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nmirrored_frame = true\n", "ok.toml")) << "a mirrored device, mirrored back";
   EXPECT_NO_THROW(parse_profile(ok + "negative_coords = true\narea_min_x_mm = -5\n", "ok.toml"))
       << "negative coordinates when the device allows them";
   EXPECT_NO_THROW(parse_profile(ok + "[transport]\ndefault = \"serial:/dev/ttyUSB0\"\n", "ok.toml"))
