@@ -1,6 +1,7 @@
 // Device profile loader: each TOML section read through typed, range-checked getters; unknown keys rejected.
 #include "popcut/drivers/profile.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +23,35 @@ std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// What a set-up string may hold besides ESC sequences: commands that set state and never lower
+// the knife or draw. A whitelist, since HP-GL's drawing commands are many (PD, arcs, circles,
+// edges, fills, labels, symbol mode, encoded polylines, ticks) and others change what a later PD
+// draws (line types, scaling, rotation). PA and PR move: with coordinates only once PU or IN in
+// the same string has lifted the knife, since popcut's last command before finish (and a cancel's
+// command in flight before abort) may have left it down, and init cannot know.
+constexpr std::array<const char*, 11> kSetupCommands = {"IN", "DF", "PU", "PA", "PR", "SP", "VS", "FS", "!FS", "!ST", "!NR"};
+constexpr const char* kSetupAllowed =
+    "allowed are IN, DF, PU, SP, VS, FS, !FS, !ST, !NR, and PA/PR with coordinates only after PU or IN";
+
+// Why `cmds` could lower the knife or draw, or "" when they cannot; `plain` is the text their
+// offsets count in (device-control sequences left out).
+std::string knife_problem(const std::vector<HpglCommand>& cmds, const std::string& plain) {
+  bool lifted = false;
+  for (const HpglCommand& cmd : cmds) {
+    if (cmd.name.rfind("ESC", 0) == 0) continue;
+    const std::string what = plain.substr(cmd.offset, cmd.length);
+    if (cmd.name == "PD") return "'" + what + "' lowers the knife (" + kSetupAllowed + ")";
+    if (std::find(kSetupCommands.begin(), kSetupCommands.end(), cmd.name) == kSetupCommands.end()) {
+      return "'" + what + "' is not a set-up command and may draw or change what is cut (" + kSetupAllowed + ")";
+    }
+    if (cmd.name == "PU" || cmd.name == "IN") lifted = true;
+    if ((cmd.name == "PA" || cmd.name == "PR") && !cmd.params.empty() && !lifted) {
+      return "'" + what + "' moves with the knife perhaps down: put PU before it (" + kSetupAllowed + ")";
+    }
+  }
+  return "";
 }
 
 // What is wrong with an init or finish string, or "" when nothing is: it is sent verbatim
@@ -60,7 +90,7 @@ std::string hpgl_text_problem(const std::string& text) {
       return "'" + what + "' is an output instruction: the device's reply would be taken for a status answer or stray input";
     }
   }
-  return "";
+  return knife_problem(parse_hpgl(text), plain);
 }
 
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
@@ -75,6 +105,54 @@ bool usb_id_text(const std::string& s) {
     if (i != 4 && !std::isxdigit(static_cast<unsigned char>(s[i]))) return false;
   }
   return true;
+}
+
+// HP-GL frames are right-handed seen from above, so the job must turn the pattern, never mirror
+// it: a swap, or one flip, is a reflection; a swap with one flip, or both flips, a turn. Only a
+// device whose own frame is mirrored (said by mirrored_frame) needs the job mirrored back.
+void check_turn_not_mirror(TomlSection& dev, const HpglDialect& d) {
+  const bool mirrors = d.swap_axes != (d.flip_x != d.flip_y);
+  const bool mirrored_frame = dev.boolean("mirrored_frame", false);
+  if (mirrors && !mirrored_frame) {
+    const auto on = [](bool b) { return b ? "true" : "false"; };
+    dev.fail(d.swap_axes ? "swap_axes" : d.flip_x ? "flip_x" : "flip_y",
+             std::string("swap_axes = ") + on(d.swap_axes) + ", flip_x = " + on(d.flip_x) + ", flip_y = " + on(d.flip_y) +
+                 " mirrors the card: a swap with one of flip_x/flip_y, or both flips, turns it instead (set "
+                 "mirrored_frame only for a device whose +y runs clockwise from +x seen from above)");
+  }
+  if (mirrored_frame && !mirrors) {
+    dev.fail("mirrored_frame", "a mirrored device frame needs a mirroring swap_axes/flip_x/flip_y (a swap alone, one "
+                               "flip alone, or all three), or the card comes out mirrored");
+  }
+}
+
+// The abort string is sent to stop a job, mid-stroke perhaps: its HP-GL must not cut on. Its ESC
+// sequences (ESC.K and the like) pass as they are.
+void check_abort(const TomlSection& t, const std::string& abort) {
+  for (char c : abort) {
+    // ESC plus printable HP-GL: anything else is a typo that a device would take as data.
+    if (c != '\x1b' && c != '\r' && c != '\n' && (c < 0x20 || c > 0x7e)) {
+      t.fail("abort", "only ESC (\\u001b), CR, LF and printable ASCII are allowed");
+    }
+  }
+  std::string plain;  // without device-control sequences: what parse_hpgl's offsets count
+  for (std::size_t i = 0; i < abort.size(); ++i) {
+    if (abort[i] != '\x1b') {
+      plain += abort[i];
+      continue;
+    }
+    std::string e(1, '\x1b');
+    while (!esc_complete(e) && i + 1 < abort.size()) e += abort[++i];
+  }
+  const std::vector<HpglCommand> cmds = parse_hpgl(abort);
+  if (const std::string problem = knife_problem(cmds, plain); !problem.empty()) {
+    t.fail("abort", "must not lower the knife or draw, it is sent to stop a job: " + problem);
+  }
+  for (const HpglCommand& cmd : cmds) {
+    if (cmd.malformed && cmd.name.rfind("ESC", 0) != 0) {
+      t.fail("abort", "'" + plain.substr(cmd.offset, cmd.length) + "' is not a command with numeric parameters");
+    }
+  }
 }
 
 }  // namespace
@@ -118,6 +196,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   d.swap_axes = dev.boolean("swap_axes", false);
   d.flip_x = dev.boolean("flip_x", false);
   d.flip_y = dev.boolean("flip_y", false);
+  check_turn_not_mirror(dev, d);
   d.allow_negative = dev.boolean("negative_coords", false);
   const double lo = d.allow_negative ? -10000 : 0;
   const double min_x = dev.number("area_min_x_mm", 0, lo, 10000), min_y = dev.number("area_min_y_mm", 0, lo, 10000);
@@ -177,17 +256,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
       t.choice("drain_query", p.transport.flow == FlowControl::esc_b ? 1 : 0, std::array<const char*, 3>{"none", "esc_b", "esc_o"}));
   p.transport.error_query = t.choice("error_query", 0, std::array<const char*, 2>{"none", "esc_e"}) == 1;
   p.transport.abort = t.text("abort", "", 64);
-  for (char c : p.transport.abort) {
-    // ESC plus printable HP-GL: anything else is a typo that a device would take as data.
-    if (c != '\x1b' && c != '\r' && c != '\n' && (c < 0x20 || c > 0x7e)) {
-      t.fail("abort", "only ESC (\\u001b), CR, LF and printable ASCII are allowed");
-    }
-  }
-  {
-    std::string upper;
-    for (char c : p.transport.abort) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (upper.find("PD") != std::string::npos) t.fail("abort", "must not lower the knife (PD): it is sent to stop a job");
-  }
+  check_abort(t, p.transport.abort);
   // An abort is there to stop the device at once, which HP-style devices do by discarding their
   // buffer (ESC.K): what was received but not cut is then gone. Assuming so unless the profile
   // says otherwise never skips a stroke on resume; the opposite guess would leave strokes uncut.

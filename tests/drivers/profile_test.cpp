@@ -31,7 +31,7 @@ TEST(Profiles, ValuesArriveWhereTheyBelong) {
   const DeviceProfile p = load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/roland-gx24.toml");
   EXPECT_EQ(p.dialect.move_style, MoveStyle::inline_xy);
   EXPECT_EQ(p.dialect.force, ForceStyle::roland);
-  EXPECT_TRUE(p.dialect.swap_axes);
+  EXPECT_FALSE(p.dialect.swap_axes) << "a swap alone would mirror the card";
   EXPECT_EQ(p.dialect.area_max_x_pu, 584 * 40) << "usable width in plotter units";
   EXPECT_EQ(p.transport.flow, FlowControl::xon_xoff);
   EXPECT_EQ(p.plan.kinds[index_of(PlanKind::mountain)].mode, ToolMode::perforate);
@@ -68,6 +68,10 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[plan]\nfold_gap_mm = -1\n", "[plan] fold_gap_mm", "out of range"},
       {"[device]\nname = \"x\"\narea_min_x_mm = -5\n", "[device] area_min_x_mm", "out of range 0"},
       {"[device]\nname = \"x\"\narea_max_x_mm = 0\n", "[device] area_max_x_mm", "must exceed"},
+      {"[device]\nname = \"x\"\nswap_axes = true\n", "[device] swap_axes", "mirrors the card"},
+      {"[device]\nname = \"x\"\nflip_y = true\n", "[device] flip_y", "flip_y = true mirrors the card"},
+      {"[device]\nname = \"x\"\nswap_axes = true\nflip_x = true\nflip_y = true\n", "[device] swap_axes", "mirrors"},
+      {"[device]\nname = \"x\"\nmirrored_frame = true\n", "[device] mirrored_frame", "needs a mirroring"},
       {"[hpgl]\ninit = \"IN;\"\n", "[device] name", "missing"},
       {"[device]\nname = \"x\"\n[hpgl]\nterminator = \"1\"\n", "[hpgl] terminator", "must be ';'"},
       {"[device]\nname = \"x\"\n[hpgl]\nterminator = \",\"\n", "[hpgl] terminator", "must be ';'"},
@@ -102,10 +106,55 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
   EXPECT_NO_THROW(parse_profile(ok, "ok.toml")) << "a name is all a profile needs";
   EXPECT_NO_THROW(parse_profile(ok + "[hpgl]\ninit = \"\\u001b.@1024;0:IN;\\n!ST1;\"\nfinish = \"PU;\\nSP0;\\n\"\nterminator = \";\\n\"\n", "ok.toml"))
       << "set-up sequences, Roland commands, newlines and a ';' + newline terminator are fine";
+  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nflip_x = true\n", "ok.toml")) << "a swap and a flip: a quarter turn";
+  EXPECT_NO_THROW(parse_profile(ok + "flip_x = true\nflip_y = true\n", "ok.toml")) << "two flips: a half turn";
+  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nmirrored_frame = true\n", "ok.toml")) << "a mirrored device, mirrored back";
   EXPECT_NO_THROW(parse_profile(ok + "negative_coords = true\narea_min_x_mm = -5\n", "ok.toml"))
       << "negative coordinates when the device allows them";
   EXPECT_NO_THROW(parse_profile(ok + "[transport]\ndefault = \"serial:/dev/ttyUSB0\"\n", "ok.toml"))
       << "a well-formed default device";
+}
+
+// init, finish and abort go out around popcut's own commands (abort mid-job): none may cut. Only
+// set-up commands pass, so every drawing command of HP-GL is refused, by name.
+TEST(Profile, SetUpStringsNeverLowerTheKnifeOrDraw) {
+  const std::string base = "[device]\nname = \"x\"\n";
+  const auto refused = [&](const std::string& section, const std::string& key, const std::string& value, const std::string& says) {
+    const std::string text = base + "[" + section + "]\n" + key + " = \"" + value + "\"\n";
+    try {
+      parse_profile(text, "k.toml");
+      ADD_FAILURE() << key << " = " << value << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+      EXPECT_EQ(e.source(), "k.toml");
+      EXPECT_EQ(e.location(), "[" + section + "] " + key) << value;
+      EXPECT_NE(e.message().find(says), std::string::npos) << key << " = " << value << ": " << e.message();
+      EXPECT_NE(e.message().find("allowed are IN, DF, PU"), std::string::npos) << "says what may be used: " << e.message();
+    }
+  };
+  for (const char* key : {"init", "finish"}) {
+    refused("hpgl", key, "IN;PD4000,4000;", "'PD4000,4000;' lowers the knife");
+    refused("hpgl", key, "IN;pd;", "'pd;' lowers the knife");  // HP-GL mnemonics in either case
+    refused("hpgl", key, "SP1;PA100,100;", "'PA100,100;' moves with the knife perhaps down: put PU before it");
+    refused("hpgl", key, "SP1;PR5,5;", "'PR5,5;' moves with the knife perhaps down");
+    // Arcs, circles, edges and fills, labels, symbols, encoded polylines, ticks, and what changes
+    // the drawing of later strokes (line type, scaling, rotation, window, polygon mode).
+    for (const char* cmd : {"AA", "AR", "AT", "RT", "CI", "EA", "ER", "RA", "RR", "WG", "EW", "EP", "FP", "PM", "LB", "SM", "PE",
+                            "BZ", "BR", "TL", "XT", "YT", "CP", "LT", "IP", "IR", "SC", "RO", "IW", "DI", "UC", "!ZZ", "!PG"}) {
+      const std::string c = std::string(cmd) + "10,10;";
+      refused("hpgl", key, "IN;PU;" + c, "'" + c + "' is not a set-up command");
+    }
+  }
+  refused("transport", "abort", "PD;", "must not lower the knife");
+  refused("transport", "abort", "\\u001b.KPA0,0;", "'PA0,0;' moves with the knife perhaps down");
+  refused("transport", "abort", "\\u001b.KCI5;", "'CI5;' is not a set-up command");
+  refused("transport", "abort", "LBabc", "'LB' is not a set-up command");  // a label's text is not HP-GL
+  // What set-up needs still passes: initialise, lift, select and park the tool, absolute or
+  // relative mode, a move once the knife is up, Roland's force and tool commands, ESC set-ups.
+  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PA;DF;SP1;VS10;FS40;!FS50;!ST1;\"\nfinish = \"PU;PA0,0;PR;SP0;!NR;\"\n"
+                                           "[transport]\nabort = \"\\u001b.KPU;PA0,0;\"\n",
+                                "ok.toml"));
+  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PU0,0;PA100,100;\"\n", "ok.toml")) << "IN and PU lift the knife";
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ enum class ForceStyle { none, fs, roland };    // "FSn;" or Roland's "!FSn;" (CA
 struct HpglDialect {
   double units_per_mm_x = 40;  // calibratable: real devices differ by about 0.5 %
   double units_per_mm_y = 40;
-  bool swap_axes = false;      // plotter x runs along the pattern's v (e.g. along the media feed)
+  bool swap_axes = false;      // plotter x runs along the pattern's v; alone a mirror, with one flip a quarter turn
   bool flip_x = false;         // plotter x grows the other way (after any swap)
   bool flip_y = false;
   std::int64_t area_min_x_pu = 0, area_min_y_pu = 0;  // usable area, in plotter units

@@ -1,0 +1,79 @@
+// The popcut binary refusing a profile whose set-up strings would cut: exit 2 naming the file and key, nothing sent.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+namespace fs = std::filesystem;
+
+struct CutResult {
+  int code;
+  std::string err;
+};
+
+class CliProfile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("popcut-cliprof-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // The shipped simulator profile with one line replaced.
+  std::string sim_profile_with(const std::string& from, const std::string& to) {
+    std::ifstream in(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/sim.toml");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from << " is not in sim.toml";
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    const fs::path p = dir_ / "knife.toml";
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  CutResult cut(const std::string& profile, const fs::path& out) {
+    const std::string cmd = std::string(POPCUT_CLI) + " cut " + POPCUT_SOURCE_DIR + "/examples/voxel/box.json --device sim --profile " +
+                            profile + " --out " + out.string() + " </dev/null >/dev/null 2>" + (dir_ / "err").string();
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(dir_ / "err");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  }
+  fs::path dir_;
+};
+
+TEST_F(CliProfile, CutRefusesAKnifeDownInitFinishOrAbortWithExit2) {
+  struct Case {
+    const char* from;
+    const char* to;
+    const char* key;
+  };
+  const Case cases[] = {
+      {"[hpgl]\ninit = \"IN;\"", "[hpgl]\ninit = \"IN;PD4000,4000;\"", "[hpgl] init: 'PD4000,4000;' lowers the knife"},
+      {"finish = \"PU;SP0;\"", "finish = \"CI40;PU;SP0;\"", "[hpgl] finish: 'CI40;' is not a set-up command"},
+      {"finish = \"PU;SP0;\"", "finish = \"PA0,0;\"", "[hpgl] finish: 'PA0,0;' moves with the knife perhaps down"},
+      {"abort = \"\\u001b.K\"", "abort = \"\\u001b.KPD;\"", "[transport] abort: must not lower the knife"},
+  };
+  for (const Case& c : cases) {
+    const std::string profile = sim_profile_with(c.from, c.to);
+    const fs::path out = dir_ / "out";
+    const CutResult r = cut(profile, out);
+    EXPECT_EQ(r.code, 2) << c.to << ": " << r.err;
+    EXPECT_NE(r.err.find("knife.toml: " + std::string(c.key)), std::string::npos) << "file, section, key and why: " << r.err;
+    EXPECT_NE(r.err.find("allowed are IN"), std::string::npos) << "says what is allowed: " << r.err;
+    EXPECT_FALSE(fs::exists(out / "job.hpgl")) << c.to << ": nothing planned or sent";
+  }
+  const CutResult ok = cut(sim_profile_with("finish = \"PU;SP0;\"", "finish = \"PU;PA0,0;SP0;\""), dir_ / "ok");
+  EXPECT_EQ(ok.code, 0) << "going home after lifting the knife is fine: " << ok.err;
+}
+
+}  // namespace
