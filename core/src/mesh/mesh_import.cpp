@@ -61,7 +61,7 @@ void check_options(const ImportOptions& o, const std::string& source) {
   if (o.fit && !(o.fit->width_mm > 0 && o.fit->height_mm > 0 && std::isfinite(o.fit->width_mm) && std::isfinite(o.fit->height_mm))) {
     bad("--fit-mm", "the box must be a positive number of mm each way, not " + fmt(o.fit->width_mm) + " x " + fmt(o.fit->height_mm));
   }
-  // A height or a box gives the voxel size only once the model's sheet is known (size_card).
+  // A height or a box gives the voxel size only once the model's sheet is known (sized_voxel_mm).
   const double voxel = o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution;
   if (!o.height_mm && !o.fit && !(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
     bad(o.voxel_mm ? "--voxel-mm" : "--width-mm", "gives voxels of " + fmt(voxel) + " mm; they must be " + fmt(kMinVoxelMm) + " to " +
