@@ -179,13 +179,22 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.name.empty()) body["name"] = s.name;
     job = c.request("POST", "/api/v1/jobs", body.dump());
   }
-  if (!s.json_out) std::cerr << "queued job " << job["id"] << " (" << job["name"].get<std::string>() << "), place " << job["place_in_line"] << " in line\n";
+  // Only the submission's answer has them; a job fetched again while waiting does not.
+  const json warnings = job.value("warnings", json::array());
+  if (!s.json_out) {
+    std::cerr << "queued job " << job["id"] << " (" << job["name"].get<std::string>() << "), place " << job["place_in_line"] << " in line\n";
+    for (const json& w : warnings) std::cerr << "popcut: warning: " << s.model_path << ": " << w.get<std::string>() << "\n";
+  }
   while (s.wait && (job["state"] == "queued" || job["state"] == "planning" || job["state"] == "ready" || job["state"] == "cutting")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     job = c.request("GET", "/api/v1/jobs/" + std::to_string(job["id"].get<long long>()));
   }
-  if (s.json_out) print_json_line(job);
-  else print_job_line(job);
+  if (s.json_out) {
+    job["warnings"] = warnings;
+    print_json_line(job);
+  } else {
+    print_job_line(job);
+  }
   return s.wait && job["state"] != "done" ? kCannotWrite : kOk;
 }
 

@@ -237,6 +237,9 @@ void add_import_options(CLI::App* cmd, std::vector<std::pair<std::string, std::s
   option("resolution", "Voxels across the card (default " + std::to_string(d.resolution) + ")");
   option("width-mm", "Card width of the model in mm (default 120)");
   option("voxel-mm", "Voxel edge in mm, instead of --width-mm");
+  option("height-mm", "Standing height of the card (its back board, as tall as the closed card) in mm, instead of --width-mm");
+  option("fit-mm", "The largest card whose closed outline fits WxH mm (148x105 or 148×105), or whose flat sheet fits a device's media "
+                   "(a profile name, e.g. sim; popcutd: a device name), instead of --width-mm");
   option("keep-depth", "Fraction of the model's depth kept, from the front (default 0.5, as the paper)");
   option("smooth", "Side of the square for opening and closing each slice, in voxels (odd; 1 = off; default " +
                        std::to_string(d.structuring_element) + ")");
@@ -457,7 +460,9 @@ int run(int argc, char** argv) {
   }
   if (*import_cmd) {
     return guarded(json_out, [&] {
-      ImportRequest request = parse_import_options(import_values, model_path);
+      // Every shipped or configured profile: --fit-mm may name one, and a sheet too big for one is warned of.
+      const std::vector<NamedMedia> media = profile_media();
+      ImportRequest request = parse_import_options(import_values, model_path, media);
       request.options.name = model_label;
       const ImportOptions& import_opt = request.options;
       if (out_path != "-") require_extension(out_path, {".json"}, "model type");
@@ -479,8 +484,14 @@ int run(int argc, char** argv) {
         });
       }
       const ImportStats& s = r.stats;
+      const std::vector<std::string> warnings = media_warnings(p.sheet, media);
+      const double sheet_w = p.sheet.max.x_mm - p.sheet.min.x_mm, sheet_h = p.sheet.max.v_mm - p.sheet.min.v_mm;
+      const double closed_h = std::max(p.sheet.max.v_mm, -p.sheet.min.v_mm);
       if (json_out) {
         json j = report_json(out_path, p, report);
+        j["sheet_mm"] = {{"width", sheet_w}, {"height", sheet_h}};
+        j["closed_mm"] = {{"width", sheet_w}, {"height", closed_h}};
+        j["warnings"] = warnings;
         j["mesh"] = {{"triangles", s.triangles}, {"degenerate", s.degenerate}};
         j["grid"] = {{"width", r.grid.width}, {"depth", r.grid.depth}, {"height", r.grid.height}, {"voxel_mm", r.grid.voxel_mm}};
         j["cells_filled"] = s.cells_filled;
@@ -506,7 +517,9 @@ int run(int argc, char** argv) {
             << " mm; filled " << s.cells_filled << " cells; windows: " << s.windows_added << " added, " << s.windows_rejected
             << " rejected";
         if (import_opt.thin_top_voxels > 0) out << "; thin tops: " << s.tops_dropped << " dropped, " << s.tops_kept << " kept";
+        out << "; sheet " << mm(sheet_w) << " x " << mm(sheet_h) << " mm (closed " << mm(sheet_w) << " x " << mm(closed_h) << ")";
         out << "; wrote " << out_path << (pattern_path.empty() ? "" : " and " + pattern_path) << "\n";
+        for (const std::string& w : warnings) std::cerr << "popcut: warning: " << model_path << ": " << w << "\n";
         if (faces) {
           const SilhouetteComparison& c = faces->comparison;
           out << "faces: " << c.outlines << " outlines follow the silhouette (" << c.outlines_kept << " kept in steps, " << c.steps_kept

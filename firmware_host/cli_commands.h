@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "popcut/mesh/import_request.h"
 #include "popcut/pattern/pattern.h"
 
 namespace CLI {
@@ -40,5 +41,9 @@ void print_json_line(const nlohmann::json& j);
 // popcut import's mesh options (kImportOptionNames as --flags) on `cmd`; each one given is added to
 // `values` for parse_import_options. Shared by import and submit.
 void add_import_options(CLI::App* cmd, std::vector<std::pair<std::string, std::string>>& values);
+// The media of every device profile in configs/devices (cli_devices.cpp), named by the file's
+// stem (sim, graphtec-ce); none when no configs/ is found. A profile that does not load is left
+// out here and reported where it is used.
+std::vector<NamedMedia> profile_media();
 
 }  // namespace popcut::cli

@@ -1,4 +1,5 @@
 // popcut devices: serial ports (with USB ids) and USB devices that match a shipped device profile.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -7,6 +8,7 @@
 #include "cli_sim_plotter.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
+#include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/ports.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/error.h"
@@ -94,6 +96,27 @@ int run_devices(const DevicesCommand& s) {
 }
 
 }  // namespace
+
+std::vector<NamedMedia> profile_media() {
+  std::vector<NamedMedia> media;
+  std::string dir;
+  try {
+    dir = find_config_dir("devices");
+  } catch (const Error&) {
+    return media;
+  }
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    if (e.path().extension() != ".toml") continue;
+    try {
+      media.push_back(drivers::media_of(drivers::load_profile(e.path().string()), e.path().stem().string()));
+    } catch (const std::exception&) {
+      // As in known_ids: a broken profile is reported when it is used.
+    }
+  }
+  std::sort(media.begin(), media.end(), [](const NamedMedia& a, const NamedMedia& b) { return a.name < b.name; });
+  return media;
+}
 
 void add_devices_command(CLI::App& app, DevicesCommand& s) {
   s.app = app.add_subcommand("devices", "List serial ports (with the USB ids of adapters) and USB cutters matching a known profile,\n"

@@ -21,4 +21,12 @@ DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile,
   return d;
 }
 
+NamedMedia media_of(const DeviceProfile& profile, const std::string& name) {
+  const HpglDialect& d = profile.dialect;
+  const double margin_mm = 2 * profile.plan.blade_offset_mm;
+  const double x_mm = static_cast<double>(d.area_max_x_pu - d.area_min_x_pu - 1) / d.units_per_mm_x - margin_mm;
+  const double y_mm = static_cast<double>(d.area_max_y_pu - d.area_min_y_pu - 1) / d.units_per_mm_y - margin_mm;
+  return d.swap_axes ? NamedMedia{name, y_mm, x_mm} : NamedMedia{name, x_mm, y_mm};
+}
+
 }  // namespace popcut::drivers

@@ -277,7 +277,8 @@ class Api {
   json job_json(const Job& j, const Forecast* forecast = nullptr);
   void submit(const httplib::Request& req, httplib::Response& res);
   void set_target(NewJob& nj, const std::string& device, const std::string& profile);
-  void check_for_device(const NewJob& nj, const std::string& source);
+  std::vector<std::string> check_for_device(const NewJob& nj, const std::string& source);
+  std::vector<NamedMedia> media() const;
   struct Upload {
     MeshImport imported;
     std::string filename;
@@ -288,6 +289,7 @@ class Api {
   std::string preview_png(const Pattern& p, int angle);
   void kiosk_file(const std::string& name, const char* type, httplib::Response& res);
   std::vector<std::pair<std::string, fs::path>> examples() const;
+  static std::string example_name(const std::string& id, const fs::path& path);
 
   httplib::Server& server_;
   Daemon& d_;
@@ -379,9 +381,17 @@ void Api::set_target(NewJob& nj, const std::string& device, const std::string& p
   }
 }
 
+// The media of every configured device, by the device's name: what --fit-mm may name.
+std::vector<NamedMedia> Api::media() const {
+  std::vector<NamedMedia> out;
+  for (const DeviceConfig& dev : d_.config().devices) out.push_back(drivers::media_of(dev.profile, dev.name));
+  return out;
+}
+
 // The checks planning would make, made before the job is accepted: a model that is not a card,
 // is over [limits], or whose sheet does not fit the device is refused now (4xx), not failed later.
-void Api::check_for_device(const NewJob& nj, const std::string& source) {
+// Returns the devices whose media the sheet is too big for (the job may still go to another).
+std::vector<std::string> Api::check_for_device(const NewJob& nj, const std::string& source) {
   const Pattern p = checked_pattern(nj.model_json, source, d_.config().limits);
   const DeviceConfig* dev = d_.planning_device(nj.target_device, nj.target_profile);
   if (!dev) fail(ApiError::no_device, "no device for this job", "device");
@@ -392,6 +402,7 @@ void Api::check_for_device(const NewJob& nj, const std::string& source) {
     fail(ApiError::bad_model, "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
                                   ": " + e.message(), "model");
   }
+  return media_warnings(p.sheet, media());
 }
 
 Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<std::string>& fields) {
@@ -426,7 +437,7 @@ Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<st
     fail(ApiError::bad_name, "mesh file names are 1 to 64 characters of text in any script, without control characters, '/', '\\', '..', a leading '.' or a space at either end", "mesh");
   }
   try {
-    ImportRequest request = parse_import_options(options, u.filename);
+    ImportRequest request = parse_import_options(options, u.filename, media());
     request.options.max_cells = d_.config().limits.model_cells;
     request.options.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
     // The importer reads files and picks the format by the extension: the upload's own.
@@ -436,11 +447,12 @@ Api::Upload Api::import_upload(const httplib::Request& req, const std::vector<st
     u.imported = import_mesh_file(tmp.path.string(), request, u.filename, d_.config().limits.mesh_triangles);
   } catch (const Error& e) {
     if (e.code() == ErrorCode::io || e.code() == ErrorCode::internal) throw;
-    // The importer's own message; the field is the option at fault, as named in the form.
-    // A place inside the mesh ("line 3", "face 1") belongs to the message; the field is "mesh".
-    std::string field = e.location();
-    field = field.rfind("--", 0) == 0 ? field.substr(2) : "mesh";
-    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model, e.what(), field);
+    // The importer's own message; the field is the option at fault, as named in the form: a bad
+    // value of a field is a bad request (400), a fault inside the mesh a bad model (422, field
+    // "mesh", the message naming the place: "line 3", "face 1"), either over a limit 413.
+    const bool option = e.location().rfind("--", 0) == 0;
+    const std::string field = option ? e.location().substr(2) : "mesh";
+    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : option ? ApiError::bad_request : ApiError::bad_model, e.what(), field);
   }
   return u;
 }
@@ -479,12 +491,14 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
     set_target(nj, string_field(body, "device", false), string_field(body, "profile", false));
     nj.model_json = body["model"].dump();
   }
-  check_for_device(nj, source);
+  const std::vector<std::string> warnings = check_for_device(nj, source);
   const std::optional<std::int64_t> id = d_.store().insert(nj, d_.config().limits.queue_length);
   if (!id) fail(ApiError::queue_full, "the queue holds " + std::to_string(d_.config().limits.queue_length) + " unfinished jobs; try later");
   ++metrics_.submitted;
   d_.notify();
-  send_json(res, job_json(*d_.store().get(*id)), 201);
+  json answer = job_json(*d_.store().get(*id));
+  answer["warnings"] = warnings;
+  send_json(res, answer, 201);
 }
 
 std::string Api::preview_png(const Pattern& p, int angle) {
@@ -516,6 +530,21 @@ std::vector<std::pair<std::string, fs::path>> Api::examples() const {
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// What an example is called where people pick it: its model's own name (a face model may call
+// it title), else its id; a name no job could carry (a path, control characters) is not shown.
+std::string Api::example_name(const std::string& id, const fs::path& path) {
+  try {
+    const json model = json::parse(read_text_file(path.string()));
+    for (const char* key : {"name", "title"}) {
+      const json& v = model.value(key, json());
+      if (v.is_string() && is_job_label(v.get<std::string>())) return v.get<std::string>();
+    }
+  } catch (const std::exception&) {
+    // An unreadable example still gets listed by its id; fetching it names the fault.
+  }
+  return id;
 }
 
 void Api::kiosk_file(const std::string& name, const char* type, httplib::Response& res) {
@@ -713,9 +742,12 @@ void Api::install() {
 
   get("/api/v1/examples", [this](const httplib::Request& req, httplib::Response& res) {
     auth(req);
-    json list = json::array();
-    for (const auto& [name, path] : examples()) list.push_back(name);
-    send_json(res, {{"examples", list}});
+    json list = json::array(), names = json::object();
+    for (const auto& [id, path] : examples()) {
+      list.push_back(id);
+      names[id] = example_name(id, path);
+    }
+    send_json(res, {{"examples", list}, {"names", names}});
   });
   get(R"(/api/v1/examples/([^/]+))", [this](const httplib::Request& req, httplib::Response& res) {
     auth(req);
@@ -855,7 +887,12 @@ void Api::install() {
     const Upload u = import_upload(req, {"name"});
     checked_model(u.imported.model_json, u.filename, d_.config().limits);
     const ImportResult& r = u.imported.voxels;
+    const Rect& sheet = u.imported.pattern.sheet;
+    const double width_mm = sheet.max.x_mm - sheet.min.x_mm;
     send_json(res, {{"model", json::parse(u.imported.model_json)},
+                    {"sheet_mm", {{"width", width_mm}, {"height", sheet.max.v_mm - sheet.min.v_mm}}},
+                    {"closed_mm", {{"width", width_mm}, {"height", std::max(sheet.max.v_mm, -sheet.min.v_mm)}}},
+                    {"warnings", media_warnings(sheet, media())},
                     {"format", u.imported.faces ? kFacesFormat : "popcut.voxel.v1"},
                     {"triangles", r.stats.triangles},
                     {"grid", {{"width", r.grid.width}, {"depth", r.grid.depth}, {"height", r.grid.height}, {"voxel_mm", r.grid.voxel_mm}}},

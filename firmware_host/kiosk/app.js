@@ -8,7 +8,9 @@ const $ = (id) => document.getElementById(id);
 let model = null;        // the chosen model's JSON text
 let mesh = null;         // an uploaded mesh file, imported by popcutd with the options shown
 let previewTimer = null;
+let current = 0;         // bumped whenever the model changes: answers about an older one are dropped
 const urls = {};         // object URLs in use, freed when replaced
+const BLANK = "data:image/svg+xml,%3Csvg xmlns='http://www.w3.org/2000/svg'/%3E";
 
 async function api(method, path, body, type) {
   const headers = { Authorization: 'Bearer ' + token };
@@ -41,67 +43,103 @@ function showError(id, err) {
   $(id).textContent = err ? String(err.message || err) : '';
 }
 
-async function useModel(text, label) {
-  showError('model-error', null);
+// Forgets the shown model (its pictures, label and job name) so that nothing of it can be taken
+// for the next one, or queued in its place; `text` says what happens instead. Returns the new
+// model's number: an answer that comes back under an older number is about a model gone.
+function clearModel(text) {
+  current += 1;
   model = null;
   $('queue').disabled = true;
+  for (const id of ['pattern', 'preview']) {
+    if (urls[id]) URL.revokeObjectURL(urls[id]);
+    delete urls[id];
+    $(id).src = BLANK;
+  }
+  $('model-name').textContent = text;
+  $('name').value = '';
+  showError('model-error', null);
+  showError('model-warning', null);
+  return current;
+}
+
+// A model that could not be used: nothing of the one before stays on the page, and why shows.
+function failModel(label, err) {
+  clearModel('No model: ' + label + ' could not be used.');
+  showError('model-error', err);
+}
+
+async function useModel(text, label, shown) {
+  const mine = clearModel('Loading ' + label + ' ...');
   try {
     JSON.parse(text);
   } catch (e) {
-    showError('model-error', 'not a JSON model: ' + e.message);
-    return;
+    failModel(label, 'not a JSON model: ' + e.message);
+    return false;
   }
   try {
-    showImage('pattern', await api('POST', '/api/v1/render/pattern.svg', text, 'blob'));
+    const pattern = await api('POST', '/api/v1/render/pattern.svg', text, 'blob');
+    if (mine !== current) return false;
+    showImage('pattern', pattern);
     model = text;
-    $('model-name').textContent = label;
+    $('model-name').textContent = shown || label;
     $('name').value = jobLabel(label) || 'my card';
     await renderPreview();
+    if (mine !== current) return false;
     $('queue').disabled = !$('device').value;
+    return true;
   } catch (e) {
-    showError('model-error', e);
+    if (mine === current) failModel(label, e);
+    return false;
   }
 }
 
 async function renderPreview() {
   if (!model) return;
+  const mine = current;
   const angle = $('angle').value;
   $('angle-value').textContent = angle;
   try {
-    showImage('preview', await api('POST', '/api/v1/render/preview.png?angle=' + angle, model, 'blob'));
+    const png = await api('POST', '/api/v1/render/preview.png?angle=' + angle, model, 'blob');
+    if (mine === current) showImage('preview', png);
   } catch (e) {
     // 503 busy: every render slot is taken; the picture stays and the next move asks again.
-    if (!/\(busy\)$/.test(e.message)) showError('model-error', e);
+    if (mine === current && !/\(busy\)$/.test(e.message)) showError('model-error', e);
   }
 }
 
 // The mesh goes to popcutd's importer (popcut import's code and options); its model comes back.
 async function importMesh() {
   if (!mesh) return;
-  showError('model-error', null);
-  model = null;
-  $('queue').disabled = true;
-  $('model-name').textContent = 'Importing ' + mesh.name + ' ...';
+  const file = mesh;
+  const mine = clearModel('Importing ' + file.name + ' ...');
   const form = new FormData();
-  form.append('mesh', mesh, mesh.name);
-  form.append('name', jobLabel(mesh.name.replace(/\.[^.]*$/, '')) || 'mesh');
+  form.append('mesh', file, file.name);
+  form.append('name', jobLabel(file.name.replace(/\.[^.]*$/, '')) || 'mesh');
   for (const id of ['resolution', 'up', 'front', 'thin-tops']) form.append(id, $(id).value);
+  // Sizes only when asked for: empty, the importer's default (120 mm across).
+  for (const id of ['height-mm', 'fit-mm']) if ($(id).value.trim()) form.append(id, $(id).value.trim());
   form.append('faces', $('faces').checked ? 'true' : 'false');
+  let r;
   try {
-    const r = await api('POST', '/api/v1/import', form);
-    await useModel(JSON.stringify(r.model), mesh.name.replace(/\.[^.]*$/, ''));  // named like the API names it: house
-    $('model-name').textContent = mesh.name + ': ' + r.grid.width + ' x ' + r.grid.depth + ' x ' + r.grid.height + ' voxels';
+    r = await api('POST', '/api/v1/import', form);
   } catch (e) {
-    $('model-name').textContent = mesh.name;
-    showError('model-error', e);
+    if (mine === current) failModel(file.name, e);
+    return;
   }
+  if (mine !== current) return;
+  const mm = (v) => String(Math.round(v));
+  const made = file.name + ': ' + r.grid.width + ' x ' + r.grid.depth + ' x ' + r.grid.height + ' voxels, sheet ' +
+               mm(r.sheet_mm.width) + ' x ' + mm(r.sheet_mm.height) + ' mm';
+  // Named like the API names it: house.
+  if (await useModel(JSON.stringify(r.model), file.name.replace(/\.[^.]*$/, ''), made)) showError('model-warning', r.warnings.join('; '));
 }
 
 async function loadChoices() {
   const ex = await api('GET', '/api/v1/examples');
-  for (const name of ex.examples) {
+  for (const id of ex.examples) {
     const o = document.createElement('option');
-    o.value = o.textContent = name;
+    o.value = id;
+    o.textContent = (ex.names && ex.names[id]) || id;  // the model's own name
     $('example').appendChild(o);
   }
   const dev = await api('GET', '/api/v1/devices');
@@ -110,6 +148,9 @@ async function loadChoices() {
     o.value = d.name;
     o.textContent = d.name + ' (' + d.model + ')' + (d.paused ? ' — paused' : '');
     $('device').appendChild(o);
+    const f = document.createElement('option');
+    f.value = d.name;  // fit-mm takes a cutter's name: the card as large as its media allow
+    $('fit-choices').appendChild(f);
   }
 }
 
@@ -148,14 +189,21 @@ async function refreshJobs() {
 }
 
 $('example').addEventListener('change', async () => {
-  const name = $('example').value;
-  if (!name) return;
+  const id = $('example').value;
+  if (!id) return;
+  const label = $('example').selectedOptions[0].textContent;
   $('upload').value = '';
   $('import').hidden = true;
   mesh = null;
+  const mine = clearModel('Loading ' + label + ' ...');
+  let text;
   try {
-    useModel(JSON.stringify(await api('GET', '/api/v1/examples/' + encodeURIComponent(name))), name);
-  } catch (e) { showError('model-error', e); }
+    text = JSON.stringify(await api('GET', '/api/v1/examples/' + encodeURIComponent(id)));
+  } catch (e) {
+    if (mine === current) failModel(label, e);
+    return;
+  }
+  if (mine === current) useModel(text, label);
 });
 $('upload').addEventListener('change', async () => {
   const f = $('upload').files[0];

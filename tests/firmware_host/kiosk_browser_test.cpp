@@ -1,14 +1,10 @@
 // The kiosk page in headless Chromium (driven over WebDriver by chromedriver) against a real popcutd.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <signal.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fstream>
 #include <thread>
 
+#include "kiosk_browser.h"
 #include "popcutd_process.h"
 
 namespace {
@@ -16,97 +12,11 @@ using nlohmann::json;
 using popcut::testing::PopcutdProcess;
 using popcut::testing::TempDir;
 using popcut::testing::wait_until;
+using popcut::testing::base64_decode;
+using popcut::testing::Browser;
+using popcut::testing::kRendered;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
-// A picture popcutd rendered has loaded: an object URL (the page's empty placeholder is a data:
-// URL, which has a size too) whose image decoded.
-const std::string kRendered =
-    "const rendered = (id) => { const i = document.getElementById(id); return i.src.startsWith('blob:') && i.complete && i.naturalWidth > 0; };";
-
-// A loopback port nobody listens on now (chromedriver cannot be asked for port 0).
-int free_port() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(s);
-  return static_cast<int>(ntohs(a.sin_port));
-}
-
-std::string base64_decode(const std::string& in) {
-  std::string out;
-  int val = 0, bits = -8;
-  for (const char ch : in) {
-    const int c = static_cast<unsigned char>(ch);
-    int d;
-    if (c >= 'A' && c <= 'Z') d = c - 'A';
-    else if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') d = c - '0' + 52;
-    else if (c == '+') d = 62;
-    else if (c == '/') d = 63;
-    else continue;
-    val = (val << 6) + d;
-    bits += 6;
-    if (bits >= 0) {
-      out.push_back(static_cast<char>((val >> bits) & 0xff));
-      bits -= 8;
-    }
-  }
-  return out;
-}
-
-// chromedriver on a free port, a headless Chromium session, both ended on scope exit.
-class Browser {
- public:
-  explicit Browser(const std::string& profile_dir) : port_(free_port()), http_("127.0.0.1", port_) {
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const std::string port = "--port=" + std::to_string(port_);
-      ::execl("/usr/bin/chromedriver", "chromedriver", port.c_str(), static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
-    http_.set_read_timeout(120);
-    if (!wait_until([&] { return static_cast<bool>(http_.Get("/status")); }, 60)) throw std::runtime_error("chromedriver did not start");
-    const json caps = {{"capabilities",
-                        {{"alwaysMatch",
-                          {{"browserName", "chrome"},
-                           {"goog:chromeOptions",
-                            {{"binary", "/usr/bin/chromium"},
-                             {"args", {"--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                                       "--window-size=1024,768", "--user-data-dir=" + profile_dir}}}}}}}}};
-    const json r = call("POST", "/session", caps);
-    session_ = r["value"].value("sessionId", "");
-    if (session_.empty()) throw std::runtime_error("no browser session: " + r.dump());
-  }
-  ~Browser() {
-    if (!session_.empty()) http_.Delete(("/session/" + session_).c_str());
-    ::kill(pid_, SIGTERM);
-    ::waitpid(pid_, nullptr, 0);
-  }
-  json call(const std::string& method, const std::string& path, const json& body = json::object()) {
-    const httplib::Result r = method == "GET" ? http_.Get(path.c_str()) : http_.Post(path.c_str(), body.dump(), "application/json");
-    if (!r) throw std::runtime_error("chromedriver did not answer " + path);
-    return json::parse(r->body);
-  }
-  json session(const std::string& method, const std::string& path, const json& body = json::object()) {
-    return call(method, "/session/" + session_ + path, body)["value"];
-  }
-  json run(const std::string& script) { return session("POST", "/execute/sync", {{"script", script}, {"args", json::array()}}); }
-  void click(const std::string& css) {
-    const json el = session("POST", "/element", {{"using", "css selector"}, {"value", css}});
-    ASSERT_TRUE(el.is_object() && !el.empty()) << "element " << css << " exists: " << el.dump();
-    session("POST", "/element/" + el.begin().value().get<std::string>() + "/click");
-  }
-
- private:
-  int port_;
-  pid_t pid_ = -1;
-  httplib::Client http_;
-  std::string session_;
-};
 
 TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
   TempDir dir("popcut-kiosk");

@@ -493,7 +493,8 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
     EXPECT_EQ(j.value("sim_match", false), true) << "as planned: " << j.dump();
   }
 
-  // Bad meshes and options: the importer's own message, the documented code, the option as field.
+  // Bad meshes and options: the importer's own message, the documented code (a bad field value is a
+  // bad request, a fault inside the mesh a bad model), the option as field.
   struct Case {
     std::string content, filename;
     std::vector<std::pair<std::string, std::string>> fields;
@@ -507,11 +508,11 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
       // A place inside the mesh goes in the message; the field stays "mesh".
       {"v 0 0 0\nf 1 2 3\n", "bad.obj", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "bad.obj"},
       {house, "", {{"device", "sim-a"}}, 400, "bad_request", "mesh", "file part"},
-      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "abc"}}, 422, "bad_model", "resolution", "not a whole number"},
-      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "5000"}}, 422, "bad_model", "resolution", "2048"},
-      {house, "house.obj", {{"device", "sim-a"}, {"up", "sideways"}}, 422, "bad_model", "up", "not an axis"},
-      {house, "house.obj", {{"device", "sim-a"}, {"up", "+z"}, {"front", "+z"}}, 422, "bad_model", "front", "perpendicular"},
-      {house, "house.obj", {{"device", "sim-a"}, {"faces", "yes"}}, 422, "bad_model", "faces", "true or false"},
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "abc"}}, 400, "bad_request", "resolution", "not a whole number"},
+      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "5000"}}, 400, "bad_request", "resolution", "2048"},
+      {house, "house.obj", {{"device", "sim-a"}, {"up", "sideways"}}, 400, "bad_request", "up", "not an axis"},
+      {house, "house.obj", {{"device", "sim-a"}, {"up", "+z"}, {"front", "+z"}}, 400, "bad_request", "front", "perpendicular"},
+      {house, "house.obj", {{"device", "sim-a"}, {"faces", "yes"}}, 400, "bad_request", "faces", "true or false"},
       {house, "house.obj", {{"device", "sim-a"}, {"resolution", "400"}}, 413, "model_too_complex", "resolution", "at most 1000000"},
       {house, "house.obj", {{"device", "sim-a"}, {"colour", "red"}}, 400, "bad_request", "colour", "unknown field"},
       // A repeated part is a malformed form, whichever part it is.

@@ -4,14 +4,65 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cstdio>
+#include <functional>
 
 #include "popcut/error.h"
 #include "popcut/io/model_io.h"
 #include "popcut/io/voxel_json.h"
 
 namespace popcut {
+namespace {
 
-ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source) {
+std::string mm_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+// A number filling all of `text` but for spaces at either end, or nothing.
+std::optional<double> number_in(std::string_view text) {
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  double value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+// --fit-mm: a device's name (its flat sheet on the media), or W x H of the closed card.
+CardFit parse_fit(const std::string& text, const std::vector<NamedMedia>& media, const std::function<Error(const std::string&)>& bad) {
+  for (const NamedMedia& m : media) {
+    if (m.name == text) return {m.width_mm, m.height_mm, true, m.name + "'s media (" + mm_text(m.width_mm) + " x " + mm_text(m.height_mm) + " mm)"};
+  }
+  for (std::string_view sep : {"\xc3\x97", "x", "X"}) {  // ×, x, X
+    const std::size_t at = text.find(sep);
+    if (at == std::string::npos) continue;
+    const std::optional<double> w = number_in(std::string_view(text).substr(0, at)), h = number_in(std::string_view(text).substr(at + sep.size()));
+    if (w && h) return {*w, *h, false, mm_text(*w) + " x " + mm_text(*h) + " mm"};
+    break;
+  }
+  std::string names;
+  for (const NamedMedia& m : media) names += (names.empty() ? "" : ", ") + m.name;
+  throw bad("'" + text.substr(0, 40) + "' is neither WxH in mm (e.g. 148x105, or 148×105) nor a device" +
+            (names.empty() ? std::string(" (none is configured)") : " (" + names + ")"));
+}
+
+}  // namespace
+
+std::vector<std::string> media_warnings(const Rect& sheet, const std::vector<NamedMedia>& media) {
+  const double w = sheet.max.x_mm - sheet.min.x_mm, h = sheet.max.v_mm - sheet.min.v_mm;
+  std::vector<std::string> out;
+  for (const NamedMedia& m : media) {
+    if (w <= m.width_mm && h <= m.height_mm) continue;
+    out.push_back("the sheet (" + mm_text(w) + " x " + mm_text(h) + " mm) does not fit " + m.name + " (at most " + mm_text(m.width_mm) +
+                  " x " + mm_text(m.height_mm) + " mm): use --fit-mm " + m.name + " or a smaller --height-mm");
+  }
+  return out;
+}
+
+ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source,
+                                   const std::vector<NamedMedia>& media) {
   ImportRequest r;
   ImportOptions& o = r.options;
   std::vector<std::string> seen;
@@ -56,6 +107,8 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
     else if (name == "resolution") o.resolution = whole("1 to " + std::to_string(kMaxImportResolution) + " voxels across");
     else if (name == "width-mm") o.width_mm = real();
     else if (name == "voxel-mm") o.voxel_mm = real();
+    else if (name == "height-mm") o.height_mm = real();
+    else if (name == "fit-mm") o.fit = parse_fit(text, media, bad);
     else if (name == "keep-depth") o.keep_depth = real();
     else if (name == "smooth") o.structuring_element = whole("an odd side, 1 to " + std::to_string(kMaxStructuringElement));
     else if (name == "no-windows") o.windows = !flag();

@@ -42,18 +42,62 @@ void check_options(const ImportOptions& o, const std::string& source) {
     bad("--smooth", "the structuring element's side must be odd, 1 to " + std::to_string(kMaxStructuringElement) + ", not " +
                         std::to_string(o.structuring_element));
   }
-  if (o.width_mm && o.voxel_mm) bad("--width-mm", "give the card width or the voxel size, not both");
+  // Each of these sets the card's size on its own, so any two disagree.
+  std::vector<const char*> sizes;
+  if (o.width_mm) sizes.push_back("--width-mm");
+  if (o.voxel_mm) sizes.push_back("--voxel-mm");
+  if (o.height_mm) sizes.push_back("--height-mm");
+  if (o.fit) sizes.push_back("--fit-mm");
+  if (sizes.size() > 1) {
+    bad(sizes[1], std::string("give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the card's size), not both ") +
+                      sizes[0] + " and " + sizes[1]);
+  }
   if (o.thin_top_voxels < 0 || o.thin_top_voxels > kMaxVoxelAxis) bad("--thin-tops", "must be 0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
   if (o.width_mm && !(*o.width_mm > 0)) bad("--width-mm", "the card width must be a positive number of mm, not " + fmt(*o.width_mm));
   if (o.voxel_mm && !(*o.voxel_mm > 0)) bad("--voxel-mm", "the voxel size must be a positive number of mm, not " + fmt(*o.voxel_mm));
+  if (o.height_mm && !(*o.height_mm > 0 && std::isfinite(*o.height_mm))) {
+    bad("--height-mm", "the card's height must be a positive number of mm, not " + fmt(*o.height_mm));
+  }
+  if (o.fit && !(o.fit->width_mm > 0 && o.fit->height_mm > 0 && std::isfinite(o.fit->width_mm) && std::isfinite(o.fit->height_mm))) {
+    bad("--fit-mm", "the box must be a positive number of mm each way, not " + fmt(o.fit->width_mm) + " x " + fmt(o.fit->height_mm));
+  }
+  // A height or a box gives the voxel size only once the model's sheet is known (sized_voxel_mm).
   const double voxel = o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution;
-  if (!(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
+  if (!o.height_mm && !o.fit && !(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
     bad(o.voxel_mm ? "--voxel-mm" : "--width-mm", "gives voxels of " + fmt(voxel) + " mm; they must be " + fmt(kMinVoxelMm) + " to " +
                                                       fmt(kMaxVoxelMm) + " mm");
   }
   if (axis_index(o.up) == axis_index(o.front)) {
     bad("--front", std::string("must be perpendicular to --up (both are along ") + "xyz"[axis_index(o.up)] + ")");
   }
+}
+
+// The voxel edge that gives the card --height-mm or fits it into --fit-mm, from the sheet the
+// model needs in voxels (which no voxel size changes): rounded down to a whole nanometre, as
+// plan_grid rounds, so the card never comes out over the size asked for (and is short of it by
+// under a nanometre per voxel).
+double sized_voxel_mm(const VoxelModel& m, const ImportOptions& o, const std::string& source) {
+  const SheetVoxels s = resolve_sheet(m, source);
+  const double across = m.width + 2.0 * s.side, closed = std::max(s.back, s.floor), flat = static_cast<double>(s.back) + s.floor;
+  double voxel = 0;
+  const char* option = "--height-mm";
+  std::string asked;
+  if (o.height_mm) {
+    // Standing at 90°, the card is as tall as its back board.
+    voxel = *o.height_mm / s.back;
+    asked = "a card " + fmt(*o.height_mm) + " mm high";
+  } else {
+    option = "--fit-mm";
+    voxel = std::min(o.fit->width_mm / across, o.fit->height_mm / (o.fit->flat ? flat : closed));
+    asked = (o.fit->flat ? "the sheet inside " : "the closed card inside ") + o.fit->what;
+  }
+  voxel = std::floor(voxel * 1e6) / 1e6;
+  if (!(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
+    throw Error(ErrorCode::invalid_input, source, option,
+                asked + " needs voxels of " + fmt(voxel) + " mm (the sheet is " + fmt(across) + " x " + fmt(flat) +
+                    " voxels); they must be " + fmt(kMinVoxelMm) + " to " + fmt(kMaxVoxelMm) + " mm: change the size or --resolution");
+  }
+  return voxel;
 }
 
 }  // namespace
@@ -281,6 +325,8 @@ ImportResult import_mesh(const TriangleSoup& mesh, const ImportOptions& o, const
   } catch (const Error& e) {
     throw Error(e.code(), source, "--resolution", e.message() + ": lower --resolution or --keep-depth");
   }
+  // The size in mm is only a scale: windows and thin tops are then checked on the card as cut.
+  if (o.height_mm || o.fit) m.voxel_mm = out.grid.voxel_mm = sized_voxel_mm(m, o, source);
   out.timings.fill_ms = ms_since(t);
 
   t = Clock::now();

@@ -15,19 +15,32 @@
 namespace popcut {
 
 // The option names: popcut import's flags without "--". no-windows and faces are switches.
-inline constexpr std::array<std::string_view, 11> kImportOptionNames = {
-    "up", "front", "resolution", "width-mm", "voxel-mm", "keep-depth", "smooth", "no-windows", "thin-tops", "depth-method", "faces"};
+inline constexpr std::array<std::string_view, 13> kImportOptionNames = {
+    "up", "front", "resolution", "width-mm", "voxel-mm", "height-mm", "fit-mm", "keep-depth", "smooth", "no-windows", "thin-tops", "depth-method", "faces"};
+
+// A device's media as a sheet lies on it: the most a sheet may measure across (pattern x) and
+// along (pattern v), after the room its knife needs past the sheet's edge.
+struct NamedMedia {
+  std::string name;  // the device (popcutd) or profile (popcut) name --fit-mm takes
+  double width_mm = 0, height_mm = 0;
+};
 
 struct ImportRequest {
   ImportOptions options;
   bool faces = false;  // --faces: a face model whose outlines follow the mesh silhouette
 };
 
-// Reads (name, text) pairs with names from kImportOptionNames; a switch takes "true" or "false".
+// Reads (name, text) pairs with names from kImportOptionNames; a switch takes "true" or "false";
+// fit-mm takes "WxH" (x, X or ×, in mm) or the name of one of `media` (its whole flat sheet).
 // Throws popcut::Error(invalid_input) naming `source` and the option as "--NAME": an unknown or
 // repeated name, an axis or method that is none, a number that is not one (whole numbers for
-// resolution, smooth and thin-tops). Ranges are left to import_mesh, which names them the same way.
-ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source);
+// resolution, smooth and thin-tops), a box that is neither. Ranges are left to import_mesh,
+// which names them the same way.
+ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source,
+                                   const std::vector<NamedMedia>& media = {});
+
+// One warning per device whose media the sheet does not fit, naming both sizes.
+std::vector<std::string> media_warnings(const Rect& sheet, const std::vector<NamedMedia>& media);
 
 struct MeshImport {
   ImportResult voxels;                   // timings.read_ms included

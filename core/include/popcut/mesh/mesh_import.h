@@ -44,12 +44,23 @@ enum class DepthMethod {
   raycast,  // one ray per cell against a CGAL AABB tree
 };
 
+// --fit-mm: a box the card is scaled to fit. A W x H box holds the folded card's outline (the
+// sheet's width by its taller half: the card as it closes); a device's media hold the whole flat
+// sheet, which is what the device cuts.
+struct CardFit {
+  double width_mm = 0, height_mm = 0;
+  bool flat = false;  // the flat sheet (a device's media), not the closed card
+  std::string what;   // "210 x 297 mm" or "sim-a's media (600 x 1000 mm)", for messages
+};
+
 struct ImportOptions {
   Axis up = Axis::pz;        // the mesh axis that becomes the card's height z
   Axis front = Axis::ny;     // the mesh axis pointing at the viewer: the card's depth y
   int resolution = 80;       // voxels across the card (x), as the paper's 80
   std::optional<double> width_mm;  // card width of the model; or
-  std::optional<double> voxel_mm;  // the voxel edge (one of the two; default width 120 mm)
+  std::optional<double> voxel_mm;  // the voxel edge; or
+  std::optional<double> height_mm; // the standing card's height (its back board, = the closed card's); or
+  std::optional<CardFit> fit;      // the largest card inside a box (one of the four; default width 120 mm)
   double keep_depth = 0.5;   // fraction of the model's depth kept, from the front (paper: half)
   int structuring_element = 3;  // side of the square for opening and closing; 1 turns it off
   bool windows = true;       // filled rows become windows where the card still pops up

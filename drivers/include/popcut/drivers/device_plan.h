@@ -5,6 +5,7 @@
 
 #include "popcut/drivers/profile.h"
 #include "popcut/hpgl/hpgl.h"
+#include "popcut/mesh/import_request.h"
 #include "popcut/pattern/pattern.h"
 #include "popcut/plan/plan.h"
 
@@ -20,5 +21,10 @@ struct DevicePlan {
 // the device's usable area throws popcut::Error(invalid_input) naming `profile_source`: the
 // pattern is fine, it is this device that is too small.
 DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source);
+
+// The largest sheet the device takes, as plan_for_device places it: the usable area with the
+// sheet's x along the plotter's x (its y with swap_axes), less the blade offset on every side
+// (a drag knife's corner arcs reach that far past the sheet's edge) and one plotter unit for rounding.
+NamedMedia media_of(const DeviceProfile& profile, const std::string& name);
 
 }  // namespace popcut::drivers
