@@ -207,4 +207,22 @@ TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen)
   EXPECT_EQ(r.status, 200) << "/healthz answered with 8 idle or trickling connections open and 2 threads; log:\n" << d->log();
 }
 
+// The preview's angle is checked by the rule every command's --angle is (docs/formats.md).
+TEST_F(PopcutdHttp, ThePreviewAngleHasTheRangeOfEveryOpeningAngle) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  httplib::Client c = d->client(kKiosk);
+  const std::string box = read_file(kSrc + "/examples/voxel/box.json");
+  for (const char* angle : {"500", "181", "1000000000"}) {
+    const popcut::testing::Reply r = popcut::testing::post_json(c, std::string("/api/v1/render/preview.png?angle=") + angle, box);
+    EXPECT_EQ(r.status, 400) << angle << ": " << r.body.dump();
+    EXPECT_EQ(r.body.value("/error/field"_json_pointer, ""), "angle") << r.body.dump();
+    EXPECT_EQ(r.body.value("/error/message"_json_pointer, ""),
+              std::string("the fold angle must be from 0 (flat) to 180 (closed) degrees, not ") + angle)
+        << r.body.dump();
+  }
+  const httplib::Result ok = c.Post("/api/v1/render/preview.png?angle=180", box, "application/json");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 200) << "180, closed, is in range: " << ok->body.substr(0, 200);
+}
+
 }  // namespace
