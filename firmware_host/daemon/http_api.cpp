@@ -572,12 +572,15 @@ bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res
     refuse(res, ApiError::bad_request, "Transfer-Encoding: only 'chunked' is understood");
     return true;
   }
-  // httplib decodes gzip and deflate and passes any other coding through as if it were none.
+  // httplib (built with zlib and brotli) decodes gzip, deflate and br, spelt in lower case, and
+  // passes any other coding through as if it were none: the compressed bytes would be read as the
+  // body (a "GZIP" body was refused as bad_json).
   if (req.has_header("Content-Encoding")) {
     const std::string coding = req.get_header_value("Content-Encoding");
     if (req.get_header_value_count("Content-Encoding") > 1 ||
-        !(iequals(coding, "identity") || iequals(coding, "gzip") || iequals(coding, "deflate"))) {
-      refuse(res, ApiError::bad_request, "Content-Encoding: only gzip, deflate or identity is understood, not '" + coding.substr(0, 40) + "'");
+        !(iequals(coding, "identity") || coding == "gzip" || coding == "deflate" || coding == "br")) {
+      refuse(res, ApiError::bad_request, "Content-Encoding: only gzip, deflate or br (in lower case) or identity is understood, not '" +
+                                             coding.substr(0, 40) + "'");
       return true;
     }
   }

@@ -1,4 +1,5 @@
 // popcutd at the HTTP level, over raw loopback sockets: bodies refused as they arrive, framing, methods, idle connections.
+#include <brotli/encode.h>
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -77,6 +78,18 @@ std::string error_code(const std::string& answer) {
   return j.is_object() && j.contains("error") ? j["error"].value("code", "") : "";
 }
 
+// `text` brotli-compressed (quality 5, a 4 MiB window).
+std::string brotli(const std::string& text) {
+  std::string out(BrotliEncoderMaxCompressedSize(text.size()), '\0');
+  std::size_t size = out.size();
+  if (!BrotliEncoderCompress(5, 22, BROTLI_MODE_GENERIC, text.size(), reinterpret_cast<const std::uint8_t*>(text.data()), &size,
+                             reinterpret_cast<std::uint8_t*>(out.data()))) {
+    return "";
+  }
+  out.resize(size);
+  return out;
+}
+
 class PopcutdHttp : public ::testing::Test {
  protected:
   TempDir dir_{"popcutd-http-test"};
@@ -145,6 +158,9 @@ TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
       {"Content-Length: abc", request("POST", "/api/v1/jobs", "Content-Length: abc\r\n"), "HTTP/1.1 400", "bad_request"},
       // httplib would take a coding it does not know as none and parse the compressed bytes.
       {"Content-Encoding: zstd", request("POST", "/api/v1/jobs", "Content-Encoding: zstd\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
+      // httplib decodes only the lower-case names: "GZIP" would be read undecoded (a bad_json).
+      {"Content-Encoding: GZIP", request("POST", "/api/v1/jobs", "Content-Encoding: GZIP\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
+      {"Content-Encoding: Br", request("POST", "/api/v1/jobs", "Content-Encoding: Br\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
       {"Transfer-Encoding: gzip, chunked", request("POST", "/api/v1/jobs", "Transfer-Encoding: gzip, chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
       {"Content-Length and chunked together", request("POST", "/api/v1/jobs", "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
       {"a GET with a body", request("GET", "/api/v1/jobs", "Content-Length: 5\r\n", "hello"), "HTTP/1.1 400", "bad_request"},
@@ -205,6 +221,28 @@ TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen)
   for (auto& t : tricklers) t.join();
   for (const int s : idle) ::close(s);
   EXPECT_EQ(r.status, 200) << "/healthz answered with 8 idle or trickling connections open and 2 threads; log:\n" << d->log();
+}
+
+// Content-Encoding br is decoded like gzip and deflate (the Debian cpp-httplib is built with
+// brotli), and its decoded bytes count against [limits] upload_bytes.
+TEST_F(PopcutdHttp, BrotliBodiesAreDecodedAndCountedAfterDecoding) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  const std::string body = R"({"device": "sim-a", "name": "brotli", "model": )" + read_file(kSrc + "/examples/voxel/box.json") + "}";
+  const std::string small = brotli(body), bomb = brotli(std::string(8 * kLimit, ' '));
+  ASSERT_FALSE(small.empty() || bomb.empty()) << "brotli made the test bodies";
+  const auto post = [&](const std::string& coding, const std::string& bytes) {
+    return send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Content-Encoding: " + coding + "\r\nContent-Length: " +
+                                                                          std::to_string(bytes.size()) + "\r\nConnection: close\r\n"),
+                         bytes).answer;
+  };
+  const std::string ok = post("br", small);
+  EXPECT_EQ(status_line(ok).rfind("HTTP/1.1 201", 0), 0u) << "a brotli submission is decoded and queued: " << ok.substr(0, 300);
+  EXPECT_NE(ok.find(R"("name":"brotli")"), std::string::npos) << "the decoded model was read: " << ok.substr(0, 300);
+  const std::string big = post("br", bomb);
+  EXPECT_EQ(error_code(big), "too_large") << bomb.size() << " bytes of brotli decoding to 8 MiB: " << big.substr(0, 300);
+  const std::string garbage = post("br", "{\"not\": \"brotli\"}");
+  EXPECT_EQ(status_line(garbage).rfind("HTTP/1.1 400", 0), 0u) << "a body that is not brotli: " << garbage.substr(0, 300);
+  EXPECT_EQ(error_code(garbage), "bad_request") << garbage.substr(0, 300);
 }
 
 // The preview's angle is checked by the rule every command's --angle is (docs/formats.md).
