@@ -13,6 +13,7 @@
 
 #include "cli_checks.h"
 #include "cli_commands.h"
+#include "client_answers.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 #include "popcut/mesh/mesh_import.h"
@@ -50,27 +51,36 @@ class Connection {
     client_.set_read_timeout(60);
     client_.set_tcp_nodelay(true);
   }
-  json request(const std::string& method, const std::string& path, const std::string& body = "") {
-    return answer(method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json"));
+  // `shape` says what is wrong with a successful answer ("" if nothing): anything but popcutd's
+  // shapes means something else answers at that address.
+  using Shape = std::string (*)(const json&);
+  json request(const std::string& method, const std::string& path, Shape shape, const std::string& body = "") {
+    return answer(method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json"), shape);
   }
-  json post_form(const std::string& path, const httplib::MultipartFormDataItems& items) {
-    return answer(client_.Post(path.c_str(), items));
+  json post_form(const std::string& path, const httplib::MultipartFormDataItems& items, Shape shape) {
+    return answer(client_.Post(path.c_str(), items), shape);
   }
 
  private:
-  json answer(const httplib::Result& r) {
+  json answer(const httplib::Result& r, Shape shape) {
     if (!r) throw ClientFailure{kCannotWrite, "cannot reach popcutd at " + server_ + ": " + why(r.error())};
+    const std::string status = std::to_string(r->status);
     json j;
     try {
       j = parse_shallow(r->body, kCannotWrite, server_ + " answered");
     } catch (const json::exception&) {
       // Something answers there, but not popcutd (every popcutd answer is JSON): a wrong address.
-      throw ClientFailure{kCannotWrite, server_ + " answered " + std::to_string(r->status) +
-                                            " with a body that is not JSON: is popcutd listening there?"};
+      throw ClientFailure{kCannotWrite, server_ + " is not popcutd: it answered " + status +
+                                            " with a body that is not JSON (is popcutd listening there?)"};
+    }
+    const std::string problem = r->status >= 400 ? error_shape_problem(j) : shape(j);
+    if (!problem.empty()) {
+      throw ClientFailure{kCannotWrite, server_ + " is not popcutd: it answered " + status + " " + excerpt(j) + " (" + problem +
+                                            "; is popcutd listening there?)"};
     }
     if (r->status >= 400) {
-      const json e = j.value("error", json::object());
-      std::string msg = "popcutd refused (" + std::to_string(r->status) + " " + e.value("code", "?") + "): " + e.value("message", "");
+      const json& e = j["error"];
+      std::string msg = "popcutd refused (" + status + " " + e["code"].get<std::string>() + "): " + e["message"].get<std::string>();
       if (e.contains("field")) msg += " [" + e["field"].get<std::string>() + "]";
       const int code = r->status == 503 ? kCannotWrite : (r->status >= 500 ? kInternal : kBadInput);
       throw ClientFailure{code, msg};
@@ -121,7 +131,7 @@ void print_job_line(const json& j) {
   if (j.contains("resume_point") && j["resume_point"].is_string()) {
     std::cout << "  resumed after stroke " << j["resume_from"] << " (" << j["resume_point"].get<std::string>() << ")";
   }
-  if (j.contains("error")) std::cout << "  (" << j["error"].value("code", "") << ": " << j["error"].value("message", "") << ")";
+  if (j.contains("error")) std::cout << "  (" << j["error"]["code"].get<std::string>() << ": " << j["error"]["message"].get<std::string>() << ")";
   std::cout << "\n";
 }
 
@@ -160,7 +170,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.profile.empty()) items.push_back({"profile", s.profile, "", ""});
     if (!s.name.empty()) items.push_back({"name", s.name, "", ""});
     for (const auto& [option, value] : s.import_values) items.push_back({option, value, "", ""});
-    job = c.post_form("/api/v1/jobs", items);
+    job = c.post_form("/api/v1/jobs", items, job_shape_problem);
   } else {
     if (!s.import_values.empty()) {
       throw ClientFailure{kBadInput, "--" + s.import_values.front().first + " is an import option: it applies to a mesh (.obj, .stl, .off, .ply), not to " + s.model_path};
@@ -177,7 +187,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.device.empty()) body["device"] = s.device;
     if (!s.profile.empty()) body["profile"] = s.profile;
     if (!s.name.empty()) body["name"] = s.name;
-    job = c.request("POST", "/api/v1/jobs", body.dump());
+    job = c.request("POST", "/api/v1/jobs", job_shape_problem, body.dump());
   }
   // Only the submission's answer has them; a job fetched again while waiting does not.
   const json warnings = job.value("warnings", json::array());
@@ -187,7 +197,7 @@ int submit(const ClientCommands& s, Connection& c) {
   }
   while (s.wait && (job["state"] == "queued" || job["state"] == "planning" || job["state"] == "ready" || job["state"] == "cutting")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    job = c.request("GET", "/api/v1/jobs/" + std::to_string(job["id"].get<long long>()));
+    job = c.request("GET", "/api/v1/jobs/" + std::to_string(job["id"].get<long long>()), job_shape_problem);
   }
   if (s.json_out) {
     job["warnings"] = warnings;
@@ -242,7 +252,7 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
   if (s.submit && *s.submit) return run(s, [&](Connection& c) { return submit(s, c); });
   if (s.jobs && *s.jobs) {
     return run(s, [&](Connection& c) {
-      const json r = c.request("GET", std::string("/api/v1/jobs?limit=") + (s.all ? "10000" : "100"));
+      const json r = c.request("GET", std::string("/api/v1/jobs?limit=") + (s.all ? "10000" : "100"), job_list_shape_problem);
       if (s.json_out) print_json_line(r);
       else for (const json& j : r["jobs"]) print_job_line(j);
       return kOk;
@@ -251,7 +261,7 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
   // Both act on one job and print it as the daemon answers.
   const auto job_action = [&](const std::string& action, const std::string& body) {
     return run(s, [&](Connection& c) {
-      const json j = c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/" + action, body);
+      const json j = c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/" + action, job_shape_problem, body);
       if (s.json_out) print_json_line(j);
       else print_job_line(j);
       return kOk;

@@ -383,6 +383,7 @@ int run(int argc, char** argv) {
   }
   if (*fold) {
     return guarded(false, [&] {
+      check_fold_angle(angle_deg, "--angle");
       const std::string ext = require_extension(out_path, {".obj", ".gltf"}, "3D format");
       const Pattern p = load_pattern(model_path);
       const CardMesh mesh = fold_card(p, angle_deg);
@@ -401,6 +402,7 @@ int run(int argc, char** argv) {
   }
   if (*render) {
     return guarded(false, [&] {
+      check_fold_angle(angle_deg, "--angle");  // every frame's angle lies between 180 and it
       const std::string ext = require_extension(out_path, {".svg", ".png"}, "picture format");
       const Pattern p = load_pattern(model_path);
       std::vector<double> angles;

@@ -202,6 +202,12 @@ struct Target {
 
 Target cut_target(const CutCommands& s) {
   Target t{s.device, s.profile_path, ""};
+  // A malformed device string is named first: no profile makes it right.
+  if (!t.device.empty()) {
+    drivers::DeviceAddress address;
+    const drivers::TransportStatus parsed = drivers::parse_device(t.device, address);
+    if (!parsed.ok()) throw Error(ErrorCode::invalid_input, "", "--device", parsed.message);
+  }
   if (t.profile_path.empty()) {
     if (!t.device.empty() && t.device != "sim") {
       throw Error(ErrorCode::invalid_input, "", "--profile", "--device " + t.device + " needs --profile (configs/devices/*.toml)");

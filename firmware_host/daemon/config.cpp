@@ -130,6 +130,7 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   c.http_threads = s.integer("http_threads", 64, 1, 1024);
   c.keep_alive_timeout_s = s.integer("keep_alive_timeout_s", 2, 1, 300);
   c.header_timeout_s = s.integer("header_timeout_s", 5, 1, 300);
+  c.listen_backlog = s.integer("listen_backlog", 1024, 16, 65535);
   c.planners = s.integer("planners", 1, 1, 64);
   s.reject_unknown();
 

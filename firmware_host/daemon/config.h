@@ -52,6 +52,7 @@ struct DaemonConfig {
   int http_threads = 64;
   int keep_alive_timeout_s = 2;  // an idle kept-alive connection is closed after this
   int header_timeout_s = 5;      // a request's line and headers must arrive within this
+  int listen_backlog = 1024;     // new connections the kernel holds until they are taken up (capped by somaxconn)
   int planners = 1;
   std::vector<DeviceConfig> devices;
   std::vector<TokenConfig> tokens;

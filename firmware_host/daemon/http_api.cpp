@@ -262,12 +262,18 @@ class Api {
     const std::optional<std::string> given = query_param(req, "angle");
     if (!given) return 90;
     const std::string& a = *given;
-    // "-0" is 0, as a slider or a script may send it.
+    // Whole degrees (previews are cached per step); "-0" is 0, as a slider or a script may send it.
     const std::string digits = a == "-0" ? "0" : a;
-    if (digits.empty() || digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > 180) {
-      fail(ApiError::bad_request, "angle must be a whole number of degrees from 0 to 180", "angle");
+    if (digits.empty() || digits.size() > 15 || digits.find_first_not_of("0123456789") != std::string::npos) {
+      fail(ApiError::bad_request, "angle must be a whole number of degrees from 0 to 180, not '" + a.substr(0, 40) + "'", "angle");
     }
-    return (std::stoi(digits) + kAngleStepDeg / 2) / kAngleStepDeg * kAngleStepDeg;
+    const long long angle = std::stoll(digits);
+    try {
+      check_fold_angle(static_cast<double>(angle), "angle");  // the range every command and field that takes an angle has
+    } catch (const Error& e) {
+      fail(ApiError::bad_request, e.message(), "angle");
+    }
+    return static_cast<int>((angle + kAngleStepDeg / 2) / kAngleStepDeg * kAngleStepDeg);
   }
 
   // The queue played forward once per request (docs/api.md eta_s), shared by every job listed.
@@ -596,12 +602,15 @@ bool Api::refuse_before_body(const httplib::Request& req, httplib::Response& res
     refuse(res, ApiError::bad_request, "Transfer-Encoding: only 'chunked' is understood");
     return true;
   }
-  // httplib decodes gzip and deflate and passes any other coding through as if it were none.
+  // httplib (built with zlib and brotli) decodes gzip, deflate and br, spelt in lower case, and
+  // passes any other coding through as if it were none: the compressed bytes would be read as the
+  // body (a "GZIP" body was refused as bad_json).
   if (req.has_header("Content-Encoding")) {
     const std::string coding = req.get_header_value("Content-Encoding");
     if (req.get_header_value_count("Content-Encoding") > 1 ||
-        !(iequals(coding, "identity") || iequals(coding, "gzip") || iequals(coding, "deflate"))) {
-      refuse(res, ApiError::bad_request, "Content-Encoding: only gzip, deflate or identity is understood, not '" + coding.substr(0, 40) + "'");
+        !(iequals(coding, "identity") || coding == "gzip" || coding == "deflate" || coding == "br")) {
+      refuse(res, ApiError::bad_request, "Content-Encoding: only gzip, deflate or br (in lower case) or identity is understood, not '" +
+                                             coding.substr(0, 40) + "'");
       return true;
     }
   }

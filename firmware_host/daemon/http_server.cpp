@@ -148,6 +148,20 @@ HttpServer::HttpServer(ConnectionLimits limits) : limits_(limits) {
   set_keep_alive_timeout(limits.keep_alive_timeout_s);
 }
 
+int HttpServer::bind_and_listen(const std::string& host, int port) {
+  int bound = port;
+  if (port == 0) {
+    bound = bind_to_any_port(host);
+  } else if (!bind_to_port(host, port)) {
+    bound = -1;
+  }
+  if (bound <= 0) return -1;
+  // Listening again on a listening socket only sets its backlog (Linux); the kernel caps it at
+  // net.core.somaxconn.
+  if (::listen(svr_sock_, limits_.listen_backlog) != 0) return -1;
+  return bound;
+}
+
 bool HttpServer::process_and_close_socket(socket_t sock) {
   ConnectionStream strm(sock, limits_);
   bool ok = false;

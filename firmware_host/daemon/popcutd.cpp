@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <pthread.h>
@@ -95,7 +96,7 @@ int run_popcutd(int argc, char** argv) {
              " planning -> queued (planned again)");
   }
 
-  HttpServer server(ConnectionLimits{config.header_timeout_s, config.keep_alive_timeout_s, 5});
+  HttpServer server(ConnectionLimits{config.header_timeout_s, config.keep_alive_timeout_s, 5, config.listen_backlog});
   server.new_task_queue = [n = config.http_threads] { return new httplib::ThreadPool(static_cast<std::size_t>(n)); };
   // Small JSON answers: without TCP_NODELAY, Nagle and delayed ACKs add ~40 ms to each.
   server.set_tcp_nodelay(true);
@@ -106,13 +107,8 @@ int run_popcutd(int argc, char** argv) {
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
   HttpApi api(server, *daemon);
-  int bound = config.port;
   errno = 0;  // httplib returns only false; the failed bind()'s errno says why (in use, not here)
-  if (config.port == 0) {
-    bound = server.bind_to_any_port(config.listen);
-  } else if (!server.bind_to_port(config.listen, config.port)) {
-    bound = -1;
-  }
+  const int bound = server.bind_and_listen(config.listen, config.port);
   if (bound <= 0) {
     const int why = errno;
     std::cerr << "popcutd: error: cannot listen on " << config.listen << ":" << config.port
@@ -127,6 +123,13 @@ int run_popcutd(int argc, char** argv) {
   const bool v6 = config.listen.find(':') != std::string::npos;
   std::cout << "popcutd: listening on http://" << (v6 ? "[" + config.listen + "]" : config.listen) << ":" << bound << std::endl;
   log_line("data in ", config.data_dir, "; ", config.devices.size(), " devices");
+  // The kernel takes a larger backlog silently as its cap: say so, since bursts beyond it wait 1 s.
+  if (std::ifstream cap_file("/proc/sys/net/core/somaxconn"); cap_file) {
+    int cap = 0;
+    if (cap_file >> cap && cap < config.listen_backlog) {
+      log_line("[server] listen_backlog ", config.listen_backlog, " is capped at ", cap, " by net.core.somaxconn (sysctl)");
+    }
+  }
 
   std::thread signals([&] {
     int sig = 0;

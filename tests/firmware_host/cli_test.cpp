@@ -356,6 +356,47 @@ TEST_F(Cli, OptionErrorsNameTheOption) {
   EXPECT_NE(p.err.find("--pattern"), std::string::npos) << "the pattern's own option is blamed, not -o: " << p.err;
 }
 
+// One range for every opening angle: render used to clamp any angle to a picture of 179°.
+TEST_F(Cli, EveryCommandRefusesAnAngleOutsideZeroTo180NamingTheFlag) {
+  const std::string model = file("box.json", kBox);
+  const std::vector<std::string> refused = {
+      "render " + model + " --angle 1e9 -o " + (dir_ / "a.png").string(),
+      "render " + model + " --frames 5 --angle 300 -o " + (dir_ / "b.svg").string(),
+      "render " + model + " --angle -1 -o " + (dir_ / "c.svg").string(),
+      "render " + model + " --angle nan -o " + (dir_ / "d.svg").string(),
+      "fold " + model + " --angle 500 -o " + (dir_ / "e.obj").string(),
+      "fold " + model + " --angle -0.5 -o " + (dir_ / "f.gltf").string(),
+      // The flag is named before the model is read.
+      "render " + (dir_ / "missing.json").string() + " --angle 181 -o " + (dir_ / "g.svg").string(),
+  };
+  for (const std::string& args : refused) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("--angle: the fold angle must be from 0 (flat) to 180 (closed) degrees"), std::string::npos)
+        << args << ": names the flag and the range: " << r.err;
+    EXPECT_EQ(r.err.find("wrote"), std::string::npos) << args << ": nothing written: " << r.err;
+  }
+  for (const char* angle : {"0", "180", "179.5"}) {
+    const Result r = run("render " + model + " --frames 2 --angle " + angle + " -o " + (dir_ / "ok.svg").string());
+    EXPECT_EQ(r.code, 0) << "--angle " << angle << " is in range: " << r.err;
+  }
+}
+
+// A malformed device string is what is wrong, whatever else is missing.
+TEST_F(Cli, CutNamesABadDeviceStringBeforeAMissingProfile) {
+  const std::string model = file("box.json", kBox);
+  for (const char* device : {"foo", "usb:0b4:110a", "serial:"}) {
+    const Result r = run("cut " + model + " --device " + device + " --out " + (dir_ / "cut").string());
+    EXPECT_EQ(r.code, 2) << device << ": " << r.err;
+    EXPECT_NE(r.err.find("--device"), std::string::npos) << device << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string("(in device '") + device + "')"), std::string::npos) << device << ": says what is wrong with it: " << r.err;
+    EXPECT_EQ(r.err.find("needs --profile"), std::string::npos) << device << ": not the missing profile first: " << r.err;
+  }
+  const Result good = run("cut " + model + " --device file:" + (dir_ / "x.hpgl").string() + " --out " + (dir_ / "cut").string());
+  EXPECT_EQ(good.code, 2) << good.err;
+  EXPECT_NE(good.err.find("needs --profile"), std::string::npos) << "a well-formed device still needs its profile: " << good.err;
+}
+
 // The models shown in docs/formats.md are the first a user copies: they must be valid cards.
 TEST_F(Cli, FormatDocExamplesPopUp) {
   const std::string doc = slurp(fs::path(POPCUT_SOURCE_DIR) / "docs" / "formats.md");

@@ -1,12 +1,19 @@
 // popcutd at the HTTP level, over raw loopback sockets: bodies refused as they arrive, framing, methods, idle connections.
+#include <arpa/inet.h>
+#include <brotli/encode.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
@@ -77,6 +84,18 @@ std::string error_code(const std::string& answer) {
   return j.is_object() && j.contains("error") ? j["error"].value("code", "") : "";
 }
 
+// `text` brotli-compressed (quality 5, a 4 MiB window).
+std::string brotli(const std::string& text) {
+  std::string out(BrotliEncoderMaxCompressedSize(text.size()), '\0');
+  std::size_t size = out.size();
+  if (!BrotliEncoderCompress(5, 22, BROTLI_MODE_GENERIC, text.size(), reinterpret_cast<const std::uint8_t*>(text.data()), &size,
+                             reinterpret_cast<std::uint8_t*>(out.data()))) {
+    return "";
+  }
+  out.resize(size);
+  return out;
+}
+
 class PopcutdHttp : public ::testing::Test {
  protected:
   TempDir dir_{"popcutd-http-test"};
@@ -145,6 +164,9 @@ TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
       {"Content-Length: abc", request("POST", "/api/v1/jobs", "Content-Length: abc\r\n"), "HTTP/1.1 400", "bad_request"},
       // httplib would take a coding it does not know as none and parse the compressed bytes.
       {"Content-Encoding: zstd", request("POST", "/api/v1/jobs", "Content-Encoding: zstd\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
+      // httplib decodes only the lower-case names: "GZIP" would be read undecoded (a bad_json).
+      {"Content-Encoding: GZIP", request("POST", "/api/v1/jobs", "Content-Encoding: GZIP\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
+      {"Content-Encoding: Br", request("POST", "/api/v1/jobs", "Content-Encoding: Br\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
       {"Transfer-Encoding: gzip, chunked", request("POST", "/api/v1/jobs", "Transfer-Encoding: gzip, chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
       {"Content-Length and chunked together", request("POST", "/api/v1/jobs", "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
       {"a GET with a body", request("GET", "/api/v1/jobs", "Content-Length: 5\r\n", "hello"), "HTTP/1.1 400", "bad_request"},
@@ -205,6 +227,90 @@ TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen)
   for (auto& t : tricklers) t.join();
   for (const int s : idle) ::close(s);
   EXPECT_EQ(r.status, 200) << "/healthz answered with 8 idle or trickling connections open and 2 threads; log:\n" << d->log();
+}
+
+// A burst of fresh connections (scripts running `popcut submit` at once) is held by the kernel
+// until popcutd takes them up. A listen backlog of 5 held 6: the SYNs of the rest were dropped
+// and sent again by TCP a second later (p99 ~1 s). popcutd is stopped while the burst connects,
+// so how fast it accepts plays no part, and each connection's own TCP retransmit count says
+// whether it had to be retried: no timing is measured.
+TEST_F(PopcutdHttp, ABurstOfConnectionsIsHeldUntilTakenUpNotDropped) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  constexpr int kBurst = 64;
+  ASSERT_EQ(::kill(d->pid(), SIGSTOP), 0);
+  std::vector<int> socks;
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(d->port()));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  for (int i = 0; i < kBurst; ++i) {
+    const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
+    const int rc = ::connect(s, reinterpret_cast<const sockaddr*>(&a), sizeof a);
+    EXPECT_TRUE(rc == 0 || errno == EINPROGRESS) << "connection " << i << ": " << std::strerror(errno);
+    socks.push_back(s);
+  }
+  ASSERT_EQ(::kill(d->pid(), SIGCONT), 0);
+  int answered = 0, retried = 0;
+  for (const int s : socks) {
+    pollfd p{s, POLLOUT, 0};
+    ::poll(&p, 1, 30000);  // a safety net: a retried SYN is answered within 1 + 2 + 4 s
+    ::fcntl(s, F_SETFL, ::fcntl(s, F_GETFL) & ~O_NONBLOCK);
+    timeval tv{30, 0};
+    ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    const std::string get = "GET /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+    ::send(s, get.data(), get.size(), MSG_NOSIGNAL);
+    std::string answer;
+    char buf[4096];
+    for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) answer.append(buf, static_cast<std::size_t>(n));
+    if (status_line(answer) == "HTTP/1.1 200 OK") ++answered;
+    tcp_info info{};
+    socklen_t len = sizeof info;
+    if (::getsockopt(s, IPPROTO_TCP, TCP_INFO, &info, &len) == 0 && info.tcpi_total_retrans > 0) ++retried;
+    ::close(s);
+  }
+  EXPECT_EQ(answered, kBurst) << "every connection of the burst was answered 200";
+  EXPECT_EQ(retried, 0) << retried << " of " << kBurst << " connections had to be sent again (their SYN was dropped: the "
+                        << "listen backlog holds fewer); log:\n" << d->log();
+}
+
+// Content-Encoding br is decoded like gzip and deflate (the Debian cpp-httplib is built with
+// brotli), and its decoded bytes count against [limits] upload_bytes.
+TEST_F(PopcutdHttp, BrotliBodiesAreDecodedAndCountedAfterDecoding) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  const std::string body = R"({"device": "sim-a", "name": "brotli", "model": )" + read_file(kSrc + "/examples/voxel/box.json") + "}";
+  const std::string small = brotli(body), bomb = brotli(std::string(8 * kLimit, ' '));
+  ASSERT_FALSE(small.empty() || bomb.empty()) << "brotli made the test bodies";
+  const auto post = [&](const std::string& coding, const std::string& bytes) {
+    return send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Content-Encoding: " + coding + "\r\nContent-Length: " +
+                                                                          std::to_string(bytes.size()) + "\r\nConnection: close\r\n"),
+                         bytes).answer;
+  };
+  const std::string ok = post("br", small);
+  EXPECT_EQ(status_line(ok).rfind("HTTP/1.1 201", 0), 0u) << "a brotli submission is decoded and queued: " << ok.substr(0, 300);
+  EXPECT_NE(ok.find(R"("name":"brotli")"), std::string::npos) << "the decoded model was read: " << ok.substr(0, 300);
+  const std::string big = post("br", bomb);
+  EXPECT_EQ(error_code(big), "too_large") << bomb.size() << " bytes of brotli decoding to 8 MiB: " << big.substr(0, 300);
+  const std::string garbage = post("br", "{\"not\": \"brotli\"}");
+  EXPECT_EQ(status_line(garbage).rfind("HTTP/1.1 400", 0), 0u) << "a body that is not brotli: " << garbage.substr(0, 300);
+  EXPECT_EQ(error_code(garbage), "bad_request") << garbage.substr(0, 300);
+}
+
+// The preview's angle is checked by the rule every command's --angle is (docs/formats.md).
+TEST_F(PopcutdHttp, ThePreviewAngleHasTheRangeOfEveryOpeningAngle) {
+  const auto d = start(kSrc + "/configs/popcutd.toml");
+  httplib::Client c = d->client(kKiosk);
+  const std::string box = read_file(kSrc + "/examples/voxel/box.json");
+  for (const char* angle : {"500", "181", "1000000000"}) {
+    const popcut::testing::Reply r = popcut::testing::post_json(c, std::string("/api/v1/render/preview.png?angle=") + angle, box);
+    EXPECT_EQ(r.status, 400) << angle << ": " << r.body.dump();
+    EXPECT_EQ(r.body.value("/error/field"_json_pointer, ""), "angle") << r.body.dump();
+    EXPECT_EQ(r.body.value("/error/message"_json_pointer, ""),
+              std::string("the fold angle must be from 0 (flat) to 180 (closed) degrees, not ") + angle)
+        << r.body.dump();
+  }
+  const httplib::Result ok = c.Post("/api/v1/render/preview.png?angle=180", box, "application/json");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 200) << "180, closed, is in range: " << ok->body.substr(0, 200);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "popcut/fold/fold.h"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "popcut/error.h"
@@ -16,10 +17,15 @@ Point3 fold_point(Point3 p, double angle_deg) {
   return {p.x_mm, p.y_mm - p.z_mm * c, p.z_mm * s};
 }
 
+void check_fold_angle(double angle_deg, const std::string& field) {
+  if (std::isfinite(angle_deg) && angle_deg >= 0 && angle_deg <= 180) return;
+  char given[32];
+  std::snprintf(given, sizeof given, "%.15g", angle_deg);
+  throw Error(ErrorCode::invalid_input, "", field, std::string("the fold angle must be from 0 (flat) to 180 (closed) degrees, not ") + given);
+}
+
 CardMesh fold_card(const Pattern& pattern, double angle_deg) {
-  if (!std::isfinite(angle_deg) || angle_deg < 0 || angle_deg > 180) {
-    throw Error(ErrorCode::invalid_input, "", "--angle", "the fold angle must be from 0 (flat) to 180 (closed) degrees");
-  }
+  check_fold_angle(angle_deg, "angle");
   CardMesh mesh;
   for (std::size_t fi = 0; fi < pattern.faces.size(); ++fi) {
     const PatternFace& f = pattern.faces[fi];

@@ -73,6 +73,7 @@ std::string num(double v) {
 }  // namespace
 
 CardMesh fold_card_for_picture(const Pattern& pattern, double angle_deg) {
+  check_fold_angle(angle_deg, "angle");  // before the clamp below, which would make 1e9 a picture at 179°
   return fold_card(pattern, std::min(angle_deg, kPictureMaxAngleDeg));
 }
 

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "popcut/pattern/pattern.h"
@@ -27,7 +28,11 @@ struct CardMesh {
   std::vector<FaceKind> face_kind;                     // per pattern face
 };
 
-// Throws popcut::Error (invalid_input, "--angle") unless 0 ≤ angle_deg ≤ 180.
+// The range of an opening angle, for every command option and API field that takes one: throws
+// popcut::Error (invalid_input, naming `field` and the range) unless 0 ≤ angle_deg ≤ 180.
+void check_fold_angle(double angle_deg, const std::string& field);
+
+// Throws as check_fold_angle (field "angle") unless 0 ≤ angle_deg ≤ 180.
 CardMesh fold_card(const Pattern& pattern, double angle_deg);
 
 }  // namespace popcut
