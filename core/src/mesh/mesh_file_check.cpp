@@ -32,6 +32,8 @@ struct PlyProperty {
   int size = 0;        // scalar size, or a list entry's size
   int count_size = 0;  // a list's count type size
   bool count_signed = false;
+  bool item_signed = false;
+  bool item_float = false;
   std::string name;
 };
 
@@ -72,6 +74,25 @@ std::int64_t read_count(const std::string& bytes, std::size_t pos, int size, boo
   return static_cast<std::int64_t>(u);
 }
 
+// The face list CGAL takes for corners, and the vertex count they must stay below.
+bool is_corner_list(const PlyElement& e, const PlyProperty& p) {
+  return e.name == "face" && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
+}
+
+std::uint64_t vertex_count(const std::vector<PlyElement>& elements) {
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") return e.count;
+  }
+  return 0;
+}
+
+[[noreturn]] void bad_corner(const std::string& path, const std::string& where, std::uint64_t corner, const std::string& value,
+                             std::uint64_t vertices) {
+  fail(path, where,
+       "corner " + std::to_string(corner + 1) + " is vertex " + value + ", but the file has " + std::to_string(vertices) +
+           " vertices: expected " + (vertices > 0 ? "0 to " + std::to_string(vertices - 1) : "none, as there are no vertices"));
+}
+
 void check_ply(const std::string& path, const std::string& bytes) {
   std::size_t pos = 0;
   std::string format;
@@ -104,7 +125,8 @@ void check_ply(const std::string& path, const std::string& bytes) {
         words >> count_type >> item_type >> p.name;
         p.list = true;
         p.count_size = ply_type_size(count_type, &p.count_signed);
-        p.size = ply_type_size(item_type);
+        p.size = ply_type_size(item_type, &p.item_signed);
+        p.item_float = item_type.find("float") != std::string::npos || item_type.find("double") != std::string::npos;
         if (p.count_size == 0 || p.size == 0) return;  // an unknown type: CGAL reports it
       } else {
         words >> p.name;
@@ -126,6 +148,7 @@ void check_ply(const std::string& path, const std::string& bytes) {
     }
   }
 
+  const std::uint64_t vertices = vertex_count(elements);
   if (format == "binary_little_endian" || format == "binary_big_endian") {
     const bool big = format == "binary_big_endian";
     std::size_t at = body;
@@ -149,6 +172,14 @@ void check_ply(const std::string& path, const std::string& bytes) {
             fail(path, record_name(e.name, i),
                  "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
                      " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
+          }
+          if (is_corner_list(e, p) && !p.item_float) {
+            for (std::int64_t k = 0; k < n; ++k) {
+              const std::int64_t v = read_count(bytes, at + static_cast<std::size_t>(k * p.size), p.size, p.item_signed, big);
+              if (v < 0 || static_cast<std::uint64_t>(v) >= vertices) {
+                bad_corner(path, record_name(e.name, i), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
+              }
+            }
           }
           at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
         }
@@ -191,7 +222,15 @@ void check_ply(const std::string& path, const std::string& bytes) {
                "list '" + p.name + "' says '" + text + "' entries, but only " + std::to_string(left) +
                    " numbers are left in the file: expected a whole number of entries that follow");
         }
-        for (auto k = static_cast<std::uint64_t>(n); k > 0; --k) next();
+        for (std::uint64_t k = 0; k < static_cast<std::uint64_t>(n); ++k) {
+          const std::string_view entry = next();
+          if (!is_corner_list(e, p)) continue;
+          const std::string value(entry);
+          const double v = std::strtod(value.c_str(), &end);
+          if (end != value.c_str() + value.size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
+            bad_corner(path, record_name(e.name, i), k, "'" + value + "'", vertices);
+          }
+        }
       }
     }
   }
@@ -261,6 +300,12 @@ void check_off(const std::string& path, const std::string& bytes) {
                std::string(part == 0 ? "says " : "has ") + std::to_string(n) + (part == 0 ? " corners" : " colour components") +
                    ", but only " + std::to_string((size - at) / 4) + " numbers are left in the file: the file is truncated or corrupt");
         }
+        for (std::int32_t k = 0; part == 0 && k < n; ++k) {
+          const auto v = static_cast<std::int32_t>(read_be32(bytes, at + static_cast<std::size_t>(k) * 4));
+          if (v < 0 || static_cast<std::uint32_t>(v) >= vertices) {
+            bad_corner(path, record_name("face", f), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
+          }
+        }
         at += static_cast<std::size_t>(n) * 4;
       }
     }
@@ -293,6 +338,13 @@ void check_off(const std::string& path, const std::string& bytes) {
       fail(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")",
            "says '" + numbers[0] + "' corners, but the line has " + std::to_string(numbers.size() - 1) +
                " more numbers: expected the corner count, then that many vertex indices");
+    }
+    for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k) {
+      const double v = std::strtod(numbers[k].c_str(), &end);
+      if (end != numbers[k].c_str() + numbers[k].size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
+        bad_corner(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")", k - 1, "'" + numbers[k] + "'",
+                   vertices);
+      }
     }
   }
 }
