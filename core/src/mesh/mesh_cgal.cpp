@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -74,6 +75,22 @@ std::optional<std::pair<int, std::string>> diagnose_text(const std::string& byte
   return std::nullopt;
 }
 
+// A token as it can be shown in a message: control bytes as \xNN.
+std::string printable(const std::string& token) {
+  std::string out;
+  for (const char c : token) {
+    const auto ch = static_cast<unsigned char>(c);
+    if (ch >= 0x20 && ch < 0x7f) {
+      out += static_cast<char>(ch);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", ch);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 // CGAL's ASCII STL reader (which the binary one follows when it fails) says only that it
 // failed; walk the same grammar — 'facet' … three 'vertex x y z' … 'endfacet', the solid closed
 // by 'endsolid' — to name the line and what was expected there.
@@ -111,7 +128,7 @@ std::optional<std::pair<int, std::string>> diagnose_ascii_stl(const std::string&
           if (words >> c) std::strtod(c.c_str(), &end);
           if (c.empty() || end != c.c_str() + c.size()) {
             return std::make_pair(number, c.empty() ? "'vertex' has " + std::to_string(k) + " of its 3 numbers on its line: expected x y z"
-                                                    : "'" + c + "' is not a number: expected 'vertex x y z'");
+                                                    : "'" + printable(c) + "' is not a number: expected 'vertex x y z'");
           }
         }
       }
