@@ -93,6 +93,98 @@ std::uint64_t vertex_count(const std::vector<PlyElement>& elements) {
            " vertices: expected " + (vertices > 0 ? "0 to " + std::to_string(vertices - 1) : "none, as there are no vertices"));
 }
 
+// A binary PLY body from `body`: every record within the file, every corner a vertex.
+void walk_ply_binary(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements, std::size_t body,
+                     bool big) {
+  const std::size_t size = bytes.size();
+  const std::uint64_t vertices = vertex_count(elements);
+  std::size_t at = body;
+  const auto truncated = [&](const PlyElement& e, std::uint64_t i) {
+    fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+                                            "): the file is truncated");
+  };
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          if (size - at < static_cast<std::size_t>(p.size)) truncated(e, i);
+          at += static_cast<std::size_t>(p.size);
+          continue;
+        }
+        if (size - at < static_cast<std::size_t>(p.count_size)) truncated(e, i);
+        const std::int64_t n = read_count(bytes, at, p.count_size, p.count_signed, big);
+        at += static_cast<std::size_t>(p.count_size);
+        const std::uint64_t room = (size - at) / static_cast<std::size_t>(p.size);
+        if (n < 0 || static_cast<std::uint64_t>(n) > room) {
+          fail(path, record_name(e.name, i),
+               "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
+                   " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
+        }
+        if (is_corner_list(e, p) && !p.item_float) {
+          for (std::int64_t k = 0; k < n; ++k) {
+            const std::int64_t v = read_count(bytes, at + static_cast<std::size_t>(k * p.size), p.size, p.item_signed, big);
+            if (v < 0 || static_cast<std::uint64_t>(v) >= vertices) {
+              bad_corner(path, record_name(e.name, i), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
+            }
+          }
+        }
+        at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
+      }
+    }
+  }
+}
+
+// A text PLY body from `body`: no list claims more numbers than are left, every corner a vertex.
+void walk_ply_text(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements, std::size_t body) {
+  const std::size_t size = bytes.size();
+  const std::uint64_t vertices = vertex_count(elements);
+  // Text: count the tokens once, then walk them; a list may not claim more than are left.
+  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
+  std::uint64_t total = 0;
+  for (std::size_t k = body; k < size; ++k) {
+    if (!is_space(bytes[k]) && (k == body || is_space(bytes[k - 1]))) ++total;
+  }
+  std::size_t at = body;
+  std::uint64_t used = 0;
+  const auto next = [&]() -> std::string_view {
+    while (at < size && is_space(bytes[at])) ++at;
+    const std::size_t start = at;
+    while (at < size && !is_space(bytes[at])) ++at;
+    ++used;
+    return std::string_view(bytes).substr(start, at - start);
+  };
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        if (used >= total) {
+          fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+                                                  "): the file is truncated");
+        }
+        const std::string_view token = next();
+        if (!p.list) continue;
+        const std::string text(token);
+        char* end = nullptr;
+        const double n = std::strtod(text.c_str(), &end);
+        const std::uint64_t left = total - used;
+        if (end != text.c_str() + text.size() || !(n >= 0) || n != std::floor(n) || n > static_cast<double>(left)) {
+          fail(path, record_name(e.name, i),
+               "list '" + p.name + "' says '" + text + "' entries, but only " + std::to_string(left) +
+                   " numbers are left in the file: expected a whole number of entries that follow");
+        }
+        for (std::uint64_t k = 0; k < static_cast<std::uint64_t>(n); ++k) {
+          const std::string_view entry = next();
+          if (!is_corner_list(e, p)) continue;
+          const std::string value(entry);
+          const double v = std::strtod(value.c_str(), &end);
+          if (end != value.c_str() + value.size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
+            bad_corner(path, record_name(e.name, i), k, "'" + value + "'", vertices);
+          }
+        }
+      }
+    }
+  }
+}
+
 void check_ply(const std::string& path, const std::string& bytes) {
   std::size_t pos = 0;
   std::string format;
@@ -148,92 +240,11 @@ void check_ply(const std::string& path, const std::string& bytes) {
     }
   }
 
-  const std::uint64_t vertices = vertex_count(elements);
   if (format == "binary_little_endian" || format == "binary_big_endian") {
-    const bool big = format == "binary_big_endian";
-    std::size_t at = body;
-    const auto truncated = [&](const PlyElement& e, std::uint64_t i) {
-      fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
-                                              "): the file is truncated");
-    };
-    for (const PlyElement& e : elements) {
-      for (std::uint64_t i = 0; i < e.count; ++i) {
-        for (const PlyProperty& p : e.properties) {
-          if (!p.list) {
-            if (size - at < static_cast<std::size_t>(p.size)) truncated(e, i);
-            at += static_cast<std::size_t>(p.size);
-            continue;
-          }
-          if (size - at < static_cast<std::size_t>(p.count_size)) truncated(e, i);
-          const std::int64_t n = read_count(bytes, at, p.count_size, p.count_signed, big);
-          at += static_cast<std::size_t>(p.count_size);
-          const std::uint64_t room = (size - at) / static_cast<std::size_t>(p.size);
-          if (n < 0 || static_cast<std::uint64_t>(n) > room) {
-            fail(path, record_name(e.name, i),
-                 "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
-                     " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
-          }
-          if (is_corner_list(e, p) && !p.item_float) {
-            for (std::int64_t k = 0; k < n; ++k) {
-              const std::int64_t v = read_count(bytes, at + static_cast<std::size_t>(k * p.size), p.size, p.item_signed, big);
-              if (v < 0 || static_cast<std::uint64_t>(v) >= vertices) {
-                bad_corner(path, record_name(e.name, i), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
-              }
-            }
-          }
-          at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
-        }
-      }
-    }
-    return;
-  }
-  if (format != "ascii") return;  // CGAL reports an unknown format
-
-  // Text: count the tokens once, then walk them; a list may not claim more than are left.
-  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
-  std::uint64_t total = 0;
-  for (std::size_t k = body; k < size; ++k) {
-    if (!is_space(bytes[k]) && (k == body || is_space(bytes[k - 1]))) ++total;
-  }
-  std::size_t at = body;
-  std::uint64_t used = 0;
-  const auto next = [&]() -> std::string_view {
-    while (at < size && is_space(bytes[at])) ++at;
-    const std::size_t start = at;
-    while (at < size && !is_space(bytes[at])) ++at;
-    ++used;
-    return std::string_view(bytes).substr(start, at - start);
-  };
-  for (const PlyElement& e : elements) {
-    for (std::uint64_t i = 0; i < e.count; ++i) {
-      for (const PlyProperty& p : e.properties) {
-        if (used >= total) {
-          fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
-                                                  "): the file is truncated");
-        }
-        const std::string_view token = next();
-        if (!p.list) continue;
-        const std::string text(token);
-        char* end = nullptr;
-        const double n = std::strtod(text.c_str(), &end);
-        const std::uint64_t left = total - used;
-        if (end != text.c_str() + text.size() || !(n >= 0) || n != std::floor(n) || n > static_cast<double>(left)) {
-          fail(path, record_name(e.name, i),
-               "list '" + p.name + "' says '" + text + "' entries, but only " + std::to_string(left) +
-                   " numbers are left in the file: expected a whole number of entries that follow");
-        }
-        for (std::uint64_t k = 0; k < static_cast<std::uint64_t>(n); ++k) {
-          const std::string_view entry = next();
-          if (!is_corner_list(e, p)) continue;
-          const std::string value(entry);
-          const double v = std::strtod(value.c_str(), &end);
-          if (end != value.c_str() + value.size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
-            bad_corner(path, record_name(e.name, i), k, "'" + value + "'", vertices);
-          }
-        }
-      }
-    }
-  }
+    walk_ply_binary(path, bytes, elements, body, format == "binary_big_endian");
+  } else if (format == "ascii") {
+    walk_ply_text(path, bytes, elements, body);
+  }  // else CGAL reports an unknown format
 }
 
 // ---- OFF ----
