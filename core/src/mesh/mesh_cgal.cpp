@@ -12,6 +12,8 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <new>
 #include <optional>
@@ -21,6 +23,7 @@
 #include "popcut/io/files.h"
 #include "popcut/mesh/mesh_import.h"
 #include "mesh/mesh_file_check.h"
+#include "mesh/obj_faces.h"
 
 namespace popcut {
 namespace {
@@ -50,7 +53,6 @@ std::optional<std::pair<int, std::string>> diagnose_text(const std::string& byte
   std::istringstream in(bytes);
   std::string line;
   int number = 0;
-  long vertices = 0;
   bool faces = false;
   while (std::getline(in, line)) {
     ++number;
@@ -59,16 +61,8 @@ std::optional<std::pair<int, std::string>> diagnose_text(const std::string& byte
     words >> keyword;
     if (ext == "obj" && !keyword.empty() && keyword[0] != '#') {
       if (keyword == "l") return std::make_pair(number, std::string("'l' (a polyline): only faces ('f') can be read"));
-      if (keyword == "v") ++vertices;
-      if (keyword == "f") {
+      if (keyword == "f") {  // its corners were checked before CGAL read the file (read_obj_faces)
         faces = true;
-        while (words >> token) {
-          const long index = std::strtol(token.c_str(), nullptr, 10);
-          if (index == 0 || index > vertices || -index > vertices) {
-            return std::make_pair(number, "face refers to vertex " + std::to_string(index) + ", but only " +
-                                              std::to_string(vertices) + " are defined before it");
-          }
-        }
         continue;
       }
     }
@@ -78,6 +72,73 @@ std::optional<std::pair<int, std::string>> diagnose_text(const std::string& byte
     }
   }
   if (ext == "obj" && !faces) return std::make_pair(number, std::string("the file has no faces ('f' lines)"));
+  return std::nullopt;
+}
+
+// A token as it can be shown in a message: control bytes as \xNN.
+std::string printable(const std::string& token) {
+  std::string out;
+  for (const char c : token) {
+    const auto ch = static_cast<unsigned char>(c);
+    if (ch >= 0x20 && ch < 0x7f) {
+      out += static_cast<char>(ch);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", ch);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+// CGAL's ASCII STL reader (which the binary one follows when it fails) says only that it
+// failed; walk the same grammar — 'facet' … three 'vertex x y z' … 'endfacet', the solid closed
+// by 'endsolid' — to name the line and what was expected there.
+std::optional<std::pair<int, std::string>> diagnose_ascii_stl(const std::string& bytes) {
+  if (bytes.compare(0, 5, "solid") != 0) return std::nullopt;
+  std::istringstream in(bytes);
+  std::string line;
+  int number = 0, facet_line = 0, vertices = 0;
+  bool in_solid = false, in_facet = false;
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream words(line);
+    for (std::string w; words >> w;) {
+      if (!in_facet) {
+        if (w == "solid") in_solid = true;
+        if (w == "endsolid") in_solid = false;
+        if (w == "facet") {
+          in_facet = true;
+          facet_line = number;
+          vertices = 0;
+        }
+        continue;
+      }
+      if (w == "endfacet") {
+        if (vertices != 3) {
+          return std::make_pair(number, "the facet from line " + std::to_string(facet_line) + " has " + std::to_string(vertices) +
+                                            " vertices: only triangles (3 'vertex x y z') can be read");
+        }
+        in_facet = false;
+      } else if (w == "vertex") {
+        ++vertices;
+        for (int k = 0; k < 3; ++k) {
+          std::string c;
+          char* end = nullptr;
+          if (words >> c) std::strtod(c.c_str(), &end);
+          if (c.empty() || end != c.c_str() + c.size()) {
+            return std::make_pair(number, c.empty() ? "'vertex' has " + std::to_string(k) + " of its 3 numbers on its line: expected x y z"
+                                                    : "'" + printable(c) + "' is not a number: expected 'vertex x y z'");
+          }
+        }
+      }
+    }
+  }
+  if (in_facet) {
+    return std::make_pair(number, "the file ends inside the facet that begins on line " + std::to_string(facet_line) +
+                                      ": expected 3 'vertex x y z' and 'endfacet' (truncated?)");
+  }
+  if (in_solid) return std::make_pair(number, std::string("the file ends before 'endsolid' (truncated?)"));
   return std::nullopt;
 }
 
@@ -167,8 +228,10 @@ void parse(const std::string& path, const std::string& ext, const std::string& b
   } catch (const std::exception& e) {
     throw Error(ErrorCode::invalid_input, path, "", "not a readable " + ext + " file: " + e.what());
   }
-  if (!ok && ext != "stl" && ext != "ply") {
-    if (auto why = diagnose_text(bytes, ext)) throw Error(ErrorCode::invalid_input, path, "line " + std::to_string(why->first), why->second);
+  if (!ok && ext != "ply") {
+    if (auto why = ext == "stl" ? diagnose_ascii_stl(bytes) : diagnose_text(bytes, ext)) {
+      throw Error(ErrorCode::invalid_input, path, "line " + std::to_string(why->first), why->second);
+    }
   }
   if (!ok) {
     std::string upper = ext;
@@ -194,9 +257,14 @@ TriangleSoup read_mesh(const std::string& path) {
   if (ext == "stl") check_binary_stl(path, bytes);
   check_declared_counts(path, ext, bytes);
   check_mesh_list_counts(path, ext, bytes);
+  // OBJ corners are read here, not by CGAL, whose reader ends a face silently at the first
+  // corner it cannot read as an int (see obj_faces.cpp); CGAL still reads the vertices.
+  std::vector<std::vector<std::size_t>> obj_faces;
+  if (ext == "obj") obj_faces = read_obj_faces(path, bytes);
   std::vector<K::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   parse(path, ext, bytes, points, polygons);
+  if (ext == "obj") polygons = std::move(obj_faces);
 
   TriangleSoup soup;
   soup.points.reserve(points.size());

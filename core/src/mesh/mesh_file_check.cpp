@@ -32,6 +32,8 @@ struct PlyProperty {
   int size = 0;        // scalar size, or a list entry's size
   int count_size = 0;  // a list's count type size
   bool count_signed = false;
+  bool item_signed = false;
+  bool item_float = false;
   std::string name;
 };
 
@@ -72,92 +74,70 @@ std::int64_t read_count(const std::string& bytes, std::size_t pos, int size, boo
   return static_cast<std::int64_t>(u);
 }
 
-void check_ply(const std::string& path, const std::string& bytes) {
-  std::size_t pos = 0;
-  std::string format;
-  std::vector<PlyElement> elements;
-  bool ended = false;
-  while (pos < bytes.size()) {
-    std::size_t eol = bytes.find('\n', pos);
-    if (eol == std::string::npos) eol = bytes.size();
-    std::istringstream words(bytes.substr(pos, eol - pos));
-    pos = eol + 1;
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "end_header") {
-      ended = true;
-      break;
-    }
-    if (keyword == "format") {
-      words >> format;
-    } else if (keyword == "element") {
-      PlyElement e;
-      words >> e.name >> e.count;
-      if (!words) return;  // CGAL reports the malformed header
-      elements.push_back(e);
-    } else if (keyword == "property" && !elements.empty()) {
-      PlyProperty p;
-      std::string type;
-      words >> type;
-      if (type == "list") {
-        std::string count_type, item_type;
-        words >> count_type >> item_type >> p.name;
-        p.list = true;
-        p.count_size = ply_type_size(count_type, &p.count_signed);
-        p.size = ply_type_size(item_type);
-        if (p.count_size == 0 || p.size == 0) return;  // an unknown type: CGAL reports it
-      } else {
-        words >> p.name;
-        p.size = ply_type_size(type);
-        if (p.size == 0) return;
-      }
-      elements.back().properties.push_back(p);
-    }
-  }
-  if (!ended) return;  // CGAL reports the missing end_header
-  const std::size_t body = pos;
-  const std::size_t size = bytes.size();
+// The face list CGAL takes for corners, and the vertex count they must stay below.
+bool is_corner_list(const PlyElement& e, const PlyProperty& p) {
+  return e.name == "face" && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
+}
 
-  // Elements without properties take no bytes; CGAL would still loop over their count.
+std::uint64_t vertex_count(const std::vector<PlyElement>& elements) {
   for (const PlyElement& e : elements) {
-    if (e.properties.empty() && e.count > size) {
-      fail(path, "header", "element '" + e.name + "' has no properties but a count of " + std::to_string(e.count) +
-                               ", more than the file's " + std::to_string(size) + " bytes: the file is corrupt");
-    }
+    if (e.name == "vertex") return e.count;
   }
+  return 0;
+}
 
-  if (format == "binary_little_endian" || format == "binary_big_endian") {
-    const bool big = format == "binary_big_endian";
-    std::size_t at = body;
-    const auto truncated = [&](const PlyElement& e, std::uint64_t i) {
-      fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
-                                              "): the file is truncated");
-    };
-    for (const PlyElement& e : elements) {
-      for (std::uint64_t i = 0; i < e.count; ++i) {
-        for (const PlyProperty& p : e.properties) {
-          if (!p.list) {
-            if (size - at < static_cast<std::size_t>(p.size)) truncated(e, i);
-            at += static_cast<std::size_t>(p.size);
-            continue;
-          }
-          if (size - at < static_cast<std::size_t>(p.count_size)) truncated(e, i);
-          const std::int64_t n = read_count(bytes, at, p.count_size, p.count_signed, big);
-          at += static_cast<std::size_t>(p.count_size);
-          const std::uint64_t room = (size - at) / static_cast<std::size_t>(p.size);
-          if (n < 0 || static_cast<std::uint64_t>(n) > room) {
-            fail(path, record_name(e.name, i),
-                 "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
-                     " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
-          }
-          at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
+[[noreturn]] void bad_corner(const std::string& path, const std::string& where, std::uint64_t corner, const std::string& value,
+                             std::uint64_t vertices) {
+  fail(path, where,
+       "corner " + std::to_string(corner + 1) + " is vertex " + value + ", but the file has " + std::to_string(vertices) +
+           " vertices: expected " + (vertices > 0 ? "0 to " + std::to_string(vertices - 1) : "none, as there are no vertices"));
+}
+
+// A binary PLY body from `body`: every record within the file, every corner a vertex.
+void walk_ply_binary(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements, std::size_t body,
+                     bool big) {
+  const std::size_t size = bytes.size();
+  const std::uint64_t vertices = vertex_count(elements);
+  std::size_t at = body;
+  const auto truncated = [&](const PlyElement& e, std::uint64_t i) {
+    fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+                                            "): the file is truncated");
+  };
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          if (size - at < static_cast<std::size_t>(p.size)) truncated(e, i);
+          at += static_cast<std::size_t>(p.size);
+          continue;
         }
+        if (size - at < static_cast<std::size_t>(p.count_size)) truncated(e, i);
+        const std::int64_t n = read_count(bytes, at, p.count_size, p.count_signed, big);
+        at += static_cast<std::size_t>(p.count_size);
+        const std::uint64_t room = (size - at) / static_cast<std::size_t>(p.size);
+        if (n < 0 || static_cast<std::uint64_t>(n) > room) {
+          fail(path, record_name(e.name, i),
+               "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
+                   " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
+        }
+        if (is_corner_list(e, p) && !p.item_float) {
+          for (std::int64_t k = 0; k < n; ++k) {
+            const std::int64_t v = read_count(bytes, at + static_cast<std::size_t>(k * p.size), p.size, p.item_signed, big);
+            if (v < 0 || static_cast<std::uint64_t>(v) >= vertices) {
+              bad_corner(path, record_name(e.name, i), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
+            }
+          }
+        }
+        at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
       }
     }
-    return;
   }
-  if (format != "ascii") return;  // CGAL reports an unknown format
+}
 
+// A text PLY body from `body`: no list claims more numbers than are left, every corner a vertex.
+void walk_ply_text(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements, std::size_t body) {
+  const std::size_t size = bytes.size();
+  const std::uint64_t vertices = vertex_count(elements);
   // Text: count the tokens once, then walk them; a list may not claim more than are left.
   const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
   std::uint64_t total = 0;
@@ -191,10 +171,80 @@ void check_ply(const std::string& path, const std::string& bytes) {
                "list '" + p.name + "' says '" + text + "' entries, but only " + std::to_string(left) +
                    " numbers are left in the file: expected a whole number of entries that follow");
         }
-        for (auto k = static_cast<std::uint64_t>(n); k > 0; --k) next();
+        for (std::uint64_t k = 0; k < static_cast<std::uint64_t>(n); ++k) {
+          const std::string_view entry = next();
+          if (!is_corner_list(e, p)) continue;
+          const std::string value(entry);
+          const double v = std::strtod(value.c_str(), &end);
+          if (end != value.c_str() + value.size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
+            bad_corner(path, record_name(e.name, i), k, "'" + value + "'", vertices);
+          }
+        }
       }
     }
   }
+}
+
+void check_ply(const std::string& path, const std::string& bytes) {
+  std::size_t pos = 0;
+  std::string format;
+  std::vector<PlyElement> elements;
+  bool ended = false;
+  while (pos < bytes.size()) {
+    std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::istringstream words(bytes.substr(pos, eol - pos));
+    pos = eol + 1;
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "end_header") {
+      ended = true;
+      break;
+    }
+    if (keyword == "format") {
+      words >> format;
+    } else if (keyword == "element") {
+      PlyElement e;
+      words >> e.name >> e.count;
+      if (!words) return;  // CGAL reports the malformed header
+      elements.push_back(e);
+    } else if (keyword == "property" && !elements.empty()) {
+      PlyProperty p;
+      std::string type;
+      words >> type;
+      if (type == "list") {
+        std::string count_type, item_type;
+        words >> count_type >> item_type >> p.name;
+        p.list = true;
+        p.count_size = ply_type_size(count_type, &p.count_signed);
+        p.size = ply_type_size(item_type, &p.item_signed);
+        p.item_float = item_type.find("float") != std::string::npos || item_type.find("double") != std::string::npos;
+        if (p.count_size == 0 || p.size == 0) return;  // an unknown type: CGAL reports it
+      } else {
+        words >> p.name;
+        p.size = ply_type_size(type);
+        if (p.size == 0) return;
+      }
+      elements.back().properties.push_back(p);
+    }
+  }
+  if (!ended) return;  // CGAL reports the missing end_header
+  const std::size_t body = pos;
+  const std::size_t size = bytes.size();
+
+  // Elements without properties take no bytes; CGAL would still loop over their count.
+  for (const PlyElement& e : elements) {
+    if (e.properties.empty() && e.count > size) {
+      fail(path, "header", "element '" + e.name + "' has no properties but a count of " + std::to_string(e.count) +
+                               ", more than the file's " + std::to_string(size) + " bytes: the file is corrupt");
+    }
+  }
+
+  if (format == "binary_little_endian" || format == "binary_big_endian") {
+    walk_ply_binary(path, bytes, elements, body, format == "binary_big_endian");
+  } else if (format == "ascii") {
+    walk_ply_text(path, bytes, elements, body);
+  }  // else CGAL reports an unknown format
 }
 
 // ---- OFF ----
@@ -261,6 +311,12 @@ void check_off(const std::string& path, const std::string& bytes) {
                std::string(part == 0 ? "says " : "has ") + std::to_string(n) + (part == 0 ? " corners" : " colour components") +
                    ", but only " + std::to_string((size - at) / 4) + " numbers are left in the file: the file is truncated or corrupt");
         }
+        for (std::int32_t k = 0; part == 0 && k < n; ++k) {
+          const auto v = static_cast<std::int32_t>(read_be32(bytes, at + static_cast<std::size_t>(k) * 4));
+          if (v < 0 || static_cast<std::uint32_t>(v) >= vertices) {
+            bad_corner(path, record_name("face", f), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
+          }
+        }
         at += static_cast<std::size_t>(n) * 4;
       }
     }
@@ -293,6 +349,13 @@ void check_off(const std::string& path, const std::string& bytes) {
       fail(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")",
            "says '" + numbers[0] + "' corners, but the line has " + std::to_string(numbers.size() - 1) +
                " more numbers: expected the corner count, then that many vertex indices");
+    }
+    for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k) {
+      const double v = std::strtod(numbers[k].c_str(), &end);
+      if (end != numbers[k].c_str() + numbers[k].size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
+        bad_corner(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")", k - 1, "'" + numbers[k] + "'",
+                   vertices);
+      }
     }
   }
 }

@@ -335,6 +335,7 @@ ImportResult import_mesh(const TriangleSoup& mesh, const ImportOptions& o, const
     out.stats.windows_added = w.added;
     out.stats.windows_rejected = w.rejected;
     out.stats.window_full_checks = w.full_checks;
+    out.stats.window_work = w.work;
   }
   out.timings.windows_ms = ms_since(t);
 

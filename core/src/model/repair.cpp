@@ -30,6 +30,7 @@ WindowMarking mark_windows(VoxelModel& m, const std::vector<std::uint8_t>& rows,
     }
   }
   out.full_checks = card.stats().full_checks;
+  out.work = card.stats().segments_visited;
   m = card.model();
   return out;
 }

@@ -1,4 +1,4 @@
-// The pop-up walks on strip segments, re-walked only where one changed slice can reach (see the header).
+// The pop-up walks on the region graph of strip segments, re-labelled only where one changed slice reaches (see the header).
 #include "popcut/pattern/incremental_popup.h"
 
 #include <algorithm>
@@ -43,19 +43,9 @@ bool IncrementalPopup::fold_below(const Column& col, int index) const {
   return t_h - t_v == upper.lo - sheet_.floor;
 }
 
-// Walk (a) (`down`) crosses folds from the upper segment to the lower one, walk (b) upward; both
-// move freely inside a face, which across slices means to a segment of the same face sharing
-// at least one row (cells touching at a corner are separate faces, as in the pattern).
 template <typename Visit>
-void IncrementalPopup::neighbours(Ref r, bool down, Visit visit) const {
-  const Column& col = column(r.column);
-  if (down) {
-    if (fold_below(col, r.index)) visit(Ref{r.column, r.index - 1});
-  } else if (fold_below(col, r.index + 1)) {
-    visit(Ref{r.column, r.index + 1});
-  }
-  const Segment& s = col[static_cast<std::size_t>(r.index)];
-  for (int c2 : {r.column - 1, r.column + 1}) {
+void IncrementalPopup::side_steps(const Segment& s, int c, Visit visit) const {
+  for (int c2 : {c - 1, c + 1}) {
     if (c2 < 0 || c2 >= static_cast<int>(columns_.size())) continue;
     const Column& other = column(c2);
     auto it = std::upper_bound(other.begin(), other.end(), s.lo, [](int row, const Segment& o) { return row < o.hi; });
@@ -70,11 +60,124 @@ void IncrementalPopup::cut_into_segments(const std::vector<std::uint32_t>& strip
   out.clear();
   for (int r = 0; r < static_cast<int>(strip.size()); ++r) {
     if (out.empty() || out.back().face != strip[static_cast<std::size_t>(r)]) {
-      out.push_back(Segment{r, r + 1, strip[static_cast<std::size_t>(r)], 0, 0, 0, 0, 0, 0, 0});
+      out.push_back(Segment{r, r + 1, strip[static_cast<std::size_t>(r)], -1, 0, -1});
     } else {
       out.back().hi = r + 1;
     }
   }
+}
+
+// One new region: the side-step component of `seed` in the new view. Committed regions it
+// covers dissolve (their other segments are in it, or in another flooded component).
+void IncrementalPopup::flood(Ref seed) {
+  if (at(seed).seen == epoch_) return;
+  const int id = static_cast<int>(regions_.size() + fresh_.size());
+  Region info;
+  info.face = at(seed).face;
+  stack_.assign(1, seed);
+  at(seed).seen = epoch_;
+  while (!stack_.empty()) {
+    const Ref r = stack_.back();
+    stack_.pop_back();
+    Segment& s = at(r);
+    s.next_region = id;
+    flooded_.push_back(r);
+    ++info.size;
+    info.tops += r.index == static_cast<int>(column(r.column).size()) - 1 ? 1 : 0;
+    info.bottoms += r.index == 0 ? 1 : 0;
+    if (s.region >= 0 && dead_mark_[static_cast<std::size_t>(s.region)] != epoch_) {
+      dead_mark_[static_cast<std::size_t>(s.region)] = epoch_;
+      dead_.push_back(s.region);
+    }
+    side_steps(s, r.column, [&](Ref n) {
+      Segment& t = at(n);
+      if (t.seen == epoch_) return;
+      t.seen = epoch_;
+      stack_.push_back(n);
+    });
+  }
+  fresh_.push_back(info);
+}
+
+// The folds of a flooded segment `index` of `col` in the new view, as (upper, lower) region
+// pairs: the one below it always, the one above it unless that segment is flooded too (and
+// gives it). Every fold that touches a new region is found this way, as all its segments are
+// flooded; every other fold joins two regions the change leaves alone.
+void IncrementalPopup::new_folds(const Column& col, int index) {
+  const auto label = [&](int i) {
+    const Segment& s = col[static_cast<std::size_t>(i)];
+    return s.seen == epoch_ ? s.next_region : s.region;
+  };
+  if (fold_below(col, index)) new_edges_.emplace_back(label(index), label(index - 1));
+  if (index + 1 < static_cast<int>(col.size()) && fold_below(col, index + 1) && col[static_cast<std::size_t>(index + 1)].seen != epoch_) {
+    new_edges_.emplace_back(label(index + 1), label(index));
+  }
+}
+
+// Both walks on the region graph of the change in progress: committed folds between regions
+// that stay, and the new regions' folds. True when every VFace stands; pending_full_ then says
+// whether something is left that only the full check can judge.
+bool IncrementalPopup::walk_regions() {
+  const std::size_t base = regions_.size(), n = base + fresh_.size();
+  const auto info = [&](std::size_t id) -> const Region& { return id < base ? regions_[id] : fresh_[id - base]; };
+  const auto live = [&](std::size_t id) { return info(id).size > 0 && (id >= base || dead_mark_[id] != epoch_); };
+  // The new folds as linked lists per region, in each walk's direction.
+  head_.assign(2 * n, -1);
+  link_.resize(2 * new_edges_.size());
+  for (std::size_t e = 0; e < new_edges_.size(); ++e) {
+    const auto [upper, lower] = new_edges_[e];
+    link_[2 * e] = head_[2 * static_cast<std::size_t>(upper)];  // walk (a): upper to lower
+    head_[2 * static_cast<std::size_t>(upper)] = static_cast<int>(2 * e);
+    link_[2 * e + 1] = head_[2 * static_cast<std::size_t>(lower) + 1];  // walk (b): lower to upper
+    head_[2 * static_cast<std::size_t>(lower) + 1] = static_cast<int>(2 * e + 1);
+  }
+  reach_.assign(n, 0);  // bit 1: walk (a) from the back board down; bit 2: walk (b) from the floor up
+  std::int64_t work = static_cast<std::int64_t>(n);
+  for (int walk = 0; walk < 2; ++walk) {
+    const auto bit = static_cast<std::uint8_t>(1 << walk);
+    std::vector<int>& stack = region_stack_;
+    stack.clear();
+    const auto visit = [&](std::size_t to) {
+      if ((reach_[to] & bit) || !live(to)) return;
+      reach_[to] |= bit;
+      stack.push_back(static_cast<int>(to));
+    };
+    for (std::size_t id = 0; id < n; ++id) {
+      if (live(id) && (walk == 0 ? info(id).tops : info(id).bottoms) > 0) visit(id);
+    }
+    while (!stack.empty()) {
+      const auto id = static_cast<std::size_t>(stack.back());
+      stack.pop_back();
+      if (id < base) {
+        const std::vector<int>& out = walk == 0 ? down_[id] : up_[id];
+        work += static_cast<std::int64_t>(out.size());
+        for (int to : out) visit(static_cast<std::size_t>(to));
+      }
+      for (int e = head_[2 * id + static_cast<std::size_t>(walk)]; e >= 0; e = link_[static_cast<std::size_t>(e)]) {
+        const auto [upper, lower] = new_edges_[static_cast<std::size_t>(e / 2)];
+        visit(static_cast<std::size_t>(walk == 0 ? lower : upper));
+        ++work;
+      }
+    }
+  }
+  stats_.segments_visited += work;
+  std::int64_t neither = 0;
+  for (std::size_t id = 0; id < n; ++id) {
+    if (!live(id)) continue;
+    const Region& r = info(id);
+    const bool a = reach_[id] & 1, b = reach_[id] & 2;
+    if (!a && !b) neither += r.size;
+    // A VFace must be reached by both walks unless it is the back board (walk (a)'s start, the
+    // V0 face that holds a strip's top).
+    if (CellGrid::kind_of(r.face) == FaceKind::vertical && !(a && b) && !(a && r.face == kBackWall && r.tops > 0)) return false;
+  }
+  // Every VFace stands. With every face reached by one walk or the other and the floor reached
+  // from the back board, every piece hangs together with both boards. Otherwise (rare) only the
+  // full check can tell.
+  const Segment& floor = pending_.front();
+  const int floor_region = floor.seen == epoch_ ? floor.next_region : floor.region;
+  pending_full_ = neither > 0 || !(reach_[static_cast<std::size_t>(floor_region)] & 1);
+  return true;
 }
 
 void IncrementalPopup::rebuild() {
@@ -84,209 +187,133 @@ void IncrementalPopup::rebuild() {
     slice_faces(model_, sheet_, static_cast<int>(c) - sheet_.side, strip_);
     cut_into_segments(strip_, columns_[c]);
   }
-  // Walk (a) from the back board (every strip's top segment), walk (b) from the floor (bottom).
-  for (bool down : {true, false}) {
-    stack_.clear();
-    for (std::size_t c = 0; c < columns_.size(); ++c) {
-      Column& col = columns_[c];
-      Segment& seed = down ? col.back() : col.front();
-      (down ? seed.from_back : seed.from_floor) = 1;
-      stack_.push_back(Ref{static_cast<int>(c), down ? static_cast<int>(col.size()) - 1 : 0});
-    }
-    while (!stack_.empty()) {
-      const Ref r = stack_.back();
-      stack_.pop_back();
-      neighbours(r, down, [&](Ref n) {
-        std::uint8_t& flag = down ? at(n).from_back : at(n).from_floor;
-        if (!flag) {
-          flag = 1;
-          stack_.push_back(n);
-        }
-      });
-    }
+  regions_.clear();
+  free_ids_.clear();
+  dead_mark_.clear();
+  start_decision();
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    for (int i = 0; i < static_cast<int>(columns_[c].size()); ++i) flood(Ref{static_cast<int>(c), i});
   }
-  neither_ = 0;
-  for (const Column& col : columns_) {
-    for (const Segment& s : col) neither_ += (!s.from_back && !s.from_floor) ? 1 : 0;
+  down_.clear();
+  up_.clear();
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    for (int i = 0; i < static_cast<int>(columns_[c].size()); ++i) new_folds(columns_[c], i);
   }
+  commit();
 }
 
-// Everything a walk can reach from what changed in the slice, before or after the change,
-// without passing a start segment that did not change: the slice's new segments that have no
-// identical old one, and whatever the walk reaches from the old segments' neighbours. A segment
-// of the slice with the same rows and face before and after is unchanged, with the same edges
-// to every other unchanged segment. A segment outside this area keeps its reach: a path to it
-// from its last start segment avoids what changed, so it exists before and after.
-void IncrementalPopup::closure(bool down, std::vector<Ref>& area) {
-  area.clear();
-  stack_.clear();
-  // A walk's start segments (every strip's top for walk a, bottom for walk b) are reached
-  // whatever changes, so a path through one can start afresh there: the area includes them
-  // but does not spread from them, unless they changed. Without this, walk (a)'s area would
-  // always be the whole card, since every slice's top segment belongs to the back board.
-  const auto add = [&](Ref n) {
-    std::uint32_t& mark = down ? at(n).in_back_area : at(n).in_floor_area;
-    if (mark == epoch_) return;
-    mark = epoch_;
-    area.push_back(n);
-    const int last = static_cast<int>(column(n.column).size()) - 1;
-    const bool changed = n.column == changed_ && old_index_[static_cast<std::size_t>(n.index)] < 0;
-    if (changed || n.index != (down ? last : 0)) stack_.push_back(n);
-  };
-  for (int i = 0; i < static_cast<int>(pending_.size()); ++i) {
-    if (old_index_[static_cast<std::size_t>(i)] < 0) add(Ref{changed_, i});
-  }
-  // The old changed segments' neighbours, found with the old slice in place; those in the
-  // slice itself are unchanged segments, named by their index in the new slice.
-  const int c = changed_;
-  changed_ = -1;
-  const Column& old = columns_[static_cast<std::size_t>(c)];
-  std::vector<Ref> next_to_old;
-  for (int i = 0; i < static_cast<int>(old.size()); ++i) {
-    if (new_index_[static_cast<std::size_t>(i)] >= 0) continue;
-    neighbours(Ref{c, i}, down, [&](Ref n) { next_to_old.push_back(n); });
-  }
-  changed_ = c;
-  for (Ref n : next_to_old) {
-    if (n.column != c) {
-      add(n);
-    } else if (new_index_[static_cast<std::size_t>(n.index)] >= 0) {
-      add(Ref{c, new_index_[static_cast<std::size_t>(n.index)]});
+void IncrementalPopup::start_decision() {
+  if (++epoch_ == 0) {  // after 2^32 decisions: clear the marks once rather than misread them
+    for (Column& col : columns_) {
+      for (Segment& s : col) s.seen = 0;
     }
+    std::fill(dead_mark_.begin(), dead_mark_.end(), 0);
+    epoch_ = 1;
   }
-  while (!stack_.empty()) {
-    const Ref r = stack_.back();
-    stack_.pop_back();
-    neighbours(r, down, add);
-  }
-}
-
-// Reach inside `area` after the change: seeded by the boards and by folds entering the area
-// from reached segments outside it (whose reach the change cannot alter). No side step enters
-// the area from outside: the area is closed under the walk's moves, and side steps go both ways.
-void IncrementalPopup::rewalk(bool down, const std::vector<Ref>& area) {
-  stack_.clear();
-  const auto in_area = [&](Ref n) { return (down ? at(n).in_back_area : at(n).in_floor_area) == epoch_; };
-  const auto reach = [&](Ref n) {
-    std::uint8_t& flag = down ? at(n).new_back : at(n).new_floor;
-    if (flag || !in_area(n)) return;
-    flag = 1;
-    stack_.push_back(n);
-  };
-  for (Ref r : area) (down ? at(r).new_back : at(r).new_floor) = 0;
-  for (Ref r : area) {
-    const Column& col = column(r.column);
-    const int last = static_cast<int>(col.size()) - 1;
-    bool seed = down ? r.index == last : r.index == 0;
-    if (!seed) {
-      // The fold into r comes from the segment above (walk a) or below (walk b).
-      const Ref from{r.column, down ? r.index + 1 : r.index - 1};
-      const bool fold = down ? fold_below(col, r.index + 1) : fold_below(col, r.index);
-      seed = fold && !in_area(from) && (down ? at(from).from_back : at(from).from_floor);
-    }
-    if (seed) reach(r);
-  }
-  while (!stack_.empty()) {
-    const Ref r = stack_.back();
-    stack_.pop_back();
-    neighbours(r, down, reach);
-  }
-}
-
-// Is this V0 segment part of the back board (the face of the sheet's top edge)?
-bool IncrementalPopup::in_back_board(Ref start) {
-  if (at(start).in_region == epoch_) return true;  // flooded before in this decision: it was
-  std::vector<Ref> stack{start};
-  at(start).in_region = epoch_;
-  bool top = false;
-  while (!stack.empty()) {
-    const Ref r = stack.back();
-    stack.pop_back();
-    top = top || r.index == static_cast<int>(column(r.column).size()) - 1;
-    const Segment& s = at(r);
-    for (int c2 : {r.column - 1, r.column + 1}) {
-      if (c2 < 0 || c2 >= static_cast<int>(columns_.size())) continue;
-      const Column& other = column(c2);
-      for (int i = 0; i < static_cast<int>(other.size()); ++i) {
-        const Segment& o = other[static_cast<std::size_t>(i)];
-        if (o.face != s.face || o.hi <= s.lo || o.lo >= s.hi || o.in_region == epoch_) continue;
-        at(Ref{c2, i}).in_region = epoch_;
-        stack.push_back(Ref{c2, i});
-      }
-    }
-  }
-  return top;
+  flooded_.clear();
+  fresh_.clear();
+  dead_.clear();
+  new_edges_.clear();
 }
 
 bool IncrementalPopup::decide(int x) {
   ++stats_.decisions;
-  if (++epoch_ == 0) {  // after 2^32 decisions: clear the marks once rather than misread them
-    for (Column& col : columns_) {
-      for (Segment& s : col) s.in_back_area = s.in_floor_area = s.in_region = 0;
-    }
-    epoch_ = 1;
-  }
-  changed_ = x + sheet_.side;
+  start_decision();
+  const int c = x + sheet_.side;
+  decided_ = c;
   slice_faces(model_, sheet_, x, strip_);
   cut_into_segments(strip_, pending_);
-  // Segments the change leaves as they were keep their reach until shown otherwise.
-  const Column& old = columns_[static_cast<std::size_t>(changed_)];
+  // Segments the change leaves as they were keep their region unless a flood re-labels them.
+  const Column& old = columns_[static_cast<std::size_t>(c)];
   old_index_.assign(pending_.size(), -1);
   new_index_.assign(old.size(), -1);
   for (std::size_t i = 0, j = 0; i < old.size() && j < pending_.size();) {
     if (old[i].lo == pending_[j].lo && old[i].hi == pending_[j].hi && old[i].face == pending_[j].face) {
       old_index_[j] = static_cast<int>(i);
       new_index_[i] = static_cast<int>(j);
-      pending_[j].from_back = old[i].from_back;
-      pending_[j].from_floor = old[i].from_floor;
+      pending_[j].region = old[i].region;
     }
     (old[i].hi <= pending_[j].hi ? ++i : ++j);
   }
-  closure(true, area_back_);
-  closure(false, area_floor_);
-  rewalk(true, area_back_);
-  rewalk(false, area_floor_);
-  stats_.segments_visited += static_cast<std::int64_t>(area_back_.size() + area_floor_.size());
-
-  // Segments neither walk reaches: the old slice's go, the new slice's come (those outside the
-  // areas with the reach they kept), and the re-walked others change.
-  std::int64_t neither = neither_;
-  for (const Segment& s : old) neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
-  for (const Segment& s : pending_) {
-    if (s.in_back_area != epoch_ && s.in_floor_area != epoch_) neither += (!s.from_back && !s.from_floor) ? 1 : 0;
-  }
-  bool standing = true;
-  const auto judge = [&](Ref r) {
-    const Segment& s = at(r);
-    const bool a = s.in_back_area == epoch_ ? s.new_back : s.from_back;
-    const bool b = s.in_floor_area == epoch_ ? s.new_floor : s.from_floor;
-    if (r.column != changed_) neither -= (!s.from_back && !s.from_floor) ? 1 : 0;
-    neither += (!a && !b) ? 1 : 0;
-    // A VFace must be reached by both walks unless it is the back board (which walk (a) starts
-    // from, so a V0 segment without walk (a) is never part of it).
-    if (CellGrid::kind_of(s.face) == FaceKind::vertical && !(a && b)) {
-      if (!(a && s.face == kBackWall && in_back_board(r))) standing = false;
+  // Seeds: the segments added, and the old neighbours of those removed (every piece a removed
+  // segment leaves of its region holds one). The removed segments' regions dissolve.
+  std::vector<Ref>& seed_list = seeds_;
+  seed_list.clear();
+  for (std::size_t i = 0; i < old.size(); ++i) {
+    if (new_index_[i] >= 0) continue;
+    const int region = old[i].region;
+    if (dead_mark_[static_cast<std::size_t>(region)] != epoch_) {
+      dead_mark_[static_cast<std::size_t>(region)] = epoch_;
+      dead_.push_back(region);
     }
-  };
-  for (Ref r : area_back_) {
-    judge(r);
-    if (!standing) return false;
+    side_steps(old[i], c, [&](Ref n) { seed_list.push_back(n); });
   }
-  for (Ref r : area_floor_) {
-    if (at(r).in_back_area == epoch_) continue;
-    judge(r);
-    if (!standing) return false;
+  changed_ = c;
+  for (std::size_t j = 0; j < pending_.size(); ++j) {
+    if (old_index_[j] < 0) flood(Ref{c, static_cast<int>(j)});
   }
-  // Every VFace stands. With every segment reached by one walk or the other and the floor
-  // reached from the back board, every piece hangs together with both boards: no loose pieces,
-  // no split sheet. Otherwise (rare) only the full check can tell.
-  pending_neither_ = neither;
-  const Segment& floor = pending_.front();
-  if (neither > 0 || !(floor.in_back_area == epoch_ ? floor.new_back : floor.from_back)) {
+  for (Ref r : seed_list) flood(r);
+  stats_.segments_visited += static_cast<std::int64_t>(flooded_.size());
+  for (Ref r : flooded_) new_folds(column(r.column), r.index);
+  if (!walk_regions()) return false;
+  if (pending_full_) {
     ++stats_.full_checks;
     return full_check();
   }
   return true;
+}
+
+// Makes the decision in progress the committed state: dissolved regions free their ids, new
+// ones take ids, flooded segments their new region, the fold counts their new keys.
+void IncrementalPopup::commit() {
+  const auto erase = [](std::vector<int>& list, int id) { list.erase(std::remove(list.begin(), list.end(), id), list.end()); };
+  for (int id : dead_) {
+    const auto d = static_cast<std::size_t>(id);
+    for (int other : down_[d]) erase(up_[static_cast<std::size_t>(other)], id);
+    for (int other : up_[d]) erase(down_[static_cast<std::size_t>(other)], id);
+    down_[d].clear();
+    up_[d].clear();
+    regions_[d] = {};
+    free_ids_.push_back(id);
+  }
+  const std::size_t base = regions_.size();
+  std::vector<int>& final_id = final_id_;
+  final_id.resize(fresh_.size());
+  for (std::size_t i = 0; i < fresh_.size(); ++i) {
+    if (!free_ids_.empty()) {
+      final_id[i] = free_ids_.back();
+      free_ids_.pop_back();
+      regions_[static_cast<std::size_t>(final_id[i])] = fresh_[i];
+    } else {
+      final_id[i] = static_cast<int>(regions_.size());
+      regions_.push_back(fresh_[i]);
+    }
+  }
+  dead_mark_.resize(regions_.size(), 0);
+  down_.resize(regions_.size());
+  up_.resize(regions_.size());
+  const auto remap = [&](int id) { return static_cast<std::size_t>(id) < base ? id : final_id[static_cast<std::size_t>(id) - base]; };
+  for (Ref r : flooded_) {
+    Segment& s = at(r);
+    s.region = remap(s.next_region);
+  }
+  if (changed_ >= 0) columns_[static_cast<std::size_t>(changed_)] = pending_;
+  changed_ = -1;
+  // Each new region's folds, once per pair of regions.
+  for (auto& [upper, lower] : new_edges_) {
+    upper = remap(upper);
+    lower = remap(lower);
+  }
+  std::sort(new_edges_.begin(), new_edges_.end());
+  new_edges_.erase(std::unique(new_edges_.begin(), new_edges_.end()), new_edges_.end());
+  for (const auto& [upper, lower] : new_edges_) {
+    down_[static_cast<std::size_t>(upper)].push_back(lower);
+    up_[static_cast<std::size_t>(lower)].push_back(upper);
+  }
+  fresh_.clear();
+  dead_.clear();
+  flooded_.clear();
+  new_edges_.clear();
 }
 
 bool IncrementalPopup::flag(Edit edit, int x, int z) const {
@@ -334,13 +361,9 @@ bool IncrementalPopup::try_edit(Edit edit, int x, int z, bool on) {
     rebuild();  // the full check decided; the segment walks start afresh
     return true;
   }
-  // Commit the decision just made: the re-walked areas take their new reach.
+  // Commit the decision just made (its scratch still describes the change).
   changed_ = x + sheet_.side;
-  for (Ref r : area_back_) at(r).from_back = at(r).new_back;
-  for (Ref r : area_floor_) at(r).from_floor = at(r).new_floor;
-  changed_ = -1;
-  columns_[static_cast<std::size_t>(x + sheet_.side)] = pending_;
-  neither_ = pending_neither_;
+  commit();
   return true;
 }
 

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "plan/fold_clearance.h"
 #include "plan/line_graph.h"
 
 namespace popcut {
@@ -81,7 +82,6 @@ double interior_param(Point2 p, Point2 a, Point2 b) {
   return t;
 }
 
-bool on_segment(Point2 p, Point2 a, Point2 b) { return same(p, a) || same(p, b) || interior_param(p, a, b) > 0; }
 
 Point2 lerp(Point2 a, Point2 b, double t) { return {a.x_mm + (b.x_mm - a.x_mm) * t, a.v_mm + (b.v_mm - a.v_mm) * t}; }
 
@@ -344,41 +344,52 @@ std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fo
     return out;
   }
   const LineKind want = kind == PlanKind::cut ? LineKind::cut : (kind == PlanKind::valley ? LineKind::valley : LineKind::mountain);
-  // Cut lines in a grid, so each fold end looks only at the cuts near it.
+  // Cut lines and the outline's four edges in a grid, so each fold looks only at the cuts near it.
   std::vector<std::pair<Point2, Point2>> cuts;
   for (const Segment& l : pattern.lines) {
     if (l.kind == LineKind::cut) cuts.emplace_back(l.a, l.b);
   }
+  const Point2 corner[4] = {s.min, {s.max.x_mm, s.min.v_mm}, s.max, {s.min.x_mm, s.max.v_mm}};
+  for (int i = 0; i < 4; ++i) cuts.emplace_back(corner[i], corner[(i + 1) % 4]);
   Grid grid(s, cuts.size());
   for (std::size_t i = 0; i < cuts.size(); ++i) {
     const auto& [a, b] = cuts[i];
     grid.insert(static_cast<int>(i), {std::min(a.x_mm, b.x_mm) - kEps, std::min(a.v_mm, b.v_mm) - kEps},
                 {std::max(a.x_mm, b.x_mm) + kEps, std::max(a.v_mm, b.v_mm) + kEps});
   }
-  const auto touches_cut = [&](Point2 p) {
-    if (std::abs(p.x_mm - s.min.x_mm) <= kEps || std::abs(p.x_mm - s.max.x_mm) <= kEps ||
-        std::abs(p.v_mm - s.min.v_mm) <= kEps || std::abs(p.v_mm - s.max.v_mm) <= kEps) {
-      return true;  // the outline is cut too
-    }
-    const std::vector<int>& near = grid.cell(grid.cx(p.x_mm), grid.cv(p.v_mm));
-    return std::any_of(near.begin(), near.end(), [&](int i) {
-      const auto& c = cuts[static_cast<std::size_t>(i)];
-      return on_segment(p, c.first, c.second);
-    });
-  };
+  std::vector<std::uint8_t> seen(cuts.size(), 0);
+  std::vector<int> near_ids;
+  std::vector<std::pair<Point2, Point2>> near;
   for (const Segment& l : pattern.lines) {
     if (l.kind != want) continue;
     if (want == LineKind::cut || fold_gap_mm <= 0) {
       out.push_back(l);
       continue;
     }
-    const double len = dist(l.a, l.b);
-    const double ta = touches_cut(l.a) ? fold_gap_mm / len : 0, tb = touches_cut(l.b) ? fold_gap_mm / len : 0;
-    if (ta + tb >= 1 - 1e-9) {
-      if (dropped) ++*dropped;
-      continue;
+    // Every cut whose box comes within the gap of the fold's box.
+    const double reach = fold_gap_mm + kEps;
+    near_ids.clear();
+    for (long v = grid.cv(std::min(l.a.v_mm, l.b.v_mm) - reach); v <= grid.cv(std::max(l.a.v_mm, l.b.v_mm) + reach); ++v) {
+      for (long x = grid.cx(std::min(l.a.x_mm, l.b.x_mm) - reach); x <= grid.cx(std::max(l.a.x_mm, l.b.x_mm) + reach); ++x) {
+        for (int id : grid.cell(x, v)) {
+          if (!seen[static_cast<std::size_t>(id)]) {
+            seen[static_cast<std::size_t>(id)] = 1;
+            near_ids.push_back(id);
+          }
+        }
+      }
     }
-    out.push_back({l.kind, lerp(l.a, l.b, ta), lerp(l.a, l.b, 1 - tb)});
+    near.clear();
+    for (int id : near_ids) {
+      seen[static_cast<std::size_t>(id)] = 0;
+      near.push_back(cuts[static_cast<std::size_t>(id)]);
+    }
+    // Euclidean clearance: a slanted cut takes gap / sin(angle) of the fold, not the gap.
+    const auto pieces = plan_detail::clear_pieces(l.a, l.b, near, fold_gap_mm, kEps);
+    if (pieces.empty() && dropped) ++*dropped;
+    for (const auto& [t0, t1] : pieces) {
+      out.push_back({l.kind, t0 == 0 ? l.a : lerp(l.a, l.b, t0), t1 == 1 ? l.b : lerp(l.a, l.b, t1)});
+    }
   }
   return out;
 }

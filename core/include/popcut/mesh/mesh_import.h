@@ -112,6 +112,7 @@ struct ImportStats {
   std::int64_t cells_filled = 0;
   int windows_added = 0, windows_rejected = 0;
   std::int64_t window_full_checks = 0;
+  std::int64_t window_work = 0;  // segments re-labelled plus regions and folds walked by the window decisions
   int tops_dropped = 0, tops_kept = 0;
 };
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "popcut/model/voxel_model.h"
@@ -12,18 +13,21 @@ namespace popcut {
 // Work done by an IncrementalPopup, for benchmarks and tests.
 struct IncrementalPopupStats {
   std::int64_t decisions = 0;         // windows judged
-  std::int64_t segments_visited = 0;  // segments re-walked by all decisions together
+  std::int64_t segments_visited = 0;  // segments re-labelled plus regions and region folds walked, all decisions together
   std::int64_t full_checks = 0;       // decisions that fell back to the full check_popup
 };
 
 // The voxel paper's §3.2 c) flags a window and re-runs the pop-up check (§2.6) each time; over a
-// whole card that is rows × cells. This keeps the two walks of check_popup on a coarser graph —
-// each slice's strip cut into segments of one face — and, when one slice changes, re-walks only
-// the segments whose reach can change: those reachable (in the walk's direction) from the
-// segments that changed, before or after the change, not spreading through unchanged start
-// segments. Every other segment keeps its reach, because a walk that reaches it from its last
-// start segment avoids what changed and uses only edges the change leaves alone. The answer is exactly
-// check_popup(make_pattern(model)).pops_up(); when the local walks cannot settle it (a face that
+// whole card that is rows × cells. The two walks of check_popup (from the back board down across
+// folds, from the floor up) move freely inside a face, so they are walks on the card's faces:
+// each slice's strip is cut into segments of one face, side steps join segments of the same face
+// sharing a row in neighbouring slices, and their components (regions, the pattern's faces) are
+// the nodes, joined by the folds between them. A change to one slice re-labels only the regions
+// it touches (those of the segments it removes or adds, flooded again across the slices they
+// span), updates the fold counts of the re-labelled segments, and walks the region graph, which
+// has as many nodes as the pattern has faces: the work per decision follows the faces the change
+// touches and the number of faces, not the card's area. The answer is exactly
+// check_popup(make_pattern(model)).pops_up(); when the walks cannot settle it (a face that
 // neither walk reaches, or a floor the back board no longer reaches — both rare) it falls back
 // to that full check, and counts it.
 class IncrementalPopup {
@@ -54,15 +58,19 @@ class IncrementalPopup {
   struct Segment {
     int lo = 0, hi = 0;  // rows [lo, hi) of the strip
     std::uint32_t face = 0;
-    std::uint8_t from_back = 0, from_floor = 0;  // reached by walk (a) / walk (b)
-    // Scratch of the decision in progress: epoch marks of the re-walked areas and their result.
-    std::uint32_t in_back_area = 0, in_floor_area = 0, in_region = 0;
-    std::uint8_t new_back = 0, new_floor = 0;
+    int region = -1;          // committed region id (-1: a segment the decision in progress adds)
+    std::uint32_t seen = 0;   // epoch of the decision that flooded it
+    int next_region = -1;     // its region after the change, when flooded
   };
   using Column = std::vector<Segment>;
   struct Ref {
     int column;
     int index;
+  };
+  struct Region {
+    std::uint32_t face = 0;
+    std::int64_t size = 0;      // segments; 0 for a free id
+    int tops = 0, bottoms = 0;  // strip tops (the back board's edge) and bottoms (the floor's) among them
   };
 
   static void cut_into_segments(const std::vector<std::uint32_t>& strip, Column& out);
@@ -73,25 +81,37 @@ class IncrementalPopup {
   const Column& column(int c) const { return c == changed_ ? pending_ : columns_[static_cast<std::size_t>(c)]; }
   bool fold_below(const Column& col, int index) const;
   template <typename Visit>
-  void neighbours(Ref r, bool down, Visit visit) const;
-  void closure(bool down, std::vector<Ref>& area);
-  void rewalk(bool down, const std::vector<Ref>& area);
-  bool in_back_board(Ref r);
+  void side_steps(const Segment& s, int c, Visit visit) const;
+  void flood(Ref seed);
+  void new_folds(const Column& col, int index);
+  bool walk_regions();
+  void start_decision();
+  void commit();
 
   VoxelModel model_;
   std::string source_;
   SheetVoxels sheet_;
   std::vector<Column> columns_;
-  std::int64_t neither_ = 0;  // segments that neither walk reaches
+  std::vector<Region> regions_;
+  std::vector<int> free_ids_;
+  std::vector<std::vector<int>> down_, up_;  // by region: the regions its folds lead to, down and up
   IncrementalPopupStats stats_;
 
-  // The decision in progress: column `changed_` as it would be (the new view of the graph).
-  int changed_ = -1;
+  // The decision in progress: column `changed_` as it would be (the new view of the graph), the
+  // segments flooded into new regions (ids regions_.size() + i), the regions that dissolve.
+  int changed_ = -1;   // the column that reads as pending_ (-1: the committed view everywhere)
+  int decided_ = -1;   // the column the decision in progress changes
   Column pending_;
   std::vector<int> old_index_, new_index_;  // unchanged segments: their index in the other view
-  std::int64_t pending_neither_ = 0;
   std::vector<std::uint32_t> strip_;
-  std::vector<Ref> area_back_, area_floor_, stack_;
+  std::vector<Ref> flooded_, stack_, seeds_;
+  std::vector<Region> fresh_;
+  std::vector<int> dead_;
+  std::vector<std::uint32_t> dead_mark_;  // by committed id: the epoch that dissolved it
+  std::vector<std::pair<int, int>> new_edges_;  // the new regions' folds: (upper, lower)
+  std::vector<int> head_, link_, region_stack_, final_id_;
+  bool pending_full_ = false;  // the decision in progress needs the full check
+  std::vector<std::uint8_t> reach_;
   std::uint32_t epoch_ = 0;
 };
 

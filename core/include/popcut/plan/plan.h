@@ -33,7 +33,7 @@ struct KindPlan {
 inline constexpr std::uint64_t kDefaultOptimiseWork = 500'000;
 
 struct PlanOptions {
-  double fold_gap_mm = 0.5;                 // folds stop this short of any cut line or the outline
+  double fold_gap_mm = 0.5;                 // no scored fold point is nearer than this to a cut line or the outline
   std::optional<double> max_turn_deg;       // lift the knife where a stroke turns more sharply
   std::vector<PlanKind> order = {PlanKind::valley, PlanKind::mountain, PlanKind::cut, PlanKind::outline};
   std::array<KindPlan, 4> kinds{};          // indexed by index_of(PlanKind)
@@ -67,7 +67,7 @@ struct KindStats {
   int pen_lift_bound = 0;  // Euler bound of the kind's line graph (before perforation)
   double cut_mm = 0;       // knife-down length, all passes and precuts
   double travel_mm = 0;    // knife-up length travelled to reach this kind's strokes
-  int folds_dropped = 0;   // folds shorter than two gaps: nothing left to score
+  int folds_dropped = 0;   // folds with nothing left to score once the gap is kept from every cut
   int strokes_below_resolution = 0;  // round to one plotter point: not sent, not counted above
 };
 
@@ -86,7 +86,8 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options = {})
 
 // Parts, exposed for tests and benchmarks.
 
-// Lines of one kind after the fold gap (for folds); the outline kind yields the sheet's edges.
+// Lines of one kind after the fold gap (for folds: the pieces at least fold_gap_mm, in the plane,
+// from every cut and the sheet's edge); the outline kind yields the sheet's edges.
 std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fold_gap_mm, int* dropped = nullptr);
 
 // Splits segments where another's endpoint lies inside them, so chains may turn there.
