@@ -1,42 +1,21 @@
 // popcut import's card size in mm (--height-mm, --fit-mm) and its warnings about sheets too big for a device, run as a user would.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
+
+#include "cli_run.h"
 
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct CliRun {
-  int code;
-  std::string out, err;
-};
+using popcut::testing::CliRun;
 
-class ImportSize : public ::testing::Test {
+class ImportSize : public popcut::testing::CliFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("popcut-size-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  static std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-  CliRun run(const std::string& args) {
-    const std::string cmd = std::string(POPCUT_CLI) + " " + args + " >" + (dir_ / "out").string() + " 2>" + (dir_ / "err").string();
-    const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
-  }
+  ImportSize() : CliFixture("popcut-size") {}
   // A tower 20 wide and 100 high: a tall mesh, as a standing figure is.
   std::string tower() {
     const fs::path p = dir_ / "tower.obj";
@@ -45,7 +24,6 @@ class ImportSize : public ::testing::Test {
     return p.string();
   }
   std::string out(const std::string& name) { return (dir_ / name).string(); }
-  fs::path dir_;
 };
 
 TEST_F(ImportSize, TallMeshWarnsNamingTheDevicesAndSizes) {

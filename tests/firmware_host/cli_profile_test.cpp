@@ -1,30 +1,19 @@
 // The popcut binary refusing a profile whose set-up strings would cut: exit 2 naming the file and key, nothing sent.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "cli_run.h"
+
 namespace {
 namespace fs = std::filesystem;
 
-struct CutResult {
-  int code;
-  std::string err;
-};
-
-class CliProfile : public ::testing::Test {
+class CliProfile : public popcut::testing::CliFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("popcut-cliprof-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  CliProfile() : CliFixture("popcut-cliprof") {}
 
   // The shipped simulator profile with one line replaced.
   std::string sim_profile_with(const std::string& from, const std::string& to) {
@@ -39,16 +28,9 @@ class CliProfile : public ::testing::Test {
     std::ofstream(p) << text;
     return p.string();
   }
-  CutResult cut(const std::string& profile, const fs::path& out) {
-    const std::string cmd = std::string(POPCUT_CLI) + " cut " + POPCUT_SOURCE_DIR + "/examples/voxel/box.json --device sim --profile " +
-                            profile + " --out " + out.string() + " </dev/null >/dev/null 2>" + (dir_ / "err").string();
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(dir_ / "err");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  popcut::testing::CliRun cut(const std::string& profile, const fs::path& out) const {
+    return run(std::string("cut ") + POPCUT_SOURCE_DIR + "/examples/voxel/box.json --device sim --profile " + profile + " --out " + out.string());
   }
-  fs::path dir_;
 };
 
 TEST_F(CliProfile, CutRefusesAKnifeDownInitFinishOrAbortWithExit2) {
@@ -66,13 +48,13 @@ TEST_F(CliProfile, CutRefusesAKnifeDownInitFinishOrAbortWithExit2) {
   for (const Case& c : cases) {
     const std::string profile = sim_profile_with(c.from, c.to);
     const fs::path out = dir_ / "out";
-    const CutResult r = cut(profile, out);
+    const popcut::testing::CliRun r = cut(profile, out);
     EXPECT_EQ(r.code, 2) << c.to << ": " << r.err;
     EXPECT_NE(r.err.find("knife.toml: " + std::string(c.key)), std::string::npos) << "file, section, key and why: " << r.err;
     EXPECT_NE(r.err.find("allowed are IN"), std::string::npos) << "says what is allowed: " << r.err;
     EXPECT_FALSE(fs::exists(out / "job.hpgl")) << c.to << ": nothing planned or sent";
   }
-  const CutResult ok = cut(sim_profile_with("finish = \"PU;SP0;\"", "finish = \"PU;PA0,0;SP0;\""), dir_ / "ok");
+  const popcut::testing::CliRun ok = cut(sim_profile_with("finish = \"PU;SP0;\"", "finish = \"PU;PA0,0;SP0;\""), dir_ / "ok");
   EXPECT_EQ(ok.code, 0) << "going home after lifting the knife is fine: " << ok.err;
 }
 
