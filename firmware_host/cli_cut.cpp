@@ -376,7 +376,9 @@ int run_cut(const CutCommands& s) {
     const std::optional<std::size_t> e = sent.last_stroke_executed;
     std::string where = "last stroke known executed " + (e ? std::to_string(*e) : std::string(sent.received_counted_by == "status_answers" ? "unknown (the device did not say)" : "unknown (the device cannot be asked)")) +
                         ", last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
-                        " (" + (m < sent.first_stroke ? std::string("none confirmed")
+                        " (" + (sent.buffer_discarded ? "what it executed: it had received up to stroke " + std::to_string(sent.received_before_abort) +
+                                                            " and discarded the rest on the abort"
+                                 : m < sent.first_stroke ? std::string("none confirmed")
                                  : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
                                  : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
                                  : sent.received_counted_by == "buffer_size"
@@ -404,7 +406,8 @@ int run_cut(const CutCommands& s) {
         resume = "; the device had executed the whole job before the abort";
       }
       if (before > m && before < sent.total_strokes) {
-        resume += "; if it ignored the abort and goes on cutting its buffer, use --resume-from " + std::to_string(before + 1) + " instead";
+        resume += "; if it ignored the abort and goes on cutting its buffer (it had received up to stroke " + std::to_string(before) +
+                  "), use --resume-from " + std::to_string(before + 1) + " instead";
       } else if (before > m) {
         resume += "; if it ignored the abort and goes on cutting its buffer, it has the whole job";
       }
@@ -442,8 +445,9 @@ int run_cut(const CutCommands& s) {
                 << (sent.abort_sent ? (j.profile.transport.abort.empty() ? "lifted the knife (the profile names no abort sequence)"
                                                                        : "sent the abort sequence and lifted the knife")
                                     : "could NOT send the abort sequence: " + sent.status.message)
-                << "; the device may still cut " << left << " from its buffer"
-                << (sent.buffered_bytes == 0 || !sent.abort_sent || sent.buffer_known || !j.profile.transport.abort_discards_buffer
+                << (sent.buffer_discarded ? "; the device discarded its buffer on it and cuts nothing more"
+                                          : "; the device may still cut " + left + " from its buffer")
+                << (sent.buffer_discarded || sent.buffered_bytes == 0 || !sent.abort_sent || sent.buffer_known || !j.profile.transport.abort_discards_buffer
                         ? ""  // known, or an abort that keeps the buffer: the figure stands
                         : " unless it honours the abort sequence")
                 << "; " << where

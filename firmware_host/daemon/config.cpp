@@ -80,6 +80,20 @@ bool is_job_label(const std::string& name) {
   return chars <= 64 && !blank(first) && !blank(last);
 }
 
+std::string job_label_from(const std::string& name) {
+  if (is_job_label(name)) return name;
+  std::size_t end = 0;
+  for (int chars = 0; chars < 63 && end < name.size(); ++chars) {
+    ++end;
+    while (end < name.size() && (static_cast<unsigned char>(name[end]) & 0xc0) == 0x80) ++end;  // UTF-8 continuation bytes
+  }
+  if (end >= name.size()) return "";  // not too long: refused for another reason
+  std::string cut = name.substr(0, end);
+  while (!cut.empty() && cut.back() == ' ') cut.pop_back();
+  cut += "\u2026";
+  return is_job_label(cut) ? cut : "";
+}
+
 DaemonConfig parse_daemon_config(const std::string& text, const std::string& source) {
   const toml::table root = parse_toml(text, source);
   for (const auto& [k, v] : root) {

@@ -72,5 +72,8 @@ bool is_safe_name(const std::string& name);
 // characters, no control characters or bidirectional overrides (which could disguise a name in
 // the kiosk's list), no space at either end, and nothing of a path ('/', '\\', '..', leading '.').
 bool is_job_label(const std::string& name);
+// A model's name as a job label: itself when it is one; a longer one cut to 63 characters and
+// "…" (at a character, blanks at the cut dropped); "" when it cannot be one (a path, controls).
+std::string job_label_from(const std::string& name);
 
 }  // namespace popcut::daemon

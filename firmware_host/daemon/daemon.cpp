@@ -264,9 +264,11 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
     const CutControl control{w.stop_cut, w.give_up, [&] {
+                               // A user's cancel can be given up by cancelling again; popcutd's own stop waits it out.
                                log_line("job ", job.id, ": ", dev.name, " holds the line (XOFF or CTS): waiting up to ",
-                                        dev.profile.transport.hold_timeout_ms / 1000, " s (hold_timeout_ms) for it to take the abort; "
-                                        "cancelling again gives up, and the device may then cut everything its buffer holds");
+                                        dev.profile.transport.hold_timeout_ms / 1000, " s (hold_timeout_ms) for it to take the abort",
+                                        stopping_ ? " before popcutd stops"
+                                                  : "; cancelling again gives up, and the device may then cut everything its buffer holds");
                                w.cancel_waiting = true;
                              }};
     const CutOutcome out = link->cut(cut, control, [&](std::size_t last) {

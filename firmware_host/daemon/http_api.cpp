@@ -492,7 +492,8 @@ void Api::submit(const httplib::Request& req, httplib::Response& res) {
     if (!named) {
       // Unnamed, the job takes its model's name ("Castle gatehouse with towers"), else "card".
       const json& model_name = body["model"].value("name", json());
-      nj.name = model_name.is_string() && is_job_label(model_name.get<std::string>()) ? model_name.get<std::string>() : "card";
+      const std::string label = model_name.is_string() ? job_label_from(model_name.get<std::string>()) : "";
+      nj.name = label.empty() ? "card" : label;
     }
     set_target(nj, string_field(body, "device", false), string_field(body, "profile", false));
     nj.model_json = body["model"].dump();
@@ -539,13 +540,14 @@ std::vector<std::pair<std::string, fs::path>> Api::examples() const {
 }
 
 // What an example is called where people pick it: its model's own name (a face model may call
-// it title), else its id; a name no job could carry (a path, control characters) is not shown.
+// it title; a long one shortened as a job's name is), else its id; a name no job could carry (a
+// path, control characters) is not shown.
 std::string Api::example_name(const std::string& id, const fs::path& path) {
   try {
     const json model = json::parse(read_text_file(path.string()));
     for (const char* key : {"name", "title"}) {
       const json& v = model.value(key, json());
-      if (v.is_string() && is_job_label(v.get<std::string>())) return v.get<std::string>();
+      if (const std::string label = v.is_string() ? job_label_from(v.get<std::string>()) : ""; !label.empty()) return label;
     }
   } catch (const std::exception&) {
     // An unreadable example still gets listed by its id; fetching it names the fault.

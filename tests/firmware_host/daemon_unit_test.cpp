@@ -113,6 +113,14 @@ TEST(DaemonConfig, SafeNames) {
   for (int i = 0; i < 64; ++i) castles += "\xe5\x9f\x8e";  // 城, three bytes
   EXPECT_TRUE(is_job_label(castles)) << "64 characters of three bytes each: the limit counts characters";
   EXPECT_FALSE(is_job_label(castles + "\xe5\x9f\x8e")) << "65 characters are too many";
+  // A model's name longer than that names its job shortened, at a character, with an ellipsis.
+  EXPECT_EQ(job_label_from(castles), castles) << "a label is kept as it is";
+  const std::string shortened = job_label_from(castles + "\xe5\x9f\x8e");
+  EXPECT_EQ(shortened, castles.substr(0, 63 * 3) + "\u2026") << "63 characters and an ellipsis";
+  EXPECT_TRUE(is_job_label(shortened));
+  EXPECT_EQ(job_label_from(std::string(62, 'a') + " " + std::string(10, 'b')), std::string(62, 'a') + "\u2026") << "no blank before the ellipsis";
+  EXPECT_EQ(job_label_from("a/b"), "") << "a path is no label however short";
+  EXPECT_EQ(job_label_from(std::string(70, 'a') + "\x01"), std::string(63, 'a') + "\u2026") << "what is cut off is not shown";
   for (const std::string& bad : {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01") + "b",
                                 std::string("tab\there"), std::string("rlo\xe2\x80\xae"), std::string("bad \xff utf8"),
                                 std::string("overlong \xc0\xaf"), std::string("nbsp\xc2\xa0"), std::string("\xe3\x80\x80ideographic space"),

@@ -114,10 +114,13 @@ TEST_F(PopcutdSize, ExamplesAreNamedByTheirModels) {
   dir_.write("examples/voxel/tower.json", R"({"format": "popcut.voxel.v1", "name": "Tall tower", "voxel_mm": 2, "heights": [[3]]})");
   dir_.write("examples/voxel/plain.json", R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3]]})");
   dir_.write("examples/faces/gallery.json", R"({"format": "popcut.faces.v1", "title": "Gallery", "sheet": {"width": 60, "back": 50, "floor": 50}, "edits": []})");
+  // A name longer than a job's 64 characters is shown shortened, not dropped for the id.
+  dir_.write("examples/voxel/long.json", R"({"format": "popcut.voxel.v1", "name": ")" + std::string(70, 'w') + R"(", "voxel_mm": 2, "heights": [[3]]})");
   const Reply r = popcut::testing::get_json(c_, "/api/v1/examples");
   ASSERT_EQ(r.status, 200) << r.body.dump();
-  EXPECT_EQ(r.body["examples"], json({"faces-gallery", "voxel-plain", "voxel-tower"})) << "the ids, as before: " << r.body.dump();
-  EXPECT_EQ(r.body["names"], json({{"faces-gallery", "Gallery"}, {"voxel-plain", "voxel-plain"}, {"voxel-tower", "Tall tower"}}))
+  EXPECT_EQ(r.body["examples"], json({"faces-gallery", "voxel-long", "voxel-plain", "voxel-tower"})) << "the ids, as before: " << r.body.dump();
+  EXPECT_EQ(r.body["names"], json({{"faces-gallery", "Gallery"}, {"voxel-long", std::string(63, 'w') + "\u2026"}, {"voxel-plain", "voxel-plain"},
+                                   {"voxel-tower", "Tall tower"}}))
       << "each by its model's name or title, else its id: " << r.body.dump();
 }
 
