@@ -275,15 +275,23 @@ int run(int argc, char** argv) {
   repair_cmd->add_flag("--json", json_out, "Print the result as JSON on standard output");
 
   double angle_deg = 90;
+  // Degrees as people write them, in decimal: CLI11 alone would take "0x10" as 16.
+  const CLI::Validator decimal_degrees(
+      [](std::string& text) -> std::string {
+        const bool ok = !text.empty() && text.find_first_not_of("0123456789.+-eE") == std::string::npos &&
+                        text.find_first_of("0123456789") != std::string::npos;
+        return ok ? std::string() : "'" + text + "' is not a number of degrees (a decimal number from 0 to 180)";
+      },
+      "DEGREES");
   CLI::App* fold = app.add_subcommand("fold", "Write the card folded to an angle as a 3D model (OBJ + MTL, or glTF).");
   fold->add_option("MODEL", model_path, "Model file (voxel or face model), or - for standard input")->required();
-  fold->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->capture_default_str();
+  fold->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->check(decimal_degrees)->capture_default_str();
   fold->add_option("-o,--output", out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
 
   int frames = 1, width_px = 800;
   CLI::App* render = app.add_subcommand("render", "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
   render->add_option("MODEL", model_path, "Model file (voxel or face model), or - for standard input")->required();
-  render->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->capture_default_str();
+  render->add_option("--angle", angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->check(decimal_degrees)->capture_default_str();
   render->add_option("-o,--output", out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")->required();
   render->add_option("--frames", frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
   render->add_option("--width", width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
@@ -384,6 +392,7 @@ int run(int argc, char** argv) {
   if (*fold) {
     return guarded(false, [&] {
       check_fold_angle(angle_deg, "--angle");
+      angle_deg += 0.0;  // "-0" is 0, and says so
       const std::string ext = require_extension(out_path, {".obj", ".gltf"}, "3D format");
       const Pattern p = load_pattern(model_path);
       const CardMesh mesh = fold_card(p, angle_deg);
@@ -403,6 +412,7 @@ int run(int argc, char** argv) {
   if (*render) {
     return guarded(false, [&] {
       check_fold_angle(angle_deg, "--angle");  // every frame's angle lies between 180 and it
+      angle_deg += 0.0;                         // "-0" is 0, and says so
       const std::string ext = require_extension(out_path, {".svg", ".png"}, "picture format");
       const Pattern p = load_pattern(model_path);
       std::vector<double> angles;

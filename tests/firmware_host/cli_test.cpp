@@ -363,7 +363,6 @@ TEST_F(Cli, EveryCommandRefusesAnAngleOutsideZeroTo180NamingTheFlag) {
       "render " + model + " --angle 1e9 -o " + (dir_ / "a.png").string(),
       "render " + model + " --frames 5 --angle 300 -o " + (dir_ / "b.svg").string(),
       "render " + model + " --angle -1 -o " + (dir_ / "c.svg").string(),
-      "render " + model + " --angle nan -o " + (dir_ / "d.svg").string(),
       "fold " + model + " --angle 500 -o " + (dir_ / "e.obj").string(),
       "fold " + model + " --angle -0.5 -o " + (dir_ / "f.gltf").string(),
       // The flag is named before the model is read.
@@ -376,6 +375,16 @@ TEST_F(Cli, EveryCommandRefusesAnAngleOutsideZeroTo180NamingTheFlag) {
         << args << ": names the flag and the range: " << r.err;
     EXPECT_EQ(r.err.find("wrote"), std::string::npos) << args << ": nothing written: " << r.err;
   }
+  // A number written otherwise than in decimal is refused as such, not read as hex.
+  for (const char* angle : {"0x10", "ninety", "1,5", "nan", "inf"}) {
+    const Result r = run("render " + model + " --angle " + angle + " -o " + (dir_ / "h.svg").string());
+    EXPECT_EQ(r.code, 2) << angle << ": " << r.err;
+    EXPECT_NE(r.err.find("--angle"), std::string::npos) << angle << ": names the flag: " << r.err;
+    EXPECT_NE(r.err.find("is not a number of degrees"), std::string::npos) << angle << ": says what it takes: " << r.err;
+  }
+  const Result minus_zero = run("fold " + model + " --angle -0 -o " + (dir_ / "z.obj").string());
+  EXPECT_EQ(minus_zero.code, 0) << minus_zero.err;
+  EXPECT_NE(minus_zero.err.find("folded to 0°"), std::string::npos) << "-0 is 0: " << minus_zero.err;
   for (const char* angle : {"0", "180", "179.5"}) {
     const Result r = run("render " + model + " --frames 2 --angle " + angle + " -o " + (dir_ / "ok.svg").string());
     EXPECT_EQ(r.code, 0) << "--angle " << angle << " is in range: " << r.err;
