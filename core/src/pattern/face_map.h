@@ -53,7 +53,7 @@ class CoplanarGroups {
 
 // The line between two different faces along an edge: `up` lies left of it (above, for an
 // x-parallel edge at height v). Faces of two kinds meet in 3D on an x-parallel edge exactly when
-// t_h - t_v = v (DESIGN.md): a fold, valley when the VFace is above, mountain when the HFace is.
+// t_h - t_v = v (docs/architecture.md, "Geometry"): a fold, valley when the VFace is above, mountain when the HFace is.
 // Anything else is a cut.
 inline LineKind line_between(const ExactFace& up, const ExactFace& lo, bool x_parallel, const FT& v) {
   if (!x_parallel || up.kind == lo.kind) return LineKind::cut;

@@ -31,7 +31,7 @@ bool IncrementalPopup::full_check() const {
 }
 
 // An x-parallel edge is a fold exactly when a VFace t_v and an HFace t_h meet there in 3D:
-// t_h - t_v = v (DESIGN.md); two VFaces or two HFaces never fold.
+// t_h - t_v = v (docs/architecture.md, "Geometry"); two VFaces or two HFaces never fold.
 bool IncrementalPopup::fold_below(const Column& col, int index) const {
   if (index <= 0 || index >= static_cast<int>(col.size())) return false;
   const Segment& lower = col[static_cast<std::size_t>(index - 1)];

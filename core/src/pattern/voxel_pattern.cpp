@@ -232,7 +232,7 @@ Pattern make_pattern(const CellGrid& g) {
   p.back_face = regions.at(0, g.rows - 1);
   p.floor_face = regions.at(0, 0);
 
-  // x-parallel edges: typed by where the faces above and below meet in 3D (DESIGN.md).
+  // x-parallel edges: typed by where the faces above and below meet in 3D (docs/architecture.md, "Geometry").
   std::unordered_map<std::uint64_t, std::size_t> link_index;
   for (int r = 1; r < g.rows; ++r) {
     const int v = r - g.sheet.floor;

@@ -74,7 +74,7 @@ struct Pattern {
   friend bool operator==(const Pattern&, const Pattern&) = default;
 };
 
-// The 2D → 3D map of a face at 90° (DESIGN.md): VFace t: (x, t, v + t); HFace t: (x, t - v, t).
+// The 2D → 3D map of a face at 90° (docs/architecture.md, "Geometry"): VFace t: (x, t, v + t); HFace t: (x, t - v, t).
 Point3 to_card(FaceKind kind, double t_mm, Point2 p);
 
 // Line kind of an x-parallel edge at height v between the face above it and the face below it
