@@ -252,7 +252,7 @@ void add_import_options(CLI::App* cmd, std::vector<std::pair<std::string, std::s
 int run(int argc, char** argv) {
   CLI::App app{"popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
                "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output (or reach the cutter), 4 internal error."};
-  app.set_version_flag("--version", std::string("popcut ") + "0.1.0");
+  app.set_version_flag("--version", std::string("popcut ") + POPCUT_VERSION);
   app.require_subcommand(1);
 
   std::string model_path, out_path;

@@ -61,7 +61,7 @@ TEST_F(Cli, HelpEverywhere) {
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
   }
   EXPECT_NE(run("--help").out.find("Exit codes"), std::string::npos) << "top-level help documents exit codes";
-  EXPECT_EQ(run("--version").out, "popcut 0.1.0\n") << "--version";
+  EXPECT_EQ(run("--version").out, std::string("popcut ") + POPCUT_VERSION + "\n") << "--version gives the project's version";
 }
 
 TEST_F(Cli, UsageErrorsExit2) {
