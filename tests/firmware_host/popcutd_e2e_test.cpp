@@ -445,18 +445,7 @@ TEST_F(Popcutd, PostWithoutContentLengthIsRefusedAtOnce) {
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
 }
 
-// A multipart upload as the kiosk and `popcut submit MESH` send it: the file as `mesh`, then fields.
-Reply post_mesh(httplib::Client& c, const std::string& path, const std::string& content, const std::string& filename,
-                const std::vector<std::pair<std::string, std::string>>& fields) {
-  httplib::MultipartFormDataItems items{{"mesh", content, filename, "application/octet-stream"}};
-  for (const auto& [k, v] : fields) items.push_back({k, v, "", ""});
-  const httplib::Result r = c.Post(path.c_str(), items);
-  Reply out;
-  if (!r) return out;
-  out.status = r->status;
-  out.body = json::parse(r->body, nullptr, false);
-  return out;
-}
+using popcut::testing::post_mesh;
 
 // examples/meshes/NAME.json was made by `popcut import NAME.* -o NAME.json --resolution 40 --thin-tops 1`:
 // popcutd's import of the same file with the same options must give the very same model.

@@ -18,14 +18,7 @@ const std::string kTower = "v 0 0 0\nv 20 0 0\nv 20 0 100\nv 0 0 100\nv 0 10 0\n
                            "f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\n";
 
 Reply post_mesh(httplib::Client& c, const std::string& path, const std::vector<std::pair<std::string, std::string>>& fields) {
-  httplib::MultipartFormDataItems items{{"mesh", kTower, "tower.obj", "application/octet-stream"}};
-  for (const auto& [k, v] : fields) items.push_back({k, v, "", ""});
-  const httplib::Result r = c.Post(path.c_str(), items);
-  Reply out;
-  if (!r) return out;
-  out.status = r->status;
-  out.body = json::parse(r->body, nullptr, false);
-  return out;
+  return popcut::testing::post_mesh(c, path, kTower, "tower.obj", fields);
 }
 
 // A flatbed (sim: 600 x 1000 mm) and a roll cutter that takes the sheet's width across its 600 mm

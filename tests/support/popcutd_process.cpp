@@ -130,6 +130,13 @@ Reply post_json(httplib::Client& c, const std::string& path, const std::string& 
   return reply_of(c.Post(path.c_str(), body, "application/json"));
 }
 
+Reply post_mesh(httplib::Client& c, const std::string& path, const std::string& content, const std::string& filename,
+                const std::vector<std::pair<std::string, std::string>>& fields) {
+  httplib::MultipartFormDataItems items{{"mesh", content, filename, "application/octet-stream"}};
+  for (const auto& [k, v] : fields) items.push_back({k, v, "", ""});
+  return reply_of(c.Post(path.c_str(), items));
+}
+
 bool wait_until(const std::function<bool()>& condition, double give_up_s) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(give_up_s);
   while (std::chrono::steady_clock::now() < end) {

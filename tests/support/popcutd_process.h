@@ -90,6 +90,9 @@ struct Reply {
 };
 Reply get_json(httplib::Client& c, const std::string& path);
 Reply post_json(httplib::Client& c, const std::string& path, const std::string& body);
+// A multipart upload as the kiosk and `popcut submit MESH` send it: the file as `mesh`, then fields.
+Reply post_mesh(httplib::Client& c, const std::string& path, const std::string& content, const std::string& filename,
+                const std::vector<std::pair<std::string, std::string>>& fields);
 
 // Polls `condition` every 20 ms until true; false only if popcutd stopped answering or
 // `give_up_s` passed (a safety net so a broken daemon fails the test instead of hanging it).
