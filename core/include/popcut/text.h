@@ -1,4 +1,4 @@
-// Numbers as people write them in messages and text formats: fixed decimals, trailing zeros cut.
+// Numbers as people write them in messages and text formats: the one formatter every unit uses.
 #pragma once
 
 #include <cstdio>
@@ -6,7 +6,8 @@
 
 namespace popcut {
 
-// format_decimal(12.5, 3) == "12.5", format_decimal(2.0, 3) == "2", never "-0".
+// Fixed decimals, trailing zeros cut: format_decimal(12.5, 3) == "12.5", format_decimal(2.0, 3)
+// == "2", never "-0".
 inline std::string format_decimal(double value, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
@@ -16,6 +17,24 @@ inline std::string format_decimal(double value, int decimals) {
     if (s.back() == '.') s.pop_back();
   }
   return s == "-0" ? "0" : s;
+}
+
+// Fixed decimals, zeros kept, for columns and file formats that want them: format_fixed(2.0, 1)
+// == "2.0", and a value that rounds to zero is "0.0", never "-0.0".
+inline std::string format_fixed(double value, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+  std::string s = buf;
+  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
+  return s;
+}
+
+// At most `digits` significant digits, as printf's %g writes them: format_significant(0.1, 6) ==
+// "0.1", format_significant(1e-7, 6) == "1e-07". For values whose scale is not known in advance.
+inline std::string format_significant(double value, int digits = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+  return buf;
 }
 
 }  // namespace popcut
