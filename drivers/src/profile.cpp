@@ -96,7 +96,6 @@ std::string hpgl_text_problem(const std::string& text) {
 constexpr std::array<const char*, 4> kKindNames = {"valley", "mountain", "cut", "outline"};
 constexpr std::array<const char*, 4> kModeNames = {"cut", "score", "perforate", "skip"};
 constexpr std::array<const char*, 5> kFlowNames = {"none", "xon_xoff", "rts_cts", "esc_b", "dtr_dsr"};
-constexpr std::array<const char*, 4> kDrainNames = {"none", "esc_b", "esc_o", "esc_e"};
 
 // "vvvv:pppp" in hex, as lsusb prints USB ids.
 bool usb_id_text(const std::string& s) {
@@ -157,8 +156,8 @@ void check_abort(const TomlSection& t, const std::string& abort) {
 
 }  // namespace
 
-const char* to_string(FlowControl flow) { return kFlowNames[static_cast<std::size_t>(flow)]; }
-const char* to_string(DrainQuery query) { return kDrainNames[static_cast<std::size_t>(query)]; }
+const char* to_string(FlowControl flow) { return kFlowControlNames.name(flow).data(); }
+const char* to_string(DrainQuery query) { return kDrainQueryNames.name(query).data(); }
 
 std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
   std::array<double, 4> s{};

@@ -7,16 +7,9 @@
 
 namespace popcut {
 
-const char* to_string(LineKind kind) {
-  switch (kind) {
-    case LineKind::cut: return "cut";
-    case LineKind::mountain: return "mountain";
-    case LineKind::valley: return "valley";
-  }
-  return "cut";
-}
+const char* to_string(LineKind kind) { return kLineKindNames.name(kind).data(); }
 
-const char* to_string(FaceKind kind) { return kind == FaceKind::vertical ? "V" : "H"; }
+const char* to_string(FaceKind kind) { return kFaceKindNames.name(kind).data(); }
 
 Point3 to_card(FaceKind kind, double t_mm, Point2 p) {
   if (kind == FaceKind::vertical) return {p.x_mm, t_mm, p.v_mm + t_mm};

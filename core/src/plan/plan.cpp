@@ -217,27 +217,11 @@ std::vector<Point2> with_passes(const std::vector<Point2>& path, int passes) {
 
 }  // namespace
 
-const char* to_string(PlanKind kind) {
-  switch (kind) {
-    case PlanKind::valley: return "valley";
-    case PlanKind::mountain: return "mountain";
-    case PlanKind::cut: return "cut";
-    case PlanKind::outline: return "outline";
-  }
-  return "cut";
-}
+const char* to_string(PlanKind kind) { return kPlanKindNames.name(kind).data(); }
 
 std::size_t index_of(PlanKind kind) { return static_cast<std::size_t>(kind); }
 
-const char* to_string(ToolMode mode) {
-  switch (mode) {
-    case ToolMode::cut: return "cut";
-    case ToolMode::score: return "score";
-    case ToolMode::perforate: return "perforate";
-    case ToolMode::skip: return "skip";
-  }
-  return "cut";
-}
+const char* to_string(ToolMode mode) { return kToolModeNames.name(mode).data(); }
 
 KindStats StrokePlan::total() const {
   KindStats t;

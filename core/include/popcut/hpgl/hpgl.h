@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "popcut/names.h"
 #include "popcut/plan/plan.h"
 
 namespace popcut {
@@ -14,6 +15,13 @@ namespace popcut {
 enum class MoveStyle { separate, inline_xy };  // "PU;PAx,y;" versus "PUx,y;"
 enum class CoordMode { absolute, relative };
 enum class ForceStyle { none, fs, roland };    // "FSn;" or Roland's "!FSn;" (CAMM-GL)
+// The names device profiles use.
+inline constexpr auto kMoveStyleNames =
+    enum_names<MoveStyle>({{MoveStyle::separate, "separate"}, {MoveStyle::inline_xy, "inline"}});
+inline constexpr auto kCoordModeNames =
+    enum_names<CoordMode>({{CoordMode::absolute, "absolute"}, {CoordMode::relative, "relative"}});
+inline constexpr auto kForceStyleNames =
+    enum_names<ForceStyle>({{ForceStyle::none, "none"}, {ForceStyle::fs, "fs"}, {ForceStyle::roland, "roland"}});
 
 // Everything about the bytes a device expects; values only, filled from a device profile.
 struct HpglDialect {

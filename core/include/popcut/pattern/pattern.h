@@ -5,13 +5,18 @@
 #include <string_view>
 #include <vector>
 
+#include "popcut/names.h"
+
 namespace popcut {
 
 enum class LineKind { cut, mountain, valley };
 enum class FaceKind { vertical, horizontal };  // VFace (plane y = t) / HFace (plane z = t)
 
+inline constexpr auto kLineKindNames =
+    enum_names<LineKind>({{LineKind::cut, "cut"}, {LineKind::mountain, "mountain"}, {LineKind::valley, "valley"}});
+inline constexpr auto kFaceKindNames = enum_names<FaceKind>({{FaceKind::vertical, "V"}, {FaceKind::horizontal, "H"}});  // as in the file formats
 const char* to_string(LineKind kind);
-const char* to_string(FaceKind kind);  // "V" / "H", as in the file formats
+const char* to_string(FaceKind kind);  // "V" / "H"
 
 struct Point2 {
   double x_mm = 0;

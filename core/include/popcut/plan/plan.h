@@ -15,10 +15,14 @@ namespace popcut {
 enum class PlanKind { valley, mountain, cut, outline };
 inline constexpr std::array<PlanKind, 4> kAllPlanKinds = {PlanKind::valley, PlanKind::mountain, PlanKind::cut,
                                                           PlanKind::outline};
+inline constexpr auto kPlanKindNames = enum_names<PlanKind>(
+    {{PlanKind::valley, "valley"}, {PlanKind::mountain, "mountain"}, {PlanKind::cut, "cut"}, {PlanKind::outline, "outline"}});
 const char* to_string(PlanKind kind);
 std::size_t index_of(PlanKind kind);
 
 enum class ToolMode { cut, score, perforate, skip };
+inline constexpr auto kToolModeNames = enum_names<ToolMode>(
+    {{ToolMode::cut, "cut"}, {ToolMode::score, "score"}, {ToolMode::perforate, "perforate"}, {ToolMode::skip, "skip"}});
 const char* to_string(ToolMode mode);
 
 // How one line kind is drawn. Score differs from cut only in force (the encoder's business).

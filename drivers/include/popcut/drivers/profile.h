@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "popcut/hpgl/hpgl.h"
+#include "popcut/names.h"
 #include "popcut/plan/plan.h"
 
 namespace popcut::drivers {
@@ -14,14 +15,20 @@ namespace popcut::drivers {
 // How the host keeps the device's input buffer from overflowing. xon_xoff and esc_b are paced by
 // popcut itself; rts_cts and dtr_dsr by the serial port's hardware lines.
 enum class FlowControl { none, xon_xoff, rts_cts, esc_b, dtr_dsr };  // esc_b: ask ESC.B for free space
+inline constexpr auto kFlowControlNames =
+    enum_names<FlowControl>({{FlowControl::none, "none"}, {FlowControl::xon_xoff, "xon_xoff"}, {FlowControl::rts_cts, "rts_cts"},
+                             {FlowControl::esc_b, "esc_b"}, {FlowControl::dtr_dsr, "dtr_dsr"}});
 const char* to_string(FlowControl flow);
 
 // How to ask a device whether it has executed everything (HP-GL device-control queries). esc_e
 // is not a drain query (a profile's drain_query cannot name it): the sender's I/O-error check.
 enum class DrainQuery { none, esc_b, esc_o, esc_e };  // esc_b: whole buffer free; esc_o: status bit 3
+inline constexpr auto kDrainQueryNames = enum_names<DrainQuery>(
+    {{DrainQuery::none, "none"}, {DrainQuery::esc_b, "esc_b"}, {DrainQuery::esc_o, "esc_o"}, {DrainQuery::esc_e, "esc_e"}});
 const char* to_string(DrainQuery query);
 
 enum class Parity { none, odd, even };
+inline constexpr auto kParityNames = enum_names<Parity>({{Parity::none, "none"}, {Parity::odd, "odd"}, {Parity::even, "even"}});
 
 struct TransportDefaults {
   std::string uri;  // [transport] default: e.g. "sim", "file:/dev/usb/lp0", "serial:/dev/ttyUSB0"
