@@ -310,7 +310,7 @@ int run_cut(const CutCommands& s) {
                       {"message", sent.status.message},
                       {"first_stroke", sent.first_stroke},
                       {"bytes_received", sent.bytes_received},
-                      {"received_counted_by", sent.received_counted_by},
+                      {"received_counted_by", drivers::to_string(sent.received_counted_by)},
                       {"last_stroke_sent", sent.last_stroke_sent},
                       {"last_stroke_written", sent.last_stroke_written},
                       {"last_stroke_executed", sent.last_stroke_executed ? json(*sent.last_stroke_executed) : json(nullptr)},
@@ -320,7 +320,7 @@ int run_cut(const CutCommands& s) {
                       {"buffered_strokes", sent.buffered_bytes == 0 ? json(nullptr)
                                                                     : json::array({sent.buffered_first_stroke, sent.buffered_last_stroke})},
                       {"status_queries", sent.status_queries},
-                      {"drained_by", sent.drained_by},
+                      {"drained_by", drivers::to_string(sent.drained_by)},
                       {"holds", sent.holds},
                       {"buffer_queries", sent.buffer_queries},
                       {"device_io_error", sent.device_io_error == 0 ? json(nullptr) : json(sent.device_io_error)},

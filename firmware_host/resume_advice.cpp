@@ -14,14 +14,14 @@ std::string counts_text(const drivers::SendResult& sent) {
   // power cut nothing of its buffer, so E + 1 (strokes E+1..M may have been cut already).
   const std::size_t m = sent.last_stroke_sent, n = sent.last_stroke_written;
   const std::optional<std::size_t> e = sent.last_stroke_executed;
-  return "last stroke known executed " + (e ? std::to_string(*e) : std::string(sent.received_counted_by == "status_answers" ? "unknown (the device did not say)" : "unknown (the device cannot be asked)")) +
+  return "last stroke known executed " + (e ? std::to_string(*e) : std::string(sent.received_counted_by == drivers::ReceivedCountedBy::status_answers ? "unknown (the device did not say)" : "unknown (the device cannot be asked)")) +
                       ", last stroke certainly received " + std::to_string(m) + " of " + std::to_string(sent.total_strokes) +
                       " (" + (sent.buffer_discarded ? "what it executed: it had received up to stroke " + std::to_string(sent.received_before_abort) +
                                                           " and discarded the rest on the abort"
                                : m < sent.first_stroke ? std::string("none confirmed")
-                               : sent.received_counted_by == "status_answers" ? std::string("confirmed by the device's answers")
-                               : sent.received_counted_by == "os_queue" ? std::string("sent, less what the port may still hold")
-                               : sent.received_counted_by == "buffer_size"
+                               : sent.received_counted_by == drivers::ReceivedCountedBy::status_answers ? std::string("confirmed by the device's answers")
+                               : sent.received_counted_by == drivers::ReceivedCountedBy::os_queue ? std::string("sent, less what the port may still hold")
+                               : sent.received_counted_by == drivers::ReceivedCountedBy::buffer_size
                                    ? std::string("what its buffer holds from the start: with no handshake and no answers, a device that stopped lost the rest")
                                                                        : std::string("taken by the device")) +
                       "), last stroke written " + std::to_string(n);

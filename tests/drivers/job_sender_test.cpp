@@ -203,7 +203,7 @@ TEST(SendJob, WaitsForTheDeviceToDrainByQuery) {
   ASSERT_TRUE(t.open().ok());
   const SendResult r = send_job(t, job, send_options(secabo));
   ASSERT_TRUE(r.complete()) << r.status.message;
-  EXPECT_EQ(r.drained_by, "esc_b");
+  EXPECT_EQ(r.drained_by, DrainedBy::esc_b);
   EXPECT_EQ(cutter->buffer_used(), 0u) << "done means the device's buffer is empty";
 
   DeviceProfile esc_o = load_profile(config("sim.toml"));
@@ -213,7 +213,7 @@ TEST(SendJob, WaitsForTheDeviceToDrainByQuery) {
   ASSERT_TRUE(t2.open().ok());
   const SendResult r2 = send_job(t2, encode_job(townhouse_plan(esc_o), esc_o.dialect, esc_o.tools), send_options(esc_o));
   ASSERT_TRUE(r2.complete()) << r2.status.message;
-  EXPECT_EQ(r2.drained_by, "esc_o");
+  EXPECT_EQ(r2.drained_by, DrainedBy::esc_o);
   EXPECT_EQ(c2->buffer_used(), 0u) << "ESC.O said buffer empty";
 }
 
@@ -230,7 +230,7 @@ TEST(SendJob, ADroppedLineNamesTheLastStrokeReceivedAndTheLastWritten) {
     EXPECT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
     EXPECT_EQ(r.last_stroke_sent, 5u) << "stroke 5 ended 3 bytes before the drop";
     EXPECT_EQ(r.last_stroke_written, 5u);
-    EXPECT_EQ(r.received_counted_by, "transport");
+    EXPECT_EQ(r.received_counted_by, ReceivedCountedBy::transport);
   }
 }
 
@@ -725,7 +725,7 @@ TEST(SendJob, OverASerialLineOnlyTheDevicesAnswersCountAsReceived) {
   ASSERT_TRUE(t.open().ok());
   const SendResult r = send_job(t, job, o);
   ASSERT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
-  EXPECT_EQ(r.received_counted_by, "status_answers");
+  EXPECT_EQ(r.received_counted_by, ReceivedCountedBy::status_answers);
   EXPECT_GT(r.status_queries, 1) << "queried while sending, not only before";
   EXPECT_LE(r.bytes_received, t.delivered()) << "never more than the device got";
   EXPECT_GT(r.last_stroke_sent, 0u) << "the answers confirmed some strokes";
@@ -923,7 +923,7 @@ TEST(SendJob, AnEscBDrainWaitsOutADeviceThatWasBusyWhenFirstAsked) {
   o.motion = motion_schedule(job.bytes, p);
   const SendResult r = send_job(t, job, o);
   ASSERT_TRUE(r.complete()) << r.status.message;
-  EXPECT_EQ(r.drained_by, "esc_b");
+  EXPECT_EQ(r.drained_by, DrainedBy::esc_b);
   EXPECT_EQ(cutter->buffer_used(), 0u) << "called done while the device still held bytes";
 }
 
@@ -974,7 +974,7 @@ TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
     const EncodedJob job = encode_job(plan, p.dialect, p.tools);
     const PacedRun r = run_paced(p, job, 1.2, 25);
     ASSERT_TRUE(r.sent.complete()) << file << ": " << r.sent.status.message;
-    EXPECT_EQ(r.sent.drained_by, "estimate") << file;
+    EXPECT_EQ(r.sent.drained_by, DrainedBy::estimate) << file;
     EXPECT_EQ(r.left_after_send, 0u) << file << ": done only once the device, by the model, has worked through the job";
     EXPECT_EQ(r.report.overflow_bytes, 0u) << file << ": 20 % slower than the plan, within the 25 % margin";
     EXPECT_LE(r.report.max_buffer_used, 192u) << file << ": about half the buffer, as paced (a full one would be at the edge)";
@@ -1078,7 +1078,7 @@ TEST(SendJob, TimePacingClaimsNoMoreReceivedThanTheBufferHolds) {
   o.motion = motion_schedule(job.bytes, p);
   const SendResult r = send_job(t, job, o);
   ASSERT_FALSE(r.complete()) << "the stop is found by the silence after the job";
-  EXPECT_EQ(r.received_counted_by, "buffer_size");
+  EXPECT_EQ(r.received_counted_by, ReceivedCountedBy::buffer_size);
   EXPECT_LE(r.bytes_received, 256u) << "not the " << r.bytes_sent << " bytes written";
   EXPECT_LE(r.last_stroke_sent, job.last_stroke_within(256));
   EXPECT_LE(r.buffered_bytes, 256u) << "and it may still cut no more than its buffer holds (it lost the rest)";

@@ -277,7 +277,7 @@ TEST_F(UsbMock, AJobGoesOutOverBulkOutPacedByBulkInAnswers) {
   t.transport->close();
   ASSERT_TRUE(r.complete()) << r.status.message;
   EXPECT_GT(r.buffer_queries, 0) << "ESC.B answers came back over bulk IN";
-  EXPECT_EQ(r.drained_by, "esc_b");
+  EXPECT_EQ(r.drained_by, DrainedBy::esc_b);
   std::lock_guard<std::mutex> lock(device_.mutex);
   ASSERT_TRUE(device_.cutter->run_to_end());
   const auto planned = [&] {

@@ -10,9 +10,11 @@
 #include <string_view>
 #include <vector>
 
+#include "popcut/drivers/motion_model.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/transport.h"
 #include "popcut/hpgl/hpgl.h"
+#include "popcut/names.h"
 
 namespace popcut::drivers {
 
@@ -29,23 +31,6 @@ struct SendProgress {
   std::size_t first_stroke = 1;      // where this transmission started (--resume-from)
   std::size_t total_strokes = 0;
 };
-
-// A point of a device's progress through a job at the pace of the motion model: after start_s
-// seconds of motion it starts a command, having read the first bytes_read bytes of the job out of
-// its buffer (that command's among them).
-struct MotionMark {
-  double start_s = 0;
-  std::size_t bytes_read = 0;
-};
-// One mark per moment a command starts, ascending in both; the last is {when the job's motion
-// ends, job size}. By the simulated cutter's model (the profile's kinematics, the job's VS), the
-// one the plan's time estimate uses, with the whole job there from the start and a long PA/PD
-// read pair by pair. Where the device starts is unknown: everything after the first command is
-// later by a travel of longest_first_travel_mm.
-std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
-// The usable area's diagonal; on a roll feeder (more than twice as long as wide) that of a piece
-// twice as long as wide.
-double longest_first_travel_mm(const HpglDialect& dialect);
 
 struct SendOptions {
   FlowControl flow = FlowControl::none;
@@ -64,7 +49,7 @@ struct SendOptions {
   // 16: input buffer overflow) lost bytes, so a job that seemed to get through did not.
   bool error_query = false;
   int baud = 0;                         // named in the "did not answer" message of a serial line
-  // The device's pace by the motion model (motion_schedule above); empty where there is no device
+  // The device's pace by the motion model (motion_schedule in motion_model.h); empty where there is no device
   // to wait for (a plain file). Used where nothing
   // else tells how far the device has got: with no query, the sender waits until a full buffer's
   // share of the job's motion has passed before calling the job done; with no handshake (flow
@@ -90,6 +75,26 @@ struct SendOptions {
   std::function<void(const SendProgress&)> progress;  // after every chunk
 };
 
+// How SendResult::bytes_received was counted: transport (a write's count is what the device
+// took: USB, a file, the simulator), status_answers (serial, device answers queries), os_queue
+// (serial, device cannot be asked: written less the OS queue and what may still be in flight) or
+// buffer_size (paced by time, device cannot be asked: a device that stopped lost what overran
+// its buffer, so only the first buffer_bytes are certain).
+enum class ReceivedCountedBy { transport, status_answers, os_queue, buffer_size };
+inline constexpr auto kReceivedCountedByNames = enum_names<ReceivedCountedBy>(
+    {{ReceivedCountedBy::transport, "transport"}, {ReceivedCountedBy::status_answers, "status_answers"},
+     {ReceivedCountedBy::os_queue, "os_queue"}, {ReceivedCountedBy::buffer_size, "buffer_size"}});
+const char* to_string(ReceivedCountedBy how);
+
+// How a job's end was confirmed: the device's ESC.B (whole buffer free) or ESC.O (buffer empty)
+// answer, the motion model's estimate, or none (a file: nothing to wait for). not_drained (a
+// cancel or failure) is written as an empty name.
+enum class DrainedBy { not_drained, esc_b, esc_o, estimate, none };
+inline constexpr auto kDrainedByNames =
+    enum_names<DrainedBy>({{DrainedBy::not_drained, ""}, {DrainedBy::esc_b, "esc_b"}, {DrainedBy::esc_o, "esc_o"},
+                           {DrainedBy::estimate, "estimate"}, {DrainedBy::none, "none"}});
+const char* to_string(DrainedBy how);
+
 // Never over-claims: bytes written into a serial port may still sit in the OS queue, a UART FIFO
 // or a pseudo-terminal when the line drops. bytes_received counts what the device took (USB
 // bulk actual_length), what it confirmed (its answer to a status query sent after those bytes)
@@ -112,12 +117,7 @@ struct SendResult {
   // nullopt: the device cannot be asked (no drain_query, a file), so it is not known.
   std::optional<std::size_t> last_stroke_executed;
   std::size_t total_strokes = 0;
-  // How bytes_received was counted: "transport" (a write's count is what the device took: USB,
-  // a file, the simulator), "status_answers" (serial, device answers queries), "os_queue"
-  // (serial, device cannot be asked: written less the OS queue and what may still be in flight)
-  // or "buffer_size" (paced by time, device cannot be asked: a device that stopped lost what
-  // overran its buffer, so only the first buffer_bytes are certain).
-  std::string received_counted_by;
+  ReceivedCountedBy received_counted_by = ReceivedCountedBy::transport;
   // Paced by time, after a cancel or failure: how long the device may go on cutting what it
   // holds, by the model (0: not paced by time). A job sent to it meanwhile would overrun it.
   double busy_for_s = 0;
@@ -139,8 +139,7 @@ struct SendResult {
   bool buffer_known = false;
   std::size_t buffered_first_stroke = 0;
   std::size_t buffered_last_stroke = 0;
-  // On success: how the end was confirmed ("esc_b", "esc_o", "estimate", "none" for a file).
-  std::string drained_by;
+  DrainedBy drained_by = DrainedBy::not_drained;  // on success: how the end was confirmed
   // Times the device held popcut off: an XOFF popcut read itself (the simulator, USB), or a write
   // slice that made no progress on a line the device holds (XOFF or CTS applied by the OS, USB
   // NAKs), counted once per hold however long it lasts. ESC.B waits count in buffer_queries.

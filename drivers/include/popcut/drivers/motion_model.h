@@ -1,0 +1,29 @@
+// The device's pace through a job by the simulated cutter's motion model, for the sender's time pacing and drain.
+#pragma once
+
+#include <cstddef>
+#include <string_view>
+#include <vector>
+
+#include "popcut/drivers/profile.h"
+
+namespace popcut::drivers {
+
+// A point of a device's progress through a job at the pace of the motion model: after start_s
+// seconds of motion it starts a command, having read the first bytes_read bytes of the job out of
+// its buffer (that command's among them).
+struct MotionMark {
+  double start_s = 0;
+  std::size_t bytes_read = 0;
+};
+// One mark per moment a command starts, ascending in both; the last is {when the job's motion
+// ends, job size}. By the simulated cutter's model (the profile's kinematics, the job's VS), the
+// one the plan's time estimate uses, with the whole job there from the start and a long PA/PD
+// read pair by pair. Where the device starts is unknown: everything after the first command is
+// later by a travel of longest_first_travel_mm.
+std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
+// The usable area's diagonal; on a roll feeder (more than twice as long as wide) that of a piece
+// twice as long as wide.
+double longest_first_travel_mm(const HpglDialect& dialect);
+
+}  // namespace popcut::drivers
