@@ -15,15 +15,21 @@
 namespace popcut::drivers {
 namespace {
 
-// The Error parse_profile throws for `text`, or a failure when it accepts it.
-Error refusal(const std::string& text) {
+// The Error `run` throws, or a test failure when it throws none.
+template <class F>
+Error thrown_by(F run, const std::string& what) {
   try {
-    parse_profile(text, "lang.toml");
+    run();
   } catch (const Error& e) {
     return e;
   }
-  ADD_FAILURE() << "accepted:\n" << text;
+  ADD_FAILURE() << "accepted: " << what;
   return Error(ErrorCode::internal, "", "", "accepted");
+}
+
+// The Error parse_profile throws for `text`.
+Error refusal(const std::string& text) {
+  return thrown_by([&] { parse_profile(text, "lang.toml"); }, text);
 }
 
 const std::string kBase = "[device]\nname = \"x\"\n";
@@ -126,20 +132,12 @@ TEST(TomlChoice, ReturnsTheNamedValueOrTheFallback) {
   EXPECT_EQ(s.choice("flow", FlowControl::none, kFlowControlNames), FlowControl::esc_b);
   EXPECT_EQ(s.choice("kind", PlanKind::cut, kPlanKindNames), PlanKind::outline);
   EXPECT_EQ(s.choice("absent", ToolMode::perforate, kToolModeNames), ToolMode::perforate) << "absent: the fallback";
-  try {
-    s.choice("mode", ToolMode::cut, kToolModeNames);
-    ADD_FAILURE() << "burn accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.location(), "[x] mode");
-    EXPECT_EQ(e.message(), "\"burn\" is not one of \"cut\", \"score\", \"perforate\", \"skip\"");
-  }
-  try {
-    s.choice("parity", Parity::none, kParityNames);
-    ADD_FAILURE() << "a number accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.location(), "[x] parity");
-    EXPECT_EQ(e.message(), "expected one of \"none\", \"odd\", \"even\"");
-  }
+  const Error burn = thrown_by([&] { s.choice("mode", ToolMode::cut, kToolModeNames); }, "mode = burn");
+  EXPECT_EQ(burn.location(), "[x] mode");
+  EXPECT_EQ(burn.message(), "\"burn\" is not one of \"cut\", \"score\", \"perforate\", \"skip\"");
+  const Error number = thrown_by([&] { s.choice("parity", Parity::none, kParityNames); }, "parity = 1");
+  EXPECT_EQ(number.location(), "[x] parity");
+  EXPECT_EQ(number.message(), "expected one of \"none\", \"odd\", \"even\"");
 }
 
 // The choices' messages as they were written before the tables: each lists exactly its names.
