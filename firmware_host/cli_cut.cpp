@@ -23,6 +23,7 @@
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
 #include "popcut/text.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
@@ -60,7 +61,7 @@ Job make_job(const std::string& model_path, const std::string& profile_path, std
   j.hpgl = j.encoded.bytes;
   if (from_stroke != 1) {
     try {
-      j.encoded = encode_job(j.plan, j.profile.dialect, j.profile.tools, from_stroke);
+      j.encoded = drivers::encode_for_device(j.plan, j.profile, from_stroke);
     } catch (const Error& e) {
       throw Error(e.code(), "", "--resume-from", e.message());
     }

@@ -1,6 +1,7 @@
 // One planning path for every caller that sends to a device (popcut cut, popcutd's planners).
 #include "popcut/drivers/device_plan.h"
 
+#include "popcut/drivers/language.h"
 #include "popcut/error.h"
 
 namespace popcut::drivers {
@@ -13,7 +14,7 @@ DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile,
     // point are not.
     d.plan = drop_below_resolution(d.plan, profile.dialect);
     d.time = estimate_time(d.plan, profile.kinematics, profile.cut_speed_mm_s());
-    d.encoded = encode_job(d.plan, profile.dialect, profile.tools);
+    d.encoded = encode_for_device(d.plan, profile);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;
     throw Error(e.code(), profile_source, e.location(), e.message());

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <string_view>
 #include <utility>
 
 namespace popcut::drivers {
@@ -32,6 +33,28 @@ void parse_params(std::string_view text, HpglCommand& cmd) {
   }
 }
 
+// What each HP-GL command the simulator models makes it do; anything else is DeviceOp::unknown.
+constexpr std::pair<std::string_view, DeviceOp> kHpglOps[] = {
+    {"IN", DeviceOp::reset},          {"DF", DeviceOp::defaults},        {"SP", DeviceOp::select_tool},
+    {"VS", DeviceOp::speed},          {"FS", DeviceOp::force},           {"!FS", DeviceOp::force},
+    {"!ST", DeviceOp::no_effect},     {"PU", DeviceOp::knife_up},        {"PD", DeviceOp::knife_down},
+    {"PA", DeviceOp::absolute},       {"PR", DeviceOp::relative},        {"OI", DeviceOp::report_identity},
+    {"OS", DeviceOp::report_status},  {"OA", DeviceOp::report_position},
+    {"ESC.B", DeviceOp::query_free_buffer}, {"ESC.O", DeviceOp::query_idle}, {"ESC.E", DeviceOp::query_io_error},
+    {"ESC.A", DeviceOp::query_identity},    {"ESC.K", DeviceOp::abort},      {"ESC.@", DeviceOp::handshake_setup},
+    {"ESC.H", DeviceOp::handshake_setup},   {"ESC.I", DeviceOp::handshake_setup}, {"ESC.M", DeviceOp::handshake_setup},
+    {"ESC.N", DeviceOp::handshake_setup},   {"ESC.R", DeviceOp::handshake_setup}, {"ESC.T", DeviceOp::handshake_setup},
+};
+
+// The command with its op filled in: device control (ESC...) that the table lacks is unknown_control.
+HpglCommand classified(HpglCommand cmd) {
+  cmd.op = cmd.device_control ? DeviceOp::unknown_control : DeviceOp::unknown;
+  for (const auto& [name, op] : kHpglOps) {
+    if (cmd.name == name) cmd.op = op;
+  }
+  return cmd;
+}
+
 }  // namespace
 
 // Whether a device-control sequence is complete: three bytes, or up to the colon for set-ups.
@@ -45,12 +68,13 @@ bool esc_complete(const std::string& e) {
 
 HpglCommand esc_command(const std::string& e, std::size_t offset) {
   HpglCommand cmd;
+  cmd.device_control = true;
   cmd.offset = offset;
   cmd.length = e.size();
   if (e[1] != '.') {
     cmd.name = "ESC";
     cmd.malformed = true;
-    return cmd;
+    return classified(std::move(cmd));
   }
   cmd.name = std::string("ESC.") + e[2];
   if (e.size() > 3) {
@@ -58,7 +82,7 @@ HpglCommand esc_command(const std::string& e, std::size_t offset) {
     for (char& c : p) c = c == ';' ? ',' : c;
     parse_params(p, cmd);
   }
-  return cmd;
+  return classified(std::move(cmd));
 }
 
 void HpglReader::feed(std::string_view bytes, std::vector<HpglCommand>& out) {
@@ -142,7 +166,7 @@ void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
           parse_params(s.substr(i + name_len, cut - i - name_len), cmd);
           cmd.length = cut + 1 - i - (i == 0 ? synthetic_ : 0);  // bytes that really arrived
           cmd.buffer_bytes = cmd.length + std::exchange(separators_, 0);
-          out.push_back(cmd);
+          out.push_back(classified(cmd));
           // Put the name back before the rest, as if the command had been sent in two.
           const std::string name = std::string(s.substr(i, name_len));
           const std::size_t real = cut + 1 - synthetic_;
@@ -163,7 +187,7 @@ void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
     if (params_to > params_from) parse_params(s.substr(params_from, params_to - params_from), cmd);
     cmd.length = end - i - (i == 0 ? synthetic_ : 0);
     cmd.buffer_bytes = cmd.length + std::exchange(separators_, 0);
-    out.push_back(std::move(cmd));
+    out.push_back(classified(std::move(cmd)));
     i = end;
   }
   const std::size_t real = i > synthetic_ ? i - synthetic_ : 0;

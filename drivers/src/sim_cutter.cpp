@@ -1,6 +1,8 @@
 // Simulated cutter: a discrete-event model of a plotter's line, buffer, executor and replies.
 #include "popcut/drivers/sim_cutter.h"
 
+#include "popcut/drivers/language.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -17,7 +19,8 @@ constexpr std::size_t kSlice = 16;
 
 }  // namespace
 
-SimCutter::SimCutter(const DeviceProfile& profile, SimFaults faults) : profile_(profile), faults_(faults) {}
+SimCutter::SimCutter(const DeviceProfile& profile, SimFaults faults)
+    : profile_(profile), faults_(faults), reader_(make_reader(profile)) {}
 
 bool SimCutter::holds_line() const {
   return profile_.transport.flow == FlowControl::rts_cts || profile_.transport.flow == FlowControl::dtr_dsr;
@@ -35,7 +38,7 @@ void SimCutter::preload(std::string_view bytes) {
   report_.bytes_received += bytes.size();
 }
 
-std::size_t SimCutter::buffer_used() const { return queued_bytes_ + reader_.pending(); }
+std::size_t SimCutter::buffer_used() const { return queued_bytes_ + reader_->pending(); }
 
 bool SimCutter::frozen() const {
   return faults_.stop_answering_after_bytes && report_.bytes_received >= *faults_.stop_answering_after_bytes;
@@ -64,7 +67,7 @@ void SimCutter::advance_to(double t_s) {
     double cursor = now_s_;
     while (!queue_.empty() && std::max(busy_until_s_, cursor) <= t_s) {
       const double start = std::max(busy_until_s_, cursor);
-      HpglCommand c = std::move(queue_.front());
+      DeviceCommand c = std::move(queue_.front());
       queue_.pop_front();
       queued_bytes_ -= c.buffer_bytes;  // the device has read it out of its buffer
       const double dur = [&] {
@@ -82,18 +85,18 @@ void SimCutter::advance_to(double t_s) {
 }
 
 void SimCutter::take(std::string_view bytes) {
-  std::vector<HpglCommand> cmds;
+  std::vector<DeviceCommand> cmds;
   while (!bytes.empty()) {
-    bytes.remove_prefix(reader_.feed_to_control(bytes, cmds));
+    bytes.remove_prefix(reader_->feed_to_control(bytes, cmds));
     dispatch(cmds);
     cmds.clear();
   }
 }
 
-void SimCutter::dispatch(std::vector<HpglCommand>& cmds) {
-  for (HpglCommand& c : cmds) {  // in stream order: a query counts every byte ahead of it
+void SimCutter::dispatch(std::vector<DeviceCommand>& cmds) {
+  for (DeviceCommand& c : cmds) {  // in stream order: a query counts every byte ahead of it
     ++report_.commands;
-    if (c.name.rfind("ESC", 0) == 0) {
+    if (c.device_control) {
       answer(c);  // device control bypasses the buffer, as on HP plotters
     } else {
       queued_bytes_ += c.buffer_bytes;
@@ -136,7 +139,7 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
       // are lost, but device-control sequences never enter the buffer and still arrive.
       // Byte by byte, each command queued as it completes, so the fill level is exact.
       for (char c : slice) {
-        if (c == '\x1b' || reader_.in_device_control() || buffer_used() < cap) take(std::string_view(&c, 1));
+        if (reader_->starts_device_control(c) || reader_->in_device_control() || buffer_used() < cap) take(std::string_view(&c, 1));
         else {
           ++report_.overflow_bytes;
           io_error_ = 16;  // HP's ESC.E code: the input buffer has overflowed
@@ -183,10 +186,10 @@ IoResult SimCutter::reply(std::uint8_t* data, std::size_t size, double max_wait_
 
 bool SimCutter::run_to_end(bool input_whole) {
   if (frozen()) return false;
-  std::vector<HpglCommand> tail;
-  reader_.finish(tail);  // only what lacked its terminator at the end of the input
+  std::vector<DeviceCommand> tail;
+  reader_->finish(tail);  // only what lacked its terminator at the end of the input
   if (!input_whole) {
-    for (const HpglCommand& c : tail) report_.errors.push_back({c.offset, c.name, "cut short when the line ended: not executed"});
+    for (const DeviceCommand& c : tail) report_.errors.push_back({c.offset, c.name, "cut short when the line ended: not executed"});
     tail.clear();
   }
   dispatch(tail);
@@ -196,23 +199,23 @@ bool SimCutter::run_to_end(bool input_whole) {
   return true;
 }
 
-void SimCutter::answer(const HpglCommand& c) {
+void SimCutter::answer(const DeviceCommand& c) {
   if (frozen()) return;
-  const std::string& n = c.name;
-  if (n == "ESC.B") queue_reply(std::to_string(profile_.transport.buffer_bytes - std::min(profile_.transport.buffer_bytes, buffer_used())) + "\r");
-  else if (n == "ESC.O") queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r");
-  else if (n == "ESC.E") queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r");  // read clears it, as on HP
-  else if (n == "ESC.A") queue_reply("popcut-sim,0\r");
-  else if (n == "ESC.K") {  // abort: drop what is buffered, a command in progress too
-    report_.discarded_bytes += buffer_used();
-    for (const HpglCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
-    queue_.clear();
-    reader_.discard_pending();
-  } else if (n == "ESC.@" || n == "ESC.H" || n == "ESC.I" || n == "ESC.M" || n == "ESC.N" || n == "ESC.R" || n == "ESC.T") {
-    // Handshake configuration: the sim's pacing comes from the profile, so only counted.
-  } else {
-    report_.unknown.push_back({c.offset, n, "unknown device-control sequence"});
-    return;
+  switch (c.op) {
+    case DeviceOp::query_free_buffer:
+      queue_reply(std::to_string(profile_.transport.buffer_bytes - std::min(profile_.transport.buffer_bytes, buffer_used())) + "\r");
+      break;
+    case DeviceOp::query_idle: queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r"); break;
+    case DeviceOp::query_io_error: queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r"); break;  // read clears it, as on HP
+    case DeviceOp::query_identity: queue_reply("popcut-sim,0\r"); break;
+    case DeviceOp::abort:  // drop what is buffered, a command in progress too
+      report_.discarded_bytes += buffer_used();
+      for (const DeviceCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
+      queue_.clear();
+      reader_->discard_pending();
+      break;
+    case DeviceOp::handshake_setup: break;  // the sim's pacing comes from the profile, so only counted
+    default: report_.unknown.push_back({c.offset, c.name, "unknown device-control sequence"}); return;
   }
   ++report_.queries_answered;
 }
@@ -242,7 +245,7 @@ void SimCutter::move_to(std::array<std::int64_t, 2> p) {
   pos_ = p;
 }
 
-void SimCutter::execute(const HpglCommand& c) {
+void SimCutter::execute(const DeviceCommand& c) {
   const std::string& n = c.name;
   if (c.malformed) report_.errors.push_back({c.offset, n, "malformed parameters"});
   const auto param = [&](std::size_t i, double fallback) { return i < c.params.size() ? c.params[i] : fallback; };
@@ -266,35 +269,36 @@ void SimCutter::execute(const HpglCommand& c) {
       move_to(relative_ ? std::array<std::int64_t, 2>{pos_[0] + v[0], pos_[1] + v[1]} : v);
     }
   };
-  if (n == "IN") {
-    knife(false);
-    relative_ = false;
-    pen_ = 0;
-  } else if (n == "DF") {
-    relative_ = false;
-  } else if (n == "SP") {
-    knife(false);
-    pen_ = static_cast<int>(param(0, 0));
-  } else if (n == "VS") {
-    speed_cm_s_ = param(0, 0);
-  } else if (n == "FS" || n == "!FS") {
-    force_ = param(0, 0);
-  } else if (n == "!ST") {
-    // Roland tool/sheet type: changes no geometry the sim models.
-  } else if (n == "PU" || n == "PD") {
-    knife(n == "PD");
-    moves();
-  } else if (n == "PA" || n == "PR") {
-    relative_ = n == "PR";
-    moves();
-  } else if (n == "OI") {
-    queue_reply("popcut-sim\r");
-  } else if (n == "OS") {
-    queue_reply(std::string(report_.errors.empty() ? "16" : "48") + "\r");
-  } else if (n == "OA") {
-    queue_reply(std::to_string(pos_[0]) + "," + std::to_string(pos_[1]) + "," + (pen_down_ ? "1" : "0") + "\r");
-  } else {
-    report_.unknown.push_back({c.offset, n, "unknown command"});
+  switch (c.op) {
+    case DeviceOp::reset:
+      knife(false);
+      relative_ = false;
+      pen_ = 0;
+      break;
+    case DeviceOp::defaults: relative_ = false; break;
+    case DeviceOp::select_tool:
+      knife(false);
+      pen_ = static_cast<int>(param(0, 0));
+      break;
+    case DeviceOp::speed: speed_cm_s_ = param(0, 0); break;
+    case DeviceOp::force: force_ = param(0, 0); break;
+    case DeviceOp::no_effect: break;  // e.g. Roland's tool/sheet type: changes no geometry the sim models
+    case DeviceOp::knife_up:
+    case DeviceOp::knife_down:
+      knife(c.op == DeviceOp::knife_down);
+      moves();
+      break;
+    case DeviceOp::absolute:
+    case DeviceOp::relative:
+      relative_ = c.op == DeviceOp::relative;
+      moves();
+      break;
+    case DeviceOp::report_identity: queue_reply("popcut-sim\r"); break;
+    case DeviceOp::report_status: queue_reply(std::string(report_.errors.empty() ? "16" : "48") + "\r"); break;
+    case DeviceOp::report_position:
+      queue_reply(std::to_string(pos_[0]) + "," + std::to_string(pos_[1]) + "," + (pen_down_ ? "1" : "0") + "\r");
+      break;
+    default: report_.unknown.push_back({c.offset, n, "unknown command"}); break;
   }
 }
 

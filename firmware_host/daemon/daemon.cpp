@@ -17,6 +17,7 @@
 #include "log.h"
 #include "model_limits.h"
 #include "popcut/drivers/device_plan.h"
+#include "popcut/drivers/language.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 #include "popcut/hpgl/hpgl.h"
@@ -259,7 +260,7 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       store_.finish(job.id, JobState::done, "", "", true);
       return;
     }
-    const EncodedJob cut = encode_job(plan, dev.profile.dialect, dev.profile.tools, done_before + 1);
+    const EncodedJob cut = drivers::encode_for_device(plan, dev.profile, done_before + 1);
     log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/hpgl/hpgl.h"
 #include "popcut/io/model_io.h"
@@ -25,7 +26,9 @@ TEST(GoldenHpgl, EveryProfileWritesTheReviewedBytes) {
     const Pattern pattern = make_pattern(load_model(src + "/" + model));
     for (const std::string& file : testing::shipped_profiles()) {
       const DeviceProfile prof = load_profile(file);
-      const std::string job = encode_hpgl(plan_strokes(pattern, prof.plan), prof.dialect, prof.tools);
+      const StrokePlan plan = plan_strokes(pattern, prof.plan);
+      const std::string job = encode_hpgl(plan, prof.dialect, prof.tools);
+      EXPECT_EQ(encode_for_device(plan, prof).bytes, job) << file << ": the profile's language writes these bytes";
       const fs::path golden = fs::path(src) / "tests/data/golden" /
                               (fs::path(file).stem().string() + "-" + fs::path(model).stem().string() + ".hpgl");
       if (update) std::ofstream(golden, std::ios::binary) << job;

@@ -1,7 +1,6 @@
-// HP-GL encoder: rounds every point once to absolute plotter units, then writes the dialect.
+// HP-GL encoder: the plan's strokes in plotter units (plotter_frame.h), written in one device's dialect.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "popcut/error.h"
@@ -9,19 +8,6 @@
 
 namespace popcut {
 namespace {
-
-std::string mm_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
-
-// Local sheet coordinates (mm from the min corner) along the plotter's x and y axes.
-std::array<double, 2> along_axes(Point2 p, const Rect& sheet, const HpglDialect& d) {
-  const double dx = p.x_mm - sheet.min.x_mm, dv = p.v_mm - sheet.min.v_mm;
-  if (d.swap_axes) return {dv, dx};
-  return {dx, dv};
-}
 
 class Writer {
  public:
@@ -58,95 +44,7 @@ std::string pairs(const std::vector<std::array<std::int64_t, 2>>& pts, std::size
   return s;
 }
 
-PlotterPath rounded(const Stroke& s, const Rect& sheet, const Placement& placement, const HpglDialect& d) {
-  PlotterPath pts;
-  for (Point2 p : s.points) {
-    const auto q = to_plotter(p, sheet, placement, d);
-    if (q[0] < d.area_min_x_pu || q[0] > d.area_max_x_pu || q[1] < d.area_min_y_pu || q[1] > d.area_max_y_pu ||
-        (!d.allow_negative && (q[0] < 0 || q[1] < 0))) {
-      throw Error(ErrorCode::internal, "", "hpgl", "point (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) +
-                                                       ") plotter units lies outside the usable area; not sent");
-    }
-    if (pts.empty() || pts.back() != q) pts.push_back(q);
-  }
-  return pts;
-}
-
 }  // namespace
-
-std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const HpglDialect& d) {
-  // The frame placed is the sheet and everything the knife's axis visits (drag-knife arcs).
-  const Rect frame = plan.extent();
-  const Placement placement = place_sheet(frame, d);
-  std::vector<PlotterPath> out;
-  for (const Stroke& s : plan.strokes) {
-    PlotterPath p = rounded(s, frame, placement, d);
-    if (p.size() >= 2) out.push_back(std::move(p));
-  }
-  return out;
-}
-
-StrokePlan drop_below_resolution(const StrokePlan& plan, const HpglDialect& d) {
-  const Rect frame = plan.extent();
-  const Placement placement = place_sheet(frame, d);
-  StrokePlan out = plan;
-  // The frame placed stays the same (a dropped stroke may have reached past the sheet), so every
-  // kept point rounds exactly as it did.
-  out.sheet = frame;
-  out.strokes.clear();
-  for (KindStats& k : out.kinds) k.strokes = k.pen_lifts = k.precuts = 0, k.cut_mm = k.travel_mm = 0;
-  Point2 at = plan.home;
-  for (const Stroke& s : plan.strokes) {
-    KindStats& k = out.kinds[index_of(s.kind)];
-    if (rounded(s, frame, placement, d).size() < 2) {
-      ++k.strokes_below_resolution;
-      continue;
-    }
-    // Travel to a kind's strokes counts for that kind, as in plan_strokes.
-    k.travel_mm += travel_mm({s.points}, at);
-    k.cut_mm += path_length_mm(s.points);
-    ++(s.precut ? k.precuts : k.strokes);
-    ++k.pen_lifts;
-    at = s.points.back();
-    out.strokes.push_back(s);
-  }
-  return out;
-}
-
-Placement place_sheet(const Rect& sheet, const HpglDialect& d) {
-  const std::array<double, 2> size = along_axes(sheet.max, sheet, d);
-  Placement p;
-  p.width_pu = std::llround(size[0] * d.units_per_mm_x);
-  p.height_pu = std::llround(size[1] * d.units_per_mm_y);
-  const std::int64_t avail_x = d.area_max_x_pu - d.area_min_x_pu, avail_y = d.area_max_y_pu - d.area_min_y_pu;
-  if (p.width_pu > avail_x || p.height_pu > avail_y) {
-    throw Error(ErrorCode::invalid_input, "", "usable area",
-                "the sheet (" + mm_text(size[0]) + " x " + mm_text(size[1]) + " mm on the plotter's axes) does not fit the "
-                "usable area (" + mm_text(static_cast<double>(avail_x) / d.units_per_mm_x) + " x " +
-                mm_text(static_cast<double>(avail_y) / d.units_per_mm_y) + " mm)");
-  }
-  // The sheet sits in the corner the axes grow from: the usable area's min, or max when flipped.
-  p.origin_x_pu = d.flip_x ? d.area_max_x_pu : d.area_min_x_pu;
-  p.origin_y_pu = d.flip_y ? d.area_max_y_pu : d.area_min_y_pu;
-  return p;
-}
-
-std::array<std::int64_t, 2> to_plotter(Point2 pt, const Rect& sheet, const Placement& p, const HpglDialect& d) {
-  const std::array<double, 2> a = along_axes(pt, sheet, d);
-  const std::int64_t x = std::llround(a[0] * d.units_per_mm_x), y = std::llround(a[1] * d.units_per_mm_y);
-  return {d.flip_x ? p.origin_x_pu - x : p.origin_x_pu + x, d.flip_y ? p.origin_y_pu - y : p.origin_y_pu + y};
-}
-
-std::size_t EncodedJob::last_stroke_within(std::size_t bytes_sent) const {
-  const auto it = std::upper_bound(stroke_end.begin(), stroke_end.end(), bytes_sent);
-  return first_stroke - 1 + static_cast<std::size_t>(it - stroke_end.begin());
-}
-
-std::size_t EncodedJob::command_boundary_at_or_after(std::size_t offset) const {
-  if (offset == 0) return 0;  // before the first command
-  const auto it = std::lower_bound(command_end.begin(), command_end.end(), offset);
-  return it == command_end.end() ? bytes.size() : *it;
-}
 
 std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std::array<ToolSetting, 4>& tools) {
   return encode_job(plan, d, tools).bytes;
@@ -211,7 +109,7 @@ EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::a
   std::size_t number = 0;  // of the stroke at hand, as users count them
   for (const Stroke& s : plan.strokes) {
     // The same rounding as plan_in_plotter_units: a stroke that rounds to one point is not sent.
-    const PlotterPath pts = rounded(s, frame, placement, d);
+    const PlotterPath pts = stroke_in_plotter_units(s, frame, placement, d);
     if (pts.size() < 2) continue;
     // Strokes before from_stroke leave no trace: tool, position and mode state start afresh.
     if (++number < from_stroke) continue;

@@ -36,6 +36,27 @@ TEST(Hpgl, SeparateAbsoluteGolden) {
       << "generic dialect, byte for byte";
 }
 
+// The cutter-language seam: HP-GL behind JobEncoder writes encode_job's bytes and offsets.
+TEST(Hpgl, TheEncoderBehindTheSeamIsEncodeJob) {
+  HpglDialect d = area({});
+  d.move_style = MoveStyle::inline_xy;
+  const HpglEncoder hpgl(d);
+  const JobEncoder& encoder = hpgl;
+  EXPECT_EQ(encoder.language(), CutterLanguage::hpgl);
+  for (std::size_t from : {1u, 2u}) {
+    const EncodedJob via = encoder.encode(small_plan(), tools(), from);
+    const EncodedJob direct = encode_job(small_plan(), d, tools(), from);
+    EXPECT_EQ(via.bytes, direct.bytes) << from;
+    EXPECT_EQ(via.stroke_end, direct.stroke_end) << from;
+    EXPECT_EQ(via.stroke_cut_start, direct.stroke_cut_start) << from;
+    EXPECT_EQ(via.command_end, direct.command_end) << from;
+    EXPECT_EQ(via.first_stroke, from);
+  }
+  EXPECT_NE(encoder.encode(small_plan(), tools(), 1).bytes, encode_hpgl(small_plan(), area({}), tools())) << "bound to its dialect";
+  EXPECT_THROW(encoder.encode(small_plan(), tools(), 3), Error) << "past the last stroke";
+  EXPECT_EQ(kCutterLanguageNames.name(CutterLanguage::hpgl), "hpgl");
+}
+
 TEST(Hpgl, InlineRelativeGoldenDerivesDeltasFromRoundedAbsolutes) {
   HpglDialect d = area({});
   d.move_style = MoveStyle::inline_xy;

@@ -17,9 +17,9 @@ struct DevicePlan {
   EncodedJob encoded;   // the whole job, from stroke 1
 };
 
-// plan_strokes -> drop_below_resolution -> estimate_time -> encode_job. A sheet that does not fit
-// the device's usable area throws popcut::Error(invalid_input) naming `profile_source`: the
-// pattern is fine, it is this device that is too small.
+// plan_strokes -> drop_below_resolution -> estimate_time -> encode_for_device (in the profile's
+// language). A sheet that does not fit the device's usable area throws popcut::Error(invalid_input)
+// naming `profile_source`: the pattern is fine, it is this device that is too small.
 DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source);
 
 // The largest sheet the device takes, as plan_for_device places it: the usable area with the

@@ -6,42 +6,37 @@
 #include <string_view>
 #include <vector>
 
+#include "popcut/drivers/device_reader.h"
+
 namespace popcut::drivers {
 
-struct HpglCommand {
-  std::string name;            // "PA", "!FS", or "ESC.B" for device control
-  std::vector<double> params;  // numeric parameters in order (ESC.@ and friends: theirs too)
-  std::size_t offset = 0;      // byte offset of the command in the stream
-  std::size_t length = 0;      // bytes it took, terminator included
-  // Bytes it held in a device's buffer: its length and the separators (newlines, spaces) read
-  // since the command before, which a device stores and discards like any byte.
-  std::size_t buffer_bytes = 0;
-  bool malformed = false;      // a parameter that is not a number
-};
+// HP-GL's commands are the simulator's device commands; the name stays for its callers.
+using HpglCommand = DeviceCommand;
 
-// Feed bytes as they arrive; commands come out once complete (a terminator, a newline or the next
-// command's first letter ends one), so a command split across writes is read whole. Two things
-// follow real devices rather than the letter of HP-GL:
+// The HP-GL device reader: a terminator, a newline or the next command's first letter ends a
+// command, and each comes out with its DeviceOp (unknown for what the simulator does not model).
+// Two things follow real devices rather than the letter of HP-GL:
 // - ESC. sequences are taken out of the stream wherever they arrive, even inside another
 //   command's parameters (hosts poll ESC.B between arbitrary chunks);
 // - a long PA/PR/PU/PD comes out in pieces as its coordinate pairs arrive (same name, the pairs
 //   so far), as a plotter consumes them from its buffer; executing the pieces equals the whole.
 // Offsets count the HP-GL bytes only (device-control sequences left out).
-class HpglReader {
+class HpglReader final : public DeviceReader {
  public:
-  void feed(std::string_view bytes, std::vector<HpglCommand>& out);
+  void feed(std::string_view bytes, std::vector<HpglCommand>& out) override;
   // The same, but stops just after a device-control sequence completes, so a device can answer
   // it with exactly the bytes ahead of it in its buffer; returns the bytes it took.
-  std::size_t feed_to_control(std::string_view bytes, std::vector<HpglCommand>& out);
+  std::size_t feed_to_control(std::string_view bytes, std::vector<HpglCommand>& out) override;
   // End of input: the last command may lack its terminator.
-  void finish(std::vector<HpglCommand>& out);
+  void finish(std::vector<HpglCommand>& out) override;
   // Drops the bytes of a command not yet complete (a device discarding its buffer, ESC.K).
-  void discard_pending();
+  void discard_pending() override;
   // Whether the next byte continues a device-control sequence (those bypass the buffer).
-  bool in_device_control() const { return !esc_.empty(); }
+  bool in_device_control() const override { return !esc_.empty(); }
+  bool starts_device_control(char byte) const override { return byte == '\x1b'; }
   // Buffer bytes held for a command not yet complete (a device-control sequence being received
   // is not among them: those never enter the buffer).
-  std::size_t pending() const { return pending_.size() - synthetic_ + separators_; }
+  std::size_t pending() const override { return pending_.size() - synthetic_ + separators_; }
 
  private:
   void parse(std::vector<HpglCommand>& out, bool final);

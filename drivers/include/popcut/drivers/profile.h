@@ -1,4 +1,4 @@
-// Device profiles (configs/devices/*.toml): dialect, tools, planning, kinematics, transport defaults.
+// Device profiles (configs/devices/*.toml): language and dialect, tools, planning, kinematics, transport defaults.
 #pragma once
 
 #include <array>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "popcut/hpgl/hpgl.h"
+#include "popcut/lang/encoder.h"
 #include "popcut/names.h"
 #include "popcut/plan/plan.h"
 
@@ -65,6 +66,8 @@ struct TransportDefaults {
 struct DeviceProfile {
   std::string source;  // file it came from
   std::string name;
+  CutterLanguage language = CutterLanguage::hpgl;  // [device] language: the encoder and reader it picks
+  // The frame ([device]: units, axes, usable area) every language uses, and [hpgl]'s syntax.
   HpglDialect dialect;
   std::array<ToolSetting, 4> tools{};  // indexed by index_of(PlanKind)
   PlanOptions plan;                    // fold gap, turn limit, kind order, per-kind modes

@@ -1,4 +1,4 @@
-// The simulated cutter: executes HP-GL on a virtual clock, records strokes, models its buffer and faults.
+// The simulated cutter: executes its profile's language on a virtual clock, records strokes, models its buffer and faults.
 #pragma once
 
 #include <array>
@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "popcut/drivers/hpgl_reader.h"
+#include "popcut/drivers/device_reader.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/transport.h"
 
@@ -102,9 +102,9 @@ class SimCutter {
   void advance_to(double t_s);
   // Bytes that reached the reader: queues the commands they complete, answers device control.
   void take(std::string_view bytes);
-  void dispatch(std::vector<HpglCommand>& cmds);
-  void execute(const HpglCommand& c);
-  void answer(const HpglCommand& c);
+  void dispatch(std::vector<DeviceCommand>& cmds);
+  void execute(const DeviceCommand& c);
+  void answer(const DeviceCommand& c);
   void move_to(std::array<std::int64_t, 2> p);
   void end_stroke();
   void check_water_marks();
@@ -112,8 +112,8 @@ class SimCutter {
 
   DeviceProfile profile_;
   SimFaults faults_;
-  HpglReader reader_;
-  std::deque<HpglCommand> queue_;
+  std::unique_ptr<DeviceReader> reader_;  // of the profile's language
+  std::deque<DeviceCommand> queue_;
   std::size_t queued_bytes_ = 0;
   double busy_until_s_ = 0;
   double now_s_ = 0;

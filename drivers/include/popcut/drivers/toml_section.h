@@ -4,22 +4,17 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <toml++/toml.h>
 
 #include "popcut/error.h"
+#include "popcut/names.h"
+#include "popcut/text.h"
 
 namespace popcut::drivers {
-namespace detail {
-inline std::string toml_num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-}  // namespace detail
 
 // Errors name the file, "[section] key" and what was expected (Klipper's style: each section is
 // read by its owner). Shared by device profiles and the daemon's configuration.
@@ -42,7 +37,7 @@ class TomlSection {
     if (!n) return fallback;
     if (!n->is_number()) fail(key, "expected a number");
     const double v = n->value<double>().value_or(0);
-    if (!std::isfinite(v) || v < lo || v > hi) fail(key, detail::toml_num(v) + " is out of range " + detail::toml_num(lo) + " to " + detail::toml_num(hi));
+    if (!std::isfinite(v) || v < lo || v > hi) fail(key, format_significant(v) + " is out of range " + format_significant(lo) + " to " + format_significant(hi));
     return v;
   }
   std::optional<double> optional_number(const std::string& key, double lo, double hi) {
@@ -71,19 +66,20 @@ class TomlSection {
     if (s.size() > max_len) fail(key, "longer than " + std::to_string(max_len) + " bytes");
     return s;
   }
+  // One of the table's names; returns its value. Messages list the names in table order.
+  template <class E, std::size_t N>
+  E choice(const std::string& key, E fallback, const EnumNames<E, N>& table) {
+    std::array<std::string_view, N> names{};
+    for (std::size_t i = 0; i < N; ++i) names[i] = table.entries[i].second;
+    const std::optional<std::size_t> i = choice_index(key, names);
+    return i ? table.entries[*i].first : fallback;
+  }
   // One of `names`; returns its index.
   template <std::size_t N>
   std::size_t choice(const std::string& key, std::size_t fallback, const std::array<const char*, N>& names) {
-    const toml::node* n = node(key);
-    if (!n) return fallback;
-    std::string allowed;
-    for (const char* a : names) allowed += std::string(allowed.empty() ? "" : ", ") + "\"" + a + "\"";
-    if (!n->is_string()) fail(key, "expected one of " + allowed);
-    const std::string s = n->value<std::string>().value_or("");
-    for (std::size_t i = 0; i < N; ++i) {
-      if (s == names[i]) return i;
-    }
-    fail(key, "\"" + s + "\" is not one of " + allowed);
+    std::array<std::string_view, N> views{};
+    for (std::size_t i = 0; i < N; ++i) views[i] = names[i];
+    return choice_index(key, views).value_or(fallback);
   }
   const toml::array* array(const std::string& key) {
     const toml::node* n = node(key);
@@ -98,6 +94,21 @@ class TomlSection {
   }
 
  private:
+  // The index of the key's value among `names`, nullopt when the key is absent.
+  template <std::size_t N>
+  std::optional<std::size_t> choice_index(const std::string& key, const std::array<std::string_view, N>& names) {
+    const toml::node* n = node(key);
+    if (!n) return std::nullopt;
+    std::string allowed;
+    for (std::string_view a : names) allowed += std::string(allowed.empty() ? "" : ", ") + "\"" + std::string(a) + "\"";
+    if (!n->is_string()) fail(key, "expected one of " + allowed);
+    const std::string s = n->value<std::string>().value_or("");
+    for (std::size_t i = 0; i < N; ++i) {
+      if (s == names[i]) return i;
+    }
+    fail(key, "\"" + s + "\" is not one of " + allowed);
+  }
+
   const toml::table* table_;
   std::string name_, source_;
   std::set<std::string> seen_;

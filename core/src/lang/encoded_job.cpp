@@ -1,0 +1,19 @@
+// EncodedJob's lookups from "bytes sent" to strokes and command boundaries, the same for every language.
+#include <algorithm>
+
+#include "popcut/lang/encoder.h"
+
+namespace popcut {
+
+std::size_t EncodedJob::last_stroke_within(std::size_t bytes_sent) const {
+  const auto it = std::upper_bound(stroke_end.begin(), stroke_end.end(), bytes_sent);
+  return first_stroke - 1 + static_cast<std::size_t>(it - stroke_end.begin());
+}
+
+std::size_t EncodedJob::command_boundary_at_or_after(std::size_t offset) const {
+  if (offset == 0) return 0;  // before the first command
+  const auto it = std::lower_bound(command_end.begin(), command_end.end(), offset);
+  return it == command_end.end() ? bytes.size() : *it;
+}
+
+}  // namespace popcut

@@ -1,0 +1,99 @@
+// Plotter frame: rounds every pattern point once to absolute plotter units in the device's usable area.
+#include "popcut/lang/plotter_frame.h"
+
+#include <cmath>
+#include <string>
+
+#include "popcut/error.h"
+#include "popcut/text.h"
+
+namespace popcut {
+namespace {
+
+// Local sheet coordinates (mm from the min corner) along the plotter's x and y axes.
+std::array<double, 2> along_axes(Point2 p, const Rect& sheet, const PlotterFrame& f) {
+  const double dx = p.x_mm - sheet.min.x_mm, dv = p.v_mm - sheet.min.v_mm;
+  if (f.swap_axes) return {dv, dx};
+  return {dx, dv};
+}
+
+}  // namespace
+
+PlotterPath stroke_in_plotter_units(const Stroke& s, const Rect& sheet, const Placement& placement, const PlotterFrame& f) {
+  PlotterPath pts;
+  for (Point2 p : s.points) {
+    const auto q = to_plotter(p, sheet, placement, f);
+    if (q[0] < f.area_min_x_pu || q[0] > f.area_max_x_pu || q[1] < f.area_min_y_pu || q[1] > f.area_max_y_pu ||
+        (!f.allow_negative && (q[0] < 0 || q[1] < 0))) {
+      throw Error(ErrorCode::internal, "", "hpgl", "point (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) +
+                                                       ") plotter units lies outside the usable area; not sent");
+    }
+    if (pts.empty() || pts.back() != q) pts.push_back(q);
+  }
+  return pts;
+}
+
+std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const PlotterFrame& f) {
+  // The frame placed is the sheet and everything the knife's axis visits (drag-knife arcs).
+  const Rect frame = plan.extent();
+  const Placement placement = place_sheet(frame, f);
+  std::vector<PlotterPath> out;
+  for (const Stroke& s : plan.strokes) {
+    PlotterPath p = stroke_in_plotter_units(s, frame, placement, f);
+    if (p.size() >= 2) out.push_back(std::move(p));
+  }
+  return out;
+}
+
+StrokePlan drop_below_resolution(const StrokePlan& plan, const PlotterFrame& f) {
+  const Rect frame = plan.extent();
+  const Placement placement = place_sheet(frame, f);
+  StrokePlan out = plan;
+  // The frame placed stays the same (a dropped stroke may have reached past the sheet), so every
+  // kept point rounds exactly as it did.
+  out.sheet = frame;
+  out.strokes.clear();
+  for (KindStats& k : out.kinds) k.strokes = k.pen_lifts = k.precuts = 0, k.cut_mm = k.travel_mm = 0;
+  Point2 at = plan.home;
+  for (const Stroke& s : plan.strokes) {
+    KindStats& k = out.kinds[index_of(s.kind)];
+    if (stroke_in_plotter_units(s, frame, placement, f).size() < 2) {
+      ++k.strokes_below_resolution;
+      continue;
+    }
+    // Travel to a kind's strokes counts for that kind, as in plan_strokes.
+    k.travel_mm += travel_mm({s.points}, at);
+    k.cut_mm += path_length_mm(s.points);
+    ++(s.precut ? k.precuts : k.strokes);
+    ++k.pen_lifts;
+    at = s.points.back();
+    out.strokes.push_back(s);
+  }
+  return out;
+}
+
+Placement place_sheet(const Rect& sheet, const PlotterFrame& f) {
+  const std::array<double, 2> size = along_axes(sheet.max, sheet, f);
+  Placement p;
+  p.width_pu = std::llround(size[0] * f.units_per_mm_x);
+  p.height_pu = std::llround(size[1] * f.units_per_mm_y);
+  const std::int64_t avail_x = f.area_max_x_pu - f.area_min_x_pu, avail_y = f.area_max_y_pu - f.area_min_y_pu;
+  if (p.width_pu > avail_x || p.height_pu > avail_y) {
+    throw Error(ErrorCode::invalid_input, "", "usable area",
+                "the sheet (" + format_fixed(size[0], 1) + " x " + format_fixed(size[1], 1) + " mm on the plotter's axes) does not fit the "
+                "usable area (" + format_fixed(static_cast<double>(avail_x) / f.units_per_mm_x, 1) + " x " +
+                format_fixed(static_cast<double>(avail_y) / f.units_per_mm_y, 1) + " mm)");
+  }
+  // The sheet sits in the corner the axes grow from: the usable area's min, or max when flipped.
+  p.origin_x_pu = f.flip_x ? f.area_max_x_pu : f.area_min_x_pu;
+  p.origin_y_pu = f.flip_y ? f.area_max_y_pu : f.area_min_y_pu;
+  return p;
+}
+
+std::array<std::int64_t, 2> to_plotter(Point2 pt, const Rect& sheet, const Placement& p, const PlotterFrame& f) {
+  const std::array<double, 2> a = along_axes(pt, sheet, f);
+  const std::int64_t x = std::llround(a[0] * f.units_per_mm_x), y = std::llround(a[1] * f.units_per_mm_y);
+  return {f.flip_x ? p.origin_x_pu - x : p.origin_x_pu + x, f.flip_y ? p.origin_y_pu - y : p.origin_y_pu + y};
+}
+
+}  // namespace popcut
