@@ -33,9 +33,146 @@ std::string resolve(const std::string& path, const std::string& source) {
   return (std::filesystem::path(source).parent_path() / p).lexically_normal().string();
 }
 
+// An enum's names as TomlSection::choice takes them, in the table's order.
+template <class E, std::size_t N>
+std::array<const char*, N> choice_names(const EnumNames<E, N>& names) {
+  std::array<const char*, N> out{};
+  for (std::size_t i = 0; i < N; ++i) out[i] = names.entries[i].second.data();
+  return out;
+}
+
+// An address literal is checked here (999.1.1.1 is a typo, not a host name to look up); a host
+// name is resolved when popcutd binds.
+void check_listen(const TomlSection& s, const std::string& listen) {
+  if (listen.empty()) s.fail("listen", "must not be empty (127.0.0.1 for this machine only)");
+  const bool v4_like = listen.find_first_not_of("0123456789.") == std::string::npos;
+  const bool v6_like = listen.find(':') != std::string::npos;
+  unsigned char addr[sizeof(in6_addr)];
+  if (v4_like && ::inet_pton(AF_INET, listen.c_str(), addr) != 1) s.fail("listen", "\"" + listen + "\" is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0)");
+  if (v6_like && ::inet_pton(AF_INET6, listen.c_str(), addr) != 1) s.fail("listen", "\"" + listen + "\" is not an IPv6 address (e.g. ::1, ::; the port goes in [server] port)");
+  if (!v4_like && !v6_like && listen.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") != std::string::npos) {
+    s.fail("listen", "\"" + listen + "\" is neither an IP address nor a host name");
+  }
+}
+
+// A directory key: resolved against the config file, or `fallback` when not given.
+std::string directory(TomlSection& s, const std::string& key, const std::string& fallback, const std::string& source) {
+  const std::string dir = s.text(key, "", 4096);
+  return dir.empty() ? fallback : resolve(dir, source);
+}
+
+// [server]
+void read_server(TomlSection s, const std::string& source, DaemonConfig& c) {
+  c.listen = s.text("listen", "127.0.0.1", 64);
+  check_listen(s, c.listen);
+  c.port = s.integer("port", 8742, 0, 65535);
+  const std::string data_dir = s.text("data_dir", "", 4096);
+  if (data_dir.empty()) s.fail("data_dir", "missing: where the job database and job files live");
+  c.data_dir = resolve(data_dir, source);
+  c.kiosk_dir = directory(s, "kiosk_dir", POPCUT_KIOSK_DIR, source);
+  c.examples_dir = directory(s, "examples_dir", POPCUT_EXAMPLES_DIR, source);
+  c.http_threads = s.integer("http_threads", 64, 1, 1024);
+  c.keep_alive_timeout_s = s.integer("keep_alive_timeout_s", 2, 1, 300);
+  c.header_timeout_s = s.integer("header_timeout_s", 5, 1, 300);
+  c.listen_backlog = s.integer("listen_backlog", 1024, 16, 65535);
+  c.planners = s.integer("planners", 1, 1, 64);
+  s.reject_unknown();
+}
+
+// [limits]
+Limits read_limits(TomlSection l) {
+  Limits limits;
+  limits.upload_bytes = static_cast<std::size_t>(l.integer("upload_bytes", 1 << 20, 1024, 1 << 30));
+  limits.model_cells = l.integer("model_cells", 1000000, 1, 100000000);
+  limits.pattern_faces = l.integer("pattern_faces", 5000, 1, 10000000);
+  limits.queue_length = l.integer("queue_length", 10000, 1, 10000000);
+  limits.mesh_triangles = l.integer("mesh_triangles", 200000, 1, 10000000);
+  limits.preview_cache_bytes = static_cast<std::size_t>(l.integer("preview_cache_bytes", 32 << 20, 0, 1 << 30));
+  l.reject_unknown();
+  return limits;
+}
+
+// One [[device]]; `names` holds the names of those before it.
+DeviceConfig read_device(TomlSection& d, const std::string& source, std::set<std::string>& names) {
+  DeviceConfig dev;
+  dev.name = d.text("name", "", 64);
+  if (!is_safe_name(dev.name) || dev.name.find(' ') != std::string::npos) {
+    d.fail("name", "\"" + dev.name + "\": 1 to 64 letters, digits, '-', '_' or '.', not starting with '.'");
+  }
+  if (!names.insert(dev.name).second) d.fail("name", "\"" + dev.name + "\" is used by another device");
+  const std::string profile = d.text("profile", "", 4096);
+  if (profile.empty()) d.fail("profile", "missing: the device profile (e.g. devices/sim.toml)");
+  dev.profile_path = resolve(profile, source);
+  dev.transport = d.text("transport", "", 4096);
+  drivers::DeviceAddress address;
+  if (const drivers::TransportStatus st = drivers::parse_device(dev.transport, address); !st.ok()) d.fail("transport", st.message);
+  if (address.kind == drivers::DeviceKind::file) dev.transport = "file:" + resolve(address.path, source);
+  dev.sim_slowdown = d.number("sim_slowdown", 1, 1, 100000);
+  dev.sim_time_scale = d.number("sim_time_scale", 0, 0, 100);
+  if (address.kind != drivers::DeviceKind::sim && (d.node("sim_slowdown") || d.node("sim_time_scale"))) {
+    d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
+  }
+  d.reject_unknown();
+  try {
+    dev.profile = drivers::load_profile(dev.profile_path);
+  } catch (const Error& e) {
+    d.fail("profile", e.what());  // names both files: the config's entry and the profile's problem
+  }
+  return dev;
+}
+
+// One [[token]]; `names` and `secrets` hold those of the tokens before it.
+TokenConfig read_token(TomlSection& t, std::set<std::string>& names, std::set<std::string>& secrets) {
+  TokenConfig tok;
+  tok.name = t.text("name", "", 64);
+  if (!is_safe_name(tok.name)) t.fail("name", "\"" + tok.name + "\": 1 to 64 letters, digits, '-', '_', '.'");
+  if (!names.insert(tok.name).second) t.fail("name", "\"" + tok.name + "\" is used by another token");
+  tok.token = t.text("token", "", 256);
+  if (tok.token.size() < 16) t.fail("token", "must be at least 16 characters");
+  for (const char ch : tok.token) {
+    if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127) t.fail("token", "printable ASCII without spaces only");
+  }
+  if (!secrets.insert(tok.token).second) t.fail("token", "the same secret is used by another token");
+  tok.role = kRoleNames.entries[t.choice("role", 0, choice_names(kRoleNames))].first;
+  t.reject_unknown();
+  return tok;
+}
+
+// The document's sections: [server] and [limits] tables, [[device]] and [[token]] arrays of tables.
+class ConfigSections {
+ public:
+  ConfigSections(const toml::table& root, const std::string& source) : root_(root), source_(source) {
+    for (const auto& [k, v] : root) {
+      const std::string key(k.str());
+      if (key != "server" && key != "limits" && key != "device" && key != "token") {
+        throw Error(ErrorCode::invalid_input, source, "[" + key + "]", "unknown section (expected server, limits, [[device]], [[token]])");
+      }
+    }
+  }
+  TomlSection table(const std::string& name) const {
+    const toml::node* n = root_.get(name);
+    if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source_, "[" + name + "]", "expected a table");
+    return TomlSection(n ? n->as_table() : nullptr, name, source_);
+  }
+  // Each entry a section of its own, named "device.0", "device.1" ...
+  std::vector<TomlSection> entries(const std::string& name) const {
+    std::vector<TomlSection> out;
+    const toml::node* n = root_.get(name);
+    if (!n) return out;
+    if (!n->is_array_of_tables()) throw Error(ErrorCode::invalid_input, source_, "[[" + name + "]]", "expected [[" + name + "]] tables");
+    std::size_t i = 0;
+    for (const toml::node& e : *n->as_array()) out.emplace_back(e.as_table(), name + "." + std::to_string(i++), source_);
+    return out;
+  }
+
+ private:
+  const toml::table& root_;
+  const std::string& source_;
+};
+
 }  // namespace
 
-const char* to_string(Role role) { return role == Role::admin ? "admin" : "kiosk"; }
+const char* to_string(Role role) { return kRoleNames.name(role).data(); }
 
 bool is_safe_name(const std::string& name) {
   if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == ' ' || name.back() == ' ') return false;
@@ -96,113 +233,16 @@ std::string job_label_from(const std::string& name) {
 
 DaemonConfig parse_daemon_config(const std::string& text, const std::string& source) {
   const toml::table root = parse_toml(text, source);
-  for (const auto& [k, v] : root) {
-    const std::string key(k.str());
-    if (key != "server" && key != "limits" && key != "device" && key != "token") {
-      throw Error(ErrorCode::invalid_input, source, "[" + key + "]", "unknown section (expected server, limits, [[device]], [[token]])");
-    }
-  }
-  const auto table = [&](const std::string& name) {
-    const toml::node* n = root.get(name);
-    if (n && !n->is_table()) throw Error(ErrorCode::invalid_input, source, "[" + name + "]", "expected a table");
-    return TomlSection(n ? n->as_table() : nullptr, name, source);
-  };
-  // [[device]] and [[token]]: arrays of tables, each entry a section of its own.
-  const auto entries = [&](const std::string& name) {
-    std::vector<TomlSection> out;
-    const toml::node* n = root.get(name);
-    if (!n) return out;
-    if (!n->is_array_of_tables()) throw Error(ErrorCode::invalid_input, source, "[[" + name + "]]", "expected [[" + name + "]] tables");
-    std::size_t i = 0;
-    for (const toml::node& e : *n->as_array()) out.emplace_back(e.as_table(), name + "." + std::to_string(i++), source);
-    return out;
-  };
-
+  const ConfigSections sections(root, source);
   DaemonConfig c;
   c.source = source;
-  TomlSection s = table("server");
-  c.listen = s.text("listen", "127.0.0.1", 64);
-  if (c.listen.empty()) s.fail("listen", "must not be empty (127.0.0.1 for this machine only)");
-  // An address literal is checked here (999.1.1.1 is a typo, not a host name to look up); a host
-  // name is resolved when popcutd binds.
-  const bool v4_like = c.listen.find_first_not_of("0123456789.") == std::string::npos;
-  const bool v6_like = c.listen.find(':') != std::string::npos;
-  unsigned char addr[sizeof(in6_addr)];
-  if (v4_like && ::inet_pton(AF_INET, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0)");
-  if (v6_like && ::inet_pton(AF_INET6, c.listen.c_str(), addr) != 1) s.fail("listen", "\"" + c.listen + "\" is not an IPv6 address (e.g. ::1, ::; the port goes in [server] port)");
-  if (!v4_like && !v6_like && c.listen.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") != std::string::npos) {
-    s.fail("listen", "\"" + c.listen + "\" is neither an IP address nor a host name");
-  }
-  c.port = s.integer("port", 8742, 0, 65535);
-  const std::string data_dir = s.text("data_dir", "", 4096);
-  if (data_dir.empty()) s.fail("data_dir", "missing: where the job database and job files live");
-  c.data_dir = resolve(data_dir, source);
-  const std::string kiosk_dir = s.text("kiosk_dir", "", 4096);
-  c.kiosk_dir = kiosk_dir.empty() ? std::string(POPCUT_KIOSK_DIR) : resolve(kiosk_dir, source);
-  const std::string examples_dir = s.text("examples_dir", "", 4096);
-  c.examples_dir = examples_dir.empty() ? std::string(POPCUT_EXAMPLES_DIR) : resolve(examples_dir, source);
-  c.http_threads = s.integer("http_threads", 64, 1, 1024);
-  c.keep_alive_timeout_s = s.integer("keep_alive_timeout_s", 2, 1, 300);
-  c.header_timeout_s = s.integer("header_timeout_s", 5, 1, 300);
-  c.listen_backlog = s.integer("listen_backlog", 1024, 16, 65535);
-  c.planners = s.integer("planners", 1, 1, 64);
-  s.reject_unknown();
-
-  TomlSection l = table("limits");
-  c.limits.upload_bytes = static_cast<std::size_t>(l.integer("upload_bytes", 1 << 20, 1024, 1 << 30));
-  c.limits.model_cells = l.integer("model_cells", 1000000, 1, 100000000);
-  c.limits.pattern_faces = l.integer("pattern_faces", 5000, 1, 10000000);
-  c.limits.queue_length = l.integer("queue_length", 10000, 1, 10000000);
-  c.limits.mesh_triangles = l.integer("mesh_triangles", 200000, 1, 10000000);
-  c.limits.preview_cache_bytes = static_cast<std::size_t>(l.integer("preview_cache_bytes", 32 << 20, 0, 1 << 30));
-  l.reject_unknown();
-
-  std::set<std::string> names;
-  for (TomlSection& d : entries("device")) {
-    DeviceConfig dev;
-    dev.name = d.text("name", "", 64);
-    if (!is_safe_name(dev.name) || dev.name.find(' ') != std::string::npos) {
-      d.fail("name", "\"" + dev.name + "\": 1 to 64 letters, digits, '-', '_' or '.', not starting with '.'");
-    }
-    if (!names.insert(dev.name).second) d.fail("name", "\"" + dev.name + "\" is used by another device");
-    const std::string profile = d.text("profile", "", 4096);
-    if (profile.empty()) d.fail("profile", "missing: the device profile (e.g. devices/sim.toml)");
-    dev.profile_path = resolve(profile, source);
-    dev.transport = d.text("transport", "", 4096);
-    drivers::DeviceAddress address;
-    if (const drivers::TransportStatus st = drivers::parse_device(dev.transport, address); !st.ok()) d.fail("transport", st.message);
-    if (address.kind == drivers::DeviceKind::file) dev.transport = "file:" + resolve(address.path, source);
-    dev.sim_slowdown = d.number("sim_slowdown", 1, 1, 100000);
-    dev.sim_time_scale = d.number("sim_time_scale", 0, 0, 100);
-    if (address.kind != drivers::DeviceKind::sim && (d.node("sim_slowdown") || d.node("sim_time_scale"))) {
-      d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
-    }
-    d.reject_unknown();
-    try {
-      dev.profile = drivers::load_profile(dev.profile_path);
-    } catch (const Error& e) {
-      d.fail("profile", e.what());  // names both files: the config's entry and the profile's problem
-    }
-    c.devices.push_back(std::move(dev));
-  }
+  read_server(sections.table("server"), source, c);
+  c.limits = read_limits(sections.table("limits"));
+  std::set<std::string> device_names;
+  for (TomlSection& d : sections.entries("device")) c.devices.push_back(read_device(d, source, device_names));
   if (c.devices.empty()) throw Error(ErrorCode::invalid_input, source, "[[device]]", "no devices: add at least one [[device]]");
-
-  std::set<std::string> secrets, token_names;
-  for (TomlSection& t : entries("token")) {
-    TokenConfig tok;
-    tok.name = t.text("name", "", 64);
-    if (!is_safe_name(tok.name)) t.fail("name", "\"" + tok.name + "\": 1 to 64 letters, digits, '-', '_', '.'");
-    if (!token_names.insert(tok.name).second) t.fail("name", "\"" + tok.name + "\" is used by another token");
-    tok.token = t.text("token", "", 256);
-    if (tok.token.size() < 16) t.fail("token", "must be at least 16 characters");
-    for (const char ch : tok.token) {
-      if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127) t.fail("token", "printable ASCII without spaces only");
-    }
-    if (!secrets.insert(tok.token).second) t.fail("token", "the same secret is used by another token");
-    tok.role = t.choice("role", 0, std::array<const char*, 2>{"kiosk", "admin"}) == 0 ? Role::kiosk : Role::admin;
-    t.reject_unknown();
-    c.tokens.push_back(std::move(tok));
-  }
+  std::set<std::string> token_names, secrets;
+  for (TomlSection& t : sections.entries("token")) c.tokens.push_back(read_token(t, token_names, secrets));
   if (c.tokens.empty()) throw Error(ErrorCode::invalid_input, source, "[[token]]", "no tokens: add at least one [[token]]");
   return c;
 }

@@ -7,10 +7,12 @@
 #include <vector>
 
 #include "popcut/drivers/profile.h"
+#include "popcut/names.h"
 
 namespace popcut::daemon {
 
 enum class Role { kiosk, admin };
+inline constexpr auto kRoleNames = enum_names<Role>({{Role::kiosk, "kiosk"}, {Role::admin, "admin"}});
 const char* to_string(Role role);
 
 struct DeviceConfig {

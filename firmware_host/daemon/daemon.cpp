@@ -110,15 +110,7 @@ std::string Daemon::job_dir(std::int64_t id) const {
   return (std::filesystem::path(config_.data_dir) / "jobs" / std::to_string(id)).string();
 }
 
-const char* to_string(CancelStage stage) {
-  switch (stage) {
-    case CancelStage::none: return "none";
-    case CancelStage::requested: return "requested";
-    case CancelStage::waiting_for_device: return "waiting_for_device";
-    case CancelStage::giving_up: return "giving_up";
-  }
-  return "none";
-}
+const char* to_string(CancelStage stage) { return kCancelStageNames.name(stage).data(); }
 
 CancelResult Daemon::cancel(std::int64_t id) {
   CancelResult r = store_.cancel(id);

@@ -21,6 +21,9 @@ namespace popcut::daemon {
 // Where a user's cancel of a cut stands (docs/api.md "Cancelling a cut"): asked; waiting for a
 // device that holds the line to take the abort; the wait given up by a second cancel.
 enum class CancelStage { none, requested, waiting_for_device, giving_up };
+inline constexpr auto kCancelStageNames =
+    enum_names<CancelStage>({{CancelStage::none, "none"}, {CancelStage::requested, "requested"},
+                             {CancelStage::waiting_for_device, "waiting_for_device"}, {CancelStage::giving_up, "giving_up"}});
 const char* to_string(CancelStage stage);
 
 struct DeviceStatus {

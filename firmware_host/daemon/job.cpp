@@ -2,57 +2,21 @@
 #include "job.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 
 namespace popcut::daemon {
-namespace {
-constexpr std::array<const char*, 8> kStates = {"queued", "planning", "ready", "cutting", "done", "failed", "cancelled", "interrupted"};
-}  // namespace
 
-const char* to_string(JobState state) { return kStates[static_cast<std::size_t>(state)]; }
+const char* to_string(JobState state) { return kJobStateNames.name(state).data(); }
 
-std::optional<JobState> parse_job_state(const std::string& text) {
-  for (std::size_t i = 0; i < kStates.size(); ++i) {
-    if (text == kStates[i]) return static_cast<JobState>(i);
-  }
-  return std::nullopt;
-}
+std::optional<JobState> parse_job_state(const std::string& text) { return kJobStateNames.find(text); }
 
-const char* to_string(ResumePoint point) { return point == ResumePoint::executed ? "executed" : "received"; }
+const char* to_string(ResumePoint point) { return kResumePointNames.name(point).data(); }
 
-std::optional<ResumePoint> parse_resume_point(const std::string& text) {
-  if (text == "received") return ResumePoint::received;
-  if (text == "executed") return ResumePoint::executed;
-  return std::nullopt;
-}
+std::optional<ResumePoint> parse_resume_point(const std::string& text) { return kResumePointNames.find(text); }
 
 bool is_terminal(JobState s) { return s == JobState::done || s == JobState::failed || s == JobState::cancelled; }
 
-const char* to_string(ApiError e) {
-  switch (e) {
-    case ApiError::bad_json: return "bad_json";
-    case ApiError::bad_request: return "bad_request";
-    case ApiError::bad_model: return "bad_model";
-    case ApiError::model_too_complex: return "model_too_complex";
-    case ApiError::too_large: return "too_large";
-    case ApiError::bad_name: return "bad_name";
-    case ApiError::unauthorized: return "unauthorized";
-    case ApiError::forbidden: return "forbidden";
-    case ApiError::not_found: return "not_found";
-    case ApiError::conflict: return "conflict";
-    case ApiError::queue_full: return "queue_full";
-    case ApiError::no_device: return "no_device";
-    case ApiError::length_required: return "length_required";
-    case ApiError::method_not_allowed: return "method_not_allowed";
-    case ApiError::busy: return "busy";
-    case ApiError::device_error: return "device_error";
-    case ApiError::cancelled: return "cancelled";
-    case ApiError::interrupted: return "interrupted";
-    case ApiError::internal: return "internal";
-  }
-  return "internal";
-}
+const char* to_string(ApiError e) { return kApiErrorNames.name(e).data(); }
 
 int http_status(ApiError e) {
   switch (e) {

@@ -8,10 +8,15 @@
 #include <utility>
 #include <vector>
 
+#include "popcut/names.h"
+
 namespace popcut::daemon {
 
 // Life of a job (docs/api.md "Job states"). Terminal: done, failed, cancelled.
 enum class JobState { queued, planning, ready, cutting, done, failed, cancelled, interrupted };
+inline constexpr auto kJobStateNames = enum_names<JobState>(
+    {{JobState::queued, "queued"}, {JobState::planning, "planning"}, {JobState::ready, "ready"}, {JobState::cutting, "cutting"},
+     {JobState::done, "done"}, {JobState::failed, "failed"}, {JobState::cancelled, "cancelled"}, {JobState::interrupted, "interrupted"}});
 const char* to_string(JobState state);
 std::optional<JobState> parse_job_state(const std::string& text);
 bool is_terminal(JobState state);
@@ -20,6 +25,8 @@ bool is_terminal(JobState state);
 // received (it kept its buffer: the default), or after those it is known to have executed (it was
 // reset or power-cycled and lost its buffer; strokes between may then be cut twice).
 enum class ResumePoint { received, executed };
+inline constexpr auto kResumePointNames =
+    enum_names<ResumePoint>({{ResumePoint::received, "received"}, {ResumePoint::executed, "executed"}});
 const char* to_string(ResumePoint point);
 std::optional<ResumePoint> parse_resume_point(const std::string& text);
 
@@ -45,6 +52,15 @@ enum class ApiError {
   interrupted,       // job only: popcutd stopped (SIGTERM, crash) during the cut; resumable
   internal,          // 500: a bug in popcutd
 };
+inline constexpr auto kApiErrorNames = enum_names<ApiError>({
+    {ApiError::bad_json, "bad_json"}, {ApiError::bad_request, "bad_request"}, {ApiError::bad_model, "bad_model"},
+    {ApiError::model_too_complex, "model_too_complex"}, {ApiError::too_large, "too_large"}, {ApiError::bad_name, "bad_name"},
+    {ApiError::unauthorized, "unauthorized"}, {ApiError::forbidden, "forbidden"}, {ApiError::not_found, "not_found"},
+    {ApiError::conflict, "conflict"}, {ApiError::queue_full, "queue_full"}, {ApiError::no_device, "no_device"},
+    {ApiError::length_required, "length_required"}, {ApiError::method_not_allowed, "method_not_allowed"},
+    {ApiError::busy, "busy"}, {ApiError::device_error, "device_error"}, {ApiError::cancelled, "cancelled"},
+    {ApiError::interrupted, "interrupted"}, {ApiError::internal, "internal"},
+});
 const char* to_string(ApiError error);
 int http_status(ApiError error);
 

@@ -402,7 +402,7 @@ bool JobStore::paused(const std::string& device) {
 std::map<std::string, std::int64_t> JobStore::count_by_state() {
   auto [db, lock] = reader();
   std::map<std::string, std::int64_t> out;
-  for (int i = 0; i <= static_cast<int>(JobState::interrupted); ++i) out[to_string(static_cast<JobState>(i))] = 0;
+  for (const auto& [state, name] : kJobStateNames.entries) out[std::string(name)] = 0;
   Stmt s(db, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
   while (s.step()) out[s.text(0)] = s.integer(1);
   return out;

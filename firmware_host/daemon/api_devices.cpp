@@ -1,0 +1,37 @@
+// Device routes: the devices and what each cuts, an admin's pause and resume.
+#include "api_handlers.h"
+
+namespace popcut::daemon {
+namespace {
+
+void set_paused(ApiContext& api, const Req& req, Res& res, bool paused) {
+  const std::string name = req.matches[1];
+  if (!api.daemon().device(name)) fail(ApiError::not_found, "no device named " + name);
+  api.daemon().set_paused(name, paused);
+  send_json(res, {{"device", name}, {"paused", paused}});
+}
+
+}  // namespace
+
+void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
+  Daemon& d = api.daemon();
+  json list = json::array();
+  for (const DeviceStatus& s : d.devices()) {
+    // A kiosk sees which of its own jobs a device cuts; another's id would only answer 404.
+    std::optional<Job> cutting;
+    if (s.job && !caller.admin()) cutting = d.store().get(s.job);
+    const bool shown = s.job && (caller.admin() || (cutting && cutting->owner == caller.name));
+    list.push_back({{"name", s.name},
+                    {"profile", s.profile},
+                    {"model", d.device(s.name)->profile.name},
+                    {"state", s.paused ? (s.job ? "pausing" : "paused") : (s.job ? "cutting" : "idle")},
+                    {"paused", s.paused},
+                    {"job", shown ? json(s.job) : json(nullptr)}});
+  }
+  send_json(res, {{"devices", list}});
+}
+
+void pause_device(ApiContext& api, const Caller&, const Req& req, Res& res) { set_paused(api, req, res, true); }
+void resume_device(ApiContext& api, const Caller&, const Req& req, Res& res) { set_paused(api, req, res, false); }
+
+}  // namespace popcut::daemon

@@ -1,0 +1,42 @@
+// The route handlers, by resource; the route table in http_api.cpp says which path and method
+// each answers and which token it needs (checked before the handler runs).
+#pragma once
+
+#include <httplib.h>
+
+#include "api_context.h"
+
+namespace popcut::daemon {
+
+using Req = httplib::Request;
+using Res = httplib::Response;
+
+// api_service.cpp: health, metrics and the kiosk page (no token).
+void get_health(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_metrics(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_kiosk_page(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_kiosk_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_kiosk_style(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+
+// api_devices.cpp
+void list_devices(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void pause_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void resume_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+
+// api_jobs.cpp
+void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void list_jobs(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_job_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_job_preview(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void cancel_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void resume_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+
+// api_models.cpp: example models, pictures of a model before it is queued, mesh import.
+void list_examples(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_example(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void render_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void render_preview(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void import_model(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+
+}  // namespace popcut::daemon

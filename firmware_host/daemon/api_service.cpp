@@ -1,0 +1,46 @@
+// Routes without a token: /healthz, /metrics and the kiosk page's fixed files.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "api_handlers.h"
+
+namespace popcut::daemon {
+namespace {
+
+// The kiosk page: a fixed list of files, so no request path ever reaches the file system.
+void kiosk_file(ApiContext& api, const std::string& name, const char* type, Res& res) {
+  const std::string& dir = api.daemon().config().kiosk_dir;
+  std::ifstream in(std::filesystem::path(dir) / name, std::ios::binary);
+  if (!in) fail(ApiError::not_found, "the kiosk page is not installed at " + dir);
+  std::ostringstream o;
+  o << in.rdbuf();
+  res.set_content(o.str(), type);
+}
+
+}  // namespace
+
+void get_health(ApiContext& api, const Caller&, const Req&, Res& res) {
+  send_json(res, {{"ok", true}, {"devices", api.daemon().config().devices.size()}});
+}
+
+void get_metrics(ApiContext& api, const Caller&, const Req&, Res& res) {
+  Daemon& d = api.daemon();
+  const RequestCounters& counters = api.counters();
+  MetricsSample m;
+  m.jobs_by_state = d.store().count_by_state();
+  m.requests = counters.requests;
+  m.errors_4xx = counters.errors_4xx;
+  m.errors_5xx = counters.errors_5xx;
+  m.submitted = counters.submitted;
+  m.cuts_completed = d.cuts_completed();
+  for (const DeviceStatus& s : d.devices()) m.devices.push_back({s.name, s.job != 0, s.paused});
+  m.uptime_s = api.uptime_s();
+  res.set_content(metrics_text(m), "text/plain; version=0.0.4");
+}
+
+void get_kiosk_page(ApiContext& api, const Caller&, const Req&, Res& res) { kiosk_file(api, "index.html", "text/html; charset=utf-8", res); }
+void get_kiosk_script(ApiContext& api, const Caller&, const Req&, Res& res) { kiosk_file(api, "app.js", "text/javascript", res); }
+void get_kiosk_style(ApiContext& api, const Caller&, const Req&, Res& res) { kiosk_file(api, "app.css", "text/css", res); }
+
+}  // namespace popcut::daemon
