@@ -1,5 +1,5 @@
 // popcut plan / cut: pattern → stroke plan → HP-GL for a device profile → a transport (sim, file, serial, usb).
-#include "cli_cut.h"
+#include "cli/cut.h"
 #include "resume_advice.h"
 #include "report_json.h"
 
