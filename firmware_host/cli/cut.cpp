@@ -1,28 +1,24 @@
 // popcut plan / cut: pattern → stroke plan → HP-GL for a device profile → a transport (sim, file, serial, usb).
 #include "cli/cut.h"
-#include "resume_advice.h"
+#include "cli/cut_send.h"
 #include "report_json.h"
 
-#include <signal.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
 
-#include "cancel_text.h"
 #include "cli_checks.h"
 #include "cli_commands.h"
 #include "cli_sim_plotter.h"
 #include "config_dir.h"
+#include "popcut/drivers/cut_session.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/send_report.h"
 #include "popcut/text.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
@@ -92,87 +88,6 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
   return r;
 }
 
-// A one-line bar on a terminal: bytes, strokes, ETA; nothing when stderr is a file or pipe.
-class Progress {
- public:
-  explicit Progress(bool on) : on_(on && ::isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()) {}
-  void operator()(const drivers::SendProgress& p) {
-    if (!on_ || p.bytes_total == 0) return;
-    const int pct = static_cast<int>(p.bytes_sent * 100 / p.bytes_total);
-    const auto now = std::chrono::steady_clock::now();
-    if (pct == last_ && now - shown_ < std::chrono::milliseconds(500)) return;
-    last_ = pct;
-    shown_ = now;
-    const int filled = pct * 30 / 100;
-    const double elapsed_s = std::chrono::duration<double>(now - start_).count();
-    std::string eta = "--";
-    if (p.bytes_sent > 0 && elapsed_s > 1) {
-      const double left_s = elapsed_s * static_cast<double>(p.bytes_total - p.bytes_sent) / static_cast<double>(p.bytes_sent);
-      const long s = static_cast<long>(left_s + 0.5);
-      eta = std::to_string(s / 60) + ":" + (s % 60 < 10 ? "0" : "") + std::to_string(s % 60);
-    }
-    std::cerr << "\rcutting [" << std::string(static_cast<std::size_t>(filled), '#')
-              << std::string(static_cast<std::size_t>(30 - filled), '.') << "] " << pct << "% " << p.bytes_sent << "/"
-              << p.bytes_total << " bytes, stroke " << p.last_stroke_written << "/" << p.total_strokes << " written, ETA " << eta
-              << "   " << std::flush;
-  }
-  void done() {
-    if (on_ && last_ >= 0) std::cerr << "\n";
-    last_ = -1;
-  }
-
- private:
-  bool on_;
-  int last_ = -1;
-  std::chrono::steady_clock::time_point start_, shown_{};
-};
-
-// Ctrl-C asks the sender to stop safely. A second one never kills popcut between a PD and the
-// abort that lifts the knife: it is absorbed, unless popcut has said it is waiting for a device
-// that holds the line to take that abort (g_waiting); then it gives up the wait (give_up).
-std::atomic<bool> g_cancel{false};
-std::atomic<bool> g_waiting{false};
-std::atomic<bool> g_give_up{false};
-
-extern "C" void on_interrupt(int) {
-  if (!g_cancel.exchange(true)) {
-    static const char msg[] = "\npopcut: cancelling: finishing the command in flight, then lifting the knife\n";
-    (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
-  } else if (g_waiting.load()) {
-    if (!g_give_up.exchange(true)) {
-      static const char msg[] = "\npopcut: giving up on the abort: nothing more is sent to the device\n";
-      (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
-    }
-  } else {
-    static const char msg[] = "\npopcut: already cancelling; the knife is being lifted, please wait\n";
-    (void)!::write(STDERR_FILENO, msg, sizeof msg - 1);
-  }
-}
-
-// Installs on_interrupt for SIGINT and SIGTERM for its lifetime.
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    g_cancel = false;
-    g_waiting = false;
-    g_give_up = false;
-    struct sigaction sa {};
-    sa.sa_handler = on_interrupt;
-    sigemptyset(&sa.sa_mask);
-    ::sigaction(SIGINT, &sa, &old_int_);
-    ::sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~InterruptGuard() {
-    ::sigaction(SIGINT, &old_int_, nullptr);
-    ::sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  struct sigaction old_int_ {}, old_term_ {};
-};
-
 int run_plan(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
     if (s.profile_path.empty()) throw Error(ErrorCode::invalid_input, "", "--profile", "plan needs a device profile (configs/devices/*.toml)");
@@ -202,6 +117,9 @@ struct Target {
 };
 
 Target cut_target(const CutCommands& s) {
+  if (s.cut->count("--device") > 0 && s.device.empty()) {
+    throw Error(ErrorCode::invalid_input, "", "--device", "is empty: expected sim, file:PATH, serial:/dev/PORT, serial:VID:PID or usb:VID:PID");
+  }
   Target t{s.device, s.profile_path, ""};
   // A malformed device string is named first: no profile makes it right.
   if (!t.device.empty()) {
@@ -219,216 +137,206 @@ Target cut_target(const CutCommands& s) {
   return t;
 }
 
+// No --device and no --profile's sim: the profile's [transport] default, said so on stderr.
+void use_profile_device(Target& t, const DeviceProfile& profile) {
+  if (!t.device.empty()) return;
+  t.device = profile.transport.uri;
+  if (t.device.empty()) {
+    throw Error(ErrorCode::invalid_input, t.profile_path, "[transport] default",
+                "the profile names no device: give --device (sim, file:PATH, serial:..., usb:...)");
+  }
+  t.note = "using the profile's device " + t.device + " ([transport] default in " + t.profile_path + ")";
+}
+
+drivers::CutSessionOptions session_options(const CutCommands& s) {
+  drivers::CutSessionOptions o;
+  if (s.stop_answering_after >= 0) o.sim_faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
+  if (s.drop_after >= 0) o.sim_faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
+  o.sim_faults.slowdown = s.slowdown;
+  return o;
+}
+
+// The device string made a transport, the --sim-* faults are for the simulator, and a USB
+// device is the one the profile is for.
+void check_device(const CutCommands& s, const drivers::CutSession& session, const DeviceProfile& profile, const Target& target) {
+  if (const drivers::TransportStatus& st = session.made(); !st.ok()) {
+    const bool usage = st.error == drivers::TransportError::bad_argument;
+    throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, "", usage ? "--device" : "output", st.message);
+  }
+  const drivers::DeviceAddress& address = session.address();
+  if (address.kind != drivers::DeviceKind::sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
+    throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
+  }
+  if (address.kind == drivers::DeviceKind::usb && !profile.transport.usb_ids.empty()) {
+    const std::string id = drivers::usb_id_string(*address.vid, *address.pid);
+    const auto& ids = profile.transport.usb_ids;
+    if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
+      std::string list;
+      for (const std::string& k : ids) list += (list.empty() ? "" : ", ") + k;
+      throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] usb_ids",
+                  "the profile is for USB " + list + " (" + profile.name + "), not " + id + ": pick the profile of that device");
+    }
+  }
+}
+
+// Creates --out and writes the job this run sends into it; returns the directory.
+std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded) {
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw Error(ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
+  const std::filesystem::path dir(out_dir);
+  write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << encoded.bytes; });
+  return dir;
+}
+
+void open_device(drivers::CutSession& session) {
+  if (const drivers::TransportStatus st = session.open(); !st.ok()) {
+    // The class (docs/transports.md, "Error classes") leads the message, for people and scripts.
+    const bool usage = st.error == drivers::TransportError::bad_argument;
+    throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, session.describe(), usage ? "--device" : "device",
+                std::string(drivers::to_string(st.error)) + ": " + st.message);
+  }
+}
+
+// popcut.cut.v1's `sim` object: what the simulated cutter did, held against the plan.
+json sim_json(const drivers::SimCutter& cutter, const drivers::SimCheck& check, std::size_t first_stroke) {
+  const drivers::SimReport& r = cutter.report();
+  return {{"strokes", cutter.strokes().size()},
+          {"knife_downs", r.knife_downs},
+          {"cut_mm", r.knife_down_mm},
+          {"travel_mm", r.knife_up_mm},
+          {"motion_time_s", r.motion_time_s},
+          {"clock_s", r.clock_s},
+          {"bytes_received", r.bytes_received},
+          {"commands", r.commands},
+          {"max_buffer_used", r.max_buffer_used},
+          {"overflow_bytes", r.overflow_bytes},
+          {"xoff_sent", r.xoff_sent},
+          {"outside_area", r.outside_area},
+          {"unknown_commands", sim_issues_json(r.unknown)},
+          {"errors", sim_issues_json(r.errors)},
+          {"strokes_match_plan", !check.first_mismatch},
+          {"first_mismatch", check.first_mismatch ? json(*check.first_mismatch + first_stroke) : json(nullptr)}};
+}
+
+// Knife-down length of the strokes this run sends (all of them unless --resume-from).
+double run_cut_mm(const Job& j) {
+  double mm = 0;
+  for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i) mm += path_length_mm(j.plan.strokes[i].points);
+  return mm;
+}
+
+json cut_report(const CutCommands& s, const Target& target, const Job& j, const drivers::CutSession& session,
+                const drivers::SendResult& sent, const std::optional<drivers::SimCheck>& check) {
+  json report = plan_json(j, s.model_path, target.profile_path);
+  report["format"] = "popcut.cut.v1";
+  report["transport"] = session.describe();
+  report["sent"] = drivers::send_result_json(sent, j.encoded.bytes.size());
+  report["this_run"] = {{"first_stroke", j.encoded.first_stroke}, {"last_stroke", sent.total_strokes}, {"cut_mm", run_cut_mm(j)}};
+  if (const drivers::SimCutter* cutter = session.simulator(); cutter && check) {
+    report["sim"] = sim_json(*cutter, *check, j.encoded.first_stroke);
+    if (check->overflow_bytes > 0 && sent.complete()) {
+      // Every byte went out, but the device lost some: for a script reading `sent`, the job
+      // did not get through (a real device tells only through error_query).
+      report["sent"]["complete"] = false;
+      report["sent"]["error"] = std::string(drivers::to_string(drivers::TransportError::io));
+      report["sent"]["message"] =
+          "the simulated cutter lost " + std::to_string(check->overflow_bytes) + " bytes to a full buffer: what it cut is not the job";
+    }
+  }
+  return report;
+}
+
+// A job that did not get through, or was cancelled: the message and exit code; nullopt when it got through.
+std::optional<int> stopped_exit(const drivers::SendResult& sent, const Job& j, const std::string& device) {
+  if (sent.cancelled && sent.bytes_sent == 0) {
+    std::cerr << "popcut: cancelled on " << device << " before any byte of the job was sent: nothing was cut\n";
+    return static_cast<int>(kCancelled);
+  }
+  if (sent.cancelled) {
+    std::cerr << "popcut: cancelled on " << device << ": " << drivers::cancel_text(sent, j.profile.transport) << "; "
+              << drivers::counts_text(sent) << drivers::resume_advice(sent) << "\n";
+    return static_cast<int>(kCancelled);
+  }
+  if (!sent.status.ok() && sent.device_io_error != 0) {
+    // Stroke numbers mean nothing here: the device cut something else than the job.
+    std::cerr << "popcut: error: the job did not reach the cutter intact (" << device << "): " << sent.status.message
+              << drivers::resume_advice(sent) << "\n";
+    return static_cast<int>(kCannotWrite);
+  }
+  if (!sent.status.ok()) {
+    std::cerr << "popcut: error: the job did not reach the cutter (" << device << "): " << sent.status.message << "; " << sent.bytes_sent
+              << " of " << j.encoded.bytes.size() << " job bytes written; " << drivers::counts_text(sent)
+              << drivers::resume_advice(sent) << "\n";
+    return static_cast<int>(kCannotWrite);
+  }
+  return std::nullopt;
+}
+
+// A complete job on the simulator that did not cut the plan: the message and exit code.
+// popcut cut accepts command_errors (the strokes are the plan's; report.json lists the errors),
+// where popcutd's sim_match asks for `exact`.
+std::optional<int> sim_exit(const CutCommands& s, const Job& j, const drivers::SimCheck& check, const std::filesystem::path& dir) {
+  const drivers::SimVerdict verdict = check.verdict();
+  if (verdict == drivers::SimVerdict::exact || verdict == drivers::SimVerdict::command_errors) return std::nullopt;
+  const drivers::TransportDefaults& tp = j.profile.transport;
+  if (check.overflow_bytes > 0 && tp.flow == drivers::FlowControl::none && s.slowdown > 1 + tp.pace_margin_percent / 100.0) {
+    // The fault the simulator was asked for (--sim-slowdown past what time pacing allows for),
+    // not popcut's: what a real device would have done, told as such. Any other mismatch is a
+    // bug (below): the simulator follows every other pacing exactly.
+    std::cerr << "popcut: error: the simulated cutter lost " << check.overflow_bytes
+              << " bytes to a full buffer, so it did not cut the job: popcut paced it by time (flow_control \"none\"), and --sim-slowdown "
+              << format_decimal(s.slowdown, 3) << " is slower than the profile allows for with pace_margin_percent (" << tp.pace_margin_percent
+              << " %) (see " << (dir / "report.json").string() << ")\n";
+    return static_cast<int>(kCannotWrite);
+  }
+  std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see " << (dir / "report.json").string() << ")\n";
+  return static_cast<int>(kInternal);
+}
+
+void print_cut_summary(const Job& j, const drivers::CutSession& session, const drivers::SendResult& sent, const std::filesystem::path& dir) {
+  const drivers::SimCutter* cutter = session.simulator();
+  if (j.encoded.first_stroke > 1) {
+    // A resumed run says what this run cut, not the whole job's figures.
+    std::cerr << "cut on " << session.describe() << " (" << j.profile.name << "): strokes " << j.encoded.first_stroke << " to "
+              << sent.total_strokes << " of " << sent.total_strokes << ", " << static_cast<long>(run_cut_mm(j)) << " mm cut";
+  } else {
+    const KindStats t = j.plan.total();
+    std::cerr << "cut on " << session.describe() << " (" << j.profile.name << "): " << t.strokes << " strokes, "
+              << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
+  }
+  if (cutter) std::cerr << ", " << static_cast<long>(cutter->report().motion_time_s + 0.5) << " s of motion";
+  std::cerr << "; wrote " << (dir / "job.hpgl").string() << (cutter ? ", cut.svg" : "") << " and report.json\n";
+}
+
 int run_cut(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
-    if (s.cut->count("--device") > 0 && s.device.empty()) {
-      throw Error(ErrorCode::invalid_input, "", "--device", "is empty: expected sim, file:PATH, serial:/dev/PORT, serial:VID:PID or usb:VID:PID");
-    }
     Target target = cut_target(s);
     if (s.resume_from < 1) throw Error(ErrorCode::invalid_input, "", "--resume-from", "strokes are numbered from 1");
     const Job j = make_job(s.model_path, target.profile_path, static_cast<std::size_t>(s.resume_from));
-    if (target.device.empty()) {
-      target.device = j.profile.transport.uri;
-      if (target.device.empty()) {
-        throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] default",
-                    "the profile names no device: give --device (sim, file:PATH, serial:..., usb:...)");
-      }
-      target.note = "using the profile's device " + target.device + " ([transport] default in " + target.profile_path + ")";
-    }
-    drivers::SimFaults faults;
-    if (s.stop_answering_after >= 0) faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
-    if (s.drop_after >= 0) faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
-    faults.slowdown = s.slowdown;
-    drivers::MadeTransport made = drivers::make_transport(target.device, j.profile, faults);
-    if (!made.status.ok()) {
-      const bool usage = made.status.error == drivers::TransportError::bad_argument;
-      throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, "", usage ? "--device" : "output", made.status.message);
-    }
-    const bool sim = made.address.kind == drivers::DeviceKind::sim;
-    if (!sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
-      throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
-    }
-    if (made.address.kind == drivers::DeviceKind::usb && !j.profile.transport.usb_ids.empty()) {
-      const std::string id = drivers::usb_id_string(*made.address.vid, *made.address.pid);
-      const auto& ids = j.profile.transport.usb_ids;
-      if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
-        std::string list;
-        for (const std::string& k : ids) list += (list.empty() ? "" : ", ") + k;
-        throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] usb_ids",
-                    "the profile is for USB " + list + " (" + j.profile.name + "), not " + id + ": pick the profile of that device");
-      }
-    }
+    use_profile_device(target, j.profile);
+    drivers::CutSession session(target.device, j.profile, session_options(s));
+    check_device(s, session, j.profile, target);
     if (!target.note.empty() && !s.json_out) std::cerr << "popcut: " << target.note << "\n";
-    std::error_code ec;
-    std::filesystem::create_directories(s.out_dir, ec);
-    if (ec) throw Error(ErrorCode::io, s.out_dir, "output", "cannot create the directory: " + ec.message());
-    const std::filesystem::path dir(s.out_dir);
-    write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << j.encoded.bytes; });
-
-    drivers::Transport& transport = *made.transport;
-    if (const drivers::TransportStatus st = transport.open(); !st.ok()) {
-      // The class (docs/transports.md, "Error classes") leads the message, for people and scripts.
-      const bool usage = st.error == drivers::TransportError::bad_argument;
-      throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, transport.describe(), usage ? "--device" : "device",
-                  std::string(drivers::to_string(st.error)) + ": " + st.message);
-    }
-    Progress progress(!s.no_progress && !s.json_out);
-    drivers::SendOptions opts = drivers::send_options(j.profile);
-    // The device's pace: a real device (or a printer node) holds up to a buffer of motion, and one
-    // with no handshake is paced by it (the simulator too, on its virtual clock). A plain file
-    // needs no waiting.
-    const bool plain_file = made.address.kind == drivers::DeviceKind::file && made.address.path.rfind("/dev/", 0) != 0;
-    if (!plain_file) opts.motion = drivers::motion_schedule(j.encoded.bytes, j.profile);
-    opts.progress = [&](const drivers::SendProgress& p) { progress(p); };
-    opts.cancel = &g_cancel;
-    opts.give_up = &g_give_up;
-    opts.waiting_to_cancel = [&] {
-      g_waiting = true;
-      progress.done();
-      std::cerr << "popcut: the device holds the line (XOFF or CTS): waiting up to " << j.profile.transport.hold_timeout_ms / 1000
-                << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C (or SIGTERM) again gives up, and the "
-                   "device may then cut everything its buffer holds\n";
-    };
-    drivers::SendResult sent;
-    {
-      InterruptGuard guard;
-      sent = drivers::send_job(transport, j.encoded, opts);
-    }
-    progress.done();
-    transport.close();
-
-    json report = plan_json(j, s.model_path, target.profile_path);
-    report["format"] = "popcut.cut.v1";
-    report["transport"] = transport.describe();
-    report["sent"] = {{"bytes", sent.bytes_sent},
-                      {"bytes_total", j.encoded.bytes.size()},
-                      {"complete", sent.complete()},
-                      {"cancelled", sent.cancelled},
-                      {"abort_sent", sent.abort_sent},
-                      {"buffer_discarded", sent.buffer_discarded},
-                      {"error", sent.status.ok() ? "" : std::string(drivers::to_string(sent.status.error))},
-                      {"message", sent.status.message},
-                      {"first_stroke", sent.first_stroke},
-                      {"bytes_received", sent.bytes_received},
-                      {"received_counted_by", drivers::to_string(sent.received_counted_by)},
-                      {"last_stroke_sent", sent.last_stroke_sent},
-                      {"last_stroke_written", sent.last_stroke_written},
-                      {"last_stroke_executed", sent.last_stroke_executed ? json(*sent.last_stroke_executed) : json(nullptr)},
-                      {"total_strokes", sent.total_strokes},
-                      {"buffered_bytes", sent.buffered_bytes},
-                      {"buffer_known", sent.buffer_known},
-                      {"buffered_strokes", sent.buffered_bytes == 0 ? json(nullptr)
-                                                                    : json::array({sent.buffered_first_stroke, sent.buffered_last_stroke})},
-                      {"status_queries", sent.status_queries},
-                      {"drained_by", drivers::to_string(sent.drained_by)},
-                      {"holds", sent.holds},
-                      {"buffer_queries", sent.buffer_queries},
-                      {"device_io_error", sent.device_io_error == 0 ? json(nullptr) : json(sent.device_io_error)},
-                      {"busy_for_s", sent.busy_for_s}};
-    // Knife-down length of the strokes this run sends (all of them unless --resume-from).
-    double run_cut_mm = 0;
-    for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i) run_cut_mm += path_length_mm(j.plan.strokes[i].points);
-    report["this_run"] = {{"first_stroke", j.encoded.first_stroke}, {"last_stroke", sent.total_strokes}, {"cut_mm", run_cut_mm}};
-    bool match = true;
-    const std::shared_ptr<drivers::SimCutter>& cutter = made.sim;
-    if (cutter) {
-      // A cutter whose line drops goes on cutting what it holds, as `popcut sim-plotter` does, so
-      // the report shows what a real one would have cut (a frozen one cuts nothing more).
-      const bool ran_out = cutter->run_to_end();
-      const bool finished = sent.status.ok() && ran_out;
-      const drivers::SimReport& r = cutter->report();
-      // From --resume-from N the simulator should have cut exactly strokes N.. of the plan.
-      std::vector<PlotterPath> planned = plan_in_plotter_units(j.plan, j.profile.dialect);
-      planned.erase(planned.begin(), planned.begin() + static_cast<std::ptrdiff_t>(std::min(planned.size(), j.encoded.first_stroke - 1)));
-      const std::optional<std::size_t> diff = drivers::first_difference(planned, cutter->strokes());
-      match = finished && !diff && r.overflow_bytes == 0 && !r.outside_area;
-      report["sim"] = {{"strokes", cutter->strokes().size()},
-                       {"knife_downs", r.knife_downs},
-                       {"cut_mm", r.knife_down_mm},
-                       {"travel_mm", r.knife_up_mm},
-                       {"motion_time_s", r.motion_time_s},
-                       {"clock_s", r.clock_s},
-                       {"bytes_received", r.bytes_received},
-                       {"commands", r.commands},
-                       {"max_buffer_used", r.max_buffer_used},
-                       {"overflow_bytes", r.overflow_bytes},
-                       {"xoff_sent", r.xoff_sent},
-                       {"outside_area", r.outside_area},
-                       {"unknown_commands", sim_issues_json(r.unknown)},
-                       {"errors", sim_issues_json(r.errors)},
-                       {"strokes_match_plan", !diff},
-                       {"first_mismatch", diff ? json(*diff + j.encoded.first_stroke) : json(nullptr)}};
+    const std::filesystem::path dir = write_job_file(s.out_dir, j.encoded);
+    open_device(session);
+    const drivers::SendResult sent = send_with_interrupts(session, j.encoded, j.profile, !s.no_progress && !s.json_out);
+    // From --resume-from N the simulator should have cut exactly strokes N.. of the plan.
+    const std::optional<drivers::SimCheck> check = session.finish(
+        sent, session.simulator() ? drivers::planned_paths(j.plan, j.profile.dialect, j.encoded.first_stroke) : std::vector<PlotterPath>{});
+    // A cutter whose line drops goes on cutting what it holds, as `popcut sim-plotter` does, so
+    // cut.svg shows what a real one would have cut (a frozen one cuts nothing more).
+    if (const drivers::SimCutter* cutter = session.simulator()) {
       write_cli_output((dir / "cut.svg").string(), [&](std::ostream& o) { cutter->write_svg(o); });
-      if (r.overflow_bytes > 0 && sent.complete()) {
-        // Every byte went out, but the device lost some: for a script reading `sent`, the job
-        // did not get through (a real device tells only through error_query).
-        report["sent"]["complete"] = false;
-        report["sent"]["error"] = std::string(drivers::to_string(drivers::TransportError::io));
-        report["sent"]["message"] = "the simulated cutter lost " + std::to_string(r.overflow_bytes) + " bytes to a full buffer: what it cut is not the job";
-      }
     }
+    const json report = cut_report(s, target, j, session, sent, check);
     write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
-    const std::string where = counts_text(sent);
-    const std::string resume = resume_advice(sent);
-    if (sent.cancelled && sent.bytes_sent == 0) {
-      std::cerr << "popcut: cancelled on " << transport.describe() << " before any byte of the job was sent: nothing was cut\n";
-      return static_cast<int>(kCancelled);
+    if (const std::optional<int> code = stopped_exit(sent, j, session.describe())) return *code;
+    if (check) {
+      if (const std::optional<int> code = sim_exit(s, j, *check, dir)) return *code;
     }
-    if (sent.cancelled) {
-      const std::string left = still_buffered_text(sent);
-      std::cerr << "popcut: cancelled on " << transport.describe() << ": "
-                << (sent.abort_sent ? (j.profile.transport.abort.empty() ? "lifted the knife (the profile names no abort sequence)"
-                                                                       : "sent the abort sequence and lifted the knife")
-                                    : "could NOT send the abort sequence: " + sent.status.message)
-                << (sent.buffer_discarded ? "; the device discarded its buffer on it and cuts nothing more"
-                                          : "; the device may still cut " + left + " from its buffer")
-                << (sent.buffer_discarded || sent.buffered_bytes == 0 || !sent.abort_sent || sent.buffer_known || !j.profile.transport.abort_discards_buffer
-                        ? ""  // known, or an abort that keeps the buffer: the figure stands
-                        : " unless it honours the abort sequence")
-                << "; " << where
-                << resume << "\n";
-      return static_cast<int>(kCancelled);
-    }
-    if (!sent.status.ok() && sent.device_io_error != 0) {
-      // Stroke numbers mean nothing here: the device cut something else than the job.
-      std::cerr << "popcut: error: the job did not reach the cutter intact (" << transport.describe() << "): " << sent.status.message
-                << resume << "\n";
-      return static_cast<int>(kCannotWrite);
-    }
-    if (!sent.status.ok()) {
-      std::cerr << "popcut: error: the job did not reach the cutter (" << transport.describe() << "): " << sent.status.message
-                << "; " << sent.bytes_sent << " of " << j.encoded.bytes.size() << " job bytes written; " << where << resume << "\n";
-      return static_cast<int>(kCannotWrite);
-    }
-    if (cutter && !match && cutter->report().overflow_bytes > 0 && j.profile.transport.flow == drivers::FlowControl::none &&
-        s.slowdown > 1 + j.profile.transport.pace_margin_percent / 100.0) {
-      // The fault the simulator was asked for (--sim-slowdown past what time pacing allows for),
-      // not popcut's: what a real device would have done, told as such. Any other mismatch is a
-      // bug (below): the simulator follows every other pacing exactly.
-      std::cerr << "popcut: error: the simulated cutter lost " << cutter->report().overflow_bytes
-                << " bytes to a full buffer, so it did not cut the job: popcut paced it by time (flow_control \"none\"), and --sim-slowdown "
-                << format_decimal(s.slowdown, 3) << " is slower than the profile allows for with pace_margin_percent ("
-                << j.profile.transport.pace_margin_percent << " %) (see " << (dir / "report.json").string() << ")\n";
-      return static_cast<int>(kCannotWrite);
-    }
-    if (cutter && !match) {
-      std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see " << (dir / "report.json").string() << ")\n";
-      return static_cast<int>(kInternal);
-    }
-    if (!s.json_out) {
-      const KindStats t = j.plan.total();
-      if (j.encoded.first_stroke > 1) {
-        // A resumed run says what this run cut, not the whole job's figures.
-        std::cerr << "cut on " << transport.describe() << " (" << j.profile.name << "): strokes " << j.encoded.first_stroke << " to "
-                  << sent.total_strokes << " of " << sent.total_strokes << ", " << static_cast<long>(run_cut_mm) << " mm cut";
-      } else {
-        std::cerr << "cut on " << transport.describe() << " (" << j.profile.name << "): " << t.strokes << " strokes, "
-                  << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
-      }
-      if (cutter) std::cerr << ", " << static_cast<long>(cutter->report().motion_time_s + 0.5) << " s of motion";
-      std::cerr << "; wrote " << (dir / "job.hpgl").string() << (cutter ? ", cut.svg" : "") << " and report.json\n";
-    }
+    if (!s.json_out) print_cut_summary(j, session, sent, dir);
     return static_cast<int>(kOk);
   });
 }
