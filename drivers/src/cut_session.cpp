@@ -31,10 +31,10 @@ class PacedTransport final : public Transport {
 
  private:
   void pace() {
-    using clock = std::chrono::steady_clock;
-    const auto due = start_ + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(sim_.report().clock_s * time_scale_));
-    while (!(stop_ && *stop_) && clock::now() < due) {
-      std::this_thread::sleep_for(std::min<clock::duration>(due - clock::now(), std::chrono::milliseconds(50)));
+    using Clock = std::chrono::steady_clock;
+    const auto due = start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sim_.report().clock_s * time_scale_));
+    while (!(stop_ && *stop_) && Clock::now() < due) {
+      std::this_thread::sleep_for(std::min<Clock::duration>(due - Clock::now(), std::chrono::milliseconds(50)));
     }
   }
   Transport& inner_;
