@@ -1,7 +1,7 @@
 // popcut subcommands: pattern, validate, repair, fold, render, import — load a model, run core, write files and reports.
 #include "cli_commands.h"
 #include "cli_client.h"
-#include "cli_cut.h"
+#include "cli/cut.h"
 #include "cli_sim_plotter.h"
 #include "report_json.h"
 

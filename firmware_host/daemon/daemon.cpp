@@ -16,6 +16,7 @@
 #include "device_link.h"
 #include "log.h"
 #include "model_limits.h"
+#include "popcut/drivers/cut_session.h"
 #include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/language.h"
 #include "popcut/error.h"
@@ -29,6 +30,44 @@ namespace {
 using namespace std::chrono_literals;
 
 std::string jobs_db(const DaemonConfig& c) { return (std::filesystem::path(c.data_dir) / "jobs.db").string(); }
+
+// Commits a cut's outcome as the job's final state (done, cancelled, interrupted or failed) with
+// the message its user reads; `user_cancel`: the stop was a cancel, not popcutd shutting down.
+void record_outcome(JobStore& store, const Job& job, const DeviceConfig& dev, bool user_cancel, const CutOutcome& out) {
+  switch (out.kind) {
+    case CutOutcome::Kind::complete:
+      store.finish(job.id, JobState::done, "", "", out.sim_match);
+      break;
+    case CutOutcome::Kind::stopped:
+      // What the device may still cut from its buffer: nothing after an abort it honours
+      // (the profile's abort discards the buffer on HP-style devices), all of it when the abort
+      // did not reach it.
+      if (user_cancel) {
+        store.finish(job.id, JobState::cancelled, to_string(out.abort_sent ? ApiError::cancelled : ApiError::device_error),
+                      out.abort_sent ? "cancelled during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
+                                     : "cancelled during the cut: " + out.error + "; the device may still cut " + out.still_buffered +
+                                           " from its buffer");
+      } else {
+        store.finish(job.id, JobState::interrupted, to_string(out.abort_sent ? ApiError::interrupted : ApiError::device_error),
+                      out.abort_sent ? "popcutd stopped during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
+                                     : "popcutd stopped during the cut: " + out.error + "; the device may still cut " +
+                                           out.still_buffered + " from its buffer");
+      }
+      break;
+    case CutOutcome::Kind::failed:
+      if (out.bytes_lost) {
+        // Not resumable: the device cut something else than the job.
+        store.finish(job.id, JobState::failed, to_string(ApiError::device_error),
+                      out.error + "; what it cut is not the job: fix the device's profile (or the line) and submit the job again");
+        log_line("job ", job.id, ": ", dev.name, " lost bytes: ", out.error);
+        break;
+      }
+      // The cutter may be fixed and the job resumed from the last stroke fully sent.
+      store.finish(job.id, JobState::interrupted, to_string(ApiError::device_error), out.error);
+      log_line("job ", job.id, ": ", dev.name, " failed: ", out.error);
+      break;
+  }
+}
 
 }  // namespace
 
@@ -264,7 +303,10 @@ void Daemon::cut_one(Worker& w, const Job& job) {
                                                   : "; cancelling again gives up, and the device may then cut everything its buffer holds");
                                w.cancel_waiting = true;
                              }};
-    const CutOutcome out = link->cut(cut, control, [&](std::size_t last) {
+    // Held against the whole plan from the resumed stroke on, worked out apart from the bytes
+    // sent: a resume that started at the wrong stroke shows in sim_match.
+    const std::vector<PlotterPath> planned = drivers::planned_paths(plan, dev.profile.dialect, done_before + 1);
+    const CutOutcome out = link->cut(cut, planned, control, [&](std::size_t last) {
       store_.set_progress(job.id, static_cast<std::int64_t>(last));
     });
     if (out.busy_for_s > 0) {
@@ -280,49 +322,8 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       std::lock_guard lock(mutex_);
       user_cancel = w.user_cancel;
     }
-    switch (out.kind) {
-      case CutOutcome::Kind::complete: {
-        // Held against the whole plan from the resumed stroke on, worked out apart from the
-        // bytes sent: a resume that started at the wrong stroke shows here.
-        bool match = false;
-        if (out.sim_cut) {
-          std::vector<PlotterPath> expected = plan_in_plotter_units(plan, dev.profile.dialect);
-          expected.erase(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(std::min(done_before, expected.size())));
-          match = !drivers::first_difference(expected, *out.sim_cut);
-        }
-        store_.finish(job.id, JobState::done, "", "", match);
-        ++cuts_completed_;
-        break;
-      }
-      case CutOutcome::Kind::stopped:
-        // What the device may still cut from its buffer: nothing after an abort it honours
-        // (the profile's abort discards the buffer on HP-style devices), all of it when the abort
-        // did not reach it.
-        if (user_cancel) {
-          store_.finish(job.id, JobState::cancelled, to_string(out.abort_sent ? ApiError::cancelled : ApiError::device_error),
-                        out.abort_sent ? "cancelled during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
-                                       : "cancelled during the cut: " + out.error + "; the device may still cut " + out.still_buffered +
-                                             " from its buffer");
-        } else {
-          store_.finish(job.id, JobState::interrupted, to_string(out.abort_sent ? ApiError::interrupted : ApiError::device_error),
-                        out.abort_sent ? "popcutd stopped during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
-                                       : "popcutd stopped during the cut: " + out.error + "; the device may still cut " +
-                                             out.still_buffered + " from its buffer");
-        }
-        break;
-      case CutOutcome::Kind::failed:
-        if (out.bytes_lost) {
-          // Not resumable: the device cut something else than the job.
-          store_.finish(job.id, JobState::failed, to_string(ApiError::device_error),
-                        out.error + "; what it cut is not the job: fix the device's profile (or the line) and submit the job again");
-          log_line("job ", job.id, ": ", dev.name, " lost bytes: ", out.error);
-          break;
-        }
-        // The cutter may be fixed and the job resumed from the last stroke fully sent.
-        store_.finish(job.id, JobState::interrupted, to_string(ApiError::device_error), out.error);
-        log_line("job ", job.id, ": ", dev.name, " failed: ", out.error);
-        break;
-    }
+    record_outcome(store_, job, dev, user_cancel, out);
+    if (out.kind == CutOutcome::Kind::complete) ++cuts_completed_;
   } catch (const std::exception& e) {
     store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());
     log_line("job ", job.id, ": ", e.what());

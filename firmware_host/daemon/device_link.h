@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "config.h"
-#include "popcut/drivers/sim_cutter.h"
 #include "popcut/hpgl/hpgl.h"
 
 namespace popcut::daemon {
@@ -31,9 +30,9 @@ struct CutOutcome {
   // stopped or failed on a device paced by time: how long it may go on cutting what it holds
   // (seconds, by the profile's pace); a job sent to it sooner would overrun its buffer.
   double busy_for_s = 0;
-  // sim devices: the knife-down paths the simulated cutter made (complete cuts only), for the
-  // caller to hold against its plan
-  std::optional<std::vector<drivers::SimStroke>> sim_cut;
+  // sim devices, complete cuts: the simulated cutter cut exactly the planned paths
+  // (drivers::SimCheck::cut_exactly_the_plan).
+  bool sim_match = false;
 };
 
 // How a cut is stopped: `stop` asks for it; a device that holds the line (XOFF, CTS) takes the
@@ -50,8 +49,9 @@ class DeviceLink {
   virtual ~DeviceLink() = default;
   // Sends `job`; `progress` whenever another stroke is fully sent. When `control.stop` becomes
   // true the command in flight is completed, the profile's abort bytes and a knife-up follow,
-  // and the outcome is `stopped`.
-  virtual CutOutcome cut(const EncodedJob& job, const CutControl& control,
+  // and the outcome is `stopped`. `planned`: the knife-down paths the job should cut
+  // (drivers::planned_paths), held against a simulated cutter's.
+  virtual CutOutcome cut(const EncodedJob& job, const std::vector<PlotterPath>& planned, const CutControl& control,
                          const std::function<void(std::size_t last_stroke_sent)>& progress) = 0;
   virtual std::string describe() const = 0;
 };
