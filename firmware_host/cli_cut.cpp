@@ -16,9 +16,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cancel_text.h"
-#include "cli_checks.h"
-#include "cli_commands.h"
-#include "cli_sim_plotter.h"
+#include "cli/checks.h"
+#include "cli/commands.h"
+#include "cli/sim_plotter.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"

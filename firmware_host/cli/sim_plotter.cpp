@@ -1,5 +1,5 @@
 // popcut sim-plotter: the simulated cutter behind a pseudo-terminal, in real time, as a stand-in serial cutter.
-#include "cli_sim_plotter.h"
+#include "cli/sim_plotter.h"
 #include "report_json.h"
 #include "config_dir.h"
 
@@ -20,8 +20,8 @@
 #include <iostream>
 #include <thread>
 
-#include "cli_checks.h"
-#include "cli_commands.h"
+#include "cli/checks.h"
+#include "cli/commands.h"
 #include "popcut/drivers/posix_baud.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"

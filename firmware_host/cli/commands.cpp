@@ -1,8 +1,8 @@
 // popcut subcommands: pattern, validate, repair, fold, render, import — load a model, run core, write files and reports.
-#include "cli_commands.h"
-#include "cli_client.h"
+#include "cli/commands.h"
+#include "cli/client.h"
 #include "cli_cut.h"
-#include "cli_sim_plotter.h"
+#include "cli/sim_plotter.h"
 #include "report_json.h"
 
 #include <CLI/CLI.hpp>

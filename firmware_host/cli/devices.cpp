@@ -4,8 +4,8 @@
 #include <iostream>
 #include <map>
 
-#include "cli_commands.h"
-#include "cli_sim_plotter.h"
+#include "cli/commands.h"
+#include "cli/sim_plotter.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"
