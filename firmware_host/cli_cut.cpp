@@ -17,7 +17,7 @@
 
 #include "cancel_text.h"
 #include "cli/checks.h"
-#include "cli/commands.h"
+#include "cli/common.h"
 #include "cli/sim_plotter.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"

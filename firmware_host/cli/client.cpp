@@ -12,7 +12,8 @@
 #include <thread>
 
 #include "cli/checks.h"
-#include "cli/commands.h"
+#include "cli/common.h"
+#include "cli/import.h"
 #include "cli/client_answers.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
