@@ -10,9 +10,9 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 
-#include "cli_checks.h"
-#include "cli_commands.h"
-#include "cli_sim_plotter.h"
+#include "cli/checks.h"
+#include "cli/common.h"
+#include "cli/sim_plotter.h"
 #include "config_dir.h"
 #include "popcut/drivers/cut_session.h"
 #include "popcut/drivers/device.h"

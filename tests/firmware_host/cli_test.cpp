@@ -73,6 +73,10 @@ TEST_F(Cli, UsageErrorsExit2) {
   const Result typo = run("valdate x.json");
   EXPECT_EQ(typo.code, 2) << "a misspelt command";
   EXPECT_NE(typo.err.find("unknown command 'valdate'"), std::string::npos) << "is named: " << typo.err;
+  // The command table (cli/commands.cpp) builds the list of commands; scripts may match its text.
+  EXPECT_EQ(typo.err,
+            "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, plan, cut, "
+            "submit, jobs, cancel, devices or sim-plotter)\nRun 'popcut --help' for usage.\n");
   const Result flag = run("validate --jsn x.json");
   EXPECT_EQ(flag.err.rfind("popcut: error: ", 0), 0u) << "usage errors read like every other error: " << flag.err;
   EXPECT_NE(flag.err.find("popcut validate --help"), std::string::npos) << "and point at the right help: " << flag.err;

@@ -1,5 +1,5 @@
 // Checks of popcutd's answers against the shapes docs/api.md gives, before popcut reads a field.
-#include "client_answers.h"
+#include "cli/client_answers.h"
 
 #include <array>
 #include <string_view>

@@ -1,4 +1,4 @@
-// The sim-plotter and devices subcommands: a stand-in serial cutter, and the cutters attached.
+// popcut sim-plotter: the simulated cutter behind a pseudo-terminal, a stand-in serial cutter.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -25,15 +25,8 @@ struct SimPlotterCommand {
 };
 
 void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& state);
+
+// Runs sim-plotter if it was chosen; nullopt when it was not.
 std::optional<int> run_sim_plotter_command(const SimPlotterCommand& state);
-
-struct DevicesCommand {
-  CLI::App* app = nullptr;
-  bool json_out = false;
-  bool all_usb = false;
-};
-
-void add_devices_command(CLI::App& app, DevicesCommand& state);
-std::optional<int> run_devices_command(const DevicesCommand& state);
 
 }  // namespace popcut::cli

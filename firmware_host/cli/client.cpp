@@ -1,5 +1,5 @@
 // popcut's client commands: JSON over HTTP to popcutd, its error codes shown and mapped to exit codes.
-#include "cli_client.h"
+#include "cli/client.h"
 
 #include <httplib.h>
 
@@ -11,9 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "cli_checks.h"
-#include "cli_commands.h"
-#include "client_answers.h"
+#include "cli/checks.h"
+#include "cli/common.h"
+#include "cli/import.h"
+#include "cli/client_answers.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 #include "popcut/mesh/mesh_import.h"

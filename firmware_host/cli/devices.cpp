@@ -1,11 +1,12 @@
 // popcut devices: serial ports (with USB ids) and USB devices that match a shipped device profile.
+#include "cli/devices.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
 
-#include "cli_commands.h"
-#include "cli_sim_plotter.h"
+#include "cli/common.h"
 #include "config_dir.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"

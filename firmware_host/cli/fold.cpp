@@ -1,0 +1,110 @@
+// popcut fold / render: fold a model's card to an angle and write it as OBJ/glTF, or draw it as SVG/PNG frames.
+#include "cli/fold.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+#include "cli/common.h"
+#include "popcut/fold/fold.h"
+#include "popcut/fold/render.h"
+#include "popcut/io/mesh_io.h"
+
+namespace popcut::cli {
+namespace {
+
+// The --angle after its range check; "-0" is 0, and says so.
+double checked_angle(double angle_deg) {
+  check_fold_angle(angle_deg, "--angle");
+  return angle_deg + 0.0;
+}
+
+int run_fold(const FoldCommands& s) {
+  const double angle_deg = checked_angle(s.angle_deg);
+  const std::string ext = require_extension(s.out_path, {".obj", ".gltf"}, "3D format");
+  const Pattern p = load_cli_pattern(s.model_path);
+  const CardMesh mesh = fold_card(p, angle_deg);
+  if (ext == ".gltf") {
+    write_cli_output(s.out_path, [&](std::ostream& out) { write_gltf(out, mesh); });
+    std::cerr << "wrote " << s.out_path;
+  } else {
+    const std::filesystem::path mtl = std::filesystem::path(s.out_path).replace_extension(".mtl");
+    write_cli_output(s.out_path, [&](std::ostream& out) { write_obj(out, mesh, mtl.filename().string()); });
+    write_cli_output(mtl.string(), [&](std::ostream& out) { write_mtl(out); });
+    std::cerr << "wrote " << s.out_path << " and " << mtl.string();
+  }
+  std::cerr << " (" << mesh.triangles.size() << " triangles per side, folded to " << angle_deg << "°)\n";
+  return kOk;
+}
+
+// Frame i of an animation: OUT-000.svg, OUT-001.svg, ... beside OUT.
+std::string frame_path(const std::filesystem::path& out, std::size_t i, const std::string& ext) {
+  char suffix[24];
+  std::snprintf(suffix, sizeof suffix, "-%03zu", i);
+  return (out.parent_path() / (out.stem().string() + suffix + ext)).string();
+}
+
+int run_render(const FoldCommands& s) {
+  const double angle_deg = checked_angle(s.angle_deg);  // every frame's angle lies between 180 and it
+  const int frames = s.frames;
+  const std::string ext = require_extension(s.out_path, {".svg", ".png"}, "picture format");
+  const Pattern p = load_cli_pattern(s.model_path);
+  std::vector<double> angles;
+  for (int i = 0; i < frames; ++i) angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
+  std::vector<CardMesh> meshes;
+  for (double a : angles) meshes.push_back(fold_card_for_picture(p, a));
+  const ViewBox box = view_box(meshes);  // one frame for every picture, so the animation holds still
+  const bool progress_on_tty = ::isatty(STDERR_FILENO) != 0;
+  const std::filesystem::path out(s.out_path);
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const std::string path = frames > 1 ? frame_path(out, i, ext) : s.out_path;
+    if (ext == ".svg") {
+      const double px_per_mm = s.width_px / (box.max_x - box.min_x);
+      write_cli_output(path, [&](std::ostream& o) { write_render_svg(o, meshes[i], box, px_per_mm); });
+    } else {
+      const std::string png = render_png(meshes[i], box, s.width_px);
+      write_cli_output(path, [&](std::ostream& o) { o.write(png.data(), static_cast<std::streamsize>(png.size())); });
+    }
+    // A counter redrawn with \r only makes sense on a terminal; in a log it would be one long line.
+    if (frames > 1 && progress_on_tty) std::cerr << "\r" << (i + 1) << "/" << frames << " frames" << std::flush;
+  }
+  if (frames > 1 && progress_on_tty) std::cerr << "\n";
+  std::cerr << "wrote " << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : s.out_path)
+            << " (folded to " << angle_deg << "°)\n";
+  return kOk;
+}
+
+}  // namespace
+
+void add_fold_commands(CLI::App& app, FoldCommands& s) {
+  // Degrees as people write them, in decimal: CLI11 alone would take "0x10" as 16.
+  const CLI::Validator decimal_degrees(
+      [](std::string& text) -> std::string {
+        const bool ok = !text.empty() && text.find_first_not_of("0123456789.+-eE") == std::string::npos &&
+                        text.find_first_of("0123456789") != std::string::npos;
+        return ok ? std::string() : "'" + text + "' is not a number of degrees (a decimal number from 0 to 180)";
+      },
+      "DEGREES");
+  s.fold = app.add_subcommand("fold", "Write the card folded to an angle as a 3D model (OBJ + MTL, or glTF).");
+  s.fold->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
+  s.fold->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->check(decimal_degrees)->capture_default_str();
+  s.fold->add_option("-o,--output", s.out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
+
+  s.render = app.add_subcommand("render", "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
+  s.render->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
+  s.render->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->check(decimal_degrees)->capture_default_str();
+  s.render->add_option("-o,--output", s.out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")->required();
+  s.render->add_option("--frames", s.frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
+  s.render->add_option("--width", s.width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
+}
+
+std::optional<int> run_fold_commands(const FoldCommands& s) {
+  if (s.fold && *s.fold) return run_guarded(false, [&] { return run_fold(s); });
+  if (s.render && *s.render) return run_guarded(false, [&] { return run_render(s); });
+  return std::nullopt;
+}
+
+}  // namespace popcut::cli

@@ -1,0 +1,25 @@
+// popcut fold / render: the card folded to an angle, as a 3D model or as a picture (or an opening animation).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+namespace popcut::cli {
+
+struct FoldCommands {
+  CLI::App* fold = nullptr;
+  CLI::App* render = nullptr;
+  std::string model_path, out_path;
+  double angle_deg = 90;
+  int frames = 1;      // render --frames
+  int width_px = 800;  // render --width
+};
+
+// Adds fold and render to the app; `state` receives the parsed options.
+void add_fold_commands(CLI::App& app, FoldCommands& state);
+
+// Runs whichever of the two was chosen; nullopt when neither was.
+std::optional<int> run_fold_commands(const FoldCommands& state);
+
+}  // namespace popcut::cli
