@@ -32,7 +32,7 @@
 #include "popcut/mesh/import_request.h"
 #include "popcut/mesh/mesh_import.h"
 #include "popcut/mesh/silhouette_faces.h"
-#include "popcut/model/repair.h"
+#include "popcut/design/repair.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"

@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <limits>
 
+#include "popcut/design/repair.h"
+#include "popcut/design/thin_tops.h"
 #include "popcut/error.h"
-#include "popcut/model/repair.h"
-#include "popcut/model/thin_tops.h"
 
 namespace popcut {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "popcut/pattern/pattern.h"
+#include "popcut/geometry.h"
 
 namespace popcut {
 
