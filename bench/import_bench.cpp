@@ -9,7 +9,7 @@
 
 #include "bench_table.h"
 #include "popcut/mesh/mesh_import.h"
-#include "popcut/model/repair.h"
+#include "popcut/design/repair.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "test_meshes.h"

@@ -11,13 +11,9 @@ std::string compose(const std::string& source, const std::string& location, cons
 }  // namespace
 
 const char* to_string(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::invalid_input: return "invalid_input";
-    case ErrorCode::limit: return "limit";
-    case ErrorCode::io: return "io";
-    case ErrorCode::internal: return "internal";
-  }
-  return "internal";
+  // A value outside the enum (a cast gone wrong) is itself a broken invariant.
+  const std::string_view name = kErrorCodeNames.name(code);
+  return name.empty() ? "internal" : name.data();
 }
 
 Error::Error(ErrorCode code, std::string source, std::string location, std::string message)

@@ -10,7 +10,7 @@
 #include "popcut/io/files.h"
 #include "popcut/io/pattern_io.h"
 #include "popcut/io/voxel_json.h"
-#include "popcut/model/repair.h"
+#include "popcut/design/repair.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
 #include "popcut/text.h"

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "popcut/names.h"
+
 namespace popcut {
 
 // Stable catalogue: the CLI maps these to exit codes and the daemon to API error codes.
@@ -13,6 +15,8 @@ enum class ErrorCode {
   io,             // a file could not be read or written
   internal,       // a broken invariant inside popcut: a bug, never the user's fault
 };
+inline constexpr auto kErrorCodeNames = enum_names<ErrorCode>(
+    {{ErrorCode::invalid_input, "invalid_input"}, {ErrorCode::limit, "limit"}, {ErrorCode::io, "io"}, {ErrorCode::internal, "internal"}});
 
 const char* to_string(ErrorCode code);
 

@@ -40,14 +40,15 @@ struct EnumNames {
     }
     return out;
   }
-  // "'a', 'b' or 'c'": the names quoted, for messages about a value in a file.
-  std::string quoted_list(std::string_view last_joint = " or ") const {
+  // "'a', 'b' or 'c'": the names quoted, for messages about a value in a file; JSON readers pass
+  // quote '"' so the names read as the strings the file holds.
+  std::string quoted_list(std::string_view last_joint = " or ", char quote = '\'') const {
     std::string out;
     for (std::size_t i = 0; i < N; ++i) {
       if (i > 0) out += (i + 1 == N) ? last_joint : std::string_view(", ");
-      out += '\'';
+      out += quote;
       out += entries[i].second;
-      out += '\'';
+      out += quote;
     }
     return out;
   }

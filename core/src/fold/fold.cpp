@@ -2,10 +2,10 @@
 #include "popcut/fold/fold.h"
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 #include "popcut/error.h"
+#include "popcut/text.h"
 
 namespace popcut {
 
@@ -19,9 +19,8 @@ Point3 fold_point(Point3 p, double angle_deg) {
 
 void check_fold_angle(double angle_deg, const std::string& field) {
   if (std::isfinite(angle_deg) && angle_deg >= 0 && angle_deg <= 180) return;
-  char given[32];
-  std::snprintf(given, sizeof given, "%.15g", angle_deg);
-  throw Error(ErrorCode::invalid_input, "", field, std::string("the fold angle must be from 0 (flat) to 180 (closed) degrees, not ") + given);
+  throw Error(ErrorCode::invalid_input, "", field,
+              "the fold angle must be from 0 (flat) to 180 (closed) degrees, not " + format_significant(angle_deg, 15));
 }
 
 CardMesh fold_card(const Pattern& pattern, double angle_deg) {

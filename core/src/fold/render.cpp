@@ -10,6 +10,7 @@
 #include <ostream>
 
 #include "popcut/error.h"
+#include "popcut/text.h"
 
 namespace popcut {
 namespace {
@@ -64,11 +65,9 @@ Shade shade_of(const CardMesh& m, const std::array<std::uint32_t, 3>& t) {
   return {ch(col[0]), ch(col[1]), ch(col[2])};
 }
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
-  return buf;
-}
+// The box (view_box) holds every point drawn, so coordinates are never below zero and the
+// "-0.00" that format_fixed would write as "0.00" cannot arise.
+std::string num(double v) { return format_fixed(v, 2); }
 
 }  // namespace
 

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "popcut/names.h"
+
 namespace popcut::json_util {
 
 using nlohmann::json;
@@ -31,6 +33,13 @@ class Reader {
   int integer(const json& j, const std::string& path, long long min, long long max) const;
   double number(const json& j, const std::string& path, double min, double max) const;
   std::string string(const json& j, const std::string& path, std::size_t max_length = 4096) const;
+  // A string naming one value of `names`; anything else fails with: expected "a", "b" or "c", got "x".
+  template <class E, std::size_t N>
+  E named(const EnumNames<E, N>& names, const json& j, const std::string& path) const {
+    const std::string text = string(j, path);
+    if (const auto value = names.find(text)) return *value;
+    fail(path, "expected " + names.quoted_list(" or ", '"') + ", got \"" + text + "\"");
+  }
   // A list of points, each two numbers within ±limit (mm), at most max_points long.
   std::vector<std::array<double, 2>> points(const json& j, const std::string& path, double limit, std::size_t min_points,
                                             std::size_t max_points) const;

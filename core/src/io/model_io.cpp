@@ -17,14 +17,6 @@ using json_util::number_text;
 
 namespace {
 
-EditOp read_op(const json_util::Reader& in, const json& j, const std::string& path) {
-  const std::string op = in.string(j, path);
-  for (EditOp e : {EditOp::add_vface, EditOp::add_hface, EditOp::add_vhole, EditOp::add_hhole}) {
-    if (op == to_string(e)) return e;
-  }
-  in.fail(path, "expected \"add_vface\", \"add_hface\", \"add_vhole\" or \"add_hhole\", got \"" + op + "\"");
-}
-
 void put_ring(std::ostringstream& o, const Ring& ring) {
   o << "[";
   for (std::size_t i = 0; i < ring.size(); ++i) {
@@ -71,7 +63,7 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     in.require_object(e, path);
     in.only_keys(e, {"op", "t", "outline"}, path);
     FaceEdit edit;
-    edit.op = read_op(in, in.require(e, "op", path), path + ".op");
+    edit.op = in.named(kEditOpNames, in.require(e, "op", path), path + ".op");
     edit.t_mm = in.number(in.require(e, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
     edit.outline = in.points(in.require(e, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 0, kMaxOutlinePoints);
     model.apply(edit, source, path);

@@ -32,23 +32,13 @@ Point2 get_point(const json_util::Reader& in, const json& j, const std::string& 
           in.number(j[1], index_path(path, 1), -kMaxCoordinateMm, kMaxCoordinateMm)};
 }
 
-LineKind get_line_kind(const json_util::Reader& in, const json& j, const std::string& path) {
-  const std::string s = in.string(j, path);
-  if (s == "cut") return LineKind::cut;
-  if (s == "mountain") return LineKind::mountain;
-  if (s == "valley") return LineKind::valley;
-  in.fail(path, "expected \"cut\", \"mountain\" or \"valley\", got \"" + s + "\"");
-}
-
 }  // namespace
 
 PatternFace read_face(const json_util::Reader& in, const json& f, const std::string& path, double limit_mm) {
   in.require_object(f, path);
   in.only_keys(f, {"kind", "t", "label", "outer", "holes"}, path);
   PatternFace face;
-  const std::string kind = in.string(in.require(f, "kind", path), path + ".kind");
-  if (kind != "V" && kind != "H") in.fail(path + ".kind", "expected \"V\" or \"H\", got \"" + kind + "\"");
-  face.kind = kind == "V" ? FaceKind::vertical : FaceKind::horizontal;
+  face.kind = in.named(kFaceKindNames, in.require(f, "kind", path), path + ".kind");
   face.t_mm = in.number(in.require(f, "t", path), path + ".t", 0, limit_mm);
   const auto ring = [&](const json& j, const std::string& where) {
     Ring r;
@@ -131,7 +121,7 @@ Pattern parse_pattern(const std::string& text, const std::string& source) {
     const std::string path = index_path("lines", i);
     in.require_object(lines[i], path);
     in.only_keys(lines[i], {"kind", "a", "b"}, path);
-    p.lines.push_back({get_line_kind(in, in.require(lines[i], "kind", path), path + ".kind"),
+    p.lines.push_back({in.named(kLineKindNames, in.require(lines[i], "kind", path), path + ".kind"),
                        get_point(in, in.require(lines[i], "a", path), path + ".a"),
                        get_point(in, in.require(lines[i], "b", path), path + ".b")});
   }
@@ -151,7 +141,7 @@ Pattern parse_pattern(const std::string& text, const std::string& source) {
       FoldLink l;
       l.upper = in.integer(in.require(folds[i], "upper", path), path + ".upper", 0, face_count - 1);
       l.lower = in.integer(in.require(folds[i], "lower", path), path + ".lower", 0, face_count - 1);
-      l.kind = get_line_kind(in, in.require(folds[i], "kind", path), path + ".kind");
+      l.kind = in.named(kLineKindNames, in.require(folds[i], "kind", path), path + ".kind");
       if (l.kind == LineKind::cut) in.fail(path + ".kind", "a fold is \"mountain\" or \"valley\"");
       l.length_mm = in.number(in.require(folds[i], "length", path), path + ".length", 0, kMaxCoordinateMm);
       p.folds.push_back(l);

@@ -4,21 +4,17 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
-#include <cstdio>
 #include <functional>
 
 #include "popcut/error.h"
 #include "popcut/io/model_io.h"
 #include "popcut/io/voxel_json.h"
+#include "popcut/text.h"
 
 namespace popcut {
 namespace {
 
-std::string mm_text(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
+std::string mm_text(double v) { return format_significant(v, 6); }
 
 // A number filling all of `text` but for spaces at either end, or nothing.
 std::optional<double> number_in(std::string_view text) {
@@ -95,7 +91,7 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
     };
     const auto axis = [&] {
       if (auto a = parse_axis(text)) return *a;
-      throw bad(shown + " is not an axis: use +x, -x, +y, -y, +z or -z");
+      throw bad(shown + " is not an axis: use " + kAxisNames.list());
     };
     const auto flag = [&] {
       if (text == "true") return true;
@@ -114,8 +110,8 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
     else if (name == "no-windows") o.windows = !flag();
     else if (name == "thin-tops") o.thin_top_voxels = whole("0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
     else if (name == "faces") r.faces = flag();
-    else if (text == "zbuffer" || text == "raycast") o.depth = text == "zbuffer" ? DepthMethod::zbuffer : DepthMethod::raycast;
-    else throw bad(shown + " is not a method: use zbuffer or raycast");  // name == "depth-method"
+    else if (const auto method = kDepthMethodNames.find(text)) o.depth = *method;  // name == "depth-method"
+    else throw bad(shown + " is not a method: use " + kDepthMethodNames.list());
   }
   return r;
 }

@@ -4,12 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
+#include "popcut/design/repair.h"
+#include "popcut/design/thin_tops.h"
 #include "popcut/error.h"
-#include "popcut/model/repair.h"
-#include "popcut/model/thin_tops.h"
+#include "popcut/text.h"
 
 namespace popcut {
 namespace {
@@ -24,11 +24,7 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // Six significant digits: an option of 1e308 is named as such, not in 300 digits.
-std::string fmt(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
+std::string fmt(double v) { return format_significant(v, 6); }
 
 void check_options(const ImportOptions& o, const std::string& source) {
   const auto bad = [&](const char* option, const std::string& message) {
@@ -103,17 +99,11 @@ double sized_voxel_mm(const VoxelModel& m, const ImportOptions& o, const std::st
 }  // namespace
 
 std::optional<Axis> parse_axis(const std::string& text) {
-  static const char* const names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-  for (int i = 0; i < 6; ++i) {
-    if (text == names[i] || (i % 2 == 0 && text == names[i] + 1)) return static_cast<Axis>(i);
-  }
-  return std::nullopt;
+  if (const auto axis = kAxisNames.find(text)) return axis;
+  return kAxisNames.find("+" + text);  // "x" is "+x": only the positive names start with '+'
 }
 
-const char* to_string(Axis axis) {
-  static const char* const names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-  return names[static_cast<int>(axis)];
-}
+const char* to_string(Axis axis) { return kAxisNames.name(axis).data(); }
 
 // Card axes from the mesh's: z = up, y = towards the viewer, x = up × front, which is the
 // viewer's right (with +Z up and -Y to the viewer, +X stays +X).

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "model/face_model_state.h"
+#include "popcut/pattern/pattern.h"
 
 namespace popcut::detail {
 

@@ -153,6 +153,108 @@ std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const Ex
   return pieces;
 }
 
+// Coplanar faces across an edge (not just a corner) are one piece of paper, so they are merged
+// into one face with no line between; `groups` learns which input faces meet so.
+std::vector<std::shared_ptr<const ExactFace>> merged_faces(const std::vector<std::shared_ptr<const ExactFace>>& input,
+                                                           const std::vector<Piece>& pieces, CoplanarGroups& groups,
+                                                           const std::string& source) {
+  for (const Piece& pc : pieces) {
+    if (pc.left >= 0 && pc.right >= 0) groups.meet(pc.left, pc.right);
+  }
+  std::vector<std::shared_ptr<const ExactFace>> faces;
+  for (const std::vector<int>& group : groups.members()) {
+    const ExactFace& first = *input[static_cast<std::size_t>(group.front())];
+    if (group.size() == 1) {
+      faces.push_back(input[static_cast<std::size_t>(group.front())]);
+      continue;
+    }
+    // One aggregated join per plane (a sweep), not one Boolean per member.
+    std::vector<ExactPolygonWithHoles> parts;
+    for (int f : group) parts.push_back(input[static_cast<std::size_t>(f)]->polygon);
+    PolygonSet set;
+    set.join(parts.begin(), parts.end());
+    std::vector<ExactPolygonWithHoles> joined;
+    set.polygons_with_holes(std::back_inserter(joined));
+    if (joined.size() != 1) throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
+    faces.push_back(std::make_shared<const ExactFace>(ExactFace{first.kind, first.t, std::move(joined.front()), {}}));
+  }
+  return faces;
+}
+
+// How much of the sheet's top and bottom edges each face holds.
+struct EdgeLengths {
+  std::map<int, FT> top, bottom;
+};
+
+// Types every piece by where its two faces meet in 3D (pieces' faces renumbered to the merged
+// faces), adding the folds to `p`; pieces on the sheet's outline count towards `edges`.
+EdgeLengths type_pieces(std::vector<Piece>& pieces, CoplanarGroups& groups,
+                        const std::vector<std::shared_ptr<const ExactFace>>& faces, const FaceModelState& s, Pattern& p,
+                        const std::string& source) {
+  EdgeLengths edges;
+  std::map<std::pair<int, int>, std::size_t> link_index;
+  for (Piece& pc : pieces) {
+    if (pc.left >= 0) pc.left = groups.group_of(pc.left);
+    if (pc.right >= 0) pc.right = groups.group_of(pc.right);
+    const ExactPoint& a = pc.a;
+    const ExactPoint& b = pc.b;
+    const bool horizontal = pc.dir == 0;
+    if (pc.left < 0 || pc.right < 0) {
+      const bool on_outline = (horizontal && (pc.key == s.max_v || pc.key == s.min_v)) ||
+                              (pc.dir == 1 && (pc.key == s.min_x || pc.key == s.max_x));
+      if (!on_outline) {
+        throw Error(ErrorCode::invalid_input, source, "faces",
+                    "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
+                        std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
+      }
+      if (horizontal && pc.key == s.max_v && pc.right >= 0) edges.top[pc.right] += b.x() - a.x();
+      if (horizontal && pc.key == s.min_v && pc.left >= 0) edges.bottom[pc.left] += b.x() - a.x();
+      continue;
+    }
+    if (pc.left == pc.right) continue;  // inside one merged face: no line
+    const LineKind kind = line_between(*faces[static_cast<std::size_t>(pc.left)], *faces[static_cast<std::size_t>(pc.right)], horizontal, pc.key);
+    pc.kind = static_cast<int>(kind);
+    if (kind != LineKind::cut) {
+      auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
+      if (fresh) p.folds.push_back({pc.left, pc.right, kind, 0});
+      p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
+    }
+  }
+  return edges;
+}
+
+// Maximal lines: runs of touching pieces of one kind along one supporting line.
+void add_maximal_lines(const std::vector<Piece>& pieces, Pattern& p) {
+  for (std::size_t k = 0; k < pieces.size();) {
+    const Piece& start = pieces[k];
+    std::size_t end = k + 1;
+    if (start.kind >= 0) {
+      while (end < pieces.size() && pieces[end].line == start.line && pieces[end].kind == start.kind &&
+             pieces[end].a == pieces[end - 1].b) {
+        ++end;
+      }
+      const ExactPoint& lo = start.a;
+      const ExactPoint& hi = pieces[end - 1].b;
+      p.lines.push_back({static_cast<LineKind>(start.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
+                         {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
+    }
+    k = end;
+  }
+}
+
+// The face holding most of an edge, the first of equals; -1 for none.
+int longest(const std::map<int, FT>& lengths) {
+  int best = -1;
+  FT best_len = -1;
+  for (const auto& [f, len] : lengths) {
+    if (len > best_len) {
+      best = f;
+      best_len = len;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 Pattern make_pattern(const FaceModel& model, const std::string& source) {
@@ -160,32 +262,8 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
   try {
     const auto& input = s.faces;  // shared with the model, read in place
     std::vector<Piece> pieces = split_shared_edges(input, source);
-
-    // Coplanar faces across an edge (not just a corner) are one piece of paper, so they are
-    // merged into one face with no line between.
     CoplanarGroups groups(input);
-    for (const Piece& pc : pieces) {
-      if (pc.left >= 0 && pc.right >= 0) groups.meet(pc.left, pc.right);
-    }
-    const std::vector<std::vector<int>> members = groups.members();
-    const auto face_of = [&](int input_face) { return groups.group_of(input_face); };
-    std::vector<std::shared_ptr<const ExactFace>> faces;
-    for (const std::vector<int>& group : members) {
-      const ExactFace& first = *input[static_cast<std::size_t>(group.front())];
-      if (group.size() == 1) {
-        faces.push_back(input[static_cast<std::size_t>(group.front())]);
-        continue;
-      }
-      // One aggregated join per plane (a sweep), not one Boolean per member.
-      std::vector<ExactPolygonWithHoles> parts;
-      for (int f : group) parts.push_back(input[static_cast<std::size_t>(f)]->polygon);
-      PolygonSet set;
-      set.join(parts.begin(), parts.end());
-      std::vector<ExactPolygonWithHoles> joined;
-      set.polygons_with_holes(std::back_inserter(joined));
-      if (joined.size() != 1) throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
-      faces.push_back(std::make_shared<const ExactFace>(ExactFace{first.kind, first.t, std::move(joined.front()), {}}));
-    }
+    const std::vector<std::shared_ptr<const ExactFace>> faces = merged_faces(input, pieces, groups, source);
     Pattern p;
     p.sheet = model.sheet();
     for (const auto& fp : faces) {
@@ -195,70 +273,12 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       pf.label = interior_point(pf);
       p.faces.push_back(std::move(pf));
     }
-
-    // Type every piece by where its two faces meet in 3D.
-    std::map<std::pair<int, int>, std::size_t> link_index;
-    std::map<int, FT> top_length, bottom_length;
-    for (Piece& pc : pieces) {
-      if (pc.left >= 0) pc.left = face_of(pc.left);
-      if (pc.right >= 0) pc.right = face_of(pc.right);
-      const ExactPoint& a = pc.a;
-      const ExactPoint& b = pc.b;
-      const bool horizontal = pc.dir == 0;
-      if (pc.left < 0 || pc.right < 0) {
-        const bool on_outline = (horizontal && (pc.key == s.max_v || pc.key == s.min_v)) ||
-                                (pc.dir == 1 && (pc.key == s.min_x || pc.key == s.max_x));
-        if (!on_outline) {
-          throw Error(ErrorCode::invalid_input, source, "faces",
-                      "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
-                          std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
-        }
-        if (horizontal && pc.key == s.max_v && pc.right >= 0) top_length[pc.right] += b.x() - a.x();
-        if (horizontal && pc.key == s.min_v && pc.left >= 0) bottom_length[pc.left] += b.x() - a.x();
-        continue;
-      }
-      if (pc.left == pc.right) continue;  // inside one merged face: no line
-      const LineKind kind = line_between(*faces[static_cast<std::size_t>(pc.left)], *faces[static_cast<std::size_t>(pc.right)], horizontal, pc.key);
-      pc.kind = static_cast<int>(kind);
-      if (kind != LineKind::cut) {
-        auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
-        if (fresh) p.folds.push_back({pc.left, pc.right, kind, 0});
-        p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
-      }
-    }
-
-    // Maximal lines: runs of touching pieces of one kind along one supporting line.
-    for (std::size_t k = 0; k < pieces.size();) {
-      const Piece& start = pieces[k];
-      std::size_t end = k + 1;
-      if (start.kind >= 0) {
-        while (end < pieces.size() && pieces[end].line == start.line && pieces[end].kind == start.kind &&
-               pieces[end].a == pieces[end - 1].b) {
-          ++end;
-        }
-        const ExactPoint& lo = start.a;
-        const ExactPoint& hi = pieces[end - 1].b;
-        p.lines.push_back({static_cast<LineKind>(start.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
-                           {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
-      }
-      k = end;
-    }
+    const EdgeLengths edges = type_pieces(pieces, groups, faces, s, p, source);
+    add_maximal_lines(pieces, p);
     sort_lines_and_folds(p);
-
     // The back board and floor: the faces holding most of the sheet's top and bottom edges.
-    const auto longest = [](const std::map<int, FT>& m) {
-      int best = -1;
-      FT best_len = -1;
-      for (const auto& [f, len] : m) {
-        if (len > best_len) {
-          best = f;
-          best_len = len;
-        }
-      }
-      return best;
-    };
-    p.back_face = longest(top_length);
-    p.floor_face = longest(bottom_length);
+    p.back_face = longest(edges.top);
+    p.floor_face = longest(edges.bottom);
     return p;
   } catch (const Error&) {
     throw;

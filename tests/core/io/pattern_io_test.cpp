@@ -36,6 +36,33 @@ TEST(PatternJson, BadFieldsAreNamed) {
   }
 }
 
+// The error's "location: message" for this pattern text, or "" when it reads.
+std::string pattern_error(const std::string& text) {
+  try {
+    parse_pattern(text, "p.json");
+  } catch (const Error& e) {
+    return e.location() + ": " + e.message();
+  }
+  return "";
+}
+
+TEST(PatternJson, KindsAreReadByTheirFileNames) {
+  const std::string good = to_pattern_json(sample());
+  // The text with the first "kind" after `section` set to `kind`.
+  const auto with_kind = [&](const char* section, const std::string& kind) {
+    std::string text = good;
+    const std::size_t at = text.find("\"kind\": \"", text.find(section)) + 9;
+    text.replace(at, text.find('"', at) - at, kind);
+    return text;
+  };
+  EXPECT_EQ(pattern_error(with_kind("\"lines\"", "fold")), "lines[0].kind: expected \"cut\", \"mountain\" or \"valley\", got \"fold\"");
+  EXPECT_EQ(pattern_error(with_kind("\"faces\"", "v")), "faces[0].kind: expected \"V\" or \"H\", got \"v\"") << "case matters";
+  EXPECT_EQ(pattern_error(with_kind("\"folds\"", "cut")), "folds[0].kind: a fold is \"mountain\" or \"valley\"");
+  EXPECT_EQ(pattern_error(with_kind("\"folds\"", "crease")), "folds[0].kind: expected \"cut\", \"mountain\" or \"valley\", got \"crease\"");
+  for (const char* kind : {"cut", "mountain", "valley"}) EXPECT_EQ(pattern_error(with_kind("\"lines\"", kind)), "") << kind;
+  for (const char* kind : {"V", "H"}) EXPECT_EQ(pattern_error(with_kind("\"faces\"", kind)), "") << kind;
+}
+
 TEST(PatternSvg, MillimetreUnitsAndOneGroupPerKind) {
   const Pattern p = sample();
   const std::string svg = to_pattern_svg(p);

@@ -53,6 +53,18 @@ TEST(ImportOptionText, RefusesWhatIsNotAnOptionOrNotOfItsKind) {
   EXPECT_EQ(option_error({{"smooth", "4"}}), "") << "ranges are import_mesh's to check, not the text parser's";
 }
 
+TEST(ImportOptionText, AxesAndDepthMethodsByTheirTableNames) {
+  const Axis axes[] = {Axis::px, Axis::nx, Axis::py, Axis::ny, Axis::pz, Axis::nz};
+  for (Axis a : axes) {
+    EXPECT_EQ(parse_axis(to_string(a)), a) << to_string(a) << " reads back";
+  }
+  EXPECT_EQ(parse_axis("z"), Axis::pz) << "no sign is +";
+  EXPECT_FALSE(parse_axis("-") || parse_axis("+") || parse_axis("") || parse_axis("++x") || parse_axis("X")) << "only the six names";
+  EXPECT_EQ(option_error({{"up", "north"}}), "--up: 'north' is not an axis: use +x, -x, +y, -y, +z or -z");
+  EXPECT_EQ(option_error({{"depth-method", "guess"}}), "--depth-method: 'guess' is not a method: use zbuffer or raycast");
+  EXPECT_EQ(parse_import_options({{"depth-method", "zbuffer"}}, "m.obj").options.depth, DepthMethod::zbuffer);
+}
+
 TEST(ImportMeshFile, NamesTheSourceAndHoldsTheTriangleAndCellBudgets) {
   const std::string house = std::string(POPCUT_SOURCE_DIR) + "/examples/meshes/house.obj";
   ImportRequest r = parse_import_options({{"resolution", "40"}, {"thin-tops", "1"}}, "house.obj");

@@ -11,7 +11,7 @@
 
 #include "popcut/error.h"
 #include "popcut/io/voxel_json.h"
-#include "popcut/model/thin_tops.h"
+#include "popcut/design/thin_tops.h"
 #include "popcut/io/model_io.h"
 #include "popcut/mesh/silhouette_faces.h"
 #include "popcut/pattern/popup_check.h"

@@ -209,6 +209,23 @@ TEST(FaceModel, JsonRoundTrip) {
   EXPECT_EQ(make_pattern(from_faces), make_pattern(m)) << "a model given by its faces gives the same pattern";
 }
 
+TEST(FaceModel, EditOpsAreReadByTheirFileNames) {
+  for (EditOp op : {EditOp::add_vface, EditOp::add_hface, EditOp::add_vhole, EditOp::add_hhole}) {
+    EXPECT_EQ(kEditOpNames.find(to_string(op)), op) << to_string(op);
+  }
+  std::string text = to_face_json(box_card());
+  const std::string first = "\"op\": \"add_vface\"";
+  ASSERT_NE(text.find(first), std::string::npos) << text;
+  text.replace(text.find(first), first.size(), "\"op\": \"add_window\"");
+  try {
+    parse_face_model(text, "card.json");
+    FAIL() << "an unknown op is rejected";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location(), "edits[0].op") << e.what();
+    EXPECT_EQ(e.message(), "expected \"add_vface\", \"add_hface\", \"add_vhole\" or \"add_hhole\", got \"add_window\"");
+  }
+}
+
 struct BadEdit {
   const char* name;
   FaceEdit edit;

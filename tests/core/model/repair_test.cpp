@@ -1,5 +1,5 @@
 // Tests of repair: the staircase closure (eq. 7) and check-guarded window marking (§3.2).
-#include "popcut/model/repair.h"
+#include "popcut/design/repair.h"
 
 #include <gtest/gtest.h>
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "popcut/model/voxel_model.h"
+#include "popcut/names.h"
 
 namespace popcut {
 
@@ -35,6 +36,8 @@ TriangleSoup read_mesh(const std::string& path);
 
 // A signed coordinate axis of the mesh file.
 enum class Axis { px, nx, py, ny, pz, nz };
+inline constexpr auto kAxisNames = enum_names<Axis>(
+    {{Axis::px, "+x"}, {Axis::nx, "-x"}, {Axis::py, "+y"}, {Axis::ny, "-y"}, {Axis::pz, "+z"}, {Axis::nz, "-z"}});
 // "+x", "-x", "x" (= "+x"), … ; nothing for anything else.
 std::optional<Axis> parse_axis(const std::string& text);
 const char* to_string(Axis axis);
@@ -43,6 +46,8 @@ enum class DepthMethod {
   zbuffer,  // rasterise every triangle into the grid, keeping the nearest depth per cell
   raycast,  // one ray per cell against a CGAL AABB tree
 };
+inline constexpr auto kDepthMethodNames =
+    enum_names<DepthMethod>({{DepthMethod::zbuffer, "zbuffer"}, {DepthMethod::raycast, "raycast"}});  // --depth-method
 
 // --fit-mm: a box the card is scaled to fit. A W x H box holds the folded card's outline (the
 // sheet's width by its taller half: the card as it closes); a device's media hold the whole flat

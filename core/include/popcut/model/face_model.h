@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "popcut/pattern/pattern.h"
+#include "popcut/geometry.h"
+#include "popcut/names.h"
 
 namespace popcut {
 
@@ -32,6 +33,10 @@ struct OAFace {
 };
 
 enum class EditOp { add_vface, add_hface, add_vhole, add_hhole };
+inline constexpr auto kEditOpNames = enum_names<EditOp>({{EditOp::add_vface, "add_vface"},
+                                                         {EditOp::add_hface, "add_hface"},
+                                                         {EditOp::add_vhole, "add_vhole"},
+                                                         {EditOp::add_hhole, "add_hhole"}});  // as in popcut.faces.v1
 const char* to_string(EditOp op);
 
 // A polygon drawn in one plane of the open card (polygon paper §3.1): for add_vface and

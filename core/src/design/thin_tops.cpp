@@ -1,5 +1,5 @@
 // Thin top faces found per step and joined across slices, each dropped as a whole, lowest first, under the incremental check.
-#include "popcut/model/thin_tops.h"
+#include "popcut/design/thin_tops.h"
 
 #include <algorithm>
 #include <tuple>

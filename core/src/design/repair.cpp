@@ -1,5 +1,5 @@
 // Staircase closure of a voxel occupancy and the greedy, check-guarded window marking of §3.2.
-#include "popcut/model/repair.h"
+#include "popcut/design/repair.h"
 
 #include <algorithm>
 #include <vector>

@@ -1,0 +1,102 @@
+// FaceModel::from_faces: faces given as final, each checked, then checked together to partition the sheet (eq. 4).
+#include <CGAL/Boolean_set_operations_2.h>
+
+#include <cmath>
+
+#include "model/exact_faces.h"
+#include "popcut/model/face_model.h"
+#include "popcut/text.h"
+
+namespace popcut {
+using namespace detail;
+
+namespace {
+
+// One face as given: its rings oriented and split at pinches, exact, on the sheet, holes inside.
+std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelState& sheet, const std::string& source,
+                                            const std::string& where) {
+  if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm) fail(source, where + ".t", "must be from 0 to 100000 mm");
+  // A region may touch itself at a corner: its rings then split into one counter-clockwise
+  // outer loop and clockwise holes that touch it there.
+  // Rings written the other way round (outer clockwise) are read as the writer meant them.
+  const bool flipped = signed_area_mm2(f.polygon.outer) < 0;
+  const auto oriented = [&](const Ring& r) { return flipped ? Ring(r.rbegin(), r.rend()) : r; };
+  std::vector<Ring> loops = split_at_repeated_vertices(oriented(f.polygon.outer));
+  for (const Ring& h : f.polygon.holes) {
+    for (Ring& loop : split_at_repeated_vertices(oriented(h))) loops.push_back(std::move(loop));
+  }
+  std::vector<ExactPolygon> outers, holes;
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    const bool ccw = signed_area_mm2(loops[k]) > 0;
+    ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? ".outer" : ".holes"));
+    if (ccw) outers.push_back(std::move(poly));
+    else holes.push_back(std::move(poly));
+  }
+  if (outers.size() != 1) {
+    fail(source, where + ".outer", "must enclose one connected region: give the outer ring counter-clockwise and holes clockwise");
+  }
+  ExactPolygonWithHoles pwh(outers.front());
+  if (!inside_sheet(pwh.outer_boundary(), sheet)) fail(source, where + ".outer", "leaves the sheet");
+  for (ExactPolygon& hole : holes) {
+    hole.reverse_orientation();  // holes run clockwise
+    pwh.add_hole(std::move(hole));
+  }
+  if (!CGAL::is_valid_polygon_with_holes(pwh, CGAL::Gps_segment_traits_2<Kernel>())) {
+    fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
+  }
+  return make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh));
+}
+
+// Eq. 4: no two faces overlap, and together they cover the sheet exactly. One aggregated
+// union (a sweep, O(n log n)) proves both: its area equals the sum of the faces' areas only
+// when nothing overlaps. Only on failure are pairs searched, to name the two faces.
+void check_partition(const ExactFaces& given, const FaceModelState& sheet, const std::string& source) {
+  FT area = 0;
+  std::vector<ExactPolygonWithHoles> polygons;
+  for (const auto& fp : given) {
+    area += polygon_area(fp->polygon);
+    polygons.push_back(fp->polygon);
+  }
+  PolygonSet all;
+  all.join(polygons.begin(), polygons.end());
+  std::vector<ExactPolygonWithHoles> united;
+  all.polygons_with_holes(std::back_inserter(united));
+  FT union_area = 0;
+  for (const ExactPolygonWithHoles& u : united) union_area += polygon_area(u);
+  if (union_area != area) {
+    for_overlapping_boxes(given, [&](std::size_t i, std::size_t j) {
+      if (CGAL::do_intersect(given[i]->polygon, given[j]->polygon)) {
+        fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
+      }
+    });
+    fail(source, "faces", "overlap: faces must not overlap (eq. 4)");
+  }
+  const FT sheet_area = (sheet.max_x - sheet.min_x) * (sheet.max_v - sheet.min_v);
+  if (area != sheet_area) {
+    fail(source, "faces", "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
+                              format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
+  }
+}
+
+}  // namespace
+
+FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
+                                const std::string& source) {
+  auto s = initial_state(width_mm, back_mm, floor_mm);
+  if (faces.size() > kMaxFaces) fail(source, "faces", "has " + std::to_string(faces.size()) + " faces; the limit is " + std::to_string(kMaxFaces));
+  Drawn given;
+  guarded(source, "faces", [&] {
+    for (std::size_t i = 0; i < faces.size(); ++i) given.push_back(given_face(faces[i], *s, source, "faces[" + std::to_string(i) + "]"));
+    check_partition(given, *s, source);
+    return 0;
+  });
+  FaceModel m;
+  m.sheet_ = std::move(s);
+  m.drawn_ = std::move(given);
+  m.given_ = m.drawn_.size();
+  m.from_edits_ = false;
+  m.changed();
+  return m;
+}
+
+}  // namespace popcut
