@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "plan/path_geometry.h"
 
@@ -70,25 +71,22 @@ void SpatialGrid::ids_in_box(Point2 lo, Point2 hi, std::vector<int>& out) {
 void SpatialGrid::gather_ring(Point2 at, long r, std::size_t k, int skip_group,
                               std::vector<std::pair<double, int>>& found) const {
   const long qx = cx(at.x_mm), qv = cv(at.v_mm);
-  const auto take = [&](long x, long v) {
-    if (x < 0 || x >= nx_) return;
-    for (int id : cell(x, v)) {
-      const Item& item = points_[static_cast<std::size_t>(id)];
-      if (item.group == skip_group) continue;
-      const std::pair<double, int> candidate{dist(at, item.at), id};
-      if (found.size() >= k && !(candidate < found.back())) continue;
-      found.insert(std::upper_bound(found.begin(), found.end(), candidate), candidate);
-      if (found.size() > k) found.pop_back();
-    }
-  };
-  // Only the ring's cells inside the grid: a query near an edge (or a long thin grid) then
-  // costs the cells there are, not the whole square.
+  // Only the ring's rows inside the grid, and of its top and bottom rows only the cells inside:
+  // a query near an edge (or a long thin grid) then costs the cells there are.
   for (long v = std::max(0L, qv - r); v <= std::min(nv_ - 1, qv + r); ++v) {
-    if (v == qv - r || v == qv + r) {
-      for (long x = std::max(0L, qx - r); x <= std::min(nx_ - 1, qx + r); ++x) take(x, v);
-    } else {
-      take(qx - r, v);
-      take(qx + r, v);
+    const bool edge_row = v == qv - r || v == qv + r;
+    const long step = edge_row ? 1 : 2 * r;
+    for (long x = edge_row ? std::max(0L, qx - r) : qx - r; x <= (edge_row ? std::min(nx_ - 1, qx + r) : qx + r); x += step) {
+      if (x < 0 || x >= nx_) continue;
+      for (int id : cell(x, v)) {
+        const Item& item = points_[static_cast<std::size_t>(id)];
+        if (item.group == skip_group) continue;
+        const std::pair<double, int> candidate{dist(at, item.at), id};
+        if (found.size() >= k && !(candidate < found.back())) continue;
+        if (found.size() < k) found.push_back(candidate);
+        else found.back() = candidate;
+        for (std::size_t j = found.size() - 1; j > 0 && found[j] < found[j - 1]; --j) std::swap(found[j], found[j - 1]);
+      }
     }
   }
 }

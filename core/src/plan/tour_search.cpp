@@ -60,35 +60,6 @@ std::vector<std::vector<Point2>> TourSearch::take_tour() {
   return out;
 }
 
-Point2 TourSearch::entry(long i) const {
-  const int s = path_at(i);
-  const auto& p = paths_[static_cast<std::size_t>(s)];
-  if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
-  return flip_[static_cast<std::size_t>(s)] ? p.back() : p.front();
-}
-
-Point2 TourSearch::exit(long i) const {
-  if (i < 0) return start_;
-  const int s = path_at(i);
-  const auto& p = paths_[static_cast<std::size_t>(s)];
-  if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
-  return flip_[static_cast<std::size_t>(s)] ? p.front() : p.back();
-}
-
-bool TourSearch::is_entry(const Anchor& a) const {
-  if (a.owner < 0) return false;
-  const auto s = static_cast<std::size_t>(a.owner);
-  if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
-  return (a.vertex == 0) != static_cast<bool>(flip_[s]);
-}
-
-bool TourSearch::is_exit(const Anchor& a) const {
-  if (a.owner < 0) return true;
-  const auto s = static_cast<std::size_t>(a.owner);
-  if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
-  return (a.vertex == 0) == static_cast<bool>(flip_[s]);
-}
-
 void TourSearch::build_anchors() {
   for (std::size_t s = 0; s < paths_.size(); ++s) {
     const auto& p = paths_[s];

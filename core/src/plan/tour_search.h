@@ -40,13 +40,34 @@ class TourSearch {
 
   // The tour as it stands: who is where, and where each path is entered and left.
   int path_at(long i) const { return order_[static_cast<std::size_t>(i)]; }
-  Point2 entry(long i) const;
-  Point2 exit(long i) const;
+  Point2 entry(long i) const {
+    const int s = path_at(i);
+    const auto& p = paths_[static_cast<std::size_t>(s)];
+    if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
+    return flip_[static_cast<std::size_t>(s)] ? p.back() : p.front();
+  }
+  Point2 exit(long i) const {
+    if (i < 0) return start_;
+    const int s = path_at(i);
+    const auto& p = paths_[static_cast<std::size_t>(s)];
+    if (closed_[static_cast<std::size_t>(s)]) return loop_point(p, loop_at_[static_cast<std::size_t>(s)]);
+    return flip_[static_cast<std::size_t>(s)] ? p.front() : p.back();
+  }
   // Knife-up move into position i (none past the end).
   double link(long i) const { return i < n_ ? dist(exit(i - 1), entry(i)) : 0; }
   // Does anchor `a` (of a path, at its position) currently serve as the entry / the exit?
-  bool is_entry(const Anchor& a) const;
-  bool is_exit(const Anchor& a) const;
+  bool is_entry(const Anchor& a) const {
+    if (a.owner < 0) return false;
+    const auto s = static_cast<std::size_t>(a.owner);
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
+    return (a.vertex == 0) != static_cast<bool>(flip_[s]);
+  }
+  bool is_exit(const Anchor& a) const {
+    if (a.owner < 0) return true;
+    const auto s = static_cast<std::size_t>(a.owner);
+    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
+    return (a.vertex == 0) == static_cast<bool>(flip_[s]);
+  }
   long position(const Anchor& a) const { return a.owner < 0 ? -1 : pos_[static_cast<std::size_t>(a.owner)]; }
 
   void build_anchors();
