@@ -16,6 +16,7 @@
 #include "popcut/pattern/voxel_pattern.h"
 #include "popcut/plan/plan.h"
 #include "popcut/plan/travel_bound.h"
+#include "popcut/text.h"
 #include "random_models.h"
 
 namespace {
@@ -301,11 +302,10 @@ void print_table(const bench::CollectingReporter& reporter) {
     PlanOptions more = o;
     more.optimise_work = 100 * o.optimise_work;
     const double tr_more = travel(plan_strokes(p, more)), opt = exact_order_travel(c);
-    char opt_text[32] = "-";
-    if (opt >= 0) std::snprintf(opt_text, sizeof opt_text, "%.0f", opt);
+    const std::string opt_text = opt >= 0 ? format_fixed(opt, 0) : "-";
     std::printf("%-20s %5zu %5d %5d %6zu | %9.0f %9.0f %9.0f %7.0f %6s %6.0f %6.0f %5.2f %5.2f | %7.1f %7.1f %6.1f %5.2f %5.2f | %7.1f\n",
                 name.c_str(),
-                p.lines.size(), c.total().pen_lifts, c.total().pen_lift_bound, a.strokes.size(), tra, trb, trc, tr_more, opt_text,
+                p.lines.size(), c.total().pen_lifts, c.total().pen_lift_bound, a.strokes.size(), tra, trb, trc, tr_more, opt_text.c_str(),
                 lb.matching, lb.value, trb > 0 ? trc / trb : 0.0, trb > 0 ? lb.value / trb : 0.0, ta, tc, t_lb, ta > 0 ? tc / ta : 0.0, ta > 0 ? t_lb / ta : 0.0, ms);
   }
   std::printf("\nWhere the time goes (s): knife down (cutting), knife up/down, knife-up moves; for (a), (c) and the bounds\n"

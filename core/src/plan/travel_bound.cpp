@@ -132,12 +132,8 @@ struct Pair {
   int between;  // k when the pair joins kind k and kind k + 1 (1 <= k < K), else -1
 };
 
-}  // namespace
-
-KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2, Point2>>>& kinds, Point2 home,
-                                  const std::function<double(double)>& cost, double plan_cost) {
-  const Problem pr = ends_of(kinds, home);
-  if (pr.kinds == 0) return {};
+// Every pair of ends a knife-up move may join (see (1) above), with its cost.
+std::vector<Pair> allowed_pairs(const Problem& pr, const std::function<double(double)>& cost) {
   const int n = static_cast<int>(pr.ends.size());
   const int last = pr.kinds + 1;
   std::vector<Pair> pairs;
@@ -152,11 +148,58 @@ KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2
       pairs.push_back({i, j, free_end ? 0.0 : cost(end_distance(pr, a, b)), between});
     }
   }
+  return pairs;
+}
+
+// New cuts: the groups of clusters the chosen matching leaves unconnected, each with the pairs
+// crossing it and μ = 0; cuts already known are skipped, and none are added past 4000.
+void add_unconnected_cuts(const Problem& pr, const std::vector<Pair>& pairs, const std::vector<char>& chosen,
+                          std::set<std::vector<char>>& known_cuts, std::vector<std::vector<int>>& cut_pairs,
+                          std::vector<double>& mu) {
+  const std::size_t clusters = pr.cluster_size.size();
+  std::vector<std::size_t> parent(clusters);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](std::size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  const auto cluster_of = [&](int end) { return static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(end)].cluster); };
+  for (std::size_t e = 0; e < pairs.size(); ++e) {
+    if (chosen[e]) parent[find(cluster_of(pairs[e].a))] = find(cluster_of(pairs[e].b));
+  }
+  std::vector<std::size_t> roots;
+  for (std::size_t c = 0; c < clusters; ++c) {
+    if (find(c) == c) roots.push_back(c);
+  }
+  if (roots.size() <= 1 || known_cuts.size() >= 4000) return;
+  for (std::size_t r : roots) {
+    std::vector<char> in(clusters);
+    for (std::size_t c = 0; c < clusters; ++c) in[c] = find(c) == r ? 1 : 0;
+    if (in[0]) {
+      for (char& x : in) x = static_cast<char>(!x);  // a cut and its complement are the same cut
+    }
+    if (!known_cuts.insert(in).second) continue;
+    std::vector<int> crossing;
+    for (std::size_t e = 0; e < pairs.size(); ++e) {
+      if (in[cluster_of(pairs[e].a)] != in[cluster_of(pairs[e].b)]) crossing.push_back(static_cast<int>(e));
+    }
+    cut_pairs.push_back(std::move(crossing));
+    mu.push_back(0);
+  }
+}
+
+}  // namespace
+
+KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2, Point2>>>& kinds, Point2 home,
+                                  const std::function<double(double)>& cost, double plan_cost) {
+  const Problem pr = ends_of(kinds, home);
+  if (pr.kinds == 0) return {};
+  const int n = static_cast<int>(pr.ends.size());
+  const std::vector<Pair> pairs = allowed_pairs(pr, cost);
 
   std::vector<plan_detail::WeightedPair> graph(pairs.size());
   for (std::size_t e = 0; e < pairs.size(); ++e) graph[e] = {pairs[e].a, pairs[e].b, 0};
 
-  const std::size_t clusters = pr.cluster_size.size();
   std::vector<std::vector<int>> cut_pairs;  // per cut: the pairs crossing it
   std::vector<double> mu;                    // per cut, >= 0
   std::set<std::vector<char>> known_cuts;
@@ -191,40 +234,7 @@ KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2
     }
     if (theta < 1e-3 || best >= plan_cost - 1e-9) break;
 
-    // New cuts: the groups of clusters this matching leaves unconnected.
-    std::vector<std::size_t> parent(clusters);
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto find = [&](std::size_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    for (std::size_t e = 0; e < pairs.size(); ++e) {
-      if (!chosen[e]) continue;
-      parent[find(static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(pairs[e].a)].cluster))] =
-          find(static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(pairs[e].b)].cluster));
-    }
-    std::vector<std::size_t> roots;
-    for (std::size_t c = 0; c < clusters; ++c) {
-      if (find(c) == c) roots.push_back(c);
-    }
-    if (roots.size() > 1 && known_cuts.size() < 4000) {
-      for (std::size_t r : roots) {
-        std::vector<char> in(clusters);
-        for (std::size_t c = 0; c < clusters; ++c) in[c] = find(c) == r ? 1 : 0;
-        if (in[0]) {
-          for (char& x : in) x = static_cast<char>(!x);  // a cut and its complement are the same cut
-        }
-        if (!known_cuts.insert(in).second) continue;
-        std::vector<int> crossing;
-        for (std::size_t e = 0; e < pairs.size(); ++e) {
-          const auto ca = static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(pairs[e].a)].cluster);
-          const auto cb = static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(pairs[e].b)].cluster);
-          if (in[ca] != in[cb]) crossing.push_back(static_cast<int>(e));
-        }
-        cut_pairs.push_back(std::move(crossing));
-        mu.push_back(0);
-      }
-    }
+    add_unconnected_cuts(pr, pairs, chosen, known_cuts, cut_pairs, mu);
     // Subgradient step towards plan_cost (Polyak), then keep μ >= 0.
     std::vector<double> g_mu(mu.size()), g_lambda(lambda.size(), -1.0);
     double norm = 0;

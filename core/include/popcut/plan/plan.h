@@ -8,6 +8,10 @@
 #include <vector>
 
 #include "popcut/pattern/pattern.h"
+#include "popcut/plan/chaining.h"
+#include "popcut/plan/order.h"
+#include "popcut/plan/time_model.h"
+#include "popcut/plan/tool_paths.h"
 
 namespace popcut {
 
@@ -32,9 +36,6 @@ struct KindPlan {
   double perforate_on_mm = 1.0;   // perforate: cut this long...
   double perforate_off_mm = 1.0;  // ...then leave this much uncut; dashes start and end uncut
 };
-
-// Small cards converge far below this; a 10,000-segment pattern stops here after some 50 ms.
-inline constexpr std::uint64_t kDefaultOptimiseWork = 500'000;
 
 struct PlanOptions {
   double fold_gap_mm = 0.5;                 // no scored fold point is nearer than this to a cut line or the outline
@@ -85,58 +86,14 @@ struct StrokePlan {
   Rect extent() const;
 };
 
-// The whole plan: fold gaps, chaining, perforation, passes, ordering. Deterministic.
+// The whole plan: fold gaps, chaining, perforation, ordering, passes and tool paths. Deterministic.
 StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options = {});
 
-// Parts, exposed for tests and benchmarks.
+// Parts, exposed for tests and benchmarks; the pipeline's other steps have their own headers
+// (chaining.h, order.h, tool_paths.h, time_model.h), included above.
 
 // Lines of one kind after the fold gap (for folds: the pieces at least fold_gap_mm, in the plane,
 // from every cut and the sheet's edge); the outline kind yields the sheet's edges.
 std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fold_gap_mm, int* dropped = nullptr);
-
-// Splits segments where another's endpoint lies inside them, so chains may turn there.
-std::vector<std::pair<Point2, Point2>> split_at_junctions(const std::vector<std::pair<Point2, Point2>>& segments);
-
-// Minimum number of strokes covering a graph's edges once each: per connected component
-// max(1, odd-degree vertices / 2).
-int euler_bound(const std::vector<std::pair<Point2, Point2>>& edges);
-
-// Chains edges into exactly euler_bound() trails (then splits at turns sharper than max_turn_deg).
-std::vector<std::vector<Point2>> chain_edges(const std::vector<std::pair<Point2, Point2>>& edges,
-                                             std::optional<double> max_turn_deg);
-
-// Orders paths from `start` to cut knife-up travel: greedy nearest neighbour over a grid, then
-// 2-opt and Or-opt (with reversal) over near path ends until no move gains or `work_budget`
-// steps are spent; picks each open path's direction and each closed loop's start (a vertex, or a
-// point inside a segment, which then becomes the loop's first and last point). Deterministic.
-std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
-                                             std::uint64_t work_budget = kDefaultOptimiseWork);
-
-// The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
-std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
-// The tip path of a precut before `tip_path`: its first min(precut_mm, first segment) mm;
-// empty when precut_mm is 0.
-std::vector<Point2> precut_path(const std::vector<Point2>& tip_path, double precut_mm);
-// A closed loop continued past its start by `overcut_mm` along itself; open paths unchanged.
-std::vector<Point2> with_overcut(const std::vector<Point2>& path, double overcut_mm);
-
-// Knife-up distance to walk `paths` in order from `start`.
-double travel_mm(const std::vector<std::vector<Point2>>& paths, Point2 start);
-double path_length_mm(const std::vector<Point2>& path);
-
-// Motion-time model of a plotter (trapezoidal speed profile, a stop at every vertex).
-struct Kinematics {
-  double travel_speed_mm_s = 300;
-  double accel_mm_s2 = 2000;
-  double knife_up_s = 0.03;
-  double knife_down_s = 0.03;
-};
-double move_time_s(double length_mm, double speed_mm_s, double accel_mm_s2);
-struct TimeEstimate {
-  double total_s = 0;
-  std::array<double, 4> kind_s{};  // travel to a kind's strokes counts for that kind
-};
-// cut_speed_mm_s per kind (indexed by index_of); every stroke also pays knife down and up.
-TimeEstimate estimate_time(const StrokePlan& plan, const Kinematics& k, const std::array<double, 4>& cut_speed_mm_s);
 
 }  // namespace popcut

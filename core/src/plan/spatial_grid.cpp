@@ -1,0 +1,113 @@
+// The uniform grid behind junction splitting, fold gaps, the greedy order and the tour search's neighbours.
+#include "popcut/plan/spatial_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "plan/path_geometry.h"
+
+namespace popcut {
+
+using plan_detail::dist;
+
+SpatialGrid::SpatialGrid(Rect box, std::size_t items) {
+  const double w = std::max(box.max.x_mm - box.min.x_mm, 1e-3), h = std::max(box.max.v_mm - box.min.v_mm, 1e-3);
+  const double cells = std::max<double>(1, static_cast<double>(items));
+  cell_mm_ = std::max(std::sqrt(w * h / cells), 1e-3);
+  origin_ = box.min;
+  nx_ = std::min<long>(4096, static_cast<long>(w / cell_mm_) + 1);
+  nv_ = std::min<long>(4096, static_cast<long>(h / cell_mm_) + 1);
+  cells_.resize(static_cast<std::size_t>(nx_ * nv_));
+}
+
+long SpatialGrid::cx(double x) const { return std::clamp(static_cast<long>((x - origin_.x_mm) / cell_mm_), 0L, nx_ - 1); }
+long SpatialGrid::cv(double v) const { return std::clamp(static_cast<long>((v - origin_.v_mm) / cell_mm_), 0L, nv_ - 1); }
+
+void SpatialGrid::insert(int id, Point2 lo, Point2 hi) {
+  if (seen_.size() <= static_cast<std::size_t>(id)) seen_.resize(static_cast<std::size_t>(id) + 1, 0);
+  for (long v = cv(lo.v_mm); v <= cv(hi.v_mm); ++v)
+    for (long x = cx(lo.x_mm); x <= cx(hi.x_mm); ++x) cell(x, v).push_back(id);
+}
+
+void SpatialGrid::insert_segment(int id, Point2 a, Point2 b, double pad_mm) {
+  insert(id, {std::min(a.x_mm, b.x_mm) - pad_mm, std::min(a.v_mm, b.v_mm) - pad_mm},
+         {std::max(a.x_mm, b.x_mm) + pad_mm, std::max(a.v_mm, b.v_mm) + pad_mm});
+}
+
+void SpatialGrid::insert(int id, Point2 at, int group) {
+  if (points_.size() <= static_cast<std::size_t>(id)) points_.resize(static_cast<std::size_t>(id) + 1);
+  points_[static_cast<std::size_t>(id)] = {at, group};
+  insert(id, at, at);
+}
+
+void SpatialGrid::erase(int id, Point2 at) {
+  std::vector<int>& c = cell(cx(at.x_mm), cv(at.v_mm));
+  const auto it = std::find(c.begin(), c.end(), id);
+  if (it == c.end()) return;
+  *it = c.back();
+  c.pop_back();
+}
+
+const std::vector<int>& SpatialGrid::at(Point2 p) const { return cell(cx(p.x_mm), cv(p.v_mm)); }
+
+void SpatialGrid::ids_in_box(Point2 lo, Point2 hi, std::vector<int>& out) {
+  out.clear();
+  for (long v = cv(lo.v_mm); v <= cv(hi.v_mm); ++v) {
+    for (long x = cx(lo.x_mm); x <= cx(hi.x_mm); ++x) {
+      for (int id : cell(x, v)) {
+        if (!seen_[static_cast<std::size_t>(id)]) {
+          seen_[static_cast<std::size_t>(id)] = 1;
+          out.push_back(id);
+        }
+      }
+    }
+  }
+  for (int id : out) seen_[static_cast<std::size_t>(id)] = 0;
+}
+
+// Ring r of cells around the query's cell (r = 0: that cell alone): whole rows at its top and
+// bottom, two cells on the rows between. Keeps the k least (distance, id) pairs seen.
+void SpatialGrid::gather_ring(Point2 at, long r, std::size_t k, int skip_group,
+                              std::vector<std::pair<double, int>>& found) const {
+  const long qx = cx(at.x_mm), qv = cv(at.v_mm);
+  // Only the ring's rows inside the grid, and of its top and bottom rows only the cells inside:
+  // a query near an edge (or a long thin grid) then costs the cells there are.
+  for (long v = std::max(0L, qv - r); v <= std::min(nv_ - 1, qv + r); ++v) {
+    const bool edge_row = v == qv - r || v == qv + r;
+    const long step = edge_row ? 1 : 2 * r;
+    for (long x = edge_row ? std::max(0L, qx - r) : qx - r; x <= (edge_row ? std::min(nx_ - 1, qx + r) : qx + r); x += step) {
+      if (x < 0 || x >= nx_) continue;
+      for (int id : cell(x, v)) {
+        const Item& item = points_[static_cast<std::size_t>(id)];
+        if (item.group == skip_group) continue;
+        const std::pair<double, int> candidate{dist(at, item.at), id};
+        if (found.size() >= k && !(candidate < found.back())) continue;
+        if (found.size() < k) found.push_back(candidate);
+        else found.back() = candidate;
+        for (std::size_t j = found.size() - 1; j > 0 && found[j] < found[j - 1]; --j) std::swap(found[j], found[j - 1]);
+      }
+    }
+  }
+}
+
+void SpatialGrid::nearest(Point2 at, std::size_t k, int skip_group, std::vector<std::pair<double, int>>& found) const {
+  found.clear();
+  if (k == 0) return;
+  // A point r rings out is at least r - 1 cells away: past that, nothing can displace the k-th.
+  for (long r = 0; r <= std::max(nx_, nv_); ++r) {
+    if (found.size() >= k && (static_cast<double>(r) - 1) * cell_mm_ > found[k - 1].first) break;
+    gather_ring(at, r, k, skip_group, found);
+  }
+}
+
+Rect bounds_of(const std::vector<Point2>& points) {
+  Rect r{{1e300, 1e300}, {-1e300, -1e300}};
+  for (Point2 p : points) {
+    r.min = {std::min(r.min.x_mm, p.x_mm), std::min(r.min.v_mm, p.v_mm)};
+    r.max = {std::max(r.max.x_mm, p.x_mm), std::max(r.max.v_mm, p.v_mm)};
+  }
+  return r;
+}
+
+}  // namespace popcut
