@@ -25,10 +25,7 @@ CliError::CliError(int exit_code, ErrorCode code, std::string source, std::strin
 
 int exit_code_of(const Error& error) {
   if (const auto* cli = dynamic_cast<const CliError*>(&error)) return cli->exit_code();
-  if (error.code() == ErrorCode::internal) return kInternal;
-  // The job did not get through: the output could not be written, or the device not opened.
-  const bool not_through = error.location() == "output" || error.location() == "device";
-  return error.code() == ErrorCode::io && not_through ? kCannotWrite : kBadInput;
+  return error.code() == ErrorCode::internal ? kInternal : kBadInput;
 }
 
 int run_guarded(bool json_errors, const std::function<int()>& body) {

@@ -33,9 +33,8 @@ class CliError : public Error {
   int exit_code_;
 };
 
-// The exit code an error ends popcut with: a CliError's own; for the libraries' errors kInternal for
-// a bug, kCannotWrite for an io error at "output" or "device" (the job did not get through),
-// kBadInput for the rest.
+// The exit code an error ends popcut with: a CliError's own (chosen where it was raised); for the
+// libraries' errors kInternal for a bug and kBadInput for the rest.
 int exit_code_of(const Error& error);
 
 // Runs a command body, turning popcut errors into messages (and JSON with --json) and exit codes.

@@ -161,8 +161,8 @@ drivers::CutSessionOptions session_options(const CutCommands& s) {
 // device is the one the profile is for.
 void check_device(const CutCommands& s, const drivers::CutSession& session, const DeviceProfile& profile, const Target& target) {
   if (const drivers::TransportStatus& st = session.made(); !st.ok()) {
-    const bool usage = st.error == drivers::TransportError::bad_argument;
-    throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, "", usage ? "--device" : "output", st.message);
+    if (st.error == drivers::TransportError::bad_argument) throw Error(ErrorCode::invalid_input, "", "--device", st.message);
+    throw CliError(kCannotWrite, ErrorCode::io, "", "output", st.message);
   }
   const drivers::DeviceAddress& address = session.address();
   if (address.kind != drivers::DeviceKind::sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
@@ -184,7 +184,7 @@ void check_device(const CutCommands& s, const drivers::CutSession& session, cons
 std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw Error(ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
+  if (ec) throw CliError(kCannotWrite, ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
   const std::filesystem::path dir(out_dir);
   write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << encoded.bytes; });
   return dir;
@@ -193,9 +193,11 @@ std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJo
 void open_device(drivers::CutSession& session) {
   if (const drivers::TransportStatus st = session.open(); !st.ok()) {
     // The class (docs/transports.md, "Error classes") leads the message, for people and scripts.
-    const bool usage = st.error == drivers::TransportError::bad_argument;
-    throw Error(usage ? ErrorCode::invalid_input : ErrorCode::io, session.describe(), usage ? "--device" : "device",
-                std::string(drivers::to_string(st.error)) + ": " + st.message);
+    const std::string message = std::string(drivers::to_string(st.error)) + ": " + st.message;
+    if (st.error == drivers::TransportError::bad_argument) {
+      throw Error(ErrorCode::invalid_input, session.describe(), "--device", message);
+    }
+    throw CliError(kCannotWrite, ErrorCode::io, session.describe(), "device", message);
   }
 }
 

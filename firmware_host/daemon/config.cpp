@@ -33,14 +33,6 @@ std::string resolve(const std::string& path, const std::string& source) {
   return (std::filesystem::path(source).parent_path() / p).lexically_normal().string();
 }
 
-// An enum's names as TomlSection::choice takes them, in the table's order.
-template <class E, std::size_t N>
-std::array<const char*, N> choice_names(const EnumNames<E, N>& names) {
-  std::array<const char*, N> out{};
-  for (std::size_t i = 0; i < N; ++i) out[i] = names.entries[i].second.data();
-  return out;
-}
-
 // An address literal is checked here (999.1.1.1 is a typo, not a host name to look up); a host
 // name is resolved when popcutd binds.
 void check_listen(const TomlSection& s, const std::string& listen) {
@@ -133,7 +125,7 @@ TokenConfig read_token(TomlSection& t, std::set<std::string>& names, std::set<st
     if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127) t.fail("token", "printable ASCII without spaces only");
   }
   if (!secrets.insert(tok.token).second) t.fail("token", "the same secret is used by another token");
-  tok.role = kRoleNames.entries[t.choice("role", 0, choice_names(kRoleNames))].first;
+  tok.role = t.choice("role", Role::kiosk, kRoleNames);
   t.reject_unknown();
   return tok;
 }

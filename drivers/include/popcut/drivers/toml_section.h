@@ -74,13 +74,6 @@ class TomlSection {
     const std::optional<std::size_t> i = choice_index(key, names);
     return i ? table.entries[*i].first : fallback;
   }
-  // One of `names`; returns its index.
-  template <std::size_t N>
-  std::size_t choice(const std::string& key, std::size_t fallback, const std::array<const char*, N>& names) {
-    std::array<std::string_view, N> views{};
-    for (std::size_t i = 0; i < N; ++i) views[i] = names[i];
-    return choice_index(key, views).value_or(fallback);
-  }
   const toml::array* array(const std::string& key) {
     const toml::node* n = node(key);
     if (n && !n->is_array()) fail(key, "expected an array");
