@@ -64,7 +64,14 @@ void BM_PaperFacePath(benchmark::State& state) {
   state.counters["faces"] = static_cast<double>(m.face_count());
 }
 
-BENCHMARK(BM_AddFaces)->Arg(250)->Arg(500)->Arg(1000)->Arg(2000)->Arg(8000)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_AddFaces)
+    ->Arg(250)
+    ->Arg(500)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Arg(8000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK(BM_FacePattern)->Arg(500)->Arg(2000)->Arg(8000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FaceCheck)->Arg(500)->Arg(2000)->Arg(8000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PaperVoxelPath)->Unit(benchmark::kMillisecond);

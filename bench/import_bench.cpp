@@ -63,7 +63,9 @@ void import_file(benchmark::State& state, const std::string& path, const ImportO
   state.counters["tops dropped"] = r.stats.tops_dropped;
 }
 
-void BM_Import(benchmark::State& state) { import_file(state, street_file(), options(static_cast<int>(state.range(0)))); }
+void BM_Import(benchmark::State& state) {
+  import_file(state, street_file(), options(static_cast<int>(state.range(0))));
+}
 
 // Small files that are hard for the windows phase: openscad-testing-data's plates seen edge-on
 // (3 mm wide, 60 mm tall: 1,600 rows at the default 80 across), read where Debian installs them.
@@ -109,8 +111,10 @@ void BM_WindowsFullCheck(benchmark::State& state) {
         // rows it rejected are left out, so this understates the paper's cost when there are any).
         if (z >= m.h(x, 0) || with.model.is_window(x, z) == false) continue;
         m.set_window(x, z, true);
-        if (popcut::check_popup(popcut::make_pattern(m)).pops_up()) ++added;
-        else m.set_window(x, z, false);
+        if (popcut::check_popup(popcut::make_pattern(m)).pops_up())
+          ++added;
+        else
+          m.set_window(x, z, false);
       }
     }
   }
@@ -125,8 +129,8 @@ BENCHMARK(BM_SampleRaycast)->Arg(80)->Arg(400)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WindowsFullCheck)->Arg(80)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void print_table(const popcut::bench::CollectingReporter& reporter) {
-  std::printf("\n%-16s %-13s %7s %9s %10s %8s %8s %9s %9s %9s  %s\n", "import", "grid", "read", "sampling", "morphology", "filling",
-              "windows", "thin tops", "total ms", "target", "met");
+  std::printf("\n%-16s %-13s %7s %9s %10s %8s %8s %9s %9s %9s  %s\n", "import", "grid", "read", "sampling",
+              "morphology", "filling", "windows", "thin tops", "total ms", "target", "met");
   for (const auto& row : reporter.rows()) {
     const bool installed = row.name.rfind("BM_ImportInstalled/", 0) == 0;
     if (row.name.rfind("BM_Import/", 0) != 0 && !installed) continue;
@@ -135,11 +139,16 @@ void print_table(const popcut::bench::CollectingReporter& reporter) {
     const double target = paper ? 50 : installed ? 5000 : 2000;
     char grid[32];
     std::snprintf(grid, sizeof grid, "%.0fx%.0fx%.0f", c.at("width"), c.at("depth"), c.at("height"));
-    std::printf("%-16s %-13s %7.2f %9.2f %10.2f %8.2f %8.2f %9.2f %9.1f %9s  %s\n", row.name.c_str(), grid, c.at("read"),
-                c.at("sampling"), c.at("morphology"), c.at("filling"), c.at("windows"), c.at("thin tops"), row.ms,
-                paper ? "< 50 ms" : installed ? "< 5 s" : "< 2 s", row.ms < target ? "yes" : "NO");
-    std::printf("%-16s windows %0.f added, %0.f rejected, %0.f full checks, %0.f work units; %0.f thin tops dropped\n", "",
-                c.at("windows added"), c.at("windows rejected"), c.at("full checks"), c.at("window work"), c.at("tops dropped"));
+    std::printf("%-16s %-13s %7.2f %9.2f %10.2f %8.2f %8.2f %9.2f %9.1f %9s  %s\n", row.name.c_str(), grid,
+                c.at("read"), c.at("sampling"), c.at("morphology"), c.at("filling"), c.at("windows"), c.at("thin tops"),
+                row.ms,
+                paper       ? "< 50 ms"
+                : installed ? "< 5 s"
+                            : "< 2 s",
+                row.ms < target ? "yes" : "NO");
+    std::printf("%-16s windows %0.f added, %0.f rejected, %0.f full checks, %0.f work units; %0.f thin tops dropped\n",
+                "", c.at("windows added"), c.at("windows rejected"), c.at("full checks"), c.at("window work"),
+                c.at("tops dropped"));
   }
   std::printf("\n%-24s %12s %12s\n", "depth sampling", "z-buffer ms", "ray cast ms");
   for (const char* n : {"80", "400"}) {

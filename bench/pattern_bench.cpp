@@ -52,7 +52,8 @@ BENCHMARK(BM_Pattern)->Arg(10)->Arg(20)->Arg(40)->Arg(60)->Arg(100)->Unit(benchm
 BENCHMARK(BM_PatternAndCheck)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond);
 
 void print_table(const popcut::bench::CollectingReporter& reporter) {
-  std::printf("\n%-28s %12s %12s %10s %12s  %s\n", "benchmark", "pattern cells", "time (ms)", "ns/cell", "target", "met");
+  std::printf("\n%-28s %12s %12s %10s %12s  %s\n", "benchmark", "pattern cells", "time (ms)", "ns/cell", "target",
+              "met");
   for (const auto& row : reporter.rows()) {
     const double cells = row.counters.at("cells");
     const bool paper = row.name.size() >= 3 && row.name.compare(row.name.size() - 3, 3, "/10") == 0;

@@ -19,21 +19,28 @@
 namespace {
 
 using popcut::testing::PopcutdProcess;
-using popcut::testing::TempDir;
 using popcut::testing::read_file;
+using popcut::testing::TempDir;
 
 const std::string kSource = POPCUT_SOURCE_DIR;
 const std::string kKiosk = "kiosk-0123456789abcdef";
 const std::string kAdmin = "admin-0123456789abcdef";
 
-
 // Two paused sim cutters: jobs are planned and wait, so the figures are the API's and the queue's.
 std::string config(const TempDir& dir, int http_threads = 16) {
-  return dir.write("bench.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = " + std::to_string(http_threads) + "\n[limits]\nqueue_length = 1000000\n"
-                                 "[[device]]\nname = \"a\"\nprofile = \"" + kSource + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
-                                 "[[device]]\nname = \"b\"\nprofile = \"" + kSource + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
-                                 "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"
-                                 "[[token]]\nname = \"admin\"\ntoken = \"" + kAdmin + "\"\nrole = \"admin\"\n");
+  return dir.write("bench.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = " + std::to_string(http_threads) +
+                                     "\n[limits]\nqueue_length = 1000000\n"
+                                     "[[device]]\nname = \"a\"\nprofile = \"" +
+                                     kSource +
+                                     "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                     "[[device]]\nname = \"b\"\nprofile = \"" +
+                                     kSource +
+                                     "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                     "[[token]]\nname = \"kiosk\"\ntoken = \"" +
+                                     kKiosk +
+                                     "\"\n"
+                                     "[[token]]\nname = \"admin\"\ntoken = \"" +
+                                     kAdmin + "\"\nrole = \"admin\"\n");
 }
 
 double rss_mb(pid_t pid) {
@@ -130,7 +137,8 @@ void report(benchmark::State& state, const Load& l, int count) {
   state.counters["p99_ms"] = percentile(l.latency_ms, 0.99);
   state.counters["max_ms"] = l.latency_ms.empty() ? 0 : l.latency_ms.back();
   // A dropped SYN is sent again after 1 s: requests this slow waited for a retransmit.
-  state.counters["over_1s"] = static_cast<double>(l.latency_ms.end() - std::lower_bound(l.latency_ms.begin(), l.latency_ms.end(), 1000.0));
+  state.counters["over_1s"] =
+      static_cast<double>(l.latency_ms.end() - std::lower_bound(l.latency_ms.begin(), l.latency_ms.end(), 1000.0));
   state.counters["listen_overflows"] = static_cast<double>(l.listen_overflows);
   state.counters["failures"] = l.failures;
   if (l.failures) {
@@ -166,7 +174,14 @@ void BM_Submit(benchmark::State& state) {
     report(state, l, count);
   }
 }
-BENCHMARK(BM_Submit)->Args({1, 200})->Args({1, 2000})->Args({8, 2000})->Args({32, 2000})->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Submit)
+    ->Args({1, 200})
+    ->Args({1, 2000})
+    ->Args({8, 2000})
+    ->Args({32, 2000})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 // Every submission on a connection of its own, as scripts running `popcut submit` at once make
 // them: bursts of connections the daemon must take up. args: concurrent clients, submissions
@@ -176,11 +191,19 @@ void BM_SubmitFresh(benchmark::State& state) {
     Daemon d;
     const Load l = run_load(
         d.process, threads, count,
-        [](httplib::Client& c, int i) { return outcome(c.Post("/api/v1/jobs", submission(i), "application/json"), 201); }, true);
+        [](httplib::Client& c, int i) {
+          return outcome(c.Post("/api/v1/jobs", submission(i), "application/json"), 201);
+        },
+        true);
     report(state, l, count);
   }
 }
-BENCHMARK(BM_SubmitFresh)->Args({8, 1000})->Args({64, 1000})->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SubmitFresh)
+    ->Args({8, 1000})
+    ->Args({64, 1000})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 // GET one job (its place in line and ETA computed) with 1000 jobs queued.
 void BM_GetJob(benchmark::State& state) {
@@ -276,32 +299,48 @@ void BM_HealthzUnderIdle(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_HealthzUnderIdle)
-    ->Args({0, 0, 8})->Args({8, 0, 8})->Args({20, 0, 8})->Args({0, 8, 8})
-    ->Args({0, 0, 64})->Args({8, 0, 64})->Args({20, 0, 64})->Args({0, 30, 64})->Args({20, 30, 64})
-    ->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+    ->Args({0, 0, 8})
+    ->Args({8, 0, 8})
+    ->Args({20, 0, 8})
+    ->Args({0, 8, 8})
+    ->Args({0, 0, 64})
+    ->Args({8, 0, 64})
+    ->Args({20, 0, 64})
+    ->Args({0, 30, 64})
+    ->Args({20, 30, 64})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
 int main(int argc, char** argv) {
   return popcut::bench::run_with_table(argc, argv, [](const popcut::bench::CollectingReporter& r) {
-    std::printf("\npopcutd on loopback (box model, devices paused so jobs stay queued; over 1 s: requests that took a second or\n"
-                "more, as a dropped connection retried by TCP does; overflows: connections the kernel dropped because an accept\n"
-                "queue was full, TcpExtListenOverflows, machine-wide, during the case)\n");
-    std::printf("%-26s %12s %10s %10s %10s %8s %10s %12s %14s\n", "case", "per second", "p50 ms", "p99 ms", "max ms", "over 1 s",
-                "overflows", "RSS empty MB", "RSS queued MB");
+    std::printf(
+        "\npopcutd on loopback (box model, devices paused so jobs stay queued; over 1 s: requests that took a second "
+        "or\n"
+        "more, as a dropped connection retried by TCP does; overflows: connections the kernel dropped because an "
+        "accept\n"
+        "queue was full, TcpExtListenOverflows, machine-wide, during the case)\n");
+    std::printf("%-26s %12s %10s %10s %10s %8s %10s %12s %14s\n", "case", "per second", "p50 ms", "p99 ms", "max ms",
+                "over 1 s", "overflows", "RSS empty MB", "RSS queued MB");
     for (const popcut::bench::Row& row : r.rows()) {
       const auto c = [&](const char* k) { return row.counters.count(k) ? row.counters.at(k) : 0.0; };
       if (row.name.rfind("BM_HealthzUnderIdle", 0) == 0) continue;
-      std::printf("%-26s %12.0f %10.2f %10.2f %10.2f %8.0f %10.0f %12.1f %14.1f\n", row.name.c_str(), c("per_s"), c("p50_ms"), c("p99_ms"),
-                  c("max_ms"), c("over_1s"), c("listen_overflows"), c("rss_mb_empty"), c("rss_mb_queued"));
+      std::printf("%-26s %12.0f %10.2f %10.2f %10.2f %8.0f %10.0f %12.1f %14.1f\n", row.name.c_str(), c("per_s"),
+                  c("p50_ms"), c("p99_ms"), c("max_ms"), c("over_1s"), c("listen_overflows"), c("rss_mb_empty"),
+                  c("rss_mb_queued"));
     }
-    std::printf("\n/healthz (fresh connection every 100 ms for 3 s) with idle sockets and kiosk pollers (keep-alive, every 0.5 s)\n");
-    std::printf("%8s %8s %12s %10s %10s %8s %10s\n", "threads", "idle", "pollers", "p50 ms", "max ms", "RSS MB", "failures");
+    std::printf(
+        "\n/healthz (fresh connection every 100 ms for 3 s) with idle sockets and kiosk pollers (keep-alive, every 0.5 "
+        "s)\n");
+    std::printf("%8s %8s %12s %10s %10s %8s %10s\n", "threads", "idle", "pollers", "p50 ms", "max ms", "RSS MB",
+                "failures");
     for (const popcut::bench::Row& row : r.rows()) {
       const auto c = [&](const char* k) { return row.counters.count(k) ? row.counters.at(k) : 0.0; };
       if (row.name.rfind("BM_HealthzUnderIdle", 0) != 0) continue;
-      std::printf("%8.0f %8.0f %12.0f %10.2f %10.2f %8.1f %10.0f\n", c("threads"), c("idle"), c("pollers"), c("p50_ms"), c("max_ms"),
-                  c("rss_mb"), c("failures"));
+      std::printf("%8.0f %8.0f %12.0f %10.2f %10.2f %8.1f %10.0f\n", c("threads"), c("idle"), c("pollers"), c("p50_ms"),
+                  c("max_ms"), c("rss_mb"), c("failures"));
     }
   });
 }

@@ -50,8 +50,8 @@ class Plotter {
       const int null = ::open("/dev/null", O_WRONLY);
       ::dup2(null, 2);
       const std::string b = std::to_string(baud), buf = std::to_string(buffer);
-      ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--profile", profile.c_str(), "--baud", b.c_str(), "--buffer", buf.c_str(),
-              "--slowdown", "0.0001", static_cast<char*>(nullptr));
+      ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--profile", profile.c_str(), "--baud", b.c_str(), "--buffer",
+              buf.c_str(), "--slowdown", "0.0001", static_cast<char*>(nullptr));
       ::_exit(127);
     }
     for (int i = 0; i < 500 && port_.empty(); ++i) {
@@ -193,11 +193,17 @@ BENCHMARK(BM_Stream)
     ->Args({9600, 1024, 1})
     ->Args({115200, 1024, 1})
     ->Args({115200, 256, 1})
-    ->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_TimePaced)
-    ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1, 1), {10, 12}, {0, 1}})
+    ->Iterations(1)
+    ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_BytesPerMm)->DenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TimePaced)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1, 1),
+                   {10, 12},
+                   {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BytesPerMm)
+    ->DenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
@@ -216,27 +222,30 @@ int main(int argc, char** argv) {
     std::printf("%-9s %-8s %-8s %-8s %-10s\n", "pacing", "baud", "buffer", "bytes", "of line");
     for (const auto& r : rep.rows()) {
       if (r.name.rfind("BM_Stream", 0) != 0) continue;
-      std::printf("%-9s %-8.0f %-8.0f %-8.0f %5.1f %%\n", r.counters.at("esc_b") != 0 ? "ESC.B" : "XON/XOFF", r.counters.at("baud"),
-                  r.counters.at("buffer"), r.counters.at("bytes"), 100 * r.counters.at("line_fraction"));
+      std::printf("%-9s %-8.0f %-8.0f %-8.0f %5.1f %%\n", r.counters.at("esc_b") != 0 ? "ESC.B" : "XON/XOFF",
+                  r.counters.at("baud"), r.counters.at("buffer"), r.counters.at("bytes"),
+                  100 * r.counters.at("line_fraction"));
     }
     std::printf("\ntime pacing (flow none) on the simulator, townhouse, 256-byte buffer, pace_margin_percent 25\n");
-    std::printf("%-16s %-9s %-7s %-9s %-12s %-9s %-9s %-12s\n", "profile", "slowdown", "ESC.O", "complete", "job/motion", "max used",
-                "overflow", "schedule ms");
+    std::printf("%-16s %-9s %-7s %-9s %-12s %-9s %-9s %-12s\n", "profile", "slowdown", "ESC.O", "complete",
+                "job/motion", "max used", "overflow", "schedule ms");
     const std::vector<std::string> names = popcut::testing::shipped_profiles();
     for (const auto& r : rep.rows()) {
       if (r.name.rfind("BM_TimePaced", 0) != 0) continue;
       const std::size_t i = static_cast<std::size_t>(std::stoi(r.name.substr(r.name.find('/') + 1)));
-      std::printf("%-16s %-9.1f %-7s %-9s %-12.3f %-9.0f %-9.0f %-12.2f\n", fs::path(names[i]).stem().c_str(), r.counters.at("slowdown"),
-                  r.counters.at("esc_o") != 0 ? "asked" : "-", r.counters.at("complete") != 0 ? "yes" : "NO", r.counters.at("job_over_motion"), r.counters.at("max_used"),
-                  r.counters.at("overflow"), r.ms);
+      std::printf("%-16s %-9.1f %-7s %-9s %-12.3f %-9.0f %-9.0f %-12.2f\n", fs::path(names[i]).stem().c_str(),
+                  r.counters.at("slowdown"), r.counters.at("esc_o") != 0 ? "asked" : "-",
+                  r.counters.at("complete") != 0 ? "yes" : "NO", r.counters.at("job_over_motion"),
+                  r.counters.at("max_used"), r.counters.at("overflow"), r.ms);
     }
-    std::printf("\nencoder: bytes per cut mm, townhouse, per profile\n%-16s %-8s %-8s %-8s\n", "profile", "bytes", "cut mm", "B/mm");
+    std::printf("\nencoder: bytes per cut mm, townhouse, per profile\n%-16s %-8s %-8s %-8s\n", "profile", "bytes",
+                "cut mm", "B/mm");
     const std::vector<std::string> files = popcut::testing::shipped_profiles();
     for (const auto& r : rep.rows()) {
       if (r.name.rfind("BM_BytesPerMm", 0) != 0) continue;
       const std::size_t i = static_cast<std::size_t>(std::stoi(r.name.substr(r.name.find('/') + 1)));
-      std::printf("%-16s %-8.0f %-8.0f %-8.2f\n", fs::path(files[i]).stem().c_str(), r.counters.at("bytes"), r.counters.at("cut_mm"),
-                  r.counters.at("bytes_per_cut_mm"));
+      std::printf("%-16s %-8.0f %-8.0f %-8.2f\n", fs::path(files[i]).stem().c_str(), r.counters.at("bytes"),
+                  r.counters.at("cut_mm"), r.counters.at("bytes_per_cut_mm"));
     }
   });
 }

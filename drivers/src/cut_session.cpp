@@ -21,7 +21,9 @@ class PacedTransport final : public Transport {
     pace();
     return r;
   }
-  IoResult read(std::span<std::uint8_t> buffer, std::chrono::milliseconds timeout) override { return inner_.read(buffer, timeout); }
+  IoResult read(std::span<std::uint8_t> buffer, std::chrono::milliseconds timeout) override {
+    return inner_.read(buffer, timeout);
+  }
   TransportStatus drain(std::chrono::milliseconds timeout) override { return inner_.drain(timeout); }
   void close() override { inner_.close(); }
   std::string describe() const override { return inner_.describe(); }
@@ -32,7 +34,8 @@ class PacedTransport final : public Transport {
  private:
   void pace() {
     using Clock = std::chrono::steady_clock;
-    const auto due = start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sim_.report().clock_s * time_scale_));
+    const auto due = start_ + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(sim_.report().clock_s * time_scale_));
     while (!(stop_ && *stop_) && Clock::now() < due) {
       std::this_thread::sleep_for(std::min<Clock::duration>(due - Clock::now(), std::chrono::milliseconds(50)));
     }
@@ -77,14 +80,17 @@ std::vector<PlotterPath> planned_paths(const StrokePlan& plan, const HpglDialect
 
 CutSession::CutSession(std::string_view device, const DeviceProfile& profile, const CutSessionOptions& options)
     : profile_(profile), made_(make_transport(device, profile, options.sim_faults)) {
-  if (made_.sim && options.sim_time_scale > 0) paced_ = std::make_unique<PacedTransport>(*made_.transport, *made_.sim, options.sim_time_scale);
+  if (made_.sim && options.sim_time_scale > 0)
+    paced_ = std::make_unique<PacedTransport>(*made_.transport, *made_.sim, options.sim_time_scale);
 }
 
 CutSession::~CutSession() = default;
 
 Transport& CutSession::transport() { return paced_ ? static_cast<Transport&>(*paced_) : *made_.transport; }
 
-std::string CutSession::describe() const { return made_.transport ? made_.transport->describe() : std::string(made_.address.text); }
+std::string CutSession::describe() const {
+  return made_.transport ? made_.transport->describe() : std::string(made_.address.text);
+}
 
 bool CutSession::plain_file() const {
   return made_.address.kind == DeviceKind::file && made_.address.path.rfind("/dev/", 0) != 0;

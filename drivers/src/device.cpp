@@ -22,7 +22,8 @@ bool hex16(std::string_view s, std::uint16_t& out) {
   unsigned v = 0;
   for (char c : s) {
     if (!std::isxdigit(static_cast<unsigned char>(c))) return false;
-    v = v * 16 + static_cast<unsigned>(std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : std::tolower(c) - 'a' + 10);
+    v = v * 16 +
+        static_cast<unsigned>(std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : std::tolower(c) - 'a' + 10);
   }
   out = static_cast<std::uint16_t>(v);
   return true;

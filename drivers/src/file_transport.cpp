@@ -37,7 +37,8 @@ IoResult FileTransport::write(std::span<const std::uint8_t> data, std::chrono::m
       return r;
     }
     // A device node may be full for a while (a printer port): wait, but not past the deadline.
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     pollfd p{fd_, POLLOUT, 0};
     if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) == 0) {
       r.status = {TransportError::timeout, ETIMEDOUT, "write to " + path_ + " timed out"};

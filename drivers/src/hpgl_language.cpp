@@ -20,7 +20,8 @@ namespace {
 // draws (line types, scaling, rotation). PA and PR move: with coordinates only once PU or IN in
 // the same string has lifted the knife, since popcut's last command before finish (and a cancel's
 // command in flight before abort) may have left it down, and init cannot know.
-constexpr std::array<const char*, 11> kSetupCommands = {"IN", "DF", "PU", "PA", "PR", "SP", "VS", "FS", "!FS", "!ST", "!NR"};
+constexpr std::array<const char*, 11> kSetupCommands = {"IN", "DF", "PU",  "PA",  "PR", "SP",
+                                                        "VS", "FS", "!FS", "!ST", "!NR"};
 constexpr const char* kSetupAllowed =
     "allowed are IN, DF, PU, SP, VS, FS, !FS, !ST, !NR, and PA/PR with coordinates only after PU or IN";
 
@@ -76,7 +77,8 @@ std::string hpgl_text_problem(const std::string& text) {
     if (last != ';' && last != '\n') return "'" + what + "' is not ended by ';' or a newline";
     // HP-GL's output instructions (OI, OS, OA, ...) all start with O: the device answers them.
     if (cmd.name.size() == 2 && cmd.name[0] == 'O') {
-      return "'" + what + "' is an output instruction: the device's reply would be taken for a status answer or stray input";
+      return "'" + what +
+             "' is an output instruction: the device's reply would be taken for a status answer or stray input";
     }
   }
   return knife_problem(parse_hpgl(text), plain);
@@ -139,6 +141,7 @@ std::unique_ptr<DeviceReader> hpgl_reader() { return std::make_unique<HpglReader
 
 }  // namespace
 
-const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl", read_hpgl_section, check_abort, hpgl_encoder, hpgl_reader};
+const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",       read_hpgl_section,
+                                    check_abort,          hpgl_encoder, hpgl_reader};
 
 }  // namespace popcut::drivers

@@ -14,7 +14,9 @@ constexpr char kEsc = '\x1b';
 
 bool is_letter(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
 bool starts_command(char c) { return is_letter(c) || c == '!' || c == kEsc; }
-bool is_separator(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ',' || c == '\x11' || c == '\x13'; }
+bool is_separator(char c) {
+  return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ',' || c == '\x11' || c == '\x13';
+}
 
 // Numbers separated by commas or blanks; anything else marks the command malformed.
 void parse_params(std::string_view text, HpglCommand& cmd) {
@@ -27,23 +29,42 @@ void parse_params(std::string_view text, HpglCommand& cmd) {
     const std::string token(text.substr(i, j - i));
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) cmd.malformed = true;
-    else cmd.params.push_back(v);
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(v))
+      cmd.malformed = true;
+    else
+      cmd.params.push_back(v);
     i = j;
   }
 }
 
 // What each HP-GL command the simulator models makes it do; anything else is DeviceOp::unknown.
 constexpr std::pair<std::string_view, DeviceOp> kHpglOps[] = {
-    {"IN", DeviceOp::reset},          {"DF", DeviceOp::defaults},        {"SP", DeviceOp::select_tool},
-    {"VS", DeviceOp::speed},          {"FS", DeviceOp::force},           {"!FS", DeviceOp::force},
-    {"!ST", DeviceOp::no_effect},     {"PU", DeviceOp::knife_up},        {"PD", DeviceOp::knife_down},
-    {"PA", DeviceOp::absolute},       {"PR", DeviceOp::relative},        {"OI", DeviceOp::report_identity},
-    {"OS", DeviceOp::report_status},  {"OA", DeviceOp::report_position},
-    {"ESC.B", DeviceOp::query_free_buffer}, {"ESC.O", DeviceOp::query_idle}, {"ESC.E", DeviceOp::query_io_error},
-    {"ESC.A", DeviceOp::query_identity},    {"ESC.K", DeviceOp::abort},      {"ESC.@", DeviceOp::handshake_setup},
-    {"ESC.H", DeviceOp::handshake_setup},   {"ESC.I", DeviceOp::handshake_setup}, {"ESC.M", DeviceOp::handshake_setup},
-    {"ESC.N", DeviceOp::handshake_setup},   {"ESC.R", DeviceOp::handshake_setup}, {"ESC.T", DeviceOp::handshake_setup},
+    {"IN", DeviceOp::reset},
+    {"DF", DeviceOp::defaults},
+    {"SP", DeviceOp::select_tool},
+    {"VS", DeviceOp::speed},
+    {"FS", DeviceOp::force},
+    {"!FS", DeviceOp::force},
+    {"!ST", DeviceOp::no_effect},
+    {"PU", DeviceOp::knife_up},
+    {"PD", DeviceOp::knife_down},
+    {"PA", DeviceOp::absolute},
+    {"PR", DeviceOp::relative},
+    {"OI", DeviceOp::report_identity},
+    {"OS", DeviceOp::report_status},
+    {"OA", DeviceOp::report_position},
+    {"ESC.B", DeviceOp::query_free_buffer},
+    {"ESC.O", DeviceOp::query_idle},
+    {"ESC.E", DeviceOp::query_io_error},
+    {"ESC.A", DeviceOp::query_identity},
+    {"ESC.K", DeviceOp::abort},
+    {"ESC.@", DeviceOp::handshake_setup},
+    {"ESC.H", DeviceOp::handshake_setup},
+    {"ESC.I", DeviceOp::handshake_setup},
+    {"ESC.M", DeviceOp::handshake_setup},
+    {"ESC.N", DeviceOp::handshake_setup},
+    {"ESC.R", DeviceOp::handshake_setup},
+    {"ESC.T", DeviceOp::handshake_setup},
 };
 
 // The command with its op filled in: device control (ESC...) that the table lacks is unknown_control.

@@ -73,7 +73,8 @@ class Sender {
     settle_counts();
     const SendResult& r = session_.result;
     const EncodedJob& job = session_.job;
-    o.progress({r.bytes_sent, job.bytes.size(), r.last_stroke_sent, r.last_stroke_written, job.first_stroke, job.total_strokes});
+    o.progress({r.bytes_sent, job.bytes.size(), r.last_stroke_sent, r.last_stroke_written, job.first_stroke,
+                job.total_strokes});
   }
 
   // Before the first byte: a device that should answer and does not is on the wrong port or
@@ -83,7 +84,8 @@ class Sender {
     if (session_.query != DrainQuery::none && !channel_.ask(session_.query, "before sending")) return false;
     // Reading ESC.E clears it: an error left from before this job must not fail it. A device
     // the profile says answers ESC.E and does not is found here, before any byte of the job.
-    return !session_.options.error_query || !session_.transport.answers() || channel_.ask(DrainQuery::esc_e, "before sending");
+    return !session_.options.error_query || !session_.transport.answers() ||
+           channel_.ask(DrainQuery::esc_e, "before sending");
   }
 
   // Every job byte, paced, or up to the command in flight at a cancel. False with the status set.
@@ -148,16 +150,21 @@ class Sender {
     if (channel_.query_skipped() || (answer != 15 && answer != 16)) return true;
     const std::string code = std::to_string(answer);
     session_.result.device_io_error = static_cast<int>(answer);
-    const std::string meaning =
-        answer != 16 ? "framing, parity or overrun errors on the line: bytes were garbled; check the baud rate, data bits, parity and "
-                       "stop bits of the profile against the device, and the cable"
-        : session_.time_paced()
-            ? "its input buffer overflowed: bytes were lost, so the cut is wrong; popcut paced the job by time (flow_control "
-              "\"none\"), and the device is slower than the profile's kinematics and tool speeds allow, with pace_margin_percent (" +
-                  std::to_string(o.pace_margin_percent) + " %), or its buffer is smaller than buffer_bytes"
-            : "its input buffer overflowed: bytes were lost, so the cut is wrong; the device does not do the flow control the "
-              "profile says (flow_control, buffer_bytes)";
-    session_.result.status = {TransportError::io, 0, "every byte went out, but the device reports I/O error " + code + " (ESC.E): " + meaning};
+    const std::string meaning = answer != 16 ? "framing, parity or overrun errors on the line: bytes were garbled; "
+                                               "check the baud rate, data bits, parity and "
+                                               "stop bits of the profile against the device, and the cable"
+                                : session_.time_paced()
+                                    ? "its input buffer overflowed: bytes were lost, so the cut is wrong; popcut paced "
+                                      "the job by time (flow_control "
+                                      "\"none\"), and the device is slower than the profile's kinematics and tool "
+                                      "speeds allow, with pace_margin_percent (" +
+                                          std::to_string(o.pace_margin_percent) +
+                                          " %), or its buffer is smaller than buffer_bytes"
+                                    : "its input buffer overflowed: bytes were lost, so the cut is wrong; the device "
+                                      "does not do the flow control the "
+                                      "profile says (flow_control, buffer_bytes)";
+    session_.result.status = {TransportError::io, 0,
+                              "every byte went out, but the device reports I/O error " + code + " (ESC.E): " + meaning};
     return false;
   }
 
@@ -170,9 +177,10 @@ class Sender {
       return;
     }
     // The device can hold at most a buffer's worth: that share of the job's motion time.
-    const double share = job.bytes.empty() ? 0
-                                           : std::min(1.0, static_cast<double>(accounting_.device_buffer()) /
-                                                               static_cast<double>(job.bytes.size()));
+    const double share =
+        job.bytes.empty()
+            ? 0
+            : std::min(1.0, static_cast<double>(accounting_.device_buffer()) / static_cast<double>(job.bytes.size()));
     const double motion_s = o.motion.empty() ? 0 : o.motion.back().start_s;
     const auto buffered_time = std::chrono::milliseconds(static_cast<long>(motion_s * share * 1000));
     if (session_.query == DrainQuery::none) {
@@ -189,7 +197,8 @@ class Sender {
     if (session_.time_paced()) {
       tracker_.all_out();  // drained out of popcut's side: the device has every byte
       advance_by_line(tracker_, session_.transport, r.bytes_sent);
-      wait = std::chrono::milliseconds(static_cast<long>(std::ceil((tracker_.end_s() - tracker_.seconds()) * tracker_.slowdown() * 1000)));
+      wait = std::chrono::milliseconds(
+          static_cast<long>(std::ceil((tracker_.end_s() - tracker_.seconds()) * tracker_.slowdown() * 1000)));
     }
     std::chrono::milliseconds waited{0};
     while (waited < wait) {
@@ -236,13 +245,16 @@ class Sender {
       }
       const auto hold_timeout = session_.options.hold_timeout;
       if (stall.stalled() >= hold_timeout && waited >= buffered_time + hold_timeout) {
-        r.status = {TransportError::timeout, 0,
-                    "every byte reached the device, but its buffer is still not empty " + duration_text(waited) + " after the last byte (" +
-                        (query == DrainQuery::esc_b ? "no progress by its ESC.B answers for " + duration_text(stall.stalled())
-                                                    : std::string("ESC.O says busy")) +
-                        "; the plan expected about " + duration_text(buffered_time) +
-                        " for a full buffer, plus hold_timeout_ms): it answers, so it is paused or stuck; check it — if it finishes, the "
-                        "card is complete"};
+        r.status = {
+            TransportError::timeout, 0,
+            "every byte reached the device, but its buffer is still not empty " + duration_text(waited) +
+                " after the last byte (" +
+                (query == DrainQuery::esc_b ? "no progress by its ESC.B answers for " + duration_text(stall.stalled())
+                                            : std::string("ESC.O says busy")) +
+                "; the plan expected about " + duration_text(buffered_time) +
+                " for a full buffer, plus hold_timeout_ms): it answers, so it is paused or stuck; check it — if it "
+                "finishes, the "
+                "card is complete"};
         return;
       }
       const auto step = poll_backoff(polls);
@@ -292,14 +304,16 @@ class Sender {
       // From where it last said it was, if it answers: one that fell silent (paused) may
       // resume with all it held then.
       const bool fell_silent = session_.query != DrainQuery::none && r.status.error == TransportError::timeout;
-      const double from_s = fell_silent ? std::min(tracker_.seconds(), tracker_.time_at(accounting_.executed())) : tracker_.seconds();
+      const double from_s =
+          fell_silent ? std::min(tracker_.seconds(), tracker_.time_at(accounting_.executed())) : tracker_.seconds();
       r.busy_for_s = std::max(0.0, done_s - from_s) * tracker_.slowdown();
     }
     // What the device may still cut: its buffer plus what is on its way to it.
     // Paced by time, what it holds is never more than its buffer (it loses the rest), plus what
     // may still reach it: not all that is not certainly received.
-    accounting_.bound_buffered(session_.time_paced() ? std::min(r.bytes_sent, t.writes_acknowledged() ? 0 : t.in_flight())
-                                                     : r.bytes_sent - r.bytes_received);
+    accounting_.bound_buffered(session_.time_paced()
+                                   ? std::min(r.bytes_sent, t.writes_acknowledged() ? 0 : t.in_flight())
+                                   : r.bytes_sent - r.bytes_received);
     bool measured = false;
     if (t.answers() && session_.flow == FlowControl::esc_b && r.status.ok()) {
       const TransportStatus keep = r.status;

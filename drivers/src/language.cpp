@@ -20,15 +20,20 @@ const LanguageUnit& language_unit(CutterLanguage language) {
   for (const LanguageUnit* unit : kUnits) {
     if (unit->language == language) return *unit;
   }
-  throw Error(ErrorCode::internal, "", "language", "no language unit for '" + std::string(kCutterLanguageNames.name(language)) + "'");
+  throw Error(ErrorCode::internal, "", "language",
+              "no language unit for '" + std::string(kCutterLanguageNames.name(language)) + "'");
 }
 
-std::unique_ptr<JobEncoder> make_encoder(const DeviceProfile& profile) { return language_unit(profile.language).make_encoder(profile); }
+std::unique_ptr<JobEncoder> make_encoder(const DeviceProfile& profile) {
+  return language_unit(profile.language).make_encoder(profile);
+}
 
 EncodedJob encode_for_device(const StrokePlan& plan, const DeviceProfile& profile, std::size_t from_stroke) {
   return make_encoder(profile)->encode(plan, profile.tools, from_stroke);
 }
 
-std::unique_ptr<DeviceReader> make_reader(const DeviceProfile& profile) { return language_unit(profile.language).make_reader(); }
+std::unique_ptr<DeviceReader> make_reader(const DeviceProfile& profile) {
+  return language_unit(profile.language).make_reader();
+}
 
 }  // namespace popcut::drivers

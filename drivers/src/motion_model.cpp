@@ -25,18 +25,23 @@ std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfil
   while (const std::optional<double> at = device.next_start_s()) {
     device.advance(*at);
     const std::size_t read = job.size() - device.buffer_used();
-    if (!marks.empty() && marks.back().start_s == *at) marks.back().bytes_read = read;
-    else marks.push_back({*at, read});
+    if (!marks.empty() && marks.back().start_s == *at)
+      marks.back().bytes_read = read;
+    else
+      marks.push_back({*at, read});
   }
   device.run_to_end();
   // Done: the last command's motion has ended (at once, when it takes none).
-  if (!marks.empty() && marks.back().start_s == device.now_s()) marks.back().bytes_read = job.size();
-  else marks.push_back({device.now_s(), job.size()});
+  if (!marks.empty() && marks.back().start_s == device.now_s())
+    marks.back().bytes_read = job.size();
+  else
+    marks.push_back({device.now_s(), job.size()});
   // The model starts at the origin, but where the device is is unknown (a finish need not send it
   // home): its first travel may cross the usable area, so all that follows it may be later. Along
   // a roll feeder's length only twice its width: the next card's origin is near the last one.
   const double across_mm = longest_first_travel_mm(profile.dialect);
-  const double first_travel_s = move_time_s(across_mm, profile.kinematics.travel_speed_mm_s, profile.kinematics.accel_mm_s2);
+  const double first_travel_s =
+      move_time_s(across_mm, profile.kinematics.travel_speed_mm_s, profile.kinematics.accel_mm_s2);
   for (MotionMark& m : marks) {
     if (m.start_s > 0) m.start_s += first_travel_s;
   }

@@ -1,4 +1,5 @@
-// Device profile loader: each TOML section read by its owner through typed, range-checked getters; unknown keys rejected.
+// Device profile loader: each TOML section read by its owner through typed, range-checked getters; unknown keys
+// rejected.
 #include "popcut/drivers/profile.h"
 
 #include <algorithm>
@@ -27,14 +28,18 @@ void check_turn_not_mirror(TomlSection& dev, const PlotterFrame& d) {
   const bool mirrored_frame = dev.boolean("mirrored_frame", false);
   if (mirrors && !mirrored_frame) {
     const auto on = [](bool b) { return b ? "true" : "false"; };
-    dev.fail(d.swap_axes ? "swap_axes" : d.flip_x ? "flip_x" : "flip_y",
-             std::string("swap_axes = ") + on(d.swap_axes) + ", flip_x = " + on(d.flip_x) + ", flip_y = " + on(d.flip_y) +
+    dev.fail(d.swap_axes ? "swap_axes"
+             : d.flip_x  ? "flip_x"
+                         : "flip_y",
+             std::string("swap_axes = ") + on(d.swap_axes) + ", flip_x = " + on(d.flip_x) +
+                 ", flip_y = " + on(d.flip_y) +
                  " mirrors the card: a swap with one of flip_x/flip_y, or both flips, turns it instead (set "
                  "mirrored_frame only for a device whose +y runs clockwise from +x seen from above)");
   }
   if (mirrored_frame && !mirrors) {
-    dev.fail("mirrored_frame", "a mirrored device frame needs a mirroring swap_axes/flip_x/flip_y (a swap alone, one "
-                               "flip alone, or all three), or the card comes out mirrored");
+    dev.fail("mirrored_frame",
+             "a mirrored device frame needs a mirroring swap_axes/flip_x/flip_y (a swap alone, one "
+             "flip alone, or all three), or the card comes out mirrored");
   }
 }
 
@@ -57,7 +62,8 @@ void read_device_section(TomlSection& dev, bool present, DeviceProfile& p) {
   d.allow_negative = dev.boolean("negative_coords", false);
   const double lo = d.allow_negative ? -10000 : 0;
   const double min_x = dev.number("area_min_x_mm", 0, lo, 10000), min_y = dev.number("area_min_y_mm", 0, lo, 10000);
-  const double max_x = dev.number("area_max_x_mm", 600, lo, 10000), max_y = dev.number("area_max_y_mm", 1000, lo, 100000);
+  const double max_x = dev.number("area_max_x_mm", 600, lo, 10000),
+               max_y = dev.number("area_max_y_mm", 1000, lo, 100000);
   if (max_x <= min_x) dev.fail("area_max_x_mm", "must exceed area_min_x_mm (" + format_significant(min_x) + ")");
   if (max_y <= min_y) dev.fail("area_max_y_mm", "must exceed area_min_y_mm (" + format_significant(min_y) + ")");
   // The area's corners are whole plotter units inside what the profile declares.
@@ -78,7 +84,8 @@ void read_kinematics_section(TomlSection& k, Kinematics& out) {
 void read_plan_section(TomlSection& pl, PlanOptions& out) {
   out.fold_gap_mm = pl.number("fold_gap_mm", 0.5, 0, 20);
   out.max_turn_deg = pl.optional_number("max_turn_deg", 1, 180);
-  out.optimise_work = static_cast<std::uint64_t>(pl.integer("optimise_work", static_cast<int>(kDefaultOptimiseWork), 0, 1000000000));
+  out.optimise_work =
+      static_cast<std::uint64_t>(pl.integer("optimise_work", static_cast<int>(kDefaultOptimiseWork), 0, 1000000000));
   out.blade_offset_mm = pl.number("blade_offset_mm", 0, 0, 2);
   out.swivel_step_deg = pl.number("swivel_step_deg", 15, 1, 90);
   out.overcut_mm = pl.number("overcut_mm", 0, 0, 10);
@@ -103,12 +110,14 @@ void read_plan_section(TomlSection& pl, PlanOptions& out) {
 // [tool.KIND] for each line kind: the tool and how the planner draws that kind.
 void read_tool_sections(const toml::table& root, const std::string& source, DeviceProfile& p) {
   const toml::node* tools = root.get("tool");
-  if (tools && !tools->is_table()) throw Error(ErrorCode::invalid_input, source, "[tool]", "expected tables [tool.KIND]");
+  if (tools && !tools->is_table())
+    throw Error(ErrorCode::invalid_input, source, "[tool]", "expected tables [tool.KIND]");
   if (tools) {
     for (const auto& [key, v] : *tools->as_table()) {
       const std::string name(key.str());
       if (!kPlanKindNames.find(name)) {
-        throw Error(ErrorCode::invalid_input, source, "[tool." + name + "]", "unknown line kind (expected " + kPlanKindNames.list(", ") + ")");
+        throw Error(ErrorCode::invalid_input, source, "[tool." + name + "]",
+                    "unknown line kind (expected " + kPlanKindNames.list(", ") + ")");
       }
     }
   }
@@ -142,7 +151,8 @@ void check_sections(const toml::table& root, const std::string& source) {
     const std::string key(k.str());
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
     std::string expected;
-    for (const std::string& s : known) expected += (expected.empty() ? "" : ", ") + (s == "tool" ? std::string("tool.KIND") : s);
+    for (const std::string& s : known)
+      expected += (expected.empty() ? "" : ", ") + (s == "tool" ? std::string("tool.KIND") : s);
     throw Error(ErrorCode::invalid_input, source, "[" + key + "]", "unknown section (expected " + expected + ")");
   }
 }

@@ -1,4 +1,5 @@
-// Serial line through libserialport: framing and flow control (XON/XOFF, RTS/CTS, DTR/DSR) in the OS, an flock per port.
+// Serial line through libserialport: framing and flow control (XON/XOFF, RTS/CTS, DTR/DSR) in the OS, an flock per
+// port.
 //
 // Three things libserialport 0.1.1 cannot do are done on its handle directly, and only those:
 // - flock: libserialport takes no lock, and two programs interleaving one job would ruin it;
@@ -50,7 +51,8 @@ TransportStatus sp_status(sp_return rc, const std::string& what) {
 
 class SerialTransport final : public Transport {
  public:
-  SerialTransport(DeviceAddress address, const DeviceProfile& profile) : address_(std::move(address)), settings_(profile.transport) {
+  SerialTransport(DeviceAddress address, const DeviceProfile& profile)
+      : address_(std::move(address)), settings_(profile.transport) {
     // Bits on the line per character: start, data, parity, stop.
     const int bits = 1 + settings_.data_bits + (settings_.parity == Parity::none ? 0 : 1) + settings_.stop_bits;
     char_time_ = std::chrono::duration<double>(static_cast<double>(bits) / settings_.baud);
@@ -68,7 +70,8 @@ class SerialTransport final : public Transport {
       if (st.error == TransportError::not_found) st.message += " (see `popcut devices` for the ports present)";
       return st;
     }
-    if (!S_ISCHR(info.st_mode)) return {TransportError::bad_argument, 0, path_ + " is not a serial port (not a terminal device)"};
+    if (!S_ISCHR(info.st_mode))
+      return {TransportError::bad_argument, 0, path_ + " is not a serial port (not a terminal device)"};
     // libserialport 0.1.1 looks a port up in sysfs by its name after /dev/, so the stable names
     // udev makes (/dev/serial/by-id/..., symlinks) are not found: it gets the node they point at.
     std::error_code ec;
@@ -76,25 +79,29 @@ class SerialTransport final : public Transport {
     if (sp_get_port_by_name(ec ? path_.c_str() : node.c_str(), &port_) != SP_OK) {
       port_ = nullptr;
       return {TransportError::bad_argument, 0,
-              path_ + " is not a serial port (libserialport finds no tty device behind it; a pseudo-terminal needs "
-                      "the test shim, see docs/transports.md)"};
+              path_ +
+                  " is not a serial port (libserialport finds no tty device behind it; a pseudo-terminal needs "
+                  "the test shim, see docs/transports.md)"};
     }
     if (const sp_return rc = sp_open(port_, SP_MODE_READ_WRITE); rc != SP_OK) {
       TransportStatus st = sp_status(rc, "cannot open serial port " + path_);
       if (st.error == TransportError::permission) {
-        st.message += " (add your user to the group owning it, e.g. `sudo usermod -aG dialout $USER`, then log in again)";
+        st.message +=
+            " (add your user to the group owning it, e.g. `sudo usermod -aG dialout $USER`, then log in again)";
       }
       sp_free_port(port_);
       port_ = nullptr;
       return st;
     }
     open_ = true;
-    if (sp_get_port_handle(port_, &fd_) != SP_OK) return fail({TransportError::io, 0, "cannot get the handle of " + path_});
+    if (sp_get_port_handle(port_, &fd_) != SP_OK)
+      return fail({TransportError::io, 0, "cannot get the handle of " + path_});
     // An advisory lock: a second popcut (or popcutd worker) on the same port is refused, not interleaved.
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
       if (err == EWOULDBLOCK) {
-        return fail({TransportError::busy, err, "serial port " + path_ + " is busy: another program holds its lock (is a job running?)"});
+        return fail({TransportError::busy, err,
+                     "serial port " + path_ + " is busy: another program holds its lock (is a job running?)"});
       }
       return fail(status_from_errno(err, "cannot lock " + path_));
     }
@@ -124,11 +131,13 @@ class SerialTransport final : public Transport {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
       // Blocks while the OS holds the line (XOFF received, CTS or DSR low): that is flow control.
       // In short waits, so that a hold is seen as such (no byte taken for kHoldSeen).
-      const sp_return n = sp_blocking_write(port_, data.data() + r.bytes, data.size() - r.bytes,
-                                            static_cast<unsigned>(std::clamp<long>(left.count(), 1, kHoldSeen.count())));
+      const sp_return n =
+          sp_blocking_write(port_, data.data() + r.bytes, data.size() - r.bytes,
+                            static_cast<unsigned>(std::clamp<long>(left.count(), 1, kHoldSeen.count())));
       if (n < 0) {
-        r.status = sp_last_error_code() == EIO || sp_last_error_code() == ENXIO ? lost(sp_last_error_code(), "write to " + path_)
-                                                                               : sp_status(n, "write to " + path_);
+        r.status = sp_last_error_code() == EIO || sp_last_error_code() == ENXIO
+                       ? lost(sp_last_error_code(), "write to " + path_)
+                       : sp_status(n, "write to " + path_);
         return r;
       }
       note_hold(n == 0);
@@ -139,8 +148,9 @@ class SerialTransport final : public Transport {
                       std::chrono::duration_cast<Clock::duration>(char_time_ * static_cast<double>(n));
       if (r.bytes < data.size() && Clock::now() >= deadline) {
         request_done_ = false;
-        r.status = {TransportError::timeout, ETIMEDOUT, "cannot write to " + path_ + " within " + std::to_string(timeout.count()) +
-                                                            " ms (the device holds the line: XOFF, or CTS/DSR low)"};
+        r.status = {TransportError::timeout, ETIMEDOUT,
+                    "cannot write to " + path_ + " within " + std::to_string(timeout.count()) +
+                        " ms (the device holds the line: XOFF, or CTS/DSR low)"};
         return r;
       }
     }
@@ -166,8 +176,10 @@ class SerialTransport final : public Transport {
       }
       if (buffer.empty()) return r;
       const sp_return n = sp_nonblocking_read(port_, buffer.data(), buffer.size());
-      if (n < 0) r.status = lost(sp_last_error_code(), "read from " + path_);
-      else r.bytes = static_cast<std::size_t>(n);
+      if (n < 0)
+        r.status = lost(sp_last_error_code(), "read from " + path_);
+      else
+        r.bytes = static_cast<std::size_t>(n);
       if (r.bytes == 0 && r.status.ok()) r.status = {TransportError::timeout, ETIMEDOUT, "no reply from " + path_};
       return r;
     }
@@ -175,12 +187,14 @@ class SerialTransport final : public Transport {
       r.status = lost(EIO, "read from " + path_);
       return r;
     }
-    const sp_return n = sp_blocking_read_next(port_, buffer.data(), buffer.size(), static_cast<unsigned>(timeout.count()));
+    const sp_return n =
+        sp_blocking_read_next(port_, buffer.data(), buffer.size(), static_cast<unsigned>(timeout.count()));
     if (n < 0) {
       r.status = lost(sp_last_error_code(), "read from " + path_);
     } else if (n == 0) {
       r.status = hung_up() ? lost(EIO, "read from " + path_)
-                           : TransportStatus{TransportError::timeout, ETIMEDOUT, "no reply from " + path_ + " within the timeout"};
+                           : TransportStatus{TransportError::timeout, ETIMEDOUT,
+                                             "no reply from " + path_ + " within the timeout"};
     } else {
       r.bytes = static_cast<std::size_t>(n);
     }
@@ -205,8 +219,8 @@ class SerialTransport final : public Transport {
     // And what no one reports: a USB adapter's transmit FIFO or a UART's, the profile's
     // adapter_fifo_bytes. Without device answers the count must stay below what the device got,
     // even if that makes a resume re-cut more: a skipped stroke spoils the card.
-    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) + std::max(prev_request_ + cur_request_, on_line_by_time()) +
-           settings_.adapter_fifo_bytes;
+    return (queued > 0 ? static_cast<std::size_t>(queued) : 0) +
+           std::max(prev_request_ + cur_request_, on_line_by_time()) + settings_.adapter_fifo_bytes;
   }
   std::size_t expected_in_flight() override {
     if (!open_) return 0;
@@ -230,7 +244,9 @@ class SerialTransport final : public Transport {
   void discard_output() override {
     if (open_) sp_flush(port_, SP_BUF_OUTPUT);
   }
-  bool backpressure() const override { return settings_.flow != FlowControl::none && settings_.flow != FlowControl::esc_b; }
+  bool backpressure() const override {
+    return settings_.flow != FlowControl::none && settings_.flow != FlowControl::esc_b;
+  }
   bool os_flow_control() const override { return settings_.flow == FlowControl::xon_xoff; }
   bool holding_line() override {
     if (!open_) return false;
@@ -258,13 +274,18 @@ class SerialTransport final : public Transport {
     if (const sp_return rc = sp_set_baudrate(port_, settings_.baud); rc != SP_OK) {
       TransportStatus st = sp_status(rc, what);
       st.error = TransportError::unsupported;
-      st.message = std::to_string(settings_.baud) + " baud is not a rate " + path_ + " can be set to (" + st.message + ")";
+      st.message =
+          std::to_string(settings_.baud) + " baud is not a rate " + path_ + " can be set to (" + st.message + ")";
       return st;
     }
-    if (const sp_return rc = sp_set_bits(port_, settings_.data_bits); rc != SP_OK) return sp_status(rc, what + " (data bits)");
-    const sp_parity parity = settings_.parity == Parity::none ? SP_PARITY_NONE : settings_.parity == Parity::odd ? SP_PARITY_ODD : SP_PARITY_EVEN;
+    if (const sp_return rc = sp_set_bits(port_, settings_.data_bits); rc != SP_OK)
+      return sp_status(rc, what + " (data bits)");
+    const sp_parity parity = settings_.parity == Parity::none  ? SP_PARITY_NONE
+                             : settings_.parity == Parity::odd ? SP_PARITY_ODD
+                                                               : SP_PARITY_EVEN;
     if (const sp_return rc = sp_set_parity(port_, parity); rc != SP_OK) return sp_status(rc, what + " (parity)");
-    if (const sp_return rc = sp_set_stopbits(port_, settings_.stop_bits); rc != SP_OK) return sp_status(rc, what + " (stop bits)");
+    if (const sp_return rc = sp_set_stopbits(port_, settings_.stop_bits); rc != SP_OK)
+      return sp_status(rc, what + " (stop bits)");
     sp_flowcontrol flow = SP_FLOWCONTROL_NONE;
     if (settings_.flow == FlowControl::xon_xoff) flow = SP_FLOWCONTROL_XONXOFF;
     if (settings_.flow == FlowControl::rts_cts) flow = SP_FLOWCONTROL_RTSCTS;
@@ -296,17 +317,19 @@ class SerialTransport final : public Transport {
     if (TransportStatus st = list_serial_ports(ports); !st.ok()) return st;
     std::string seen;
     for (const SerialPortInfo& p : ports) {
-      if (p.vid) seen += (seen.empty() ? "" : ", ") + p.path + " (" + usb_id_string(*p.vid, *p.pid) +
-                         (p.serial_number.empty() ? "" : ":" + p.serial_number) + ")";
+      if (p.vid)
+        seen += (seen.empty() ? "" : ", ") + p.path + " (" + usb_id_string(*p.vid, *p.pid) +
+                (p.serial_number.empty() ? "" : ":" + p.serial_number) + ")";
       if (p.vid == address_.vid && p.pid == address_.pid &&
           (address_.serial_number.empty() || p.serial_number == address_.serial_number)) {
         path_ = p.path;
         return TransportStatus::success();
       }
     }
-    return {TransportError::not_found, 0, "no serial port belongs to USB " + usb_id_string(*address_.vid, *address_.pid) +
-                                              (address_.serial_number.empty() ? "" : " with serial number " + address_.serial_number) +
-                                              "; USB serial ports present: " + (seen.empty() ? "none" : seen)};
+    return {TransportError::not_found, 0,
+            "no serial port belongs to USB " + usb_id_string(*address_.vid, *address_.pid) +
+                (address_.serial_number.empty() ? "" : " with serial number " + address_.serial_number) +
+                "; USB serial ports present: " + (seen.empty() ? "none" : seen)};
   }
 
   bool hung_up() const {
@@ -333,7 +356,8 @@ class SerialTransport final : public Transport {
   // Until the OS output queue is empty and the line time of what was written has passed, but
   // for `behind_bytes` of it.
   TransportStatus wait_line_free(Clock::time_point deadline, std::size_t behind_bytes) {
-    const auto target = line_free_at_ - std::chrono::duration_cast<Clock::duration>(char_time_ * static_cast<double>(behind_bytes));
+    const auto target =
+        line_free_at_ - std::chrono::duration_cast<Clock::duration>(char_time_ * static_cast<double>(behind_bytes));
     for (;;) {
       const sp_return queued = sp_output_waiting(port_);
       const auto now = Clock::now();
@@ -343,8 +367,9 @@ class SerialTransport final : public Transport {
       if (queued <= 0 && now >= target) return TransportStatus::success();
       if (hung_up()) return lost(EIO, "serial port " + path_);
       if (now >= deadline) {
-        return {TransportError::timeout, ETIMEDOUT, path_ + ": " + std::to_string(queued) +
-                                                        " bytes still queued for the line (the device holds it: XOFF, or CTS/DSR low)"};
+        return {TransportError::timeout, ETIMEDOUT,
+                path_ + ": " + std::to_string(queued) +
+                    " bytes still queued for the line (the device holds it: XOFF, or CTS/DSR low)"};
       }
       const auto until = queued > 0 ? now + std::chrono::milliseconds(2) : std::min(target, deadline);
       std::this_thread::sleep_until(std::min(until, deadline));
@@ -373,7 +398,8 @@ class SerialTransport final : public Transport {
 
 }  // namespace
 
-std::unique_ptr<Transport> make_serial_transport(const DeviceAddress& address, const DeviceProfile& profile, TransportStatus& status) {
+std::unique_ptr<Transport> make_serial_transport(const DeviceAddress& address, const DeviceProfile& profile,
+                                                 TransportStatus& status) {
   status = TransportStatus::success();
   return std::make_unique<SerialTransport>(address, profile);
 }

@@ -3,9 +3,11 @@
 
 namespace popcut::drivers {
 
-std::unique_ptr<Transport> make_serial_transport(const DeviceAddress& address, const DeviceProfile&, TransportStatus& status) {
-  status = {TransportError::unsupported, 0,
-            address.text + ": this popcut was built without serial support (POPCUT_WITH_SERIAL=OFF; needs libserialport)"};
+std::unique_ptr<Transport> make_serial_transport(const DeviceAddress& address, const DeviceProfile&,
+                                                 TransportStatus& status) {
+  status = {
+      TransportError::unsupported, 0,
+      address.text + ": this popcut was built without serial support (POPCUT_WITH_SERIAL=OFF; needs libserialport)"};
   return nullptr;
 }
 

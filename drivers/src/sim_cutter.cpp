@@ -113,7 +113,8 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
   const double give_up = now_s_ + max_wait_s;
   while (r.bytes < size) {
     if (faults_.drop_after_bytes && report_.bytes_received >= *faults_.drop_after_bytes) {
-      r.status = {TransportError::disconnected, 0, "sim: connection dropped after " + std::to_string(report_.bytes_received) + " bytes"};
+      r.status = {TransportError::disconnected, 0,
+                  "sim: connection dropped after " + std::to_string(report_.bytes_received) + " bytes"};
       return r;
     }
     std::size_t n = std::min(kSlice, size - r.bytes);
@@ -139,7 +140,8 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
       // are lost, but device-control sequences never enter the buffer and still arrive.
       // Byte by byte, each command queued as it completes, so the fill level is exact.
       for (char c : slice) {
-        if (reader_->starts_device_control(c) || reader_->in_device_control() || buffer_used() < cap) take(std::string_view(&c, 1));
+        if (reader_->starts_device_control(c) || reader_->in_device_control() || buffer_used() < cap)
+          take(std::string_view(&c, 1));
         else {
           ++report_.overflow_bytes;
           io_error_ = 16;  // HP's ESC.E code: the input buffer has overflowed
@@ -189,7 +191,8 @@ bool SimCutter::run_to_end(bool input_whole) {
   std::vector<DeviceCommand> tail;
   reader_->finish(tail);  // only what lacked its terminator at the end of the input
   if (!input_whole) {
-    for (const DeviceCommand& c : tail) report_.errors.push_back({c.offset, c.name, "cut short when the line ended: not executed"});
+    for (const DeviceCommand& c : tail)
+      report_.errors.push_back({c.offset, c.name, "cut short when the line ended: not executed"});
     tail.clear();
   }
   dispatch(tail);
@@ -203,10 +206,16 @@ void SimCutter::answer(const DeviceCommand& c) {
   if (frozen()) return;
   switch (c.op) {
     case DeviceOp::query_free_buffer:
-      queue_reply(std::to_string(profile_.transport.buffer_bytes - std::min(profile_.transport.buffer_bytes, buffer_used())) + "\r");
+      queue_reply(
+          std::to_string(profile_.transport.buffer_bytes - std::min(profile_.transport.buffer_bytes, buffer_used())) +
+          "\r");
       break;
-    case DeviceOp::query_idle: queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r"); break;
-    case DeviceOp::query_io_error: queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r"); break;  // read clears it, as on HP
+    case DeviceOp::query_idle:
+      queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r");
+      break;
+    case DeviceOp::query_io_error:
+      queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r");
+      break;  // read clears it, as on HP
     case DeviceOp::query_identity: queue_reply("popcut-sim,0\r"); break;
     case DeviceOp::abort:  // drop what is buffered, a command in progress too
       report_.discarded_bytes += buffer_used();
@@ -251,7 +260,8 @@ void SimCutter::execute(const DeviceCommand& c) {
   const auto param = [&](std::size_t i, double fallback) { return i < c.params.size() ? c.params[i] : fallback; };
   const auto knife = [&](bool down) {
     if (down == pen_down_) return;
-    report_.motion_time_s += (down ? profile_.kinematics.knife_down_s : profile_.kinematics.knife_up_s) * faults_.slowdown;
+    report_.motion_time_s +=
+        (down ? profile_.kinematics.knife_down_s : profile_.kinematics.knife_up_s) * faults_.slowdown;
     pen_down_ = down;
     if (down) {
       current_ = SimStroke{pen_, force_, speed_cm_s_, {pos_}};
@@ -304,8 +314,10 @@ void SimCutter::execute(const DeviceCommand& c) {
 
 void SimCutter::write_svg(std::ostream& out) const {
   const HpglDialect& d = profile_.dialect;
-  const double x0 = static_cast<double>(d.area_min_x_pu) / d.units_per_mm_x, y0 = static_cast<double>(d.area_min_y_pu) / d.units_per_mm_y;
-  const double x1 = static_cast<double>(d.area_max_x_pu) / d.units_per_mm_x, y1 = static_cast<double>(d.area_max_y_pu) / d.units_per_mm_y;
+  const double x0 = static_cast<double>(d.area_min_x_pu) / d.units_per_mm_x,
+               y0 = static_cast<double>(d.area_min_y_pu) / d.units_per_mm_y;
+  const double x1 = static_cast<double>(d.area_max_x_pu) / d.units_per_mm_x,
+               y1 = static_cast<double>(d.area_max_y_pu) / d.units_per_mm_y;
   // Only the part that was cut, with a margin: a 600 x 50000 mm roll would be unreadable.
   double lo_x = x1, lo_y = y1, hi_x = x0, hi_y = y0;
   for (const SimStroke& s : strokes_) {
@@ -316,14 +328,16 @@ void SimCutter::write_svg(std::ostream& out) const {
   }
   if (strokes_.empty()) lo_x = x0, lo_y = y0, hi_x = x0 + 10, hi_y = y0 + 10;
   const double m = 5;
-  static const char* const kColours[] = {"#000000", "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
-  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"" << lo_x - m << " " << -(hi_y + m) << " " << hi_x - lo_x + 2 * m << " "
-      << hi_y - lo_y + 2 * m << "\" width=\"" << hi_x - lo_x + 2 * m << "mm\" height=\"" << hi_y - lo_y + 2 * m << "mm\">\n";
+  static const char* const kColours[] = {"#000000", "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e",
+                                         "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
+  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"" << lo_x - m << " " << -(hi_y + m) << " "
+      << hi_x - lo_x + 2 * m << " " << hi_y - lo_y + 2 * m << "\" width=\"" << hi_x - lo_x + 2 * m << "mm\" height=\""
+      << hi_y - lo_y + 2 * m << "mm\">\n";
   out << "<!-- popcut sim: " << strokes_.size() << " strokes, plotter y up; colour = pen -->\n";
   out << "<g fill=\"none\" stroke-width=\"0.3\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
   for (const SimStroke& s : strokes_) {
-    out << "<polyline data-pen=\"" << s.pen << "\" data-force=\"" << s.force << "\" data-speed=\"" << s.speed_cm_s << "\" stroke=\""
-        << kColours[static_cast<std::size_t>(std::clamp(s.pen, 0, 8))] << "\" points=\"";
+    out << "<polyline data-pen=\"" << s.pen << "\" data-force=\"" << s.force << "\" data-speed=\"" << s.speed_cm_s
+        << "\" stroke=\"" << kColours[static_cast<std::size_t>(std::clamp(s.pen, 0, 8))] << "\" points=\"";
     for (std::size_t i = 0; i < s.points_pu.size(); ++i) {
       out << (i ? " " : "") << static_cast<double>(s.points_pu[i][0]) / d.units_per_mm_x << ","
           << -static_cast<double>(s.points_pu[i][1]) / d.units_per_mm_y;
@@ -349,8 +363,8 @@ std::optional<std::size_t> first_difference(const std::vector<PlotterPath>& plan
 }
 
 std::chrono::steady_clock::time_point SimTransport::now() const {
-  return std::chrono::steady_clock::time_point(
-      std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(cutter_ ? cutter_->now_s() : 0.0)));
+  return std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(cutter_ ? cutter_->now_s() : 0.0)));
 }
 
 TransportStatus SimTransport::open() {

@@ -24,11 +24,20 @@ const char* to_string(TransportError error) {
 TransportStatus status_from_errno(int err, const std::string& what) {
   TransportError kind = TransportError::io;
   switch (err) {
-    case ENOENT: case ENODEV: case ENXIO: kind = TransportError::not_found; break;
-    case EACCES: case EPERM: case EROFS: kind = TransportError::permission; break;
-    case ETIMEDOUT: case EAGAIN: kind = TransportError::timeout; break;
-    case EPIPE: case EIO: case ECONNRESET: kind = TransportError::disconnected; break;
-    case EINVAL: case EBADF: case EISDIR: kind = TransportError::bad_argument; break;
+    case ENOENT:
+    case ENODEV:
+    case ENXIO: kind = TransportError::not_found; break;
+    case EACCES:
+    case EPERM:
+    case EROFS: kind = TransportError::permission; break;
+    case ETIMEDOUT:
+    case EAGAIN: kind = TransportError::timeout; break;
+    case EPIPE:
+    case EIO:
+    case ECONNRESET: kind = TransportError::disconnected; break;
+    case EINVAL:
+    case EBADF:
+    case EISDIR: kind = TransportError::bad_argument; break;
     case EBUSY: kind = TransportError::busy; break;
     default: break;
   }

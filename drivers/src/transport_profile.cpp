@@ -20,11 +20,13 @@ bool usb_id_text(const std::string& s) {
 
 // The drain queries a profile may name (esc_e is the error query's, below), and the error
 // queries: the names are kDrainQueryNames'.
-constexpr auto kProfileDrainQueries = enum_names<DrainQuery>({{DrainQuery::none, kDrainQueryNames.name(DrainQuery::none)},
-                                                              {DrainQuery::esc_b, kDrainQueryNames.name(DrainQuery::esc_b)},
-                                                              {DrainQuery::esc_o, kDrainQueryNames.name(DrainQuery::esc_o)}});
-constexpr auto kProfileErrorQueries = enum_names<DrainQuery>(
-    {{DrainQuery::none, kDrainQueryNames.name(DrainQuery::none)}, {DrainQuery::esc_e, kDrainQueryNames.name(DrainQuery::esc_e)}});
+constexpr auto kProfileDrainQueries =
+    enum_names<DrainQuery>({{DrainQuery::none, kDrainQueryNames.name(DrainQuery::none)},
+                            {DrainQuery::esc_b, kDrainQueryNames.name(DrainQuery::esc_b)},
+                            {DrainQuery::esc_o, kDrainQueryNames.name(DrainQuery::esc_o)}});
+constexpr auto kProfileErrorQueries =
+    enum_names<DrainQuery>({{DrainQuery::none, kDrainQueryNames.name(DrainQuery::none)},
+                            {DrainQuery::esc_e, kDrainQueryNames.name(DrainQuery::esc_e)}});
 
 void read_usb_ids(TomlSection& t, TransportDefaults& out) {
   const toml::array* ids = t.array("usb_ids");
@@ -59,7 +61,8 @@ void read_transport_section(TomlSection& t, const LanguageUnit& language, Transp
   out.data_bits = t.integer("data_bits", 8, 5, 8);
   out.parity = t.choice("parity", Parity::none, kParityNames);
   out.stop_bits = t.integer("stop_bits", 1, 1, 2);
-  out.drain_query = t.choice("drain_query", out.flow == FlowControl::esc_b ? DrainQuery::esc_b : DrainQuery::none, kProfileDrainQueries);
+  out.drain_query = t.choice("drain_query", out.flow == FlowControl::esc_b ? DrainQuery::esc_b : DrainQuery::none,
+                             kProfileDrainQueries);
   out.error_query = t.choice("error_query", DrainQuery::none, kProfileErrorQueries) == DrainQuery::esc_e;
   out.abort = t.text("abort", "", 64);
   language.check_abort(t, out.abort);
@@ -68,7 +71,8 @@ void read_transport_section(TomlSection& t, const LanguageUnit& language, Transp
   // says otherwise never skips a stroke on resume; the opposite guess would leave strokes uncut.
   out.abort_discards_buffer = t.boolean("abort_discards_buffer", !out.abort.empty());
   if (out.abort_discards_buffer && out.abort.empty()) {
-    t.fail("abort_discards_buffer", "true needs an abort sequence that makes the device discard its buffer (e.g. abort = \"\\u001b.K\")");
+    t.fail("abort_discards_buffer",
+           "true needs an abort sequence that makes the device discard its buffer (e.g. abort = \"\\u001b.K\")");
   }
   read_usb_ids(t, out);
   out.usb_chunk_bytes = static_cast<std::size_t>(t.integer("usb_chunk_bytes", 4096, 8, 1 << 20));

@@ -23,7 +23,9 @@ TransportStatus usb_status(int code, const std::string& what) {
     case LIBUSB_ERROR_NOT_FOUND: kind = TransportError::not_found; break;
     case LIBUSB_ERROR_BUSY: kind = TransportError::busy; break;
     case LIBUSB_ERROR_TIMEOUT: kind = TransportError::timeout; break;
-    case LIBUSB_ERROR_PIPE: case LIBUSB_ERROR_IO: case LIBUSB_ERROR_OVERFLOW: kind = TransportError::io; break;
+    case LIBUSB_ERROR_PIPE:
+    case LIBUSB_ERROR_IO:
+    case LIBUSB_ERROR_OVERFLOW: kind = TransportError::io; break;
     case LIBUSB_ERROR_NOT_SUPPORTED: kind = TransportError::unsupported; break;
     case LIBUSB_ERROR_INVALID_PARAM: kind = TransportError::bad_argument; break;
     default: break;
@@ -52,7 +54,8 @@ struct Endpoints {
 Endpoints find_endpoints(libusb_device* dev) {
   Endpoints best;
   libusb_config_descriptor* cfg = nullptr;
-  if (libusb_get_active_config_descriptor(dev, &cfg) != 0 && libusb_get_config_descriptor(dev, 0, &cfg) != 0) return best;
+  if (libusb_get_active_config_descriptor(dev, &cfg) != 0 && libusb_get_config_descriptor(dev, 0, &cfg) != 0)
+    return best;
   for (int i = 0; i < cfg->bNumInterfaces; ++i) {
     for (int a = 0; a < cfg->interface[i].num_altsetting; ++a) {
       const libusb_interface_descriptor& d = cfg->interface[i].altsetting[a];
@@ -145,8 +148,8 @@ class UsbTransport final : public Transport {
     while (r.bytes < data.size()) {
       const std::size_t n = std::min(chunk_, data.size() - r.bytes);
       int done = 0;
-      const int rc = libusb_bulk_transfer(handle_, ep_.out, const_cast<unsigned char*>(data.data() + r.bytes), static_cast<int>(n),
-                                          &done, static_cast<unsigned>(timeout.count()));
+      const int rc = libusb_bulk_transfer(handle_, ep_.out, const_cast<unsigned char*>(data.data() + r.bytes),
+                                          static_cast<int>(n), &done, static_cast<unsigned>(timeout.count()));
       r.bytes += static_cast<std::size_t>(std::max(0, done));
       if (rc != 0) {
         r.status = usb_status(rc, "bulk OUT to " + where_);
@@ -167,7 +170,8 @@ class UsbTransport final : public Transport {
     // A bulk IN transfer must take whole packets; answers are short, so read into a packet.
     unsigned char packet[512];
     int done = 0;
-    const int rc = libusb_bulk_transfer(handle_, ep_.in, packet, sizeof packet, &done, static_cast<unsigned>(std::max<long>(1, timeout.count())));
+    const int rc = libusb_bulk_transfer(handle_, ep_.in, packet, sizeof packet, &done,
+                                        static_cast<unsigned>(std::max<long>(1, timeout.count())));
     pending_.append(reinterpret_cast<const char*>(packet), static_cast<std::size_t>(std::max(0, done)));
     r.bytes = std::min(buffer.size(), pending_.size());
     std::copy_n(pending_.begin(), r.bytes, buffer.begin());
@@ -178,7 +182,8 @@ class UsbTransport final : public Transport {
 
   TransportStatus drain(std::chrono::milliseconds) override {
     // A bulk transfer completes when the device has taken the data: nothing is left on our side.
-    return handle_ ? TransportStatus::success() : TransportStatus{TransportError::bad_argument, 0, describe() + ": drain before open"};
+    return handle_ ? TransportStatus::success()
+                   : TransportStatus{TransportError::bad_argument, 0, describe() + ": drain before open"};
   }
 
   void close() override {
@@ -203,7 +208,8 @@ class UsbTransport final : public Transport {
 
 }  // namespace
 
-std::unique_ptr<Transport> make_usb_transport(const DeviceAddress& address, const DeviceProfile& profile, TransportStatus& status) {
+std::unique_ptr<Transport> make_usb_transport(const DeviceAddress& address, const DeviceProfile& profile,
+                                              TransportStatus& status) {
   status = TransportStatus::success();
   return std::make_unique<UsbTransport>(address, profile);
 }

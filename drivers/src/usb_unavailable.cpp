@@ -4,7 +4,8 @@
 
 namespace popcut::drivers {
 
-std::unique_ptr<Transport> make_usb_transport(const DeviceAddress& address, const DeviceProfile&, TransportStatus& status) {
+std::unique_ptr<Transport> make_usb_transport(const DeviceAddress& address, const DeviceProfile&,
+                                              TransportStatus& status) {
   status = {TransportError::unsupported, 0,
             address.text + ": this popcut was built without USB support (POPCUT_WITH_USB=OFF; needs libusb-1.0)"};
   return nullptr;

@@ -17,7 +17,8 @@ inline CLI::Validator finite_range(double lo, double hi) {
         double v = 0;
         if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
         if (!std::isfinite(v) || v < lo || v > hi) {
-          return "'" + text + "' is not a number from " + CLI::detail::to_string(lo) + " to " + CLI::detail::to_string(hi);
+          return "'" + text + "' is not a number from " + CLI::detail::to_string(lo) + " to " +
+                 CLI::detail::to_string(hi);
         }
         return {};
       },
@@ -34,7 +35,8 @@ inline CLI::Validator positive_whole(const std::string& what) {
         char* stop = nullptr;
         errno = 0;
         v = std::strtoll(text.c_str(), &stop, 10);
-        if (text.empty() || stop != end || errno == ERANGE || v < 1) return "'" + text + "' is not " + what + " (a whole number from 1)";
+        if (text.empty() || stop != end || errno == ERANGE || v < 1)
+          return "'" + text + "' is not " + what + " (a whole number from 1)";
         return {};
       },
       "WHOLE NUMBER >= 1");

@@ -56,7 +56,8 @@ class Connection {
   // shapes means something else answers at that address.
   using Shape = std::string (*)(const json&);
   json request(const std::string& method, const std::string& path, Shape shape, const std::string& body = "") {
-    return answer(method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json"), shape);
+    return answer(method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json"),
+                  shape);
   }
   json post_form(const std::string& path, const httplib::MultipartFormDataItems& items, Shape shape) {
     return answer(client_.Post(path.c_str(), items), shape);
@@ -76,12 +77,13 @@ class Connection {
     }
     const std::string problem = r->status >= 400 ? error_shape_problem(j) : shape(j);
     if (!problem.empty()) {
-      throw ClientFailure{kCannotWrite, server_ + " is not popcutd: it answered " + status + " " + excerpt(j) + " (" + problem +
-                                            "; is popcutd listening there?)"};
+      throw ClientFailure{kCannotWrite, server_ + " is not popcutd: it answered " + status + " " + excerpt(j) + " (" +
+                                            problem + "; is popcutd listening there?)"};
     }
     if (r->status >= 400) {
       const json& e = j["error"];
-      std::string msg = "popcutd refused (" + status + " " + e["code"].get<std::string>() + "): " + e["message"].get<std::string>();
+      std::string msg =
+          "popcutd refused (" + status + " " + e["code"].get<std::string>() + "): " + e["message"].get<std::string>();
       if (e.contains("field")) msg += " [" + e["field"].get<std::string>() + "]";
       const int code = r->status == 503 ? kCannotWrite : (r->status >= 500 ? kInternal : kBadInput);
       throw ClientFailure{code, msg};
@@ -120,7 +122,8 @@ class Connection {
 void print_job_line(const json& j) {
   std::cout << j["id"] << "  " << j["state"].get<std::string>() << "  " << j["name"].get<std::string>() << "  on "
             << (j["cut_on"].is_string() ? j["cut_on"].get<std::string>()
-                                        : (j["device"].is_string() ? j["device"].get<std::string>() : "profile " + j["profile"].get<std::string>()))
+                                        : (j["device"].is_string() ? j["device"].get<std::string>()
+                                                                   : "profile " + j["profile"].get<std::string>()))
             << "  strokes " << j["strokes_sent"] << "/" << j["strokes_total"];
   if (j["place_in_line"].is_number()) std::cout << "  place " << j["place_in_line"];
   // An interrupted job's two resume points; a resumed one's start.
@@ -132,7 +135,9 @@ void print_job_line(const json& j) {
   if (j.contains("resume_point") && j["resume_point"].is_string()) {
     std::cout << "  resumed after stroke " << j["resume_from"] << " (" << j["resume_point"].get<std::string>() << ")";
   }
-  if (j.contains("error")) std::cout << "  (" << j["error"]["code"].get<std::string>() << ": " << j["error"]["message"].get<std::string>() << ")";
+  if (j.contains("error"))
+    std::cout << "  (" << j["error"]["code"].get<std::string>() << ": " << j["error"]["message"].get<std::string>()
+              << ")";
   std::cout << "\n";
 }
 
@@ -155,7 +160,8 @@ bool is_mesh_path(const std::string& path) {
 }
 
 int submit(const ClientCommands& s, Connection& c) {
-  if (s.device.empty() == s.profile.empty()) throw ClientFailure{kBadInput, "name exactly one of --device NAME or --profile PROFILE"};
+  if (s.device.empty() == s.profile.empty())
+    throw ClientFailure{kBadInput, "name exactly one of --device NAME or --profile PROFILE"};
   json job;
   if (is_mesh_path(s.model_path)) {
     // The mesh goes as it is, with popcut import's options: popcutd imports it with the same code
@@ -166,7 +172,8 @@ int submit(const ClientCommands& s, Connection& c) {
     } catch (const Error& e) {
       throw ClientFailure{kBadInput, e.what()};
     }
-    httplib::MultipartFormDataItems items{{"mesh", bytes, std::filesystem::path(s.model_path).filename().string(), "application/octet-stream"}};
+    httplib::MultipartFormDataItems items{
+        {"mesh", bytes, std::filesystem::path(s.model_path).filename().string(), "application/octet-stream"}};
     if (!s.device.empty()) items.push_back({"device", s.device, "", ""});
     if (!s.profile.empty()) items.push_back({"profile", s.profile, "", ""});
     if (!s.name.empty()) items.push_back({"name", s.name, "", ""});
@@ -174,7 +181,9 @@ int submit(const ClientCommands& s, Connection& c) {
     job = c.post_form("/api/v1/jobs", items, job_shape_problem);
   } else {
     if (!s.import_values.empty()) {
-      throw ClientFailure{kBadInput, "--" + s.import_values.front().first + " is an import option: it applies to a mesh (.obj, .stl, .off, .ply), not to " + s.model_path};
+      throw ClientFailure{
+          kBadInput, "--" + s.import_values.front().first +
+                         " is an import option: it applies to a mesh (.obj, .stl, .off, .ply), not to " + s.model_path};
     }
     json model;
     try {
@@ -193,10 +202,13 @@ int submit(const ClientCommands& s, Connection& c) {
   // Only the submission's answer has them; a job fetched again while waiting does not.
   const json warnings = job.value("warnings", json::array());
   if (!s.json_out) {
-    std::cerr << "queued job " << job["id"] << " (" << job["name"].get<std::string>() << "), place " << job["place_in_line"] << " in line\n";
-    for (const json& w : warnings) std::cerr << "popcut: warning: " << s.model_path << ": " << w.get<std::string>() << "\n";
+    std::cerr << "queued job " << job["id"] << " (" << job["name"].get<std::string>() << "), place "
+              << job["place_in_line"] << " in line\n";
+    for (const json& w : warnings)
+      std::cerr << "popcut: warning: " << s.model_path << ": " << w.get<std::string>() << "\n";
   }
-  while (s.wait && (job["state"] == "queued" || job["state"] == "planning" || job["state"] == "ready" || job["state"] == "cutting")) {
+  while (s.wait && (job["state"] == "queued" || job["state"] == "planning" || job["state"] == "ready" ||
+                    job["state"] == "cutting")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     job = c.request("GET", "/api/v1/jobs/" + std::to_string(job["id"].get<long long>()), job_shape_problem);
   }
@@ -217,34 +229,49 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
     sub->add_option("--token", s.token, "Access token (default $POPCUT_TOKEN)");
     sub->add_flag("--json", s.json_out, "Print the daemon's answer as JSON");
   };
-  s.submit = app.add_subcommand("submit", "Queue a model on popcutd for a device (or any device with a profile).\n"
-                                          "Exit 2 if refused, 3 if popcutd cannot be reached or its queue is full (or with --wait: the job did not\n"
-                                          "finish), 4 if popcutd failed inside.");
-  s.submit->add_option("MODEL", s.model_path,
-                       "Model file (popcut.voxel.v1 or popcut.faces.v1), or a mesh (.obj, .stl, .off, .ply) that popcutd imports with the options below")
+  s.submit = app.add_subcommand(
+      "submit",
+      "Queue a model on popcutd for a device (or any device with a profile).\n"
+      "Exit 2 if refused, 3 if popcutd cannot be reached or its queue is full (or with --wait: the job did not\n"
+      "finish), 4 if popcutd failed inside.");
+  s.submit
+      ->add_option("MODEL", s.model_path,
+                   "Model file (popcut.voxel.v1 or popcut.faces.v1), or a mesh (.obj, .stl, .off, .ply) that popcutd "
+                   "imports with the options below")
       ->required();
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
   s.submit->add_option("--name", s.name, "A label for the job (default: the model's name, or the mesh's file name)")
-      ->check(CLI::Validator([](std::string& t) { return t.empty() ? std::string("must not be empty: leave --name out to name the job after its model") : std::string(); }, "TEXT"));
+      ->check(CLI::Validator(
+          [](std::string& t) {
+            return t.empty() ? std::string("must not be empty: leave --name out to name the job after its model")
+                             : std::string();
+          },
+          "TEXT"));
   s.submit->add_flag("--wait", s.wait, "Wait until the job is done, failed, cancelled or interrupted");
   common(s.submit);
   add_import_options(s.submit, s.import_values);
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   common(s.jobs);
-  s.cancel = app.add_subcommand("cancel", "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
-                                          "If the cutter holds the line (the job shows 'cancel waiting_for_device'), cancelling again\n"
-                                          "gives up the wait: the abort is not sent and the cutter may cut all its buffer holds.");
+  s.cancel =
+      app.add_subcommand("cancel",
+                         "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
+                         "If the cutter holds the line (the job shows 'cancel waiting_for_device'), cancelling again\n"
+                         "gives up the wait: the abort is not sent and the cutter may cut all its buffer holds.");
   s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
   common(s.cancel);
-  s.resume = app.add_subcommand("resume", "Cut the rest of an interrupted job (a device error, SIGTERM or a crash stopped its cut).\n"
-                                          "Exit 2 if refused (not interrupted; --from executed where the device's executed strokes are unknown).");
+  s.resume = app.add_subcommand(
+      "resume",
+      "Cut the rest of an interrupted job (a device error, SIGTERM or a crash stopped its cut).\n"
+      "Exit 2 if refused (not interrupted; --from executed where the device's executed strokes are unknown).");
   s.resume->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
-  s.resume->add_option("--from", s.resume_from,
-                       "received (default): continue after the strokes the device certainly received, for a device that kept\n"
-                       "its buffer; executed: after the strokes it is known to have executed, for a device that was reset or\n"
-                       "power-cycled (the strokes between may be cut twice)")
+  s.resume
+      ->add_option(
+          "--from", s.resume_from,
+          "received (default): continue after the strokes the device certainly received, for a device that kept\n"
+          "its buffer; executed: after the strokes it is known to have executed, for a device that was reset or\n"
+          "power-cycled (the strokes between may be cut twice)")
       ->check(CLI::IsMember({"received", "executed"}));
   common(s.resume);
 }
@@ -253,18 +280,24 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
   if (s.submit && *s.submit) return run(s, [&](Connection& c) { return submit(s, c); });
   if (s.jobs && *s.jobs) {
     return run(s, [&](Connection& c) {
-      const json r = c.request("GET", std::string("/api/v1/jobs?limit=") + (s.all ? "10000" : "100"), job_list_shape_problem);
-      if (s.json_out) print_json_line(r);
-      else for (const json& j : r["jobs"]) print_job_line(j);
+      const json r =
+          c.request("GET", std::string("/api/v1/jobs?limit=") + (s.all ? "10000" : "100"), job_list_shape_problem);
+      if (s.json_out)
+        print_json_line(r);
+      else
+        for (const json& j : r["jobs"]) print_job_line(j);
       return kOk;
     });
   }
   // Both act on one job and print it as the daemon answers.
   const auto job_action = [&](const std::string& action, const std::string& body) {
     return run(s, [&](Connection& c) {
-      const json j = c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/" + action, job_shape_problem, body);
-      if (s.json_out) print_json_line(j);
-      else print_job_line(j);
+      const json j =
+          c.request("POST", "/api/v1/jobs/" + std::to_string(s.job_id) + "/" + action, job_shape_problem, body);
+      if (s.json_out)
+        print_json_line(j);
+      else
+        print_job_line(j);
       return kOk;
     });
   };

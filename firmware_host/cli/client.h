@@ -15,7 +15,7 @@ struct ClientCommands {
   CLI::App* cancel = nullptr;
   CLI::App* resume = nullptr;
   std::string server, token, model_path, device, profile, name;
-  std::string resume_from = "received";  // resume --from: received or executed
+  std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;
   bool json_out = false, wait = false, all = false;

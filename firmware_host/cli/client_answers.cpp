@@ -58,7 +58,8 @@ constexpr std::array<Field, 12> kJobFields{{{"id", Kind::positive, true},
                                             {"place_in_line", Kind::count_or_null, true},
                                             {"cancel", Kind::text_or_null, false}}};
 
-constexpr std::array<std::string_view, 8> kStates{"queued", "planning", "ready", "cutting", "done", "failed", "cancelled", "interrupted"};
+constexpr std::array<std::string_view, 8> kStates{"queued", "planning", "ready",     "cutting",
+                                                  "done",   "failed",   "cancelled", "interrupted"};
 
 }  // namespace
 
@@ -72,14 +73,19 @@ std::string job_shape_problem(const json& j) {
   if (!j.is_object()) return "a job is a JSON object, not " + excerpt(j, 40);
   for (const Field& f : kJobFields) {
     const auto it = j.find(f.key);
-    if (it == j.end() ? f.always : !fits(*it, f.kind)) return wrong(f.key, it == j.end() ? nullptr : &*it, expected(f.kind));
+    if (it == j.end() ? f.always : !fits(*it, f.kind))
+      return wrong(f.key, it == j.end() ? nullptr : &*it, expected(f.kind));
   }
   const auto state = j.find("state");
   bool known = false;
-  for (const std::string_view s : kStates) known = known || (state != j.end() && state->is_string() && state->get<std::string>() == s);
-  if (!known) return wrong("state", state == j.end() ? nullptr : &*state, "one of queued, planning, ready, cutting, done, failed, cancelled, interrupted");
+  for (const std::string_view s : kStates)
+    known = known || (state != j.end() && state->is_string() && state->get<std::string>() == s);
+  if (!known)
+    return wrong("state", state == j.end() ? nullptr : &*state,
+                 "one of queued, planning, ready, cutting, done, failed, cancelled, interrupted");
   if (const auto e = j.find("error"); e != j.end()) {
-    if (!e->is_object() || !e->contains("code") || !(*e)["code"].is_string() || !e->contains("message") || !(*e)["message"].is_string()) {
+    if (!e->is_object() || !e->contains("code") || !(*e)["code"].is_string() || !e->contains("message") ||
+        !(*e)["message"].is_string()) {
       return wrong("error", &*e, "{\"code\": text, \"message\": text}");
     }
   }
@@ -102,10 +108,12 @@ std::string job_list_shape_problem(const json& j) {
 std::string error_shape_problem(const json& j) {
   if (!j.is_object()) return "an error answer is a JSON object, not " + excerpt(j, 40);
   const auto e = j.find("error");
-  if (e == j.end() || !e->is_object()) return wrong("error", e == j.end() ? nullptr : &*e, "{\"code\": text, \"message\": text}");
+  if (e == j.end() || !e->is_object())
+    return wrong("error", e == j.end() ? nullptr : &*e, "{\"code\": text, \"message\": text}");
   for (const char* key : {"code", "message"}) {
     const auto v = e->find(key);
-    if (v == e->end() || !v->is_string()) return wrong(std::string("error.") + key, v == e->end() ? nullptr : &*v, "text");
+    if (v == e->end() || !v->is_string())
+      return wrong(std::string("error.") + key, v == e->end() ? nullptr : &*v, "text");
   }
   if (const auto f = e->find("field"); f != e->end() && !f->is_string()) return wrong("error.field", &*f, "text");
   return "";

@@ -37,7 +37,7 @@ struct CommandGroup {
   std::string_view help;  // what its subcommands do; each one's --help line is set by `add`
   void (*add)(CLI::App& app, CommandStates& states);
   std::optional<int> (*run)(const CommandStates& states);  // nullopt: none of the group's subcommands was chosen
-  std::string_view unlisted = "";  // a subcommand the unknown-command message does not name
+  std::string_view unlisted = "";                          // a subcommand the unknown-command message does not name
 };
 
 // A row for the group whose options live in CommandStates::*member.
@@ -49,13 +49,19 @@ constexpr CommandGroup group(std::string_view name, std::string_view help, std::
 
 // In the order popcut --help lists the subcommands.
 const CommandGroup kCommandGroups[] = {
-    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>("pattern", "pattern, validate, repair: a model's pattern and its pop-up check"),
-    group<&CommandStates::fold, add_fold_commands, run_fold_commands>("fold", "fold, render: the card folded to an angle, as a 3D model or a picture"),
+    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(
+        "pattern", "pattern, validate, repair: a model's pattern and its pop-up check"),
+    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(
+        "fold", "fold, render: the card folded to an angle, as a 3D model or a picture"),
     group<&CommandStates::import, add_import_command, run_import_command>("import", "import: a mesh made into a card"),
-    group<&CommandStates::cut, add_cut_commands, run_cut_commands>("cut", "plan, cut: strokes, HP-GL and sending a job to a cutter"),
-    group<&CommandStates::client, add_client_commands, run_client_commands>("client", "submit, jobs, cancel, resume: popcutd's client", "resume"),
-    group<&CommandStates::devices, add_devices_command, run_devices_command>("devices", "devices: the cutters attached"),
-    group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>("sim_plotter", "sim-plotter: a simulated serial cutter"),
+    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(
+        "cut", "plan, cut: strokes, HP-GL and sending a job to a cutter"),
+    group<&CommandStates::client, add_client_commands, run_client_commands>(
+        "client", "submit, jobs, cancel, resume: popcutd's client", "resume"),
+    group<&CommandStates::devices, add_devices_command, run_devices_command>("devices",
+                                                                             "devices: the cutters attached"),
+    group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>(
+        "sim_plotter", "sim-plotter: a simulated serial cutter"),
 };
 
 // "pattern, validate, ... devices or sim-plotter": the subcommands each group added, in order.
@@ -91,8 +97,8 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     const auto used = app.get_subcommands();
-    std::cerr << "popcut: error: " << e.what() << "\nRun 'popcut " << (used.empty() ? "" : used.front()->get_name() + " ")
-              << "--help' for usage.\n";
+    std::cerr << "popcut: error: " << e.what() << "\nRun 'popcut "
+              << (used.empty() ? "" : used.front()->get_name() + " ") << "--help' for usage.\n";
     return kBadInput;
   }
   return std::nullopt;
@@ -101,8 +107,10 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  CLI::App app{"popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
-               "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output (or reach the cutter), 4 internal error."};
+  CLI::App app{
+      "popcut — design origamic-architecture pop-up cards and cut them on a plotter.\n"
+      "Exit codes: 0 ok, 1 card does not pop up, 2 bad input or usage, 3 cannot write output (or reach the cutter), 4 "
+      "internal error."};
   app.set_version_flag("--version", std::string("popcut ") + POPCUT_VERSION);
   app.require_subcommand(1);
   CommandStates states;

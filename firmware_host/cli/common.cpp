@@ -34,10 +34,14 @@ int run_guarded(bool json_errors, const std::function<int()>& body) {
   } catch (const Error& e) {
     // An error in a command-line option names the option; there is no file to blame.
     const bool option_error = e.source().empty() && e.location().rfind("--", 0) == 0;
-    std::cerr << "popcut: error: " << (option_error ? e.location() + ": " + e.message() : std::string(e.what())) << "\n";
+    std::cerr << "popcut: error: " << (option_error ? e.location() + ": " + e.message() : std::string(e.what()))
+              << "\n";
     if (json_errors) {
-      print_json_line({{"error", {{"code", to_string(e.code())}, {"source", e.source()}, {"location", e.location()},
-                                  {"message", e.message()}}}});
+      print_json_line({{"error",
+                        {{"code", to_string(e.code())},
+                         {"source", e.source()},
+                         {"location", e.location()},
+                         {"message", e.message()}}}});
     }
     return exit_code_of(e);
   } catch (const std::bad_alloc&) {
@@ -55,7 +59,8 @@ int run_guarded(bool json_errors, const std::function<int()>& body) {
 Pattern load_cli_pattern(const std::string& model_path) {
   const AnyModel model = load_model(model_path);
   Pattern p = make_pattern(model, shown(model_path));
-  if (const FaceModel* faces = std::get_if<FaceModel>(&model)) require_attached(*faces, p, check_popup(p), shown(model_path));
+  if (const FaceModel* faces = std::get_if<FaceModel>(&model))
+    require_attached(*faces, p, check_popup(p), shown(model_path));
   return p;
 }
 
@@ -68,7 +73,9 @@ void write_cli_output(const std::string& path, const std::function<void(std::ost
 }
 
 // File names from the command line may not be UTF-8, so replace.
-void print_json_line(const json& j) { std::cout << rounded_numbers(j).dump(-1, ' ', false, json::error_handler_t::replace) << "\n"; }
+void print_json_line(const json& j) {
+  std::cout << rounded_numbers(j).dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
+}
 
 std::string shown(const std::string& path) { return path == "-" ? "<stdin>" : path; }
 
@@ -92,9 +99,12 @@ std::string require_extension(const std::string& path, std::initializer_list<con
   }
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    throw Error(ErrorCode::invalid_input, path, option, std::string("is a directory: name a file in it ending ") + list);
+    throw Error(ErrorCode::invalid_input, path, option,
+                std::string("is a directory: name a file in it ending ") + list);
   }
-  if (ext.empty()) throw Error(ErrorCode::invalid_input, path, option, std::string("no file extension to tell the ") + what + ": use " + list);
+  if (ext.empty())
+    throw Error(ErrorCode::invalid_input, path, option,
+                std::string("no file extension to tell the ") + what + ": use " + list);
   throw Error(ErrorCode::invalid_input, path, option, std::string("unknown ") + what + " '" + ext + "': use " + list);
 }
 

@@ -15,11 +15,11 @@ namespace popcut::cli {
 // Exit codes (README.md): stable for scripts and CI.
 enum ExitCode : int {
   kOk = 0,
-  kDoesNotPopUp = 1,   // validate/repair: the card would not stand or has loose pieces
-  kBadInput = 2,       // unreadable or invalid input, or a bad command line
-  kCannotWrite = 3,    // an output file could not be written; cut: the job did not reach the cutter
-  kInternal = 4,       // a bug in popcut
-  kCancelled = 130,    // cut: stopped by Ctrl-C or SIGTERM (the shell's code for SIGINT)
+  kDoesNotPopUp = 1,  // validate/repair: the card would not stand or has loose pieces
+  kBadInput = 2,      // unreadable or invalid input, or a bad command line
+  kCannotWrite = 3,   // an output file could not be written; cut: the job did not reach the cutter
+  kInternal = 4,      // a bug in popcut
+  kCancelled = 130,   // cut: stopped by Ctrl-C or SIGTERM (the shell's code for SIGINT)
 };
 
 // An error the CLI raises itself, with the exit code it ends popcut with, chosen where it is raised.

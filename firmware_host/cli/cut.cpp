@@ -30,21 +30,27 @@
 namespace popcut::cli {
 namespace {
 
-using nlohmann::json;
 using drivers::DeviceProfile;
+using nlohmann::json;
 
 json kind_json(const KindStats& k, double est_s) {
-  return {{"strokes", k.strokes},   {"pen_lifts", k.pen_lifts}, {"pen_lift_bound", k.pen_lift_bound},
-          {"cut_mm", k.cut_mm},     {"travel_mm", k.travel_mm}, {"est_time_s", est_s},
-          {"folds_dropped", k.folds_dropped}, {"strokes_below_resolution", k.strokes_below_resolution}, {"precuts", k.precuts}};
+  return {{"strokes", k.strokes},
+          {"pen_lifts", k.pen_lifts},
+          {"pen_lift_bound", k.pen_lift_bound},
+          {"cut_mm", k.cut_mm},
+          {"travel_mm", k.travel_mm},
+          {"est_time_s", est_s},
+          {"folds_dropped", k.folds_dropped},
+          {"strokes_below_resolution", k.strokes_below_resolution},
+          {"precuts", k.precuts}};
 }
 
 struct Job {
   DeviceProfile profile;
   StrokePlan plan;
   TimeEstimate time;
-  std::string hpgl;     // the whole job
-  EncodedJob encoded;   // what is sent: the whole job, or from --resume-from on
+  std::string hpgl;    // the whole job
+  EncodedJob encoded;  // what is sent: the whole job, or from --resume-from on
 };
 
 Job make_job(const std::string& model_path, const std::string& profile_path, std::size_t from_stroke = 1) {
@@ -91,21 +97,25 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
 
 int run_plan(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
-    if (s.profile_path.empty()) throw Error(ErrorCode::invalid_input, "", "--profile", "plan needs a device profile (configs/devices/*.toml)");
+    if (s.profile_path.empty())
+      throw Error(ErrorCode::invalid_input, "", "--profile", "plan needs a device profile (configs/devices/*.toml)");
     if (s.out_path == "-" && (s.json_out || s.report_path == "-")) {
-      throw Error(ErrorCode::invalid_input, "", "--json", "the job goes to standard output: write the report to a file instead");
+      throw Error(ErrorCode::invalid_input, "", "--json",
+                  "the job goes to standard output: write the report to a file instead");
     }
     const Job j = make_job(s.model_path, s.profile_path);
     write_cli_output(s.out_path, [&](std::ostream& o) { o << j.hpgl; });
     const json report = plan_json(j, s.model_path, s.profile_path);
-    if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
+    if (!s.report_path.empty())
+      write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) {
       print_json_line(report);
     } else {
       const KindStats t = j.plan.total();
       std::cerr << "wrote " << s.out_path << " for " << j.profile.name << ": " << t.strokes << " strokes (bound "
-                << t.pen_lift_bound << "), " << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm)
-                << " mm travel, about " << static_cast<long>(j.time.total_s + 0.5) << " s\n";
+                << t.pen_lift_bound << "), " << static_cast<long>(t.cut_mm) << " mm cut, "
+                << static_cast<long>(t.travel_mm) << " mm travel, about " << static_cast<long>(j.time.total_s + 0.5)
+                << " s\n";
     }
     return static_cast<int>(kOk);
   });
@@ -119,7 +129,8 @@ struct Target {
 
 Target cut_target(const CutCommands& s) {
   if (s.cut->count("--device") > 0 && s.device.empty()) {
-    throw Error(ErrorCode::invalid_input, "", "--device", "is empty: expected sim, file:PATH, serial:/dev/PORT, serial:VID:PID or usb:VID:PID");
+    throw Error(ErrorCode::invalid_input, "", "--device",
+                "is empty: expected sim, file:PATH, serial:/dev/PORT, serial:VID:PID or usb:VID:PID");
   }
   Target t{s.device, s.profile_path, ""};
   // A malformed device string is named first: no profile makes it right.
@@ -130,7 +141,8 @@ Target cut_target(const CutCommands& s) {
   }
   if (t.profile_path.empty()) {
     if (!t.device.empty() && t.device != "sim") {
-      throw Error(ErrorCode::invalid_input, "", "--profile", "--device " + t.device + " needs --profile (configs/devices/*.toml)");
+      throw Error(ErrorCode::invalid_input, "", "--profile",
+                  "--device " + t.device + " needs --profile (configs/devices/*.toml)");
     }
     t.profile_path = find_config_file("devices/sim.toml");
     t.device = "sim";
@@ -151,7 +163,8 @@ void use_profile_device(Target& t, const DeviceProfile& profile) {
 
 drivers::CutSessionOptions session_options(const CutCommands& s) {
   drivers::CutSessionOptions o;
-  if (s.stop_answering_after >= 0) o.sim_faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
+  if (s.stop_answering_after >= 0)
+    o.sim_faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
   if (s.drop_after >= 0) o.sim_faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
   o.sim_faults.slowdown = s.slowdown;
   return o;
@@ -159,13 +172,16 @@ drivers::CutSessionOptions session_options(const CutCommands& s) {
 
 // The device string made a transport, the --sim-* faults are for the simulator, and a USB
 // device is the one the profile is for.
-void check_device(const CutCommands& s, const drivers::CutSession& session, const DeviceProfile& profile, const Target& target) {
+void check_device(const CutCommands& s, const drivers::CutSession& session, const DeviceProfile& profile,
+                  const Target& target) {
   if (const drivers::TransportStatus& st = session.made(); !st.ok()) {
-    if (st.error == drivers::TransportError::bad_argument) throw Error(ErrorCode::invalid_input, "", "--device", st.message);
+    if (st.error == drivers::TransportError::bad_argument)
+      throw Error(ErrorCode::invalid_input, "", "--device", st.message);
     throw CliError(kCannotWrite, ErrorCode::io, "", "output", st.message);
   }
   const drivers::DeviceAddress& address = session.address();
-  if (address.kind != drivers::DeviceKind::sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
+  if (address.kind != drivers::DeviceKind::sim &&
+      (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
     throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
   }
   if (address.kind == drivers::DeviceKind::usb && !profile.transport.usb_ids.empty()) {
@@ -175,7 +191,8 @@ void check_device(const CutCommands& s, const drivers::CutSession& session, cons
       std::string list;
       for (const std::string& k : ids) list += (list.empty() ? "" : ", ") + k;
       throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] usb_ids",
-                  "the profile is for USB " + list + " (" + profile.name + "), not " + id + ": pick the profile of that device");
+                  "the profile is for USB " + list + " (" + profile.name + "), not " + id +
+                      ": pick the profile of that device");
     }
   }
 }
@@ -184,7 +201,8 @@ void check_device(const CutCommands& s, const drivers::CutSession& session, cons
 std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw CliError(kCannotWrite, ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
+  if (ec)
+    throw CliError(kCannotWrite, ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
   const std::filesystem::path dir(out_dir);
   write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << encoded.bytes; });
   return dir;
@@ -225,7 +243,8 @@ json sim_json(const drivers::SimCutter& cutter, const drivers::SimCheck& check, 
 // Knife-down length of the strokes this run sends (all of them unless --resume-from).
 double run_cut_mm(const Job& j) {
   double mm = 0;
-  for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i) mm += path_length_mm(j.plan.strokes[i].points);
+  for (std::size_t i = j.encoded.first_stroke - 1; i < j.plan.strokes.size(); ++i)
+    mm += path_length_mm(j.plan.strokes[i].points);
   return mm;
 }
 
@@ -235,7 +254,8 @@ json cut_report(const CutCommands& s, const Target& target, const Job& j, const 
   report["format"] = "popcut.cut.v1";
   report["transport"] = session.describe();
   report["sent"] = drivers::send_result_json(sent, j.encoded.bytes.size());
-  report["this_run"] = {{"first_stroke", j.encoded.first_stroke}, {"last_stroke", sent.total_strokes}, {"cut_mm", run_cut_mm(j)}};
+  report["this_run"] = {
+      {"first_stroke", j.encoded.first_stroke}, {"last_stroke", sent.total_strokes}, {"cut_mm", run_cut_mm(j)}};
   if (const drivers::SimCutter* cutter = session.simulator(); cutter && check) {
     report["sim"] = sim_json(*cutter, *check, j.encoded.first_stroke);
     if (check->overflow_bytes > 0 && sent.complete()) {
@@ -243,8 +263,8 @@ json cut_report(const CutCommands& s, const Target& target, const Job& j, const 
       // did not get through (a real device tells only through error_query).
       report["sent"]["complete"] = false;
       report["sent"]["error"] = std::string(drivers::to_string(drivers::TransportError::io));
-      report["sent"]["message"] =
-          "the simulated cutter lost " + std::to_string(check->overflow_bytes) + " bytes to a full buffer: what it cut is not the job";
+      report["sent"]["message"] = "the simulated cutter lost " + std::to_string(check->overflow_bytes) +
+                                  " bytes to a full buffer: what it cut is not the job";
     }
   }
   return report;
@@ -268,9 +288,9 @@ std::optional<int> stopped_exit(const drivers::SendResult& sent, const Job& j, c
     return static_cast<int>(kCannotWrite);
   }
   if (!sent.status.ok()) {
-    std::cerr << "popcut: error: the job did not reach the cutter (" << device << "): " << sent.status.message << "; " << sent.bytes_sent
-              << " of " << j.encoded.bytes.size() << " job bytes written; " << drivers::counts_text(sent)
-              << drivers::resume_advice(sent) << "\n";
+    std::cerr << "popcut: error: the job did not reach the cutter (" << device << "): " << sent.status.message << "; "
+              << sent.bytes_sent << " of " << j.encoded.bytes.size() << " job bytes written; "
+              << drivers::counts_text(sent) << drivers::resume_advice(sent) << "\n";
     return static_cast<int>(kCannotWrite);
   }
   return std::nullopt;
@@ -279,30 +299,36 @@ std::optional<int> stopped_exit(const drivers::SendResult& sent, const Job& j, c
 // A complete job on the simulator that did not cut the plan: the message and exit code.
 // popcut cut accepts command_errors (the strokes are the plan's; report.json lists the errors),
 // where popcutd's sim_match asks for `exact`.
-std::optional<int> sim_exit(const CutCommands& s, const Job& j, const drivers::SimCheck& check, const std::filesystem::path& dir) {
+std::optional<int> sim_exit(const CutCommands& s, const Job& j, const drivers::SimCheck& check,
+                            const std::filesystem::path& dir) {
   const drivers::SimVerdict verdict = check.verdict();
   if (verdict == drivers::SimVerdict::exact || verdict == drivers::SimVerdict::command_errors) return std::nullopt;
   const drivers::TransportDefaults& tp = j.profile.transport;
-  if (check.overflow_bytes > 0 && tp.flow == drivers::FlowControl::none && s.slowdown > 1 + tp.pace_margin_percent / 100.0) {
+  if (check.overflow_bytes > 0 && tp.flow == drivers::FlowControl::none &&
+      s.slowdown > 1 + tp.pace_margin_percent / 100.0) {
     // The fault the simulator was asked for (--sim-slowdown past what time pacing allows for),
     // not popcut's: what a real device would have done, told as such. Any other mismatch is a
     // bug (below): the simulator follows every other pacing exactly.
     std::cerr << "popcut: error: the simulated cutter lost " << check.overflow_bytes
-              << " bytes to a full buffer, so it did not cut the job: popcut paced it by time (flow_control \"none\"), and --sim-slowdown "
-              << format_decimal(s.slowdown, 3) << " is slower than the profile allows for with pace_margin_percent (" << tp.pace_margin_percent
-              << " %) (see " << (dir / "report.json").string() << ")\n";
+              << " bytes to a full buffer, so it did not cut the job: popcut paced it by time (flow_control \"none\"), "
+                 "and --sim-slowdown "
+              << format_decimal(s.slowdown, 3) << " is slower than the profile allows for with pace_margin_percent ("
+              << tp.pace_margin_percent << " %) (see " << (dir / "report.json").string() << ")\n";
     return static_cast<int>(kCannotWrite);
   }
-  std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see " << (dir / "report.json").string() << ")\n";
+  std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see "
+            << (dir / "report.json").string() << ")\n";
   return static_cast<int>(kInternal);
 }
 
-void print_cut_summary(const Job& j, const drivers::CutSession& session, const drivers::SendResult& sent, const std::filesystem::path& dir) {
+void print_cut_summary(const Job& j, const drivers::CutSession& session, const drivers::SendResult& sent,
+                       const std::filesystem::path& dir) {
   const drivers::SimCutter* cutter = session.simulator();
   if (j.encoded.first_stroke > 1) {
     // A resumed run says what this run cut, not the whole job's figures.
-    std::cerr << "cut on " << session.describe() << " (" << j.profile.name << "): strokes " << j.encoded.first_stroke << " to "
-              << sent.total_strokes << " of " << sent.total_strokes << ", " << static_cast<long>(run_cut_mm(j)) << " mm cut";
+    std::cerr << "cut on " << session.describe() << " (" << j.profile.name << "): strokes " << j.encoded.first_stroke
+              << " to " << sent.total_strokes << " of " << sent.total_strokes << ", "
+              << static_cast<long>(run_cut_mm(j)) << " mm cut";
   } else {
     const KindStats t = j.plan.total();
     std::cerr << "cut on " << session.describe() << " (" << j.profile.name << "): " << t.strokes << " strokes, "
@@ -326,14 +352,16 @@ int run_cut(const CutCommands& s) {
     const drivers::SendResult sent = send_with_interrupts(session, j.encoded, j.profile, !s.no_progress && !s.json_out);
     // From --resume-from N the simulator should have cut exactly strokes N.. of the plan.
     const std::optional<drivers::SimCheck> check = session.finish(
-        sent, session.simulator() ? drivers::planned_paths(j.plan, j.profile.dialect, j.encoded.first_stroke) : std::vector<PlotterPath>{});
+        sent, session.simulator() ? drivers::planned_paths(j.plan, j.profile.dialect, j.encoded.first_stroke)
+                                  : std::vector<PlotterPath>{});
     // A cutter whose line drops goes on cutting what it holds, as `popcut sim-plotter` does, so
     // cut.svg shows what a real one would have cut (a frozen one cuts nothing more).
     if (const drivers::SimCutter* cutter = session.simulator()) {
       write_cli_output((dir / "cut.svg").string(), [&](std::ostream& o) { cutter->write_svg(o); });
     }
     const json report = cut_report(s, target, j, session, sent, check);
-    write_cli_output((dir / "report.json").string(), [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
+    write_cli_output((dir / "report.json").string(),
+                     [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
     if (const std::optional<int> code = stopped_exit(sent, j, session.describe())) return *code;
     if (check) {
@@ -354,24 +382,29 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan->add_option("--report", s.report_path, "Also write the plan's figures as JSON (popcut.plan.v1)");
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
 
-  s.cut = app.add_subcommand("cut", "Plan, encode and send a job to a cutter: the simulated one (sim) or a file/device node.\n"
-                                    "Writes DIR/job.hpgl (the job this run sends, whole; report.json says how much went out), DIR/report.json and, on sim, DIR/cut.svg.\n"
-                                    "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
-                                    "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
-                                    "message names the last stroke the device is known to have executed (E), the last it certainly\n"
-                                    "received (M) and the last written (N): --resume-from M+1 finishes the job if the device kept its\n"
-                                    "buffer and goes on cutting (strokes M+1..N may then be cut twice), --resume-from E+1 if it was\n"
-                                    "reset or power-cycled (strokes E+1..M may have been cut already).\n"
-                                    "Exit 130: cancelled by Ctrl-C or SIGTERM; the knife is lifted and the message says how much the\n"
-                                    "device may still cut from its buffer (bytes and strokes). If the device holds the line, popcut\n"
-                                    "says it is waiting for it to take the abort; a second Ctrl-C (or SIGTERM) gives up the wait.");
+  s.cut = app.add_subcommand(
+      "cut",
+      "Plan, encode and send a job to a cutter: the simulated one (sim) or a file/device node.\n"
+      "Writes DIR/job.hpgl (the job this run sends, whole; report.json says how much went out), DIR/report.json and, "
+      "on sim, DIR/cut.svg.\n"
+      "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
+      "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
+      "message names the last stroke the device is known to have executed (E), the last it certainly\n"
+      "received (M) and the last written (N): --resume-from M+1 finishes the job if the device kept its\n"
+      "buffer and goes on cutting (strokes M+1..N may then be cut twice), --resume-from E+1 if it was\n"
+      "reset or power-cycled (strokes E+1..M may have been cut already).\n"
+      "Exit 130: cancelled by Ctrl-C or SIGTERM; the knife is lifted and the message says how much the\n"
+      "device may still cut from its buffer (bytes and strokes). If the device holds the line, popcut\n"
+      "says it is waiting for it to take the abort; a second Ctrl-C (or SIGTERM) gives up the wait.");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
-  s.cut->add_option("--device", s.device,
-                    "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"
-                    "usb:VID:PID[:SERIAL]; default: the profile's [transport] default, or sim without --profile");
+  s.cut->add_option(
+      "--device", s.device,
+      "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"
+      "usb:VID:PID[:SERIAL]; default: the profile's [transport] default, or sim without --profile");
   s.cut->add_option("--profile", s.profile_path, "Device profile (default: configs/devices/sim.toml on --device sim)");
-  s.cut->add_option("--resume-from", s.resume_from,
-                    "Send strokes N.. only (numbered from 1 as progress and errors count them), starting with the knife up");
+  s.cut->add_option(
+      "--resume-from", s.resume_from,
+      "Send strokes N.. only (numbered from 1 as progress and errors count them), starting with the knife up");
   s.cut->add_option("--out", s.out_dir, "Directory for job.hpgl, cut.svg and report.json")->required();
   s.cut->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
   s.cut->add_flag("--no-progress", s.no_progress, "No progress bar, even on a terminal");
@@ -379,7 +412,8 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
       ->check(finite_range(0, 1e12));
   s.cut->add_option("--sim-drop-after", s.drop_after, "Fault: the simulator drops the connection after N bytes")
       ->check(finite_range(0, 1e12));
-  s.cut->add_option("--sim-slowdown", s.slowdown, "Fault: the simulator moves this many times slower")->check(finite_range(1.0, 1000.0));
+  s.cut->add_option("--sim-slowdown", s.slowdown, "Fault: the simulator moves this many times slower")
+      ->check(finite_range(1.0, 1000.0));
 }
 
 std::optional<int> run_cut_commands(const CutCommands& s) {

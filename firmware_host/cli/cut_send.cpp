@@ -27,14 +27,15 @@ class Progress {
     const double elapsed_s = std::chrono::duration<double>(now - start_).count();
     std::string eta = "--";
     if (p.bytes_sent > 0 && elapsed_s > 1) {
-      const double left_s = elapsed_s * static_cast<double>(p.bytes_total - p.bytes_sent) / static_cast<double>(p.bytes_sent);
+      const double left_s =
+          elapsed_s * static_cast<double>(p.bytes_total - p.bytes_sent) / static_cast<double>(p.bytes_sent);
       const long s = static_cast<long>(left_s + 0.5);
       eta = std::to_string(s / 60) + ":" + (s % 60 < 10 ? "0" : "") + std::to_string(s % 60);
     }
     std::cerr << "\rcutting [" << std::string(static_cast<std::size_t>(filled), '#')
               << std::string(static_cast<std::size_t>(30 - filled), '.') << "] " << pct << "% " << p.bytes_sent << "/"
-              << p.bytes_total << " bytes, stroke " << p.last_stroke_written << "/" << p.total_strokes << " written, ETA " << eta
-              << "   " << std::flush;
+              << p.bytes_total << " bytes, stroke " << p.last_stroke_written << "/" << p.total_strokes
+              << " written, ETA " << eta << "   " << std::flush;
   }
   void done() {
     if (on_ && last_ >= 0) std::cerr << "\n";
@@ -90,13 +91,14 @@ class InterruptGuard {
   InterruptGuard& operator=(const InterruptGuard&) = delete;
 
  private:
-  struct sigaction old_int_ {}, old_term_ {};
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 }  // namespace
 
-drivers::SendResult send_with_interrupts(drivers::CutSession& session, const EncodedJob& job, const drivers::DeviceProfile& profile,
-                                         bool progress_bar) {
+drivers::SendResult send_with_interrupts(drivers::CutSession& session, const EncodedJob& job,
+                                         const drivers::DeviceProfile& profile, bool progress_bar) {
   Progress progress(progress_bar);
   drivers::CutControl control;
   control.progress = [&](const drivers::SendProgress& p) { progress(p); };
@@ -105,8 +107,10 @@ drivers::SendResult send_with_interrupts(drivers::CutSession& session, const Enc
   control.waiting_to_cancel = [&] {
     g_waiting = true;
     progress.done();
-    std::cerr << "popcut: the device holds the line (XOFF or CTS): waiting up to " << profile.transport.hold_timeout_ms / 1000
-              << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C (or SIGTERM) again gives up, and the "
+    std::cerr << "popcut: the device holds the line (XOFF or CTS): waiting up to "
+              << profile.transport.hold_timeout_ms / 1000
+              << " s (hold_timeout_ms) for it to take the abort sequence and the knife-up; Ctrl-C (or SIGTERM) again "
+                 "gives up, and the "
                  "device may then cut everything its buffer holds\n";
   };
   drivers::SendResult sent;

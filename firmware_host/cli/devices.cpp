@@ -81,10 +81,12 @@ int run_devices(const DevicesCommand& s) {
     if (!sst.ok()) std::cout << "  (" << sst.message << ")\n";
     for (const auto& j : jp) {
       std::cout << "  " << j["device"].get<std::string>();
-      if (j.contains("usb_id")) std::cout << "  usb " << j["usb_id"].get<std::string>() << "  serial " << j["serial_number"].get<std::string>();
+      if (j.contains("usb_id"))
+        std::cout << "  usb " << j["usb_id"].get<std::string>() << "  serial " << j["serial_number"].get<std::string>();
       std::cout << "  " << j["description"].get<std::string>() << "\n";
     }
-    std::cout << (s.all_usb ? "USB devices:" : "USB cutters (devices matching a profile's usb_ids):") << (ju.empty() ? " none" : "") << "\n";
+    std::cout << (s.all_usb ? "USB devices:" : "USB cutters (devices matching a profile's usb_ids):")
+              << (ju.empty() ? " none" : "") << "\n";
     if (!ust.ok()) std::cout << "  (" << ust.message << ")\n";
     for (const auto& j : ju) {
       std::cout << "  " << j["device"].get<std::string>() << "  bus " << j["bus"] << " address " << j["address"] << "  "
@@ -120,8 +122,10 @@ std::vector<NamedMedia> profile_media() {
 }
 
 void add_devices_command(CLI::App& app, DevicesCommand& s) {
-  s.app = app.add_subcommand("devices", "List serial ports (with the USB ids of adapters) and USB cutters matching a known profile,\n"
-                                        "as device strings for `popcut cut --device`.");
+  s.app =
+      app.add_subcommand("devices",
+                         "List serial ports (with the USB ids of adapters) and USB cutters matching a known profile,\n"
+                         "as device strings for `popcut cut --device`.");
   s.app->add_flag("--json", s.json_out, "Print JSON (popcut.devices.v1)");
   s.app->add_flag("--all-usb", s.all_usb, "List every USB device, not only those a profile names");
 }

@@ -53,7 +53,8 @@ int run_render(const FoldCommands& s) {
   const std::string ext = require_extension(s.out_path, {".svg", ".png"}, "picture format");
   const Pattern p = load_cli_pattern(s.model_path);
   std::vector<double> angles;
-  for (int i = 0; i < frames; ++i) angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
+  for (int i = 0; i < frames; ++i)
+    angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
   std::vector<CardMesh> meshes;
   for (double a : angles) meshes.push_back(fold_card_for_picture(p, a));
   const ViewBox box = view_box(meshes);  // one frame for every picture, so the animation holds still
@@ -72,7 +73,8 @@ int run_render(const FoldCommands& s) {
     if (frames > 1 && progress_on_tty) std::cerr << "\r" << (i + 1) << "/" << frames << " frames" << std::flush;
   }
   if (frames > 1 && progress_on_tty) std::cerr << "\n";
-  std::cerr << "wrote " << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : s.out_path)
+  std::cerr << "wrote "
+            << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : s.out_path)
             << " (folded to " << angle_deg << "°)\n";
   return kOk;
 }
@@ -90,15 +92,25 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
       "DEGREES");
   s.fold = app.add_subcommand("fold", "Write the card folded to an angle as a 3D model (OBJ + MTL, or glTF).");
   s.fold->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
-  s.fold->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->check(decimal_degrees)->capture_default_str();
+  s.fold->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")
+      ->check(decimal_degrees)
+      ->capture_default_str();
   s.fold->add_option("-o,--output", s.out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
 
-  s.render = app.add_subcommand("render", "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
+  s.render = app.add_subcommand("render",
+                                "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
   s.render->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
-  s.render->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")->check(decimal_degrees)->capture_default_str();
-  s.render->add_option("-o,--output", s.out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")->required();
-  s.render->add_option("--frames", s.frames, "Frames of an opening animation from closed (180°) to --angle")->check(CLI::Range(1, 360))->capture_default_str();
-  s.render->add_option("--width", s.width_px, "Picture width in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
+  s.render->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")
+      ->check(decimal_degrees)
+      ->capture_default_str();
+  s.render->add_option("-o,--output", s.out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")
+      ->required();
+  s.render->add_option("--frames", s.frames, "Frames of an opening animation from closed (180°) to --angle")
+      ->check(CLI::Range(1, 360))
+      ->capture_default_str();
+  s.render->add_option("--width", s.width_px, "Picture width in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
 }
 
 std::optional<int> run_fold_commands(const FoldCommands& s) {

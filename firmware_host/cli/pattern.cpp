@@ -26,13 +26,16 @@ int run_pattern(const PatternCommands& s) {
     throw Error(ErrorCode::invalid_input, "", "--shade", "shading applies to SVG output only");
   }
   if (s.out_path == "-" && s.json_out) {
-    throw Error(ErrorCode::invalid_input, "", "--json", "cannot print a summary when the pattern itself goes to standard output");
+    throw Error(ErrorCode::invalid_input, "", "--json",
+                "cannot print a summary when the pattern itself goes to standard output");
   }
   const Pattern p = load_cli_pattern(s.model_path);
   const PopupReport report = check_popup(p);
   write_cli_output(s.out_path, [&](std::ostream& out) {
-    if (ext == ".svg") write_pattern_svg(out, p, {s.shade});
-    else write_pattern_json(out, p);
+    if (ext == ".svg")
+      write_pattern_svg(out, p, {s.shade});
+    else
+      write_pattern_json(out, p);
   });
   if (s.json_out) {
     json j = validation_json(shown(s.model_path), p, report);
@@ -45,8 +48,9 @@ int run_pattern(const PatternCommands& s) {
   if (!s.json_out && s.out_path != "-") {
     const LineCounts c = count_lines(p);
     std::cerr << "wrote " << s.out_path << " (" << p.faces.size() << " faces; " << c.cut << " cut, " << c.mountain
-              << " mountain, " << c.valley << " valley lines; sheet " << format_fixed(p.sheet.max.x_mm - p.sheet.min.x_mm, 1)
-              << " x " << format_fixed(p.sheet.max.v_mm - p.sheet.min.v_mm, 1) << " mm)\n";
+              << " mountain, " << c.valley << " valley lines; sheet "
+              << format_fixed(p.sheet.max.x_mm - p.sheet.min.x_mm, 1) << " x "
+              << format_fixed(p.sheet.max.v_mm - p.sheet.min.v_mm, 1) << " mm)\n";
   }
   return kOk;
 }
@@ -54,8 +58,10 @@ int run_pattern(const PatternCommands& s) {
 int run_validate(const PatternCommands& s) {
   const Pattern p = load_cli_pattern(s.model_path);
   const PopupReport report = check_popup(p);
-  if (s.json_out) print_json_line(validation_json(shown(s.model_path), p, report));
-  else print_validation(std::cout, shown(s.model_path), p, report);
+  if (s.json_out)
+    print_json_line(validation_json(shown(s.model_path), p, report));
+  else
+    print_validation(std::cout, shown(s.model_path), p, report);
   return report.pops_up() ? kOk : kDoesNotPopUp;
 }
 
@@ -86,9 +92,14 @@ int run_repair(const PatternCommands& s) {
 }  // namespace
 
 void add_pattern_commands(CLI::App& app, PatternCommands& s) {
-  s.pattern = app.add_subcommand("pattern", "Write the unfolded pattern of a model as JSON or SVG (by the -o extension).");
-  s.pattern->add_option("MODEL", s.model_path, "Model file (popcut.voxel.v1 or popcut.faces.v1 JSON), or - for standard input")->required();
-  s.pattern->add_option("-o,--output", s.out_path, "Output: OUT.json, OUT.svg, or - for JSON on standard output")->required();
+  s.pattern =
+      app.add_subcommand("pattern", "Write the unfolded pattern of a model as JSON or SVG (by the -o extension).");
+  s.pattern
+      ->add_option("MODEL", s.model_path,
+                   "Model file (popcut.voxel.v1 or popcut.faces.v1 JSON), or - for standard input")
+      ->required();
+  s.pattern->add_option("-o,--output", s.out_path, "Output: OUT.json, OUT.svg, or - for JSON on standard output")
+      ->required();
   s.pattern->add_flag("--shade", s.shade, "SVG: shade VFaces and HFaces so the design reads at a glance");
   s.pattern->add_flag("--json", s.json_out, "Print a machine-readable summary (and errors) as JSON on standard output");
 
@@ -96,8 +107,13 @@ void add_pattern_commands(CLI::App& app, PatternCommands& s) {
   s.validate->add_option("MODEL", s.model_path, "Model file, or - for standard input")->required();
   s.validate->add_flag("--json", s.json_out, "Print the report as JSON (popcut.validation.v1) on standard output");
 
-  s.repair = app.add_subcommand("repair", "Fill a model so no column is taller than the one behind it (the staircase rule), as the voxel paper's eq. 7 does.");
-  s.repair->add_option("MODEL", s.model_path, "Model file that may break the staircase rule (popcut.voxel.v1, heights or voxels), or -")->required();
+  s.repair = app.add_subcommand("repair",
+                                "Fill a model so no column is taller than the one behind it (the staircase rule), as "
+                                "the voxel paper's eq. 7 does.");
+  s.repair
+      ->add_option("MODEL", s.model_path,
+                   "Model file that may break the staircase rule (popcut.voxel.v1, heights or voxels), or -")
+      ->required();
   s.repair->add_option("-o,--output", s.out_path, "Where to write the repaired popcut.voxel.v1 model")->required();
   s.repair->add_flag("--windows", s.windows, "Turn filled rows into windows where the card still pops up");
   s.repair->add_flag("--json", s.json_out, "Print the result as JSON on standard output");

@@ -81,7 +81,8 @@ class OpenWatch {
   std::string error_;
 };
 
-json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, bool host_ixon, const std::string& ended) {
+json report_json(const drivers::SimCutter& c, const std::string& path, int host_baud, bool host_ixon,
+                 const std::string& ended) {
   const drivers::SimReport& r = c.report();
   json strokes = json::array();
   for (const drivers::SimStroke& s : c.strokes()) {
@@ -117,8 +118,8 @@ std::string issues_summary(const std::vector<drivers::SimIssue>& issues, const s
   if (issues.empty()) return "";
   const drivers::SimIssue& first = issues.front();
   return "; " + std::to_string(issues.size()) + " " + what + (issues.size() == 1 ? "" : "s") + " (" +
-         (issues.size() == 1 ? "" : "first: ") + json(first.command).dump() + " at byte " + std::to_string(first.offset) + ": " +
-         first.message + ")";
+         (issues.size() == 1 ? "" : "first: ") + json(first.command).dump() + " at byte " +
+         std::to_string(first.offset) + ": " + first.message + ")";
 }
 
 // The port the simulated cutter serves: the master side it reads and answers on, and the slave
@@ -132,7 +133,8 @@ struct Pty {
 Pty open_pty() {
   Pty pty;
   if (::openpty(&pty.master, &pty.slave, nullptr, nullptr, nullptr) != 0) {
-    throw CliError(kCannotWrite, ErrorCode::io, "", "output", std::string("cannot create a pseudo-terminal: ") + std::strerror(errno));
+    throw CliError(kCannotWrite, ErrorCode::io, "", "output",
+                   std::string("cannot create a pseudo-terminal: ") + std::strerror(errno));
   }
   termios tio{};
   ::tcgetattr(pty.slave, &tio);
@@ -158,7 +160,8 @@ void make_link(const std::string& link, const std::string& path) {
 }
 
 drivers::SimCutter make_cutter(const SimPlotterCommand& s) {
-  drivers::DeviceProfile profile = drivers::load_profile(s.profile_path.empty() ? find_config_file("devices/sim.toml") : s.profile_path);
+  drivers::DeviceProfile profile =
+      drivers::load_profile(s.profile_path.empty() ? find_config_file("devices/sim.toml") : s.profile_path);
   if (s.baud > 0) profile.transport.baud = s.baud;
   if (s.buffer_bytes > 0) profile.transport.buffer_bytes = static_cast<std::size_t>(s.buffer_bytes);
   drivers::SimFaults faults;
@@ -173,7 +176,10 @@ drivers::SimCutter make_cutter(const SimPlotterCommand& s) {
 class Session {
  public:
   Session(drivers::SimCutter& cutter, Pty& pty, OpenWatch& opens)
-      : cutter_(cutter), pty_(pty), opens_(opens), profile_(cutter.profile()),
+      : cutter_(cutter),
+        pty_(pty),
+        opens_(opens),
+        profile_(cutter.profile()),
         held_(cutter.holds_line()),  // hardware flow control: a full buffer stops the line
         xon_xoff_(profile_.transport.flow == drivers::FlowControl::xon_xoff),
         cap_(profile_.transport.buffer_bytes),
@@ -251,11 +257,13 @@ class Session {
     // A slice, and what the line carried while this process was not running (a loaded machine),
     // so the device keeps up with the line rate.
     const double behind_s = std::max(0.0, t - cutter_.now_s());
-    std::size_t room = std::min(sizeof buf_, slice_ + static_cast<std::size_t>(behind_s * profile_.transport.baud / 10));
+    std::size_t room =
+        std::min(sizeof buf_, slice_ + static_cast<std::size_t>(behind_s * profile_.transport.baud / 10));
     // A host stopping on XOFF: never more than XOFF's headroom at once, so XOFF goes out in time
     // (a slice can be more than the headroom of a small buffer: 46 bytes at 115200 baud against
     // 16 left of 64).
-    if (xon_xoff_ && host_ixon_) room = std::min(room, std::max<std::size_t>(1, cap_ * 3 / 4 - std::min(cap_ * 3 / 4, cutter_.buffer_used())));
+    if (xon_xoff_ && host_ixon_)
+      room = std::min(room, std::max<std::size_t>(1, cap_ * 3 / 4 - std::min(cap_ * 3 / 4, cutter_.buffer_used())));
     if (held_) room = std::min(room, cap_ - std::min(cap_, cutter_.buffer_used()));  // hardware flow: stop reading
     // After XOFF a transmitter stopped by its OS sends nothing: bytes waiting in the pty are
     // still the host's, not on the line. A host doing XON/XOFF itself already put them on the
@@ -323,17 +331,20 @@ class Session {
 };
 
 // The summary line on stderr, and --report and --svg, once the session is over.
-void write_results(const SimPlotterCommand& s, const drivers::SimCutter& cutter, const std::string& path, const Session& session) {
+void write_results(const SimPlotterCommand& s, const drivers::SimCutter& cutter, const std::string& path,
+                   const Session& session) {
   const json report = report_json(cutter, path, session.host_baud(), session.host_ixon(), session.ended());
-  if (!s.report_path.empty()) write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
+  if (!s.report_path.empty())
+    write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
   if (!s.svg_path.empty()) write_cli_output(s.svg_path, [&](std::ostream& o) { cutter.write_svg(o); });
   const drivers::SimReport& r = cutter.report();
   std::string issues = issues_summary(r.errors, "malformed command") + issues_summary(r.unknown, "unknown command");
   if (r.errors.size() > 1 || r.unknown.size() > 1) {  // the line shows the first of each kind
     issues += s.report_path.empty() ? " (--report FILE lists them all)" : " (" + s.report_path + " lists them all)";
   }
-  std::cerr << "sim-plotter: " << session.ended() << "; received " << r.bytes_received << " bytes, cut " << cutter.strokes().size()
-            << " strokes, " << r.overflow_bytes << " bytes lost to overflow" << issues << "\n";
+  std::cerr << "sim-plotter: " << session.ended() << "; received " << r.bytes_received << " bytes, cut "
+            << cutter.strokes().size() << " strokes, " << r.overflow_bytes << " bytes lost to overflow" << issues
+            << "\n";
 }
 
 int run_sim_plotter(const SimPlotterCommand& s) {
@@ -347,7 +358,8 @@ int run_sim_plotter(const SimPlotterCommand& s) {
             << profile.transport.buffer_bytes << "-byte buffer, flow " << drivers::to_string(profile.transport.flow)
             << "; stops when the host closes the port (or on Ctrl-C)\n";
   if (!opens.error().empty()) {
-    std::cerr << "sim-plotter: warning: cannot watch " << pty.path << " for a host opening it (inotify: " << opens.error()
+    std::cerr << "sim-plotter: warning: cannot watch " << pty.path
+              << " for a host opening it (inotify: " << opens.error()
               << "); a host that closes the port without writing a byte is not noticed: end it with Ctrl-C\n";
   }
   struct sigaction sa {};
@@ -372,52 +384,63 @@ int run_sim_plotter(const SimPlotterCommand& s) {
 
 json sim_issues_json(const std::vector<drivers::SimIssue>& issues) {
   json out = json::array();
-  for (const drivers::SimIssue& i : issues) out.push_back({{"offset", i.offset}, {"command", i.command}, {"message", i.message}});
+  for (const drivers::SimIssue& i : issues)
+    out.push_back({{"offset", i.offset}, {"command", i.command}, {"message", i.message}});
   return out;
 }
 
 void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
-  s.app = app.add_subcommand("sim-plotter",
-                             "Run the simulated cutter on the far side of a pseudo-terminal, in real time: prints the port\n"
-                             "(e.g. /dev/pts/3) on the first line, then serves one session; point `popcut cut --device\n"
-                             "serial:PORT` at it (under the test shim, docs/transports.md). It waits for a host to open the\n"
-                             "port; the session ends when the host closes it (whether it wrote or not) or on Ctrl-C, and it\n"
-                             "then writes what it cut (--report, --svg), prints a summary line on stderr and exits.\n"
-                             "One session per process: start one per job.\n"
-                             "Exit 0: the session ended. Exit 2: a bad option or profile. Exit 3: no pseudo-terminal, link\n"
-                             "or output file could be made.");
-  s.app->add_option("--profile", s.profile_path,
-                    "Device profile (TOML) it behaves like: line rate, buffer, flow control, answers, kinematics\n"
-                    "(default: devices/sim.toml from popcut's configs: 115200 baud, 1024 bytes, XON/XOFF, answers ESC.O)")
+  s.app = app.add_subcommand(
+      "sim-plotter",
+      "Run the simulated cutter on the far side of a pseudo-terminal, in real time: prints the port\n"
+      "(e.g. /dev/pts/3) on the first line, then serves one session; point `popcut cut --device\n"
+      "serial:PORT` at it (under the test shim, docs/transports.md). It waits for a host to open the\n"
+      "port; the session ends when the host closes it (whether it wrote or not) or on Ctrl-C, and it\n"
+      "then writes what it cut (--report, --svg), prints a summary line on stderr and exits.\n"
+      "One session per process: start one per job.\n"
+      "Exit 0: the session ended. Exit 2: a bad option or profile. Exit 3: no pseudo-terminal, link\n"
+      "or output file could be made.");
+  s.app
+      ->add_option(
+          "--profile", s.profile_path,
+          "Device profile (TOML) it behaves like: line rate, buffer, flow control, answers, kinematics\n"
+          "(default: devices/sim.toml from popcut's configs: 115200 baud, 1024 bytes, XON/XOFF, answers ESC.O)")
       ->type_name("FILE");
-  s.app->add_option("--baud", s.baud,
-                    "Line rate in baud (bits/s; default: the profile's); bytes from a host at another rate arrive\n"
-                    "garbled, as on a UART")
+  s.app
+      ->add_option("--baud", s.baud,
+                   "Line rate in baud (bits/s; default: the profile's); bytes from a host at another rate arrive\n"
+                   "garbled, as on a UART")
       ->check(CLI::Range(300, 4000000));
-  s.app->add_option("--buffer", s.buffer_bytes,
-                    "Input buffer in bytes (default: the profile's buffer_bytes); with XON/XOFF it says XOFF at 3/4\n"
-                    "full and XON at 1/4")
+  s.app
+      ->add_option("--buffer", s.buffer_bytes,
+                   "Input buffer in bytes (default: the profile's buffer_bytes); with XON/XOFF it says XOFF at 3/4\n"
+                   "full and XON at 1/4")
       ->check(CLI::Range(64, 1 << 26));
-  s.app->add_option("--slowdown", s.slowdown,
-                    "Factor on the time every motion takes (default 1: the profile's kinematics; 2: half as fast;\n"
-                    "0.1: ten times faster)")
+  s.app
+      ->add_option("--slowdown", s.slowdown,
+                   "Factor on the time every motion takes (default 1: the profile's kinematics; 2: half as fast;\n"
+                   "0.1: ten times faster)")
       ->check(finite_range(0.0001, 1000.0));
   s.app->add_option("--drop-after", s.drop_after, "Hang up after receiving N bytes, as a pulled cable (default: never)")
       ->type_name("N")
       ->check(finite_range(0, 1e12));
-  s.app->add_option("--stop-after", s.stop_after,
-                    "After receiving N bytes, stop answering and cutting, as a paused or stuck device (default: never)")
+  s.app
+      ->add_option("--stop-after", s.stop_after,
+                   "After receiving N bytes, stop answering and cutting, as a paused or stuck device (default: never)")
       ->type_name("N")
       ->check(finite_range(0, 1e12));
-  s.app->add_option("--link", s.link,
-                    "Also make PATH a symlink to the port, a fixed name for scripts (--device serial:PATH); an old\n"
-                    "link there is replaced, anything else refused; removed on exit")
+  s.app
+      ->add_option("--link", s.link,
+                   "Also make PATH a symlink to the port, a fixed name for scripts (--device serial:PATH); an old\n"
+                   "link there is replaced, anything else refused; removed on exit")
       ->type_name("PATH");
-  s.app->add_option("--report", s.report_path,
-                    "When the session ends, write what it received and cut as JSON (popcut.sim-plotter.v2,\n"
-                    "docs/formats.md): bytes, overflow, XOFFs, malformed and unknown commands, strokes")
+  s.app
+      ->add_option("--report", s.report_path,
+                   "When the session ends, write what it received and cut as JSON (popcut.sim-plotter.v2,\n"
+                   "docs/formats.md): bytes, overflow, XOFFs, malformed and unknown commands, strokes")
       ->type_name("FILE");
-  s.app->add_option("--svg", s.svg_path, "When the session ends, write what it cut as SVG, one colour per pen")->type_name("FILE");
+  s.app->add_option("--svg", s.svg_path, "When the session ends, write what it cut as SVG, one colour per pen")
+      ->type_name("FILE");
 }
 
 std::optional<int> run_sim_plotter_command(const SimPlotterCommand& s) {

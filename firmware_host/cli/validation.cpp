@@ -50,14 +50,15 @@ std::string describe_face(const Pattern& p, int index) {
 json problem_json(const Pattern& p, const FaceProblem& fp) {
   const PatternFace& f = p.faces[static_cast<std::size_t>(fp.face)];
   const Box3 b = card_box(f);
-  return json{{"face", fp.face},
-              {"kind", to_string(f.kind)},
-              {"t", f.t_mm},
-              {"reached_from_back", fp.from_back},
-              {"reached_from_floor", fp.from_floor},
-              {"bounds", rect(bounds(f.outer))},
-              {"label", point(f.label)},
-              {"card_bounds", {{"min", {b.min.x_mm, b.min.y_mm, b.min.z_mm}}, {"max", {b.max.x_mm, b.max.y_mm, b.max.z_mm}}}}};
+  return json{
+      {"face", fp.face},
+      {"kind", to_string(f.kind)},
+      {"t", f.t_mm},
+      {"reached_from_back", fp.from_back},
+      {"reached_from_floor", fp.from_floor},
+      {"bounds", rect(bounds(f.outer))},
+      {"label", point(f.label)},
+      {"card_bounds", {{"min", {b.min.x_mm, b.min.y_mm, b.min.z_mm}}, {"max", {b.max.x_mm, b.max.y_mm, b.max.z_mm}}}}};
 }
 
 }  // namespace
@@ -102,7 +103,8 @@ void print_validation(std::ostream& out, const std::string& source, const Patter
   }
   for (const FaceProblem& fp : r.flaps) {
     out << "  note: " << describe_face(p, fp.face) << " is held from the "
-        << (fp.from_back ? "back board" : (fp.from_floor ? "floor" : "neither side")) << " only; it will hang or tilt\n";
+        << (fp.from_back ? "back board" : (fp.from_floor ? "floor" : "neither side"))
+        << " only; it will hang or tilt\n";
   }
   for (const LoosePiece& lp : r.loose_pieces) {
     out << "  cut free, would fall out: " << lp.faces.size() << (lp.faces.size() == 1 ? " face" : " faces")

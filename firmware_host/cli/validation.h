@@ -1,4 +1,5 @@
-// The pop-up check's report as pattern, validate, repair and import print it: lines for people, popcut.validation.v1 JSON.
+// The pop-up check's report as pattern, validate, repair and import print it: lines for people, popcut.validation.v1
+// JSON.
 #pragma once
 
 #include <iosfwd>

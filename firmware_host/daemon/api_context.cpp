@@ -55,8 +55,10 @@ json parse_body(const httplib::Request& req) {
     // The model's own limit (64 levels) plus the body around it. Deeper, the job's model_json
     // dump (recursive) overflowed the stack of a request thread at ~75,000 levels.
     if (depth > 65) fail(ApiError::bad_json, "the body is nested deeper than 65 levels (a model may nest 64)");
-    if (event == json::parse_event_t::object_start) keys.emplace_back();
-    else if (event == json::parse_event_t::object_end) keys.pop_back();
+    if (event == json::parse_event_t::object_start)
+      keys.emplace_back();
+    else if (event == json::parse_event_t::object_end)
+      keys.pop_back();
     else if (event == json::parse_event_t::key && repeated.empty()) {
       const std::string& key = parsed.get_ref<const std::string&>();
       if (!keys.back().insert(key).second) repeated = key;
@@ -96,7 +98,8 @@ int angle_param(const httplib::Request& req) {
   // Whole degrees (previews are cached per step); "-0" is 0, as a slider or a script may send it.
   const std::string digits = a == "-0" ? "0" : a;
   if (digits.empty() || digits.size() > 15 || digits.find_first_not_of("0123456789") != std::string::npos) {
-    fail(ApiError::bad_request, "angle must be a whole number of degrees from 0 to 180, not '" + a.substr(0, 40) + "'", "angle");
+    fail(ApiError::bad_request, "angle must be a whole number of degrees from 0 to 180, not '" + a.substr(0, 40) + "'",
+         "angle");
   }
   const long long angle = std::stoll(digits);
   try {
@@ -119,9 +122,13 @@ bool RenderSlots::try_take() {
 }
 
 ApiContext::ApiContext(Daemon& daemon)
-    : daemon_(daemon), previews_(daemon.config().limits.preview_cache_bytes), render_slots_(daemon.config().http_threads) {}
+    : daemon_(daemon),
+      previews_(daemon.config().limits.preview_cache_bytes),
+      render_slots_(daemon.config().http_threads) {}
 
-double ApiContext::uptime_s() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count(); }
+double ApiContext::uptime_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+}
 
 Caller ApiContext::auth(const httplib::Request& req) const {
   const std::string h = req.get_header_value("Authorization");

@@ -54,14 +54,16 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
             {"resume_from", j.resume_from},
             {"resume_point", j.resume_point ? json(to_string(*j.resume_point)) : json(nullptr)},
             {"strokes_executed", j.strokes_executed ? json(*j.strokes_executed) : json(nullptr)},
-            {"progress", j.strokes_total > 0 ? static_cast<double>(j.strokes_sent) / static_cast<double>(j.strokes_total) : 0.0},
+            {"progress",
+             j.strokes_total > 0 ? static_cast<double>(j.strokes_sent) / static_cast<double>(j.strokes_total) : 0.0},
             {"est_time_s", j.est_time_s},
             {"created_at", j.created_at},
             {"started_at", j.started_at > 0 ? json(j.started_at) : json(nullptr)},
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
-  if (!j.error_code.empty() || !j.error_message.empty()) r["error"] = {{"code", j.error_code}, {"message", j.error_message}};
+  if (!j.error_code.empty() || !j.error_message.empty())
+    r["error"] = {{"code", j.error_code}, {"message", j.error_message}};
   // Only a simulated cutter reports what it cut; for a real one there is nothing to compare.
   const DeviceConfig* cut_on = d.device(j.device);
   if (j.state == JobState::done && cut_on && cut_on->transport == "sim") r["sim_match"] = j.sim_match;
@@ -87,7 +89,10 @@ json current_job(Daemon& d, std::int64_t id) { return job_json(d, *d.store().get
 
 void set_target(Daemon& d, NewJob& nj, const std::string& device, const std::string& profile) {
   if (!is_job_label(nj.name)) {
-    fail(ApiError::bad_name, "job names are 1 to 64 characters of text in any script, without control characters, direction overrides, '/', '\\', '..', a leading '.' or a space at either end", "name");
+    fail(ApiError::bad_name,
+         "job names are 1 to 64 characters of text in any script, without control characters, direction overrides, "
+         "'/', '\\', '..', a leading '.' or a space at either end",
+         "name");
   }
   nj.target_device = device;
   nj.target_profile = profile;
@@ -100,8 +105,10 @@ void set_target(Daemon& d, NewJob& nj, const std::string& device, const std::str
     if (!dev) fail(ApiError::no_device, "no device named " + nj.target_device, "device");
     nj.target_profile = Daemon::profile_key(*dev);
   } else {
-    if (!is_safe_name(nj.target_profile)) fail(ApiError::bad_name, "not a profile name: " + nj.target_profile, "profile");
-    if (!d.has_profile(nj.target_profile)) fail(ApiError::no_device, "no device has the profile " + nj.target_profile, "profile");
+    if (!is_safe_name(nj.target_profile))
+      fail(ApiError::bad_name, "not a profile name: " + nj.target_profile, "profile");
+    if (!d.has_profile(nj.target_profile))
+      fail(ApiError::no_device, "no device has the profile " + nj.target_profile, "profile");
   }
 }
 
@@ -117,8 +124,10 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
     drivers::plan_for_device(p, dev->profile, dev->profile_path);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;
-    fail(ApiError::bad_model, "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
-                                  ": " + e.message(), "model");
+    fail(ApiError::bad_model,
+         "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
+             ": " + e.message(),
+         "model");
   }
   return media_warnings(p.sheet, api.media());
 }
@@ -128,7 +137,8 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
 std::string job_from_upload(ApiContext& api, const Req& req, NewJob& nj) {
   MeshUpload u = import_upload(api, req, {"name", "device", "profile"});
   // Unnamed, the job is named after the file (house.obj: "house").
-  if (u.fields.count("name") && u.fields["name"].empty()) fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its file", "name");
+  if (u.fields.count("name") && u.fields["name"].empty())
+    fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its file", "name");
   nj.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
   set_target(api.daemon(), nj, u.fields["device"], u.fields["profile"]);
   nj.model_json = std::move(u.imported.model_json);
@@ -140,13 +150,16 @@ void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
   const json body = parse_body(req);
   if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object");
   for (const auto& [k, v] : body.items()) {
-    if (k != "name" && k != "device" && k != "profile" && k != "model") fail(ApiError::bad_request, "unknown field '" + k + "'", k);
+    if (k != "name" && k != "device" && k != "profile" && k != "model")
+      fail(ApiError::bad_request, "unknown field '" + k + "'", k);
   }
   if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
-  if (!body["model"].is_object()) fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");
+  if (!body["model"].is_object())
+    fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");
   nj.name = string_field(body, "name", false);
   const bool named = body.contains("name") && !body["name"].is_null();
-  if (named && nj.name.empty()) fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its model", "name");
+  if (named && nj.name.empty())
+    fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its model", "name");
   if (!named) {
     // Unnamed, the job takes its model's name ("Castle gatehouse with towers"), else "card".
     const json& model_name = body["model"].value("name", json());
@@ -161,14 +174,19 @@ void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
 ResumePoint resume_point(const Req& req) {
   if (req.body.empty()) return ResumePoint::received;
   const json body = parse_body(req);
-  if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object such as {\"from\": \"executed\"}, or empty");
+  if (!body.is_object())
+    fail(ApiError::bad_request, "the body must be a JSON object such as {\"from\": \"executed\"}, or empty");
   for (const auto& [k, v] : body.items()) {
     if (k != "from") fail(ApiError::bad_request, "unknown field '" + k + "' (resume takes 'from')", k);
   }
   const std::string from = string_field(body, "from", false);
   if (!body.contains("from") || body["from"].is_null()) return ResumePoint::received;
   const std::optional<ResumePoint> point = parse_resume_point(from);
-  if (!point) fail(ApiError::bad_request, "'from' must be \"received\" (after the strokes the device certainly received, the default) or \"executed\" (after those it is known to have executed: for a device that was reset or power-cycled)", "from");
+  if (!point)
+    fail(ApiError::bad_request,
+         "'from' must be \"received\" (after the strokes the device certainly received, the default) or \"executed\" "
+         "(after those it is known to have executed: for a device that was reset or power-cycled)",
+         "from");
   return *point;
 }
 
@@ -196,7 +214,9 @@ void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res)
   }
   const std::vector<std::string> warnings = check_for_device(api, nj, source);
   const std::optional<std::int64_t> id = d.store().insert(nj, d.config().limits.queue_length);
-  if (!id) fail(ApiError::queue_full, "the queue holds " + std::to_string(d.config().limits.queue_length) + " unfinished jobs; try later");
+  if (!id)
+    fail(ApiError::queue_full,
+         "the queue holds " + std::to_string(d.config().limits.queue_length) + " unfinished jobs; try later");
   ++api.counters().submitted;
   d.notify();
   json answer = current_job(d, *id);
@@ -208,7 +228,8 @@ void list_jobs(ApiContext& api, const Caller& caller, const Req& req, Res& res) 
   int limit = 100;
   if (const std::optional<std::string> given = query_param(req, "limit")) {
     const std::string& l = *given;
-    if (l.empty() || l.size() > 5 || l.find_first_not_of("0123456789") != std::string::npos || std::stoi(l) < 1 || std::stoi(l) > 10000) {
+    if (l.empty() || l.size() > 5 || l.find_first_not_of("0123456789") != std::string::npos || std::stoi(l) < 1 ||
+        std::stoi(l) > 10000) {
       fail(ApiError::bad_request, "limit must be a whole number from 1 to 10000", "limit");
     }
     limit = std::stoi(l);
@@ -229,7 +250,8 @@ void get_job(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
 void get_job_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
   const Job j = api.visible_job(req, caller);
   const fs::path svg = fs::path(api.daemon().job_dir(j.id)) / "pattern.svg";
-  if (!fs::exists(svg)) fail(ApiError::conflict, "job " + std::to_string(j.id) + " has no pattern (state " + to_string(j.state) + ")");
+  if (!fs::exists(svg))
+    fail(ApiError::conflict, "job " + std::to_string(j.id) + " has no pattern (state " + to_string(j.state) + ")");
   res.set_content(read_text_file(svg.string(), std::size_t{64} << 20), "image/svg+xml");
 }
 
@@ -237,11 +259,12 @@ void get_job_preview(ApiContext& api, const Caller& caller, const Req& req, Res&
   const Job j = api.visible_job(req, caller);
   const int angle = angle_param(req);
   Daemon& d = api.daemon();
-  res.set_content(api.preview("job " + std::to_string(j.id) + " " + std::to_string(angle), angle, [&] {
-                    const std::optional<std::string> model = d.store().model_json(j.id);
-                    if (!model) fail(ApiError::not_found, "no model for job " + std::to_string(j.id));
-                    return checked_pattern(*model, "job", d.config().limits);
-                  }),
+  res.set_content(api.preview("job " + std::to_string(j.id) + " " + std::to_string(angle), angle,
+                              [&] {
+                                const std::optional<std::string> model = d.store().model_json(j.id);
+                                if (!model) fail(ApiError::not_found, "no model for job " + std::to_string(j.id));
+                                return checked_pattern(*model, "job", d.config().limits);
+                              }),
                   "image/png");
 }
 
@@ -271,18 +294,24 @@ void resume_job(ApiContext& api, const Caller& caller, const Req& req, Res& res)
   const ResumePoint from = resume_point(req);
   // The rest of a half-cut sheet is cut on the device holding it: without that device, a
   // resume would wait for good.
-  if (const std::string bound = j.bound_device(); j.state == JobState::interrupted && !bound.empty() && !d.device(bound)) {
-    fail(ApiError::conflict, "job " + std::to_string(j.id) + " was cut on " + bound + ", which holds its half-cut sheet and is not " +
-                                 "configured any more; only that device may finish it: configure it again, or cancel the job and submit it anew");
+  if (const std::string bound = j.bound_device();
+      j.state == JobState::interrupted && !bound.empty() && !d.device(bound)) {
+    fail(ApiError::conflict, "job " + std::to_string(j.id) + " was cut on " + bound +
+                                 ", which holds its half-cut sheet and is not " +
+                                 "configured any more; only that device may finish it: configure it again, or cancel "
+                                 "the job and submit it anew");
   }
   switch (d.store().resume(j.id, from)) {
     case ResumeResult::resumed: break;
     case ResumeResult::not_interrupted:
-      fail(ApiError::conflict, "only an interrupted job resumes; job " + std::to_string(j.id) + " is " + to_string(d.store().get(j.id)->state));
+      fail(ApiError::conflict, "only an interrupted job resumes; job " + std::to_string(j.id) + " is " +
+                                   to_string(d.store().get(j.id)->state));
     case ResumeResult::executed_unknown:
-      fail(ApiError::conflict, "job " + std::to_string(j.id) + ": the strokes the device executed are unknown (its transport gives no "
-                               "status answers, or the cut ended without asking, e.g. popcutd was killed), so there is no "
-                               "executed point to resume from; resume from \"received\" if the device kept its buffer",
+      fail(ApiError::conflict,
+           "job " + std::to_string(j.id) +
+               ": the strokes the device executed are unknown (its transport gives no "
+               "status answers, or the cut ended without asking, e.g. popcutd was killed), so there is no "
+               "executed point to resume from; resume from \"received\" if the device kept its buffer",
            "from");
   }
   d.notify();

@@ -20,7 +20,8 @@ std::vector<std::pair<std::string, fs::path>> examples(const ApiContext& api) {
   for (const char* sub : {"voxel", "faces"}) {
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(fs::path(api.daemon().config().examples_dir) / sub, ec)) {
-      if (e.path().extension() == ".json") out.emplace_back(std::string(sub) + "-" + e.path().stem().string(), e.path());
+      if (e.path().extension() == ".json")
+        out.emplace_back(std::string(sub) + "-" + e.path().stem().string(), e.path());
     }
   }
   std::sort(out.begin(), out.end());
@@ -35,7 +36,8 @@ std::string example_name(const std::string& id, const fs::path& path) {
     const json model = json::parse(read_text_file(path.string()));
     for (const char* key : {"name", "title"}) {
       const json& v = model.value(key, json());
-      if (const std::string label = v.is_string() ? job_label_from(v.get<std::string>()) : ""; !label.empty()) return label;
+      if (const std::string label = v.is_string() ? job_label_from(v.get<std::string>()) : ""; !label.empty())
+        return label;
     }
   } catch (const std::exception&) {
     // An unreadable example still gets listed by its id; fetching it names the fault.
@@ -77,22 +79,26 @@ void render_preview(ApiContext& api, const Caller&, const Req& req, Res& res) {
 }
 
 void import_model(ApiContext& api, const Caller&, const Req& req, Res& res) {
-  if (!req.is_multipart_form_data()) fail(ApiError::bad_request, "send the mesh as multipart/form-data (curl: -F mesh=@FILE)", "mesh");
+  if (!req.is_multipart_form_data())
+    fail(ApiError::bad_request, "send the mesh as multipart/form-data (curl: -F mesh=@FILE)", "mesh");
   const MeshUpload u = import_upload(api, req, {"name"});
   checked_model(u.imported.model_json, u.filename, api.daemon().config().limits);
   const ImportResult& r = u.imported.voxels;
   const Rect& sheet = u.imported.pattern.sheet;
   const double width_mm = sheet.max.x_mm - sheet.min.x_mm;
-  send_json(res, {{"model", json::parse(u.imported.model_json)},
-                  {"sheet_mm", {{"width", width_mm}, {"height", sheet.max.v_mm - sheet.min.v_mm}}},
-                  {"closed_mm", {{"width", width_mm}, {"height", std::max(sheet.max.v_mm, -sheet.min.v_mm)}}},
-                  {"warnings", media_warnings(sheet, api.media())},
-                  {"format", u.imported.faces ? kFacesFormat : "popcut.voxel.v1"},
-                  {"triangles", r.stats.triangles},
-                  {"grid", {{"width", r.grid.width}, {"depth", r.grid.depth}, {"height", r.grid.height}, {"voxel_mm", r.grid.voxel_mm}}},
-                  {"cells_filled", r.stats.cells_filled},
-                  {"windows_added", r.stats.windows_added},
-                  {"tops_dropped", r.stats.tops_dropped}});
+  send_json(
+      res,
+      {{"model", json::parse(u.imported.model_json)},
+       {"sheet_mm", {{"width", width_mm}, {"height", sheet.max.v_mm - sheet.min.v_mm}}},
+       {"closed_mm", {{"width", width_mm}, {"height", std::max(sheet.max.v_mm, -sheet.min.v_mm)}}},
+       {"warnings", media_warnings(sheet, api.media())},
+       {"format", u.imported.faces ? kFacesFormat : "popcut.voxel.v1"},
+       {"triangles", r.stats.triangles},
+       {"grid",
+        {{"width", r.grid.width}, {"depth", r.grid.depth}, {"height", r.grid.height}, {"voxel_mm", r.grid.voxel_mm}}},
+       {"cells_filled", r.stats.cells_filled},
+       {"windows_added", r.stats.windows_added},
+       {"tops_dropped", r.stats.tops_dropped}});
 }
 
 }  // namespace popcut::daemon

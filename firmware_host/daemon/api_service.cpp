@@ -39,8 +39,14 @@ void get_metrics(ApiContext& api, const Caller&, const Req&, Res& res) {
   res.set_content(metrics_text(m), "text/plain; version=0.0.4");
 }
 
-void get_kiosk_page(ApiContext& api, const Caller&, const Req&, Res& res) { kiosk_file(api, "index.html", "text/html; charset=utf-8", res); }
-void get_kiosk_script(ApiContext& api, const Caller&, const Req&, Res& res) { kiosk_file(api, "app.js", "text/javascript", res); }
-void get_kiosk_style(ApiContext& api, const Caller&, const Req&, Res& res) { kiosk_file(api, "app.css", "text/css", res); }
+void get_kiosk_page(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "index.html", "text/html; charset=utf-8", res);
+}
+void get_kiosk_script(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "app.js", "text/javascript", res);
+}
+void get_kiosk_style(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "app.css", "text/css", res);
+}
 
 }  // namespace popcut::daemon

@@ -23,8 +23,8 @@
 namespace popcut::daemon {
 namespace {
 
-using drivers::TomlSection;
 using drivers::parse_toml;
+using drivers::TomlSection;
 
 // Relative paths in the file mean: next to the file, so a config and its profiles travel together.
 std::string resolve(const std::string& path, const std::string& source) {
@@ -40,9 +40,13 @@ void check_listen(const TomlSection& s, const std::string& listen) {
   const bool v4_like = listen.find_first_not_of("0123456789.") == std::string::npos;
   const bool v6_like = listen.find(':') != std::string::npos;
   unsigned char addr[sizeof(in6_addr)];
-  if (v4_like && ::inet_pton(AF_INET, listen.c_str(), addr) != 1) s.fail("listen", "\"" + listen + "\" is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0)");
-  if (v6_like && ::inet_pton(AF_INET6, listen.c_str(), addr) != 1) s.fail("listen", "\"" + listen + "\" is not an IPv6 address (e.g. ::1, ::; the port goes in [server] port)");
-  if (!v4_like && !v6_like && listen.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") != std::string::npos) {
+  if (v4_like && ::inet_pton(AF_INET, listen.c_str(), addr) != 1)
+    s.fail("listen", "\"" + listen + "\" is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0)");
+  if (v6_like && ::inet_pton(AF_INET6, listen.c_str(), addr) != 1)
+    s.fail("listen", "\"" + listen + "\" is not an IPv6 address (e.g. ::1, ::; the port goes in [server] port)");
+  if (!v4_like && !v6_like &&
+      listen.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") !=
+          std::string::npos) {
     s.fail("listen", "\"" + listen + "\" is neither an IP address nor a host name");
   }
 }
@@ -97,7 +101,8 @@ DeviceConfig read_device(TomlSection& d, const std::string& source, std::set<std
   dev.profile_path = resolve(profile, source);
   dev.transport = d.text("transport", "", 4096);
   drivers::DeviceAddress address;
-  if (const drivers::TransportStatus st = drivers::parse_device(dev.transport, address); !st.ok()) d.fail("transport", st.message);
+  if (const drivers::TransportStatus st = drivers::parse_device(dev.transport, address); !st.ok())
+    d.fail("transport", st.message);
   if (address.kind == drivers::DeviceKind::file) dev.transport = "file:" + resolve(address.path, source);
   dev.sim_slowdown = d.number("sim_slowdown", 1, 1, 100000);
   dev.sim_time_scale = d.number("sim_time_scale", 0, 0, 100);
@@ -122,7 +127,8 @@ TokenConfig read_token(TomlSection& t, std::set<std::string>& names, std::set<st
   tok.token = t.text("token", "", 256);
   if (tok.token.size() < 16) t.fail("token", "must be at least 16 characters");
   for (const char ch : tok.token) {
-    if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127) t.fail("token", "printable ASCII without spaces only");
+    if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127)
+      t.fail("token", "printable ASCII without spaces only");
   }
   if (!secrets.insert(tok.token).second) t.fail("token", "the same secret is used by another token");
   tok.role = t.choice("role", Role::kiosk, kRoleNames);
@@ -137,7 +143,8 @@ class ConfigSections {
     for (const auto& [k, v] : root) {
       const std::string key(k.str());
       if (key != "server" && key != "limits" && key != "device" && key != "token") {
-        throw Error(ErrorCode::invalid_input, source, "[" + key + "]", "unknown section (expected server, limits, [[device]], [[token]])");
+        throw Error(ErrorCode::invalid_input, source, "[" + key + "]",
+                    "unknown section (expected server, limits, [[device]], [[token]])");
       }
     }
   }
@@ -151,9 +158,11 @@ class ConfigSections {
     std::vector<TomlSection> out;
     const toml::node* n = root_.get(name);
     if (!n) return out;
-    if (!n->is_array_of_tables()) throw Error(ErrorCode::invalid_input, source_, "[[" + name + "]]", "expected [[" + name + "]] tables");
+    if (!n->is_array_of_tables())
+      throw Error(ErrorCode::invalid_input, source_, "[[" + name + "]]", "expected [[" + name + "]] tables");
     std::size_t i = 0;
-    for (const toml::node& e : *n->as_array()) out.emplace_back(e.as_table(), name + "." + std::to_string(i++), source_);
+    for (const toml::node& e : *n->as_array())
+      out.emplace_back(e.as_table(), name + "." + std::to_string(i++), source_);
     return out;
   }
 
@@ -167,7 +176,8 @@ class ConfigSections {
 const char* to_string(Role role) { return kRoleNames.name(role).data(); }
 
 bool is_safe_name(const std::string& name) {
-  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == ' ' || name.back() == ' ') return false;
+  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == ' ' || name.back() == ' ')
+    return false;
   for (const char ch : name) {
     const auto c = static_cast<unsigned char>(ch);
     if (!(std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == ' ')) return false;
@@ -181,7 +191,8 @@ bool is_job_label(const std::string& name) {
   if (name.find_first_of("/\\") != std::string::npos || name.find("..") != std::string::npos) return false;
   // Spaces of any kind at either end make two names look alike.
   const auto blank = [](char32_t cp) {
-    return cp == 0x20 || cp == 0xa0 || cp == 0x1680 || (cp >= 0x2000 && cp <= 0x200b) || cp == 0x202f || cp == 0x205f || cp == 0x3000;
+    return cp == 0x20 || cp == 0xa0 || cp == 0x1680 || (cp >= 0x2000 && cp <= 0x200b) || cp == 0x202f || cp == 0x205f ||
+           cp == 0x3000;
   };
   char32_t first = 0, last = 0;
   std::size_t chars = 0;
@@ -198,10 +209,12 @@ bool is_job_label(const std::string& name) {
     // Overlong forms, surrogates and beyond U+10FFFF are not UTF-8.
     const char32_t min_cp[] = {0, 0, 0x80, 0x800, 0x10000};
     if (cp < min_cp[len] || (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff) return false;
-    if (cp < 0x20 || (cp >= 0x7f && cp <= 0x9f)) return false;                        // control characters
-    if ((cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069) || cp == 0x200e || cp == 0x200f || cp == 0x061c) return false;  // bidi
-    if (cp == 0xfeff) return false;                                                  // byte-order mark
-    if (cp == 0x2028 || cp == 0x2029) return false;                                  // line breaks
+    if (cp < 0x20 || (cp >= 0x7f && cp <= 0x9f)) return false;  // control characters
+    if ((cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069) || cp == 0x200e || cp == 0x200f ||
+        cp == 0x061c)
+      return false;                                  // bidi
+    if (cp == 0xfeff) return false;                  // byte-order mark
+    if (cp == 0x2028 || cp == 0x2029) return false;  // line breaks
     if (chars == 0) first = cp;
     last = cp;
     i += static_cast<std::size_t>(len);
@@ -214,7 +227,8 @@ std::string job_label_from(const std::string& name) {
   std::size_t end = 0;
   for (int chars = 0; chars < 63 && end < name.size(); ++chars) {
     ++end;
-    while (end < name.size() && (static_cast<unsigned char>(name[end]) & 0xc0) == 0x80) ++end;  // UTF-8 continuation bytes
+    while (end < name.size() && (static_cast<unsigned char>(name[end]) & 0xc0) == 0x80)
+      ++end;  // UTF-8 continuation bytes
   }
   if (end >= name.size()) return "";  // not too long: refused for another reason
   std::string cut = name.substr(0, end);
@@ -232,13 +246,17 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   c.limits = read_limits(sections.table("limits"));
   std::set<std::string> device_names;
   for (TomlSection& d : sections.entries("device")) c.devices.push_back(read_device(d, source, device_names));
-  if (c.devices.empty()) throw Error(ErrorCode::invalid_input, source, "[[device]]", "no devices: add at least one [[device]]");
+  if (c.devices.empty())
+    throw Error(ErrorCode::invalid_input, source, "[[device]]", "no devices: add at least one [[device]]");
   std::set<std::string> token_names, secrets;
   for (TomlSection& t : sections.entries("token")) c.tokens.push_back(read_token(t, token_names, secrets));
-  if (c.tokens.empty()) throw Error(ErrorCode::invalid_input, source, "[[token]]", "no tokens: add at least one [[token]]");
+  if (c.tokens.empty())
+    throw Error(ErrorCode::invalid_input, source, "[[token]]", "no tokens: add at least one [[token]]");
   return c;
 }
 
-DaemonConfig load_daemon_config(const std::string& path) { return parse_daemon_config(read_text_file(path, 1 << 20), path); }
+DaemonConfig load_daemon_config(const std::string& path) {
+  return parse_daemon_config(read_text_file(path, 1 << 20), path);
+}
 
 }  // namespace popcut::daemon

@@ -19,7 +19,7 @@ struct DeviceConfig {
   std::string name;          // [A-Za-z0-9_-], unique
   std::string profile_path;  // resolved against the config file's directory
   drivers::DeviceProfile profile;
-  std::string transport;     // a device string: sim, file:PATH, serial:..., usb:... (drivers/device.h)
+  std::string transport;  // a device string: sim, file:PATH, serial:..., usb:... (drivers/device.h)
   // sim only: the simulated motion takes this many times longer, and each simulated second takes
   // sim_time_scale wall-clock seconds (0: as fast as the host can go). A slow sim device gives
   // tests and demos a cut long enough to watch, cancel or kill.
@@ -34,10 +34,10 @@ struct TokenConfig {
 };
 
 struct Limits {
-  std::size_t upload_bytes = 1 << 20;  // request bodies
-  int model_cells = 100000;            // voxel models: width x depth x height
-  int pattern_faces = 5000;            // face models: edits (or faces); every model: faces of its pattern
-  int queue_length = 10000;            // jobs not yet finished (queued .. cutting, interrupted)
+  std::size_t upload_bytes = 1 << 20;    // request bodies
+  int model_cells = 100000;              // voxel models: width x depth x height
+  int pattern_faces = 5000;              // face models: edits (or faces); every model: faces of its pattern
+  int queue_length = 10000;              // jobs not yet finished (queued .. cutting, interrupted)
   std::int64_t mesh_triangles = 200000;  // uploaded meshes (after splitting polygons into triangles)
   std::size_t preview_cache_bytes = std::size_t{32} << 20;  // rendered previews kept in memory (LRU)
 };

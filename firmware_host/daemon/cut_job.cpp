@@ -25,7 +25,8 @@ std::string plan_to_json(const StrokePlan& plan) {
 StrokePlan plan_from_json(const std::string& text, const std::string& source) {
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.at("format") != "popcut.strokes.v1") throw Error(ErrorCode::invalid_input, source, "format", "expected popcut.strokes.v1");
+    if (j.at("format") != "popcut.strokes.v1")
+      throw Error(ErrorCode::invalid_input, source, "format", "expected popcut.strokes.v1");
     StrokePlan p;
     const auto& sh = j.at("sheet");
     p.sheet = {{sh.at(0).get<double>(), sh.at(1).get<double>()}, {sh.at(2).get<double>(), sh.at(3).get<double>()}};
@@ -35,7 +36,8 @@ StrokePlan plan_from_json(const std::string& text, const std::string& source) {
       const std::string kind = s.at("kind").get<std::string>();
       std::size_t k = 0;
       while (k < kAllPlanKinds.size() && kind != to_string(kAllPlanKinds[k])) ++k;
-      if (k == kAllPlanKinds.size()) throw Error(ErrorCode::invalid_input, source, "strokes.kind", "unknown kind " + kind);
+      if (k == kAllPlanKinds.size())
+        throw Error(ErrorCode::invalid_input, source, "strokes.kind", "unknown kind " + kind);
       st.kind = kAllPlanKinds[k];
       for (const auto& pt : s.at("points")) st.points.push_back({pt.at(0).get<double>(), pt.at(1).get<double>()});
       p.strokes.push_back(std::move(st));

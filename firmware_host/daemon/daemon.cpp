@@ -35,30 +35,34 @@ std::string jobs_db(const DaemonConfig& c) { return (std::filesystem::path(c.dat
 // the message its user reads; `user_cancel`: the stop was a cancel, not popcutd shutting down.
 void record_outcome(JobStore& store, const Job& job, const DeviceConfig& dev, bool user_cancel, const CutOutcome& out) {
   switch (out.kind) {
-    case CutOutcome::Kind::complete:
-      store.finish(job.id, JobState::done, "", "", out.sim_match);
-      break;
+    case CutOutcome::Kind::complete: store.finish(job.id, JobState::done, "", "", out.sim_match); break;
     case CutOutcome::Kind::stopped:
       // What the device may still cut from its buffer: nothing after an abort it honours
       // (the profile's abort discards the buffer on HP-style devices), all of it when the abort
       // did not reach it.
       if (user_cancel) {
-        store.finish(job.id, JobState::cancelled, to_string(out.abort_sent ? ApiError::cancelled : ApiError::device_error),
-                      out.abort_sent ? "cancelled during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
-                                     : "cancelled during the cut: " + out.error + "; the device may still cut " + out.still_buffered +
-                                           " from its buffer");
+        store.finish(
+            job.id, JobState::cancelled, to_string(out.abort_sent ? ApiError::cancelled : ApiError::device_error),
+            out.abort_sent
+                ? "cancelled during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
+                : "cancelled during the cut: " + out.error + "; the device may still cut " + out.still_buffered +
+                      " from its buffer");
       } else {
-        store.finish(job.id, JobState::interrupted, to_string(out.abort_sent ? ApiError::interrupted : ApiError::device_error),
-                      out.abort_sent ? "popcutd stopped during the cut; the knife was lifted" + (out.discarded.empty() ? "" : "; " + out.discarded)
-                                     : "popcutd stopped during the cut: " + out.error + "; the device may still cut " +
-                                           out.still_buffered + " from its buffer");
+        store.finish(job.id, JobState::interrupted,
+                     to_string(out.abort_sent ? ApiError::interrupted : ApiError::device_error),
+                     out.abort_sent ? "popcutd stopped during the cut; the knife was lifted" +
+                                          (out.discarded.empty() ? "" : "; " + out.discarded)
+                                    : "popcutd stopped during the cut: " + out.error + "; the device may still cut " +
+                                          out.still_buffered + " from its buffer");
       }
       break;
     case CutOutcome::Kind::failed:
       if (out.bytes_lost) {
         // Not resumable: the device cut something else than the job.
-        store.finish(job.id, JobState::failed, to_string(ApiError::device_error),
-                      out.error + "; what it cut is not the job: fix the device's profile (or the line) and submit the job again");
+        store.finish(
+            job.id, JobState::failed, to_string(ApiError::device_error),
+            out.error +
+                "; what it cut is not the job: fix the device's profile (or the line) and submit the job again");
         log_line("job ", job.id, ": ", dev.name, " lost bytes: ", out.error);
         break;
       }
@@ -74,16 +78,20 @@ void record_outcome(JobStore& store, const Job& job, const DeviceConfig& dev, bo
 Daemon::DataDirLock::DataDirLock(const std::string& data_dir) {
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(data_dir) / "jobs", ec);
-  if (ec) throw Error(ErrorCode::io, data_dir, "[server] data_dir", "cannot create the data directory: " + ec.message());
+  if (ec)
+    throw Error(ErrorCode::io, data_dir, "[server] data_dir", "cannot create the data directory: " + ec.message());
   const std::string path = (std::filesystem::path(data_dir) / "popcutd.lock").string();
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw Error(ErrorCode::io, path, "[server] data_dir", std::string("cannot open the lock file: ") + std::strerror(errno));
+  if (fd_ < 0)
+    throw Error(ErrorCode::io, path, "[server] data_dir",
+                std::string("cannot open the lock file: ") + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
     ::close(fd_);
     throw Error(ErrorCode::io, data_dir, "[server] data_dir",
-                err == EWOULDBLOCK ? "in use by another popcutd (it holds " + path + "); stop it or give another --data-dir"
-                                   : std::string("cannot lock ") + path + ": " + std::strerror(err));
+                err == EWOULDBLOCK
+                    ? "in use by another popcutd (it holds " + path + "); stop it or give another --data-dir"
+                    : std::string("cannot lock ") + path + ": " + std::strerror(err));
   }
 }
 
@@ -184,10 +192,13 @@ std::vector<DeviceStatus> Daemon::devices() {
     {
       std::lock_guard lock(mutex_);
       if (w->user_cancel) {
-        cancel = w->give_up ? CancelStage::giving_up : w->cancel_waiting ? CancelStage::waiting_for_device : CancelStage::requested;
+        cancel = w->give_up          ? CancelStage::giving_up
+                 : w->cancel_waiting ? CancelStage::waiting_for_device
+                                     : CancelStage::requested;
       }
     }
-    out.push_back({d.name, profile_key(d), d.transport, store_.paused(d.name), w->job.load(), w->run_started_s.load(), time_factor, cancel});
+    out.push_back({d.name, profile_key(d), d.transport, store_.paused(d.name), w->job.load(), w->run_started_s.load(),
+                   time_factor, cancel});
   }
   return out;
 }
@@ -229,8 +240,9 @@ void Daemon::plan_one(const Job& job) {
     store_.set_planned(job.id, static_cast<std::int64_t>(planned.encoded.total_strokes), planned.time.total_s);
   } catch (const Error& e) {
     const bool user = e.code() == ErrorCode::invalid_input || e.code() == ErrorCode::limit;
-    store_.finish(job.id, JobState::failed, to_string(user ? (e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model)
-                                                          : ApiError::internal),
+    store_.finish(job.id, JobState::failed,
+                  to_string(user ? (e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model)
+                                 : ApiError::internal),
                   e.what());
     log_line("job ", job.id, ": planning failed: ", e.what());
   } catch (const std::exception& e) {
@@ -244,7 +256,8 @@ void Daemon::device_loop(Worker& w) {
   while (!stopping_) {
     // A device paced by time may still be cutting what a stopped job left in its buffer.
     if (const auto now = std::chrono::steady_clock::now(); now < w.busy_until) {
-      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(w.busy_until - now, std::chrono::milliseconds(200)));
+      std::this_thread::sleep_for(
+          std::min<std::chrono::steady_clock::duration>(w.busy_until - now, std::chrono::milliseconds(200)));
       continue;
     }
     std::optional<Job> job;
@@ -295,28 +308,30 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
-    const CutControl control{w.stop_cut, w.give_up, [&] {
-                               // A user's cancel can be given up by cancelling again; popcutd's own stop waits it out.
-                               log_line("job ", job.id, ": ", dev.name, " holds the line (XOFF or CTS): waiting up to ",
-                                        dev.profile.transport.hold_timeout_ms / 1000, " s (hold_timeout_ms) for it to take the abort",
-                                        stopping_ ? " before popcutd stops"
-                                                  : "; cancelling again gives up, and the device may then cut everything its buffer holds");
-                               w.cancel_waiting = true;
-                             }};
+    const CutControl control{
+        w.stop_cut, w.give_up, [&] {
+          // A user's cancel can be given up by cancelling again; popcutd's own stop waits it out.
+          log_line("job ", job.id, ": ", dev.name, " holds the line (XOFF or CTS): waiting up to ",
+                   dev.profile.transport.hold_timeout_ms / 1000, " s (hold_timeout_ms) for it to take the abort",
+                   stopping_ ? " before popcutd stops"
+                             : "; cancelling again gives up, and the device may then cut everything its buffer holds");
+          w.cancel_waiting = true;
+        }};
     // Held against the whole plan from the resumed stroke on, worked out apart from the bytes
     // sent: a resume that started at the wrong stroke shows in sim_match.
     const std::vector<PlotterPath> planned = drivers::planned_paths(plan, dev.profile.dialect, done_before + 1);
-    const CutOutcome out = link->cut(cut, planned, control, [&](std::size_t last) {
-      store_.set_progress(job.id, static_cast<std::int64_t>(last));
-    });
+    const CutOutcome out = link->cut(
+        cut, planned, control, [&](std::size_t last) { store_.set_progress(job.id, static_cast<std::int64_t>(last)); });
     if (out.busy_for_s > 0) {
-      w.busy_until = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<long>(out.busy_for_s * 1000) + 1);
-      log_line("job ", job.id, ": ", dev.name, " has no handshake and may go on cutting for up to ", static_cast<long>(out.busy_for_s + 0.999),
-               " s by the profile's pace: no job is sent to it before then");
+      w.busy_until =
+          std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<long>(out.busy_for_s * 1000) + 1);
+      log_line("job ", job.id, ": ", dev.name, " has no handshake and may go on cutting for up to ",
+               static_cast<long>(out.busy_for_s + 0.999), " s by the profile's pace: no job is sent to it before then");
     }
     store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
-    store_.set_executed(job.id, out.last_stroke_executed ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
-                                                          : std::nullopt);
+    store_.set_executed(job.id, out.last_stroke_executed
+                                    ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
+                                    : std::nullopt);
     bool user_cancel;
     {
       std::lock_guard lock(mutex_);

@@ -22,8 +22,10 @@ namespace popcut::daemon {
 // device that holds the line to take the abort; the wait given up by a second cancel.
 enum class CancelStage { none, requested, waiting_for_device, giving_up };
 inline constexpr auto kCancelStageNames =
-    enum_names<CancelStage>({{CancelStage::none, "none"}, {CancelStage::requested, "requested"},
-                             {CancelStage::waiting_for_device, "waiting_for_device"}, {CancelStage::giving_up, "giving_up"}});
+    enum_names<CancelStage>({{CancelStage::none, "none"},
+                             {CancelStage::requested, "requested"},
+                             {CancelStage::waiting_for_device, "waiting_for_device"},
+                             {CancelStage::giving_up, "giving_up"}});
 const char* to_string(CancelStage stage);
 
 struct DeviceStatus {
@@ -78,7 +80,7 @@ class Daemon {
     std::atomic<bool> stop_cut{false};
     std::atomic<bool> cancel_waiting{false};  // the stop waits for the device to let the abort through
     std::atomic<bool> give_up{false};         // ... and a second cancel gave that wait up
-    bool user_cancel = false;  // guarded by mutex_: why stop_cut was set
+    bool user_cancel = false;                 // guarded by mutex_: why stop_cut was set
     // The device thread's own: until when a device paced by time may still be cutting what the
     // last job left in its buffer (no job is sent to it before).
     std::chrono::steady_clock::time_point busy_until{};

@@ -26,7 +26,8 @@ CutOutcome outcome_of(const drivers::CutResult& r, const std::string& device, bo
     out.kind = CutOutcome::Kind::stopped;
     // Given up, the sender's message says what was not sent; otherwise the line failed.
     if (!sent.abort_sent) {
-      out.error = gave_up ? sent.status.message : "the abort sequence and the knife-up did not reach the device: " + sent.status.message;
+      out.error = gave_up ? sent.status.message
+                          : "the abort sequence and the knife-up did not reach the device: " + sent.status.message;
     }
   } else if (sent.device_io_error != 0) {
     out.bytes_lost = true;
@@ -77,6 +78,8 @@ class DriversLink final : public DeviceLink {
 
 }  // namespace
 
-std::unique_ptr<DeviceLink> make_device_link(const DeviceConfig& device) { return std::make_unique<DriversLink>(device); }
+std::unique_ptr<DeviceLink> make_device_link(const DeviceConfig& device) {
+  return std::make_unique<DriversLink>(device);
+}
 
 }  // namespace popcut::daemon

@@ -18,9 +18,9 @@ struct CutOutcome {
   enum class Kind { complete, stopped, failed } kind = Kind::failed;
   std::size_t last_stroke_sent = 0;  // stroke number (from 1) of the last stroke the device certainly received
   std::optional<std::size_t> last_stroke_executed;  // the last it is known to have executed (nullopt: unknown)
-  std::string error;                 // failed: what the transport said; stopped: why the knife-up did not reach the device
-  bool abort_sent = false;           // stopped: the abort sequence and knife-up reached the device
-  std::string still_buffered;        // stopped or failed: what the device may still cut ("up to 212 bytes (strokes 5..9)")
+  std::string error;           // failed: what the transport said; stopped: why the knife-up did not reach the device
+  bool abort_sent = false;     // stopped: the abort sequence and knife-up reached the device
+  std::string still_buffered;  // stopped or failed: what the device may still cut ("up to 212 bytes (strokes 5..9)")
   // stopped by an abort that makes the device drop its buffer: last_stroke_sent is then what it
   // executed, and this says so and which strokes a resume may cut a second time ("" otherwise)
   std::string discarded;

@@ -24,7 +24,8 @@ std::vector<Route> api_routes() {
       {Method::get, R"(/api/v1/examples/([^/]+))", Access::token, takes_none(), get_example},
       {Method::get, "/api/v1/devices", Access::token, takes_none(), list_devices},
       {Method::post, R"(/api/v1/devices/([^/]+)/pause)", Access::admin, takes_none(), pause_device, "pausing a device"},
-      {Method::post, R"(/api/v1/devices/([^/]+)/resume)", Access::admin, takes_none(), resume_device, "resuming a device"},
+      {Method::post, R"(/api/v1/devices/([^/]+)/resume)", Access::admin, takes_none(), resume_device,
+       "resuming a device"},
       {Method::post, "/api/v1/jobs", Access::token, takes_none(), submit_job},
       {Method::get, "/api/v1/jobs", Access::token, takes({"limit"}), list_jobs},
       {Method::get, R"(/api/v1/jobs/(\d+))", Access::token, takes_none(), get_job},
@@ -59,7 +60,8 @@ void HttpApi::install_checks() {
   // Checked from the request line and headers alone, before a byte of the body is read; with
   // "Expect: 100-continue" before the client is told to send it.
   server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    return refuse_before_body(req, res) ? httplib::Server::HandlerResponse::Handled : httplib::Server::HandlerResponse::Unhandled;
+    return refuse_before_body(req, res) ? httplib::Server::HandlerResponse::Handled
+                                        : httplib::Server::HandlerResponse::Unhandled;
   });
   server_.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
     return refuse_before_body(req, res) ? res.status : 100;
@@ -104,22 +106,26 @@ httplib::Server::Handler HttpApi::guarded(const Route& route) {
     ++counters.requests;
     try {
       const Caller caller = route.access == Access::none ? Caller() : api_->auth(req);
-      if (route.access == Access::admin && !caller.admin()) fail(ApiError::forbidden, std::string(route.admin_action) + " needs the admin token");
+      if (route.access == Access::admin && !caller.admin())
+        fail(ApiError::forbidden, std::string(route.admin_action) + " needs the admin token");
       route.handler(*api_, caller, req, res);
     } catch (const ApiFailure& f) {
       send_error(res, f.code, f.message, f.field);
     } catch (const Error& e) {
-      const ApiError code = e.code() == ErrorCode::limit ? ApiError::model_too_complex
+      const ApiError code = e.code() == ErrorCode::limit           ? ApiError::model_too_complex
                             : e.code() == ErrorCode::invalid_input ? ApiError::bad_model
                                                                    : ApiError::internal;
       // "model: model: ..." when the field is the whole submitted model: say it once.
-      send_error(res, code, e.source() == e.location() ? e.source() + ": " + e.message() : std::string(e.what()), e.location());
+      send_error(res, code, e.source() == e.location() ? e.source() + ": " + e.message() : std::string(e.what()),
+                 e.location());
     } catch (const std::exception& e) {
       log_line("internal error on ", req.method, " ", req.path, ": ", e.what());
       send_error(res, ApiError::internal, e.what());
     }
-    if (res.status >= 500) ++counters.errors_5xx;
-    else if (res.status >= 400) ++counters.errors_4xx;
+    if (res.status >= 500)
+      ++counters.errors_5xx;
+    else if (res.status >= 400)
+      ++counters.errors_4xx;
   };
 }
 
@@ -185,8 +191,9 @@ bool HttpApi::read_body(httplib::Request& req, const httplib::ContentReader& con
   if (total > limit) {
     refuse(res, ApiError::too_large, too_large_message(limit));
   } else {
-    refuse(res, ApiError::bad_request, "the body could not be read (malformed chunked or multipart encoding, an unknown "
-                                       "Content-Encoding, or the client stopped sending)");
+    refuse(res, ApiError::bad_request,
+           "the body could not be read (malformed chunked or multipart encoding, an unknown "
+           "Content-Encoding, or the client stopped sending)");
   }
   return false;
 }

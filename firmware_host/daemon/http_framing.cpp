@@ -22,7 +22,8 @@ std::optional<std::string> coding_problem(const httplib::Request& req) {
   const std::string coding = req.get_header_value("Content-Encoding");
   if (req.get_header_value_count("Content-Encoding") > 1 ||
       !(iequals(coding, "identity") || coding == "gzip" || coding == "deflate" || coding == "br")) {
-    return "Content-Encoding: only gzip, deflate or br (in lower case) or identity is understood, not '" + coding.substr(0, 40) + "'";
+    return "Content-Encoding: only gzip, deflate or br (in lower case) or identity is understood, not '" +
+           coding.substr(0, 40) + "'";
   }
   return std::nullopt;
 }
@@ -36,7 +37,8 @@ BodyFraming read_length(const httplib::Request& req) {
     if (v.empty() || v.size() > 18 || v.find_first_not_of("0123456789") != std::string::npos) {
       return refused(ApiError::bad_request, "Content-Length must be a number of bytes, not '" + v.substr(0, 40) + "'");
     }
-    if (i > 0 && v != length) return refused(ApiError::bad_request, "two different Content-Length headers (" + length + " and " + v + ")");
+    if (i > 0 && v != length)
+      return refused(ApiError::bad_request, "two different Content-Length headers (" + length + " and " + v + ")");
     length = v;
   }
   if (!length.empty()) f.length = std::stoull(length);
@@ -46,8 +48,9 @@ BodyFraming read_length(const httplib::Request& req) {
 }  // namespace
 
 bool iequals(const std::string& a, const std::string& b) {
-  return a.size() == b.size() &&
-         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y)); });
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+         });
 }
 
 bool declares_body(const httplib::Request& req) {
@@ -57,7 +60,8 @@ bool declares_body(const httplib::Request& req) {
 
 BodyFraming read_framing(const httplib::Request& req) {
   const bool chunked = req.has_header("Transfer-Encoding");
-  if (chunked && (req.get_header_value_count("Transfer-Encoding") > 1 || !iequals(req.get_header_value("Transfer-Encoding"), "chunked"))) {
+  if (chunked && (req.get_header_value_count("Transfer-Encoding") > 1 ||
+                  !iequals(req.get_header_value("Transfer-Encoding"), "chunked"))) {
     return refused(ApiError::bad_request, "Transfer-Encoding: only 'chunked' is understood");
   }
   if (const std::optional<std::string> problem = coding_problem(req)) return refused(ApiError::bad_request, *problem);
@@ -67,12 +71,14 @@ BodyFraming read_framing(const httplib::Request& req) {
   if (chunked && f.length) return refused(ApiError::bad_request, "both Content-Length and Transfer-Encoding: send one");
   if (req.method != "POST") {
     // httplib does not read such a body: it would be parsed as the next request.
-    if (chunked || (f.length && *f.length > 0)) return refused(ApiError::bad_request, "a " + req.method + " request has no body");
+    if (chunked || (f.length && *f.length > 0))
+      return refused(ApiError::bad_request, "a " + req.method + " request has no body");
     return f;
   }
   // httplib reads a POST body without Content-Length until the client closes: a client that
   // neither sends a length nor closes would hold a thread for the whole read timeout.
-  if (!f.length && !chunked) return refused(ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
+  if (!f.length && !chunked)
+    return refused(ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
   return f;
 }
 

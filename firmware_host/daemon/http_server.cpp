@@ -64,7 +64,9 @@ class ConnectionStream : public httplib::Stream {
   // httplib has parsed the head: from here on reads wait read_timeout_s each.
   void end_head() { in_head_ = false; }
   // Bytes of the next request are here, or arrive before `deadline`.
-  bool wait_for_request(Clock::time_point deadline) const { return pos_ < len_ || wait_for(sock_, POLLIN, ms_until(deadline)); }
+  bool wait_for_request(Clock::time_point deadline) const {
+    return pos_ < len_ || wait_for(sock_, POLLIN, ms_until(deadline));
+  }
   bool failed() const { return failed_; }
   bool close_requested() const { return close_requested_; }
 

@@ -43,7 +43,8 @@ int http_status(ApiError e) {
   return 500;
 }
 
-std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting, std::vector<ForecastDevice> devices) {
+std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting,
+                                                         std::vector<ForecastDevice> devices) {
   std::unordered_map<std::int64_t, double> done_s;
   for (const WaitingJob& w : waiting) {
     ForecastDevice* first = nullptr;
@@ -57,11 +58,15 @@ std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<Waiti
   return done_s;
 }
 
-double unix_now_s() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+double unix_now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
 
 double cut_left_s(const Job& j, double time_factor, double run_started_s, double now_s) {
   if (j.strokes_total <= 0) return j.est_time_s * time_factor;
-  const auto share_after = [&](std::int64_t strokes) { return 1.0 - static_cast<double>(strokes) / static_cast<double>(j.strokes_total); };
+  const auto share_after = [&](std::int64_t strokes) {
+    return 1.0 - static_cast<double>(strokes) / static_cast<double>(j.strokes_total);
+  };
   const double run_s = j.est_time_s * time_factor * share_after(j.resume_from);
   const double by_strokes = j.est_time_s * time_factor * share_after(std::max(j.strokes_sent, j.resume_from));
   const double by_time = run_s - std::max(0.0, now_s - run_started_s);

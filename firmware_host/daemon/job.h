@@ -14,9 +14,14 @@ namespace popcut::daemon {
 
 // Life of a job (docs/api.md "Job states"). Terminal: done, failed, cancelled.
 enum class JobState { queued, planning, ready, cutting, done, failed, cancelled, interrupted };
-inline constexpr auto kJobStateNames = enum_names<JobState>(
-    {{JobState::queued, "queued"}, {JobState::planning, "planning"}, {JobState::ready, "ready"}, {JobState::cutting, "cutting"},
-     {JobState::done, "done"}, {JobState::failed, "failed"}, {JobState::cancelled, "cancelled"}, {JobState::interrupted, "interrupted"}});
+inline constexpr auto kJobStateNames = enum_names<JobState>({{JobState::queued, "queued"},
+                                                             {JobState::planning, "planning"},
+                                                             {JobState::ready, "ready"},
+                                                             {JobState::cutting, "cutting"},
+                                                             {JobState::done, "done"},
+                                                             {JobState::failed, "failed"},
+                                                             {JobState::cancelled, "cancelled"},
+                                                             {JobState::interrupted, "interrupted"}});
 const char* to_string(JobState state);
 std::optional<JobState> parse_job_state(const std::string& text);
 bool is_terminal(JobState state);
@@ -32,34 +37,46 @@ std::optional<ResumePoint> parse_resume_point(const std::string& text);
 
 // Stable error codes (grbl-style catalogue): HTTP answers and failed jobs carry one of these.
 enum class ApiError {
-  bad_json,          // 400: the body is not JSON
-  bad_request,       // 400: a field is missing, of the wrong type or out of range
-  bad_model,         // 422: the model is not a valid popcut model (message names the field)
-  model_too_complex, // 413: the model exceeds [limits] model_cells or pattern_faces
-  too_large,         // 413: the body exceeds [limits] upload_bytes
-  bad_name,          // 400: a job or device name with path or shell structure in it
-  unauthorized,      // 401: no token, or a token the daemon does not know
-  forbidden,         // 403: the token may not do this (another's job, an admin action)
-  not_found,         // 404: no such job, device or file
-  conflict,          // 409: the job is not in a state that allows this (e.g. resume a done job)
-  queue_full,        // 503: [limits] queue_length unfinished jobs already
-  no_device,         // 422: no device of that name, or none with that profile
-  length_required,   // 411: a POST without Content-Length (or chunked encoding)
-  method_not_allowed, // 405: the path exists, not with this method (Allow lists those it has)
-  busy,              // 503: every preview-rendering slot is in use; retry shortly
-  device_error,      // job only: the transport failed mid-cut
-  cancelled,         // job only: cancelled by its owner or an admin (before or during the cut)
-  interrupted,       // job only: popcutd stopped (SIGTERM, crash) during the cut; resumable
-  internal,          // 500: a bug in popcutd
+  bad_json,            // 400: the body is not JSON
+  bad_request,         // 400: a field is missing, of the wrong type or out of range
+  bad_model,           // 422: the model is not a valid popcut model (message names the field)
+  model_too_complex,   // 413: the model exceeds [limits] model_cells or pattern_faces
+  too_large,           // 413: the body exceeds [limits] upload_bytes
+  bad_name,            // 400: a job or device name with path or shell structure in it
+  unauthorized,        // 401: no token, or a token the daemon does not know
+  forbidden,           // 403: the token may not do this (another's job, an admin action)
+  not_found,           // 404: no such job, device or file
+  conflict,            // 409: the job is not in a state that allows this (e.g. resume a done job)
+  queue_full,          // 503: [limits] queue_length unfinished jobs already
+  no_device,           // 422: no device of that name, or none with that profile
+  length_required,     // 411: a POST without Content-Length (or chunked encoding)
+  method_not_allowed,  // 405: the path exists, not with this method (Allow lists those it has)
+  busy,                // 503: every preview-rendering slot is in use; retry shortly
+  device_error,        // job only: the transport failed mid-cut
+  cancelled,           // job only: cancelled by its owner or an admin (before or during the cut)
+  interrupted,         // job only: popcutd stopped (SIGTERM, crash) during the cut; resumable
+  internal,            // 500: a bug in popcutd
 };
 inline constexpr auto kApiErrorNames = enum_names<ApiError>({
-    {ApiError::bad_json, "bad_json"}, {ApiError::bad_request, "bad_request"}, {ApiError::bad_model, "bad_model"},
-    {ApiError::model_too_complex, "model_too_complex"}, {ApiError::too_large, "too_large"}, {ApiError::bad_name, "bad_name"},
-    {ApiError::unauthorized, "unauthorized"}, {ApiError::forbidden, "forbidden"}, {ApiError::not_found, "not_found"},
-    {ApiError::conflict, "conflict"}, {ApiError::queue_full, "queue_full"}, {ApiError::no_device, "no_device"},
-    {ApiError::length_required, "length_required"}, {ApiError::method_not_allowed, "method_not_allowed"},
-    {ApiError::busy, "busy"}, {ApiError::device_error, "device_error"}, {ApiError::cancelled, "cancelled"},
-    {ApiError::interrupted, "interrupted"}, {ApiError::internal, "internal"},
+    {ApiError::bad_json, "bad_json"},
+    {ApiError::bad_request, "bad_request"},
+    {ApiError::bad_model, "bad_model"},
+    {ApiError::model_too_complex, "model_too_complex"},
+    {ApiError::too_large, "too_large"},
+    {ApiError::bad_name, "bad_name"},
+    {ApiError::unauthorized, "unauthorized"},
+    {ApiError::forbidden, "forbidden"},
+    {ApiError::not_found, "not_found"},
+    {ApiError::conflict, "conflict"},
+    {ApiError::queue_full, "queue_full"},
+    {ApiError::no_device, "no_device"},
+    {ApiError::length_required, "length_required"},
+    {ApiError::method_not_allowed, "method_not_allowed"},
+    {ApiError::busy, "busy"},
+    {ApiError::device_error, "device_error"},
+    {ApiError::cancelled, "cancelled"},
+    {ApiError::interrupted, "interrupted"},
+    {ApiError::internal, "internal"},
 });
 const char* to_string(ApiError error);
 int http_status(ApiError error);
@@ -89,7 +106,8 @@ struct ForecastDevice {
   double time_factor = 1;  // wall-clock seconds per planned second (a simulated cutter's time scale)
   double busy_s = 0;       // what its cut in progress has left
 };
-std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting, std::vector<ForecastDevice> devices);
+std::unordered_map<std::int64_t, double> forecast_done_s(const std::vector<WaitingJob>& waiting,
+                                                         std::vector<ForecastDevice> devices);
 
 // Wall-clock seconds a cut in progress has left, at the least: the strokes not yet sent, and the
 // part of this run's estimate not yet elapsed. Strokes alone say 0 once a small job sits whole in
@@ -99,11 +117,11 @@ double cut_left_s(const Job& job, double time_factor, double run_started_s, doub
 
 struct Job {
   std::int64_t id = 0;
-  std::string owner;          // token name that submitted it
-  std::string name;           // the user's label
-  std::string target_device;  // empty: any device with target_profile
-  std::string target_profile; // the profile's device name (DeviceProfile::name)
-  std::string device;         // the device that cut (or is cutting) it
+  std::string owner;           // token name that submitted it
+  std::string name;            // the user's label
+  std::string target_device;   // empty: any device with target_profile
+  std::string target_profile;  // the profile's device name (DeviceProfile::name)
+  std::string device;          // the device that cut (or is cutting) it
   JobState state = JobState::queued;
   std::string error_code, error_message;
   std::int64_t strokes_total = 0, strokes_sent = 0;  // strokes_sent: fully sent to the device

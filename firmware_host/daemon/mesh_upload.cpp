@@ -22,8 +22,8 @@ struct TempFile {
 };
 
 // The form's parts sorted out: the mesh, the route's own fields, import options; anything else refused.
-const httplib::MultipartFormData& sort_parts(const httplib::Request& req, const std::vector<std::string>& fields, MeshUpload& u,
-                                             std::vector<std::pair<std::string, std::string>>& options) {
+const httplib::MultipartFormData& sort_parts(const httplib::Request& req, const std::vector<std::string>& fields,
+                                             MeshUpload& u, std::vector<std::pair<std::string, std::string>>& options) {
   const httplib::MultipartFormData* mesh = nullptr;
   for (const auto& [key, part] : req.files) {
     if (key == "mesh") {
@@ -45,7 +45,8 @@ const httplib::MultipartFormData& sort_parts(const httplib::Request& req, const 
     }
   }
   if (!mesh) fail(ApiError::bad_request, "missing the 'mesh' file part (curl: -F mesh=@FILE)", "mesh");
-  if (mesh->filename.empty()) fail(ApiError::bad_request, "'mesh' must be a file part, not a value (curl: -F mesh=@FILE)", "mesh");
+  if (mesh->filename.empty())
+    fail(ApiError::bad_request, "'mesh' must be a file part, not a value (curl: -F mesh=@FILE)", "mesh");
   return *mesh;
 }
 
@@ -59,7 +60,10 @@ MeshUpload import_upload(ApiContext& api, const httplib::Request& req, const std
   // Only its extension (the format) and stem (the job's default name) are used, never as a path:
   // a job name's rules (any script, no '/', '\\', '..', control characters).
   if (!is_job_label(u.filename)) {
-    fail(ApiError::bad_name, "mesh file names are 1 to 64 characters of text in any script, without control characters, '/', '\\', '..', a leading '.' or a space at either end", "mesh");
+    fail(ApiError::bad_name,
+         "mesh file names are 1 to 64 characters of text in any script, without control characters, '/', '\\', '..', a "
+         "leading '.' or a space at either end",
+         "mesh");
   }
   const DaemonConfig& config = api.daemon().config();
   try {
@@ -67,7 +71,8 @@ MeshUpload import_upload(ApiContext& api, const httplib::Request& req, const std
     request.options.max_cells = config.limits.model_cells;
     request.options.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
     // The importer reads files and picks the format by the extension: the upload's own.
-    TempFile tmp{fs::path(config.data_dir) / "tmp" / ("upload-" + std::to_string(api.next_upload()) + fs::path(u.filename).extension().string())};
+    TempFile tmp{fs::path(config.data_dir) / "tmp" /
+                 ("upload-" + std::to_string(api.next_upload()) + fs::path(u.filename).extension().string())};
     fs::create_directories(tmp.path.parent_path());
     write_text_file(tmp.path.string(), [&](std::ostream& o) { o << mesh.content; });
     u.imported = import_mesh_file(tmp.path.string(), request, u.filename, config.limits.mesh_triangles);
@@ -78,7 +83,10 @@ MeshUpload import_upload(ApiContext& api, const httplib::Request& req, const std
     // "mesh", the message naming the place: "line 3", "face 1"), either over a limit 413.
     const bool option = e.location().rfind("--", 0) == 0;
     const std::string field = option ? e.location().substr(2) : "mesh";
-    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : option ? ApiError::bad_request : ApiError::bad_model, e.what(), field);
+    fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex
+         : option                     ? ApiError::bad_request
+                                      : ApiError::bad_model,
+         e.what(), field);
   }
   return u;
 }

@@ -11,7 +11,8 @@ std::string metrics_text(const MetricsSample& m) {
   for (const auto& [state, n] : m.jobs_by_state) o << "popcutd_jobs{state=\"" << state << "\"} " << n << "\n";
   o << "# HELP popcutd_http_requests_total API requests answered.\n# TYPE popcutd_http_requests_total counter\n"
     << "popcutd_http_requests_total " << m.requests << "\n"
-    << "# HELP popcutd_http_errors_total Requests answered with an error, by class.\n# TYPE popcutd_http_errors_total counter\n"
+    << "# HELP popcutd_http_errors_total Requests answered with an error, by class.\n# TYPE popcutd_http_errors_total "
+       "counter\n"
     << "popcutd_http_errors_total{class=\"4xx\"} " << m.errors_4xx << "\n"
     << "popcutd_http_errors_total{class=\"5xx\"} " << m.errors_5xx << "\n"
     << "# HELP popcutd_jobs_submitted_total Jobs accepted since start.\n# TYPE popcutd_jobs_submitted_total counter\n"
@@ -19,9 +20,11 @@ std::string metrics_text(const MetricsSample& m) {
     << "# HELP popcutd_cuts_completed_total Cuts finished since start.\n# TYPE popcutd_cuts_completed_total counter\n"
     << "popcutd_cuts_completed_total " << m.cuts_completed << "\n"
     << "# HELP popcutd_device_busy 1 while the device cuts.\n# TYPE popcutd_device_busy gauge\n";
-  for (const MetricsSample::Device& d : m.devices) o << "popcutd_device_busy{device=\"" << d.name << "\"} " << (d.busy ? 1 : 0) << "\n";
+  for (const MetricsSample::Device& d : m.devices)
+    o << "popcutd_device_busy{device=\"" << d.name << "\"} " << (d.busy ? 1 : 0) << "\n";
   o << "# HELP popcutd_device_paused 1 while an admin holds the device.\n# TYPE popcutd_device_paused gauge\n";
-  for (const MetricsSample::Device& d : m.devices) o << "popcutd_device_paused{device=\"" << d.name << "\"} " << (d.paused ? 1 : 0) << "\n";
+  for (const MetricsSample::Device& d : m.devices)
+    o << "popcutd_device_paused{device=\"" << d.name << "\"} " << (d.paused ? 1 : 0) << "\n";
   o << "# HELP popcutd_uptime_seconds Seconds since popcutd started.\n# TYPE popcutd_uptime_seconds gauge\n"
     << "popcutd_uptime_seconds " << m.uptime_s << "\n";
   return o.str();

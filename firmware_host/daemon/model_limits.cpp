@@ -12,15 +12,17 @@ AnyModel checked_model(const std::string& text, const std::string& source, const
   if (const VoxelModel* v = std::get_if<VoxelModel>(&m)) {
     const long long cells = static_cast<long long>(v->width) * v->depth * v->height;
     if (cells > limits.model_cells) {
-      throw Error(ErrorCode::limit, source, "model", std::to_string(cells) + " voxel cells; this daemon takes at most " +
-                                                         std::to_string(limits.model_cells) + " ([limits] model_cells)");
+      throw Error(ErrorCode::limit, source, "model",
+                  std::to_string(cells) + " voxel cells; this daemon takes at most " +
+                      std::to_string(limits.model_cells) + " ([limits] model_cells)");
     }
   } else {
     const FaceModel& f = std::get<FaceModel>(m);
     const std::size_t n = f.has_edit_history() ? f.edits().size() : f.face_count();
     if (n > static_cast<std::size_t>(limits.pattern_faces)) {
-      throw Error(ErrorCode::limit, source, "model", std::to_string(n) + " edits or faces; this daemon takes at most " +
-                                                         std::to_string(limits.pattern_faces) + " ([limits] pattern_faces)");
+      throw Error(ErrorCode::limit, source, "model",
+                  std::to_string(n) + " edits or faces; this daemon takes at most " +
+                      std::to_string(limits.pattern_faces) + " ([limits] pattern_faces)");
     }
   }
   return m;
@@ -30,8 +32,9 @@ Pattern checked_pattern(const std::string& text, const std::string& source, cons
   const AnyModel m = checked_model(text, source, limits);
   Pattern p = make_pattern(m, source);
   if (p.faces.size() > static_cast<std::size_t>(limits.pattern_faces)) {
-    throw Error(ErrorCode::limit, source, "model", "the pattern has " + std::to_string(p.faces.size()) +
-                                                       " faces; this daemon takes at most " + std::to_string(limits.pattern_faces));
+    throw Error(ErrorCode::limit, source, "model",
+                "the pattern has " + std::to_string(p.faces.size()) + " faces; this daemon takes at most " +
+                    std::to_string(limits.pattern_faces));
   }
   if (const FaceModel* f = std::get_if<FaceModel>(&m)) require_attached(*f, p, check_popup(p), source);
   return p;

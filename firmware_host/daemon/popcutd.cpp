@@ -102,22 +102,26 @@ void configure_server(HttpServer& server, const DaemonConfig& config) {
 
 void report_listen_failure(const DaemonConfig& config, int why) {
   std::cerr << "popcutd: error: cannot listen on " << config.listen << ":" << config.port
-            << (why ? std::string(": ") + std::strerror(why) : std::string(": the host name does not resolve to an address of this machine"))
+            << (why ? std::string(": ") + std::strerror(why)
+                    : std::string(": the host name does not resolve to an address of this machine"))
             << (why == EADDRINUSE ? " (another popcutd or program has the port; [server] port sets another)" : "")
-            << (why == EADDRNOTAVAIL ? " (no interface of this machine has that address; [server] listen)" : "") << "\n";
+            << (why == EADDRNOTAVAIL ? " (no interface of this machine has that address; [server] listen)" : "")
+            << "\n";
 }
 
 void report_listening(const DaemonConfig& config, int bound) {
   // One line for scripts and tests that asked for port 0.
   // An IPv6 address goes in brackets in a URL (RFC 3986): http://[::1]:8742.
   const bool v6 = config.listen.find(':') != std::string::npos;
-  std::cout << "popcutd: listening on http://" << (v6 ? "[" + config.listen + "]" : config.listen) << ":" << bound << std::endl;
+  std::cout << "popcutd: listening on http://" << (v6 ? "[" + config.listen + "]" : config.listen) << ":" << bound
+            << std::endl;
   log_line("data in ", config.data_dir, "; ", config.devices.size(), " devices");
   // The kernel takes a larger backlog silently as its cap: say so, since bursts beyond it wait 1 s.
   if (std::ifstream cap_file("/proc/sys/net/core/somaxconn"); cap_file) {
     int cap = 0;
     if (cap_file >> cap && cap < config.listen_backlog) {
-      log_line("[server] listen_backlog ", config.listen_backlog, " is capped at ", cap, " by net.core.somaxconn (sysctl)");
+      log_line("[server] listen_backlog ", config.listen_backlog, " is capped at ", cap,
+               " by net.core.somaxconn (sysctl)");
     }
   }
 }
@@ -174,8 +178,8 @@ int run_popcutd(int argc, char** argv) {
     return 3;
   }
   if (const auto r = daemon->recovered(); r.interrupted + r.requeued > 0) {
-    log_line("recovered after an unclean stop: ", r.interrupted, " cutting -> interrupted (resume when asked), ", r.requeued,
-             " planning -> queued (planned again)");
+    log_line("recovered after an unclean stop: ", r.interrupted, " cutting -> interrupted (resume when asked), ",
+             r.requeued, " planning -> queued (planned again)");
   }
   return serve(config, *daemon, stop_signals);
 }

@@ -24,7 +24,8 @@ RouteTable::RouteTable(std::vector<Route> routes) : routes_(std::move(routes)) {
 
 RouteTable::~RouteTable() = default;
 
-std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const std::string& path, const httplib::Params& params) const {
+std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const std::string& path,
+                                                const httplib::Params& params) const {
   bool has_get = false, has_post = false;
   const Route* routed = nullptr;
   const Method asked = method == "POST" ? Method::post : Method::get;
@@ -36,7 +37,9 @@ std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const
   }
   const std::string allow = has_get && has_post ? "GET, HEAD, POST" : has_get ? "GET, HEAD" : has_post ? "POST" : "";
   if (allow.empty()) return RouteRefusal{ApiError::not_found, "no such resource: " + path, ""};
-  if (!routed) return RouteRefusal{ApiError::method_not_allowed, method + " is not allowed on " + path + " (Allow: " + allow + ")", allow};
+  if (!routed)
+    return RouteRefusal{ApiError::method_not_allowed, method + " is not allowed on " + path + " (Allow: " + allow + ")",
+                        allow};
   // Query parameters the API does not take are refused, not ignored (?zoom=2 is a typo or a
   // client expecting something popcutd does not do).
   if (!routed->query.checked) return std::nullopt;
@@ -44,7 +47,8 @@ std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const
   for (const auto& [key, value] : params) {
     if (std::find(names.begin(), names.end(), key) != names.end()) continue;
     const std::string takes = names.empty() ? "none" : or_list(names);
-    return RouteRefusal{ApiError::bad_request, "unknown query parameter '" + key.substr(0, 40) + "' (this takes " + takes + ")", ""};
+    return RouteRefusal{ApiError::bad_request,
+                        "unknown query parameter '" + key.substr(0, 40) + "' (this takes " + takes + ")", ""};
   }
   return std::nullopt;
 }

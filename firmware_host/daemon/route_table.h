@@ -28,7 +28,8 @@ inline Query takes(std::vector<std::string_view> names) { return {true, std::mov
 inline Query takes_none() { return {}; }
 inline Query any_query() { return {false, {}}; }
 
-using RouteHandler = void (*)(ApiContext& api, const Caller& caller, const httplib::Request& req, httplib::Response& res);
+using RouteHandler = void (*)(ApiContext& api, const Caller& caller, const httplib::Request& req,
+                              httplib::Response& res);
 
 struct Route {
   Method method;
@@ -55,7 +56,8 @@ class RouteTable {
   // A path no route has is 404 whatever the method; a method the path does not take is 405
   // with Allow (HEAD goes with GET), for PUT, PATCH, DELETE and OPTIONS as for GET and POST;
   // a query parameter the route does not take is 400. nullopt: a route takes the request.
-  std::optional<RouteRefusal> refusal(const std::string& method, const std::string& path, const httplib::Params& params) const;
+  std::optional<RouteRefusal> refusal(const std::string& method, const std::string& path,
+                                      const httplib::Params& params) const;
 
  private:
   std::vector<Route> routes_;

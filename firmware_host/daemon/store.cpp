@@ -1,4 +1,5 @@
-// SQLite job store: schema, WAL with synchronous=NORMAL, each transition as one guarded UPDATE, reads on their own connections.
+// SQLite job store: schema, WAL with synchronous=NORMAL, each transition as one guarded UPDATE, reads on their own
+// connections.
 #include "store.h"
 
 #include <sqlite3.h>
@@ -26,8 +27,10 @@ class Stmt {
     return *this;
   }
   Stmt& bind(int i, std::optional<std::int64_t> v) {
-    if (v) sqlite3_bind_int64(st_, i, *v);
-    else sqlite3_bind_null(st_, i);
+    if (v)
+      sqlite3_bind_int64(st_, i, *v);
+    else
+      sqlite3_bind_null(st_, i);
     return *this;
   }
   Stmt& bind(int i, double v) {
@@ -53,7 +56,8 @@ class Stmt {
   double real(int col) const { return sqlite3_column_double(st_, col); }
   std::string text(int col) const {
     const unsigned char* t = sqlite3_column_text(st_, col);
-    return t ? std::string(reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(st_, col))) : "";
+    return t ? std::string(reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(st_, col)))
+             : "";
   }
 
  private:
@@ -66,7 +70,8 @@ class Stmt {
 
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
-    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, resume_point";
+    "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
+    "resume_point";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -92,7 +97,9 @@ Job read_job(const Stmt& s) {
   return j;
 }
 
-std::string select_jobs(const std::string& where) { return std::string("SELECT ") + kJobColumns + " FROM jobs " + where; }
+std::string select_jobs(const std::string& where) {
+  return std::string("SELECT ") + kJobColumns + " FROM jobs " + where;
+}
 
 }  // namespace
 
@@ -100,7 +107,8 @@ namespace {
 
 sqlite3* open_db(const std::string& path) {
   sqlite3* db = nullptr;
-  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr) != SQLITE_OK) {
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr) !=
+      SQLITE_OK) {
     const std::string msg = db ? sqlite3_errmsg(db) : "out of memory";
     sqlite3_close(db);
     throw Error(ErrorCode::io, path, "", "cannot open the job database: " + msg);
@@ -122,15 +130,16 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
     // consistent (never corrupt). FULL paid one fsync per state change, serialised behind one
     // lock: p99 627 ms at 32 clients (bench/popcutd_bench). docs/api.md "Durability".
     exec("PRAGMA synchronous=NORMAL");
-    exec("CREATE TABLE IF NOT EXISTS jobs ("
-         " id INTEGER PRIMARY KEY AUTOINCREMENT, owner TEXT NOT NULL, name TEXT NOT NULL,"
-         " target_device TEXT NOT NULL, target_profile TEXT NOT NULL, device TEXT NOT NULL DEFAULT '',"
-         " state TEXT NOT NULL, error_code TEXT NOT NULL DEFAULT '', error_message TEXT NOT NULL DEFAULT '',"
-         " strokes_total INTEGER NOT NULL DEFAULT 0, strokes_sent INTEGER NOT NULL DEFAULT 0,"
-         " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
-         " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
-         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0, strokes_executed INTEGER,"
-         " resume_point TEXT)");
+    exec(
+        "CREATE TABLE IF NOT EXISTS jobs ("
+        " id INTEGER PRIMARY KEY AUTOINCREMENT, owner TEXT NOT NULL, name TEXT NOT NULL,"
+        " target_device TEXT NOT NULL, target_profile TEXT NOT NULL, device TEXT NOT NULL DEFAULT '',"
+        " state TEXT NOT NULL, error_code TEXT NOT NULL DEFAULT '', error_message TEXT NOT NULL DEFAULT '',"
+        " strokes_total INTEGER NOT NULL DEFAULT 0, strokes_sent INTEGER NOT NULL DEFAULT 0,"
+        " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
+        " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
+        " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0, strokes_executed INTEGER,"
+        " resume_point TEXT)");
     // A database from before strokes_executed: the column is added, unknown (NULL) for old jobs.
     if (!has_column("jobs", "strokes_executed")) exec("ALTER TABLE jobs ADD COLUMN strokes_executed INTEGER");
     // From before resume_point: old jobs resumed only after the strokes received, but whether
@@ -183,8 +192,10 @@ void JobStore::exec(const char* sql) {
 JobStore::Recovered JobStore::recover() {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
-  Stmt(db_, "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, error_code='interrupted',"
-            " error_message='popcutd stopped without a clean shutdown during the cut' WHERE state='cutting'").step();
+  Stmt(db_,
+       "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, error_code='interrupted',"
+       " error_message='popcutd stopped without a clean shutdown during the cut' WHERE state='cutting'")
+      .step();
   Recovered r;
   r.interrupted = sqlite3_changes(db_);
   Stmt(db_, "UPDATE jobs SET state='queued' WHERE state='planning'").step();
@@ -203,8 +214,15 @@ std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length)
       exec("ROLLBACK");
       return std::nullopt;
     }
-    Stmt ins(db_, "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES (?,?,?,?,'queued',?)");
-    ins.bind(1, nj.owner).bind(2, nj.name).bind(3, nj.target_device).bind(4, nj.target_profile).bind(5, unix_now_s()).step();
+    Stmt ins(
+        db_,
+        "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES (?,?,?,?,'queued',?)");
+    ins.bind(1, nj.owner)
+        .bind(2, nj.name)
+        .bind(3, nj.target_device)
+        .bind(4, nj.target_profile)
+        .bind(5, unix_now_s())
+        .step();
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();
     exec("COMMIT");
@@ -233,7 +251,9 @@ std::optional<std::string> JobStore::model_json(std::int64_t id) {
 
 std::vector<Job> JobStore::list(const std::string& owner, int limit) {
   auto [db, lock] = reader();
-  Stmt s(db, select_jobs(owner.empty() ? "WHERE ?1='' ORDER BY id DESC LIMIT ?2" : "WHERE owner=?1 ORDER BY id DESC LIMIT ?2").c_str());
+  Stmt s(db, select_jobs(owner.empty() ? "WHERE ?1='' ORDER BY id DESC LIMIT ?2"
+                                       : "WHERE owner=?1 ORDER BY id DESC LIMIT ?2")
+                 .c_str());
   s.bind(1, owner).bind(2, static_cast<std::int64_t>(limit));
   std::vector<Job> out;
   while (s.step()) out.push_back(read_job(s));
@@ -251,7 +271,8 @@ static const char* kAheadWhere =
     " = '') AND target_profile = ?3))";
 // Cutting time left of a job: the share of its strokes not yet cut (after resume_from, if resumed).
 static const char* kLeftS =
-    "est_time_s * (CASE WHEN strokes_total > 0 THEN 1.0 - MAX(strokes_sent, resume_from) * 1.0 / strokes_total ELSE 1.0 END)";
+    "est_time_s * (CASE WHEN strokes_total > 0 THEN 1.0 - MAX(strokes_sent, resume_from) * 1.0 / strokes_total ELSE "
+    "1.0 END)";
 
 int JobStore::place_in_line(const Job& j) {
   auto [db, lock] = reader();
@@ -264,7 +285,8 @@ int JobStore::place_in_line(const Job& j) {
 std::vector<WaitingJob> JobStore::waiting() {
   auto [db, lock] = reader();
   Stmt s(db, (std::string("SELECT id, " POPCUT_JOB_DEVICE ", target_profile, ") + kLeftS +
-              " FROM jobs WHERE state IN ('queued','planning','ready') ORDER BY id").c_str());
+              " FROM jobs WHERE state IN ('queued','planning','ready') ORDER BY id")
+                 .c_str());
   std::vector<WaitingJob> out;
   while (s.step()) out.push_back({s.integer(0), {s.text(1), s.text(2)}, s.real(3)});
   return out;
@@ -301,7 +323,10 @@ std::optional<Job> JobStore::claim_for_planning() {
 void JobStore::set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s) {
   std::lock_guard lock(mutex_);
   Stmt(db_, "UPDATE jobs SET state='ready', strokes_total=?, est_time_s=? WHERE id=? AND state='planning'")
-      .bind(1, strokes_total).bind(2, est_time_s).bind(3, id).step();
+      .bind(1, strokes_total)
+      .bind(2, est_time_s)
+      .bind(3, id)
+      .step();
 }
 
 std::optional<Job> JobStore::claim_for_device(const std::string& device, const std::string& profile_name) {
@@ -310,7 +335,8 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
   try {
     // A resumed job goes back to the device holding its half-cut sheet, and only there.
     Stmt s(db_, select_jobs("WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
-                            "='' AND target_profile=?2)) ORDER BY id LIMIT 1").c_str());
+                            "='' AND target_profile=?2)) ORDER BY id LIMIT 1")
+                    .c_str());
     s.bind(1, device).bind(2, profile_name);
     if (!s.step()) {
       exec("COMMIT");
@@ -318,7 +344,11 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
     }
     Job j = read_job(s);
     j.started_at = j.started_at > 0 ? j.started_at : unix_now_s();
-    Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL WHERE id=?").bind(1, device).bind(2, j.started_at).bind(3, j.id).step();
+    Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL WHERE id=?")
+        .bind(1, device)
+        .bind(2, j.started_at)
+        .bind(3, j.id)
+        .step();
     exec("COMMIT");
     j.state = JobState::cutting;
     j.device = device;
@@ -336,24 +366,38 @@ void JobStore::set_progress(std::int64_t id, std::int64_t strokes_sent) {
 
 void JobStore::set_executed(std::int64_t id, std::optional<std::int64_t> strokes_executed) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET strokes_executed=? WHERE id=? AND state='cutting'").bind(1, strokes_executed).bind(2, id).step();
+  Stmt(db_, "UPDATE jobs SET strokes_executed=? WHERE id=? AND state='cutting'")
+      .bind(1, strokes_executed)
+      .bind(2, id)
+      .step();
 }
 
-void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message, bool sim_match) {
+void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message,
+                      bool sim_match) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
-            " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END"
-            " WHERE id=? AND state IN ('planning','cutting')")
-      .bind(1, std::string(to_string(state))).bind(2, code).bind(3, message)
-      .bind(4, is_terminal(state) ? unix_now_s() : 0.0).bind(5, static_cast<std::int64_t>(sim_match)).bind(6, id).step();
+  Stmt(db_,
+       "UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
+       " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END"
+       " WHERE id=? AND state IN ('planning','cutting')")
+      .bind(1, std::string(to_string(state)))
+      .bind(2, code)
+      .bind(3, message)
+      .bind(4, is_terminal(state) ? unix_now_s() : 0.0)
+      .bind(5, static_cast<std::int64_t>(sim_match))
+      .bind(6, id)
+      .step();
 }
 
 CancelResult JobStore::cancel(std::int64_t id) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET state='cancelled', finished_at=?, error_code='cancelled',"
-            " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut' ELSE 'cancelled before the cut' END"
-            " WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
-      .bind(1, unix_now_s()).bind(2, id).step();
+  Stmt(db_,
+       "UPDATE jobs SET state='cancelled', finished_at=?, error_code='cancelled',"
+       " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut' ELSE "
+       "'cancelled before the cut' END"
+       " WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
+      .bind(1, unix_now_s())
+      .bind(2, id)
+      .step();
   if (sqlite3_changes(db_) > 0) return CancelResult::cancelled;
   Stmt(db_, "UPDATE jobs SET cancel_requested=1 WHERE id=? AND state='cutting'").bind(1, id).step();
   if (sqlite3_changes(db_) > 0) return CancelResult::requested;
@@ -372,13 +416,19 @@ bool JobStore::cancel_requested(std::int64_t id) {
 ResumeResult JobStore::resume(std::int64_t id, ResumePoint from) {
   std::lock_guard lock(mutex_);
   if (from == ResumePoint::executed) {
-    Stmt(db_, "UPDATE jobs SET state='ready', resume_from=strokes_executed, strokes_sent=strokes_executed, resume_point='executed',"
-              " error_code='', error_message='' WHERE id=? AND state='interrupted' AND strokes_executed IS NOT NULL")
-        .bind(1, id).step();
+    Stmt(db_,
+         "UPDATE jobs SET state='ready', resume_from=strokes_executed, strokes_sent=strokes_executed, "
+         "resume_point='executed',"
+         " error_code='', error_message='' WHERE id=? AND state='interrupted' AND strokes_executed IS NOT NULL")
+        .bind(1, id)
+        .step();
   } else {
-    Stmt(db_, "UPDATE jobs SET state='ready', resume_from=strokes_sent, resume_point='received', error_code='', error_message=''"
-              " WHERE id=? AND state='interrupted'")
-        .bind(1, id).step();
+    Stmt(db_,
+         "UPDATE jobs SET state='ready', resume_from=strokes_sent, resume_point='received', error_code='', "
+         "error_message=''"
+         " WHERE id=? AND state='interrupted'")
+        .bind(1, id)
+        .step();
   }
   if (sqlite3_changes(db_) > 0) return ResumeResult::resumed;
   Stmt s(db_, "SELECT 1 FROM jobs WHERE id=? AND state='interrupted'");
@@ -389,7 +439,9 @@ ResumeResult JobStore::resume(std::int64_t id, ResumePoint from) {
 void JobStore::set_paused(const std::string& device, bool paused) {
   std::lock_guard lock(mutex_);
   Stmt(db_, "INSERT INTO devices (name, paused) VALUES (?,?) ON CONFLICT(name) DO UPDATE SET paused=excluded.paused")
-      .bind(1, device).bind(2, static_cast<std::int64_t>(paused)).step();
+      .bind(1, device)
+      .bind(2, static_cast<std::int64_t>(paused))
+      .step();
 }
 
 bool JobStore::paused(const std::string& device) {

@@ -67,7 +67,8 @@ TEST(CutSession, ResumedCutIsHeldAgainstThePlanFromItsFirstStroke) {
 TEST(CutSession, PlainFileGetsTheJobUnpacedAndIsNotJudged) {
   const DeviceProfile p = sim_profile();
   const StrokePlan plan = townhouse_plan(p);
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / ("cut_session_" + std::to_string(::getpid()) + ".hpgl");
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("cut_session_" + std::to_string(::getpid()) + ".hpgl");
   CutSession session("file:" + path.string(), p);
   ASSERT_TRUE(session.made().ok()) << session.made().message;
   EXPECT_TRUE(session.plain_file());
@@ -204,14 +205,18 @@ TEST(SendReport, StrokePositionsAndWhatIsStillBuffered) {
   sent.last_stroke_sent = 7;
   sent.last_stroke_written = 9;
   sent.received_counted_by = ReceivedCountedBy::status_answers;
-  EXPECT_EQ(counts_brief(sent), "last stroke known executed unknown, last stroke certainly received 7 of 20, last written 9");
-  EXPECT_EQ(counts_text(sent), "last stroke known executed unknown (the device did not say), last stroke certainly received 7 of 20 "
-                                        "(confirmed by the device's answers), last stroke written 9");
+  EXPECT_EQ(counts_brief(sent),
+            "last stroke known executed unknown, last stroke certainly received 7 of 20, last written 9");
+  EXPECT_EQ(counts_text(sent),
+            "last stroke known executed unknown (the device did not say), last stroke certainly received 7 of 20 "
+            "(confirmed by the device's answers), last stroke written 9");
   sent.last_stroke_executed = 4;
   sent.bytes_sent = 300;
   EXPECT_EQ(resume_advice(sent),
-            "; if the device still holds its buffer and goes on cutting, finish with the same command and --resume-from 8 (strokes 8..9 "
-            "may have been cut already and are then cut a second time); if it was reset or power-cycled, or lost its buffer, use "
+            "; if the device still holds its buffer and goes on cutting, finish with the same command and "
+            "--resume-from 8 (strokes 8..9 "
+            "may have been cut already and are then cut a second time); if it was reset or power-cycled, or lost its "
+            "buffer, use "
             "--resume-from 5 (strokes 5..7 may have been cut already)");
   EXPECT_EQ(still_buffered_text(sent), "nothing more");
   sent.buffered_bytes = 212;

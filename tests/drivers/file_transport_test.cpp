@@ -34,8 +34,9 @@ TEST(FileTransport, WritesEveryByte) {
   ss << in.rdbuf();
   const std::string got = ss.str();
   EXPECT_EQ(got.size(), data.size()) << "file has every byte";
-  EXPECT_TRUE(std::equal(got.begin(), got.end(), data.begin(), [](char a, std::uint8_t b) { return static_cast<std::uint8_t>(a) == b; }))
-      << "and in order";
+  EXPECT_TRUE(std::equal(got.begin(), got.end(), data.begin(), [](char a, std::uint8_t b) {
+    return static_cast<std::uint8_t>(a) == b;
+  })) << "and in order";
   fs::remove(path);
 }
 

@@ -57,7 +57,8 @@ TEST(Hp2xx, ReadsEveryProfilesJobAndDrawsThePlannedLines) {
   std::mt19937_64 rng(17);
   testing::RandomModelSpec spec;
   spec.window_probability = 0.2;
-  std::vector<Pattern> patterns = {make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json"))};
+  std::vector<Pattern> patterns = {
+      make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json"))};
   for (int i = 0; i < 3; ++i) patterns.push_back(make_pattern(testing::random_model(rng, spec)));
   for (const std::string& file : testing::shipped_profiles()) {
     const DeviceProfile prof = load_profile(file);
@@ -82,12 +83,14 @@ TEST(Hp2xx, ReadsEveryProfilesJobAndDrawsThePlannedLines) {
       const auto box = [](const std::vector<Seg>& v) {
         std::array<double, 4> b{1e300, 1e300, -1e300, -1e300};
         for (const Seg& s : v) {
-          b = {std::min({b[0], s.x0, s.x1}), std::min({b[1], s.y0, s.y1}), std::max({b[2], s.x0, s.x1}), std::max({b[3], s.y0, s.y1})};
+          b = {std::min({b[0], s.x0, s.x1}), std::min({b[1], s.y0, s.y1}), std::max({b[2], s.x0, s.x1}),
+               std::max({b[3], s.y0, s.y1})};
         }
         return b;
       };
       const auto bo = box(ours), bt = box(theirs);
-      const double sx = (bo[2] - bo[0]) / std::max(1e-9, bt[2] - bt[0]), sy = (bo[3] - bo[1]) / std::max(1e-9, bt[3] - bt[1]);
+      const double sx = (bo[2] - bo[0]) / std::max(1e-9, bt[2] - bt[0]),
+                   sy = (bo[3] - bo[1]) / std::max(1e-9, bt[3] - bt[1]);
       std::map<std::array<long, 4>, int> count;
       const auto norm = [](double a, double b, double c, double d) {
         std::array<long, 4> k{std::lround(a), std::lround(b), std::lround(c), std::lround(d)};

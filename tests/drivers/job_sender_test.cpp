@@ -52,7 +52,8 @@ TEST(EncodedJob, StrokeEndsFollowTheBytes) {
     const StrokePlan plan = townhouse_plan(p);
     const EncodedJob job = encode_job(plan, p.dialect, p.tools);
     EXPECT_EQ(job.bytes, encode_hpgl(plan, p.dialect, p.tools)) << file << ": encode_hpgl is the whole job";
-    EXPECT_EQ(job.total_strokes, plan_in_plotter_units(plan, p.dialect).size()) << file << ": strokes are the sent paths";
+    EXPECT_EQ(job.total_strokes, plan_in_plotter_units(plan, p.dialect).size())
+        << file << ": strokes are the sent paths";
     ASSERT_EQ(job.stroke_end.size(), job.total_strokes) << file;
     ASSERT_FALSE(job.command_end.empty()) << file;
     EXPECT_EQ(job.command_end.back(), job.bytes.size()) << file << ": the last command ends the job";
@@ -60,12 +61,16 @@ TEST(EncodedJob, StrokeEndsFollowTheBytes) {
     for (std::size_t i = 0; i < job.stroke_end.size(); ++i) {
       EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), job.stroke_end[i]))
           << file << ": stroke " << i + 1 << " ends on a command boundary";
-      EXPECT_EQ(job.last_stroke_within(job.stroke_end[i]), i + 1) << file << ": its last byte completes stroke " << i + 1;
+      EXPECT_EQ(job.last_stroke_within(job.stroke_end[i]), i + 1)
+          << file << ": its last byte completes stroke " << i + 1;
       EXPECT_EQ(job.last_stroke_within(job.stroke_end[i] - 1), i) << file << ": one byte short it is not complete";
       ASSERT_EQ(job.stroke_cut_start.size(), job.stroke_end.size()) << file;
-      EXPECT_EQ(job.bytes.compare(job.stroke_cut_start[i], 2, "PD"), 0) << file << ": stroke " << i + 1 << " cuts from a knife-down";
-      EXPECT_EQ(job.bytes.find("PD", i ? job.stroke_end[i - 1] : 0), job.stroke_cut_start[i]) << file << ": its first knife-down";
-      EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), job.stroke_cut_start[i])) << file << ": on a boundary";
+      EXPECT_EQ(job.bytes.compare(job.stroke_cut_start[i], 2, "PD"), 0)
+          << file << ": stroke " << i + 1 << " cuts from a knife-down";
+      EXPECT_EQ(job.bytes.find("PD", i ? job.stroke_end[i - 1] : 0), job.stroke_cut_start[i])
+          << file << ": its first knife-down";
+      EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), job.stroke_cut_start[i]))
+          << file << ": on a boundary";
     }
   }
 }
@@ -90,7 +95,8 @@ TEST(EncodedJob, ResumeSendsExactlyTheMissingStrokesKnifeUp) {
       EXPECT_EQ(r.report.knife_downs, static_cast<int>(missing.size()))
           << file << " from " << from << ": the knife goes down once per stroke, never on the way to the first";
       if (!r.strokes.empty()) {
-        EXPECT_GT(r.strokes.front().pen, 0) << file << " from " << from << ": tool setup re-sent before the first stroke";
+        EXPECT_GT(r.strokes.front().pen, 0)
+            << file << " from " << from << ": tool setup re-sent before the first stroke";
       }
     }
     EXPECT_THROW(encode_job(plan, p.dialect, p.tools, 0), Error) << file << ": strokes are numbered from 1";
@@ -121,11 +127,13 @@ TEST(SendJob, CancelStopsOnACommandBoundaryAndLiftsTheKnife) {
       << "stopped at a command boundary: byte " << r.sent.bytes_sent;
   EXPECT_EQ(r.sent.last_stroke_written, job.last_stroke_within(r.sent.bytes_sent));
   EXPECT_LE(r.sent.last_stroke_sent, r.sent.last_stroke_written) << "received never exceeds written";
-  EXPECT_EQ(r.report.bytes_received, r.sent.bytes_sent + 3 * static_cast<std::size_t>(r.sent.status_queries) + o.abort_bytes.size())
+  EXPECT_EQ(r.report.bytes_received,
+            r.sent.bytes_sent + 3 * static_cast<std::size_t>(r.sent.status_queries) + o.abort_bytes.size())
       << "job bytes and ESC.O status queries, then exactly the abort";
   EXPECT_LE(r.sent.buffered_bytes, p.transport.buffer_bytes + r.sent.bytes_sent - r.sent.bytes_received)
       << "an honest bound: at most the device's buffer and what was on its way";
-  EXPECT_GE(r.sent.buffered_last_stroke, r.sent.last_stroke_written) << "the strokes it may still cut run to the last one sent";
+  EXPECT_GE(r.sent.buffered_last_stroke, r.sent.last_stroke_written)
+      << "the strokes it may still cut run to the last one sent";
   // Everything cut is a prefix of the plan (ESC.K discarded the rest), and covers every stroke
   // counted received: ESC.K leaves received at what the device executed.
   EXPECT_TRUE(r.sent.buffer_discarded);
@@ -174,9 +182,11 @@ TEST(SendJob, CancelDoesNotWaitForXonFromADeviceHoldingTheLine) {
   const SendResult r = send_job(t, job, o);
   EXPECT_EQ(r.holds, 1) << "the cancel came while the device held the line";
   EXPECT_TRUE(r.cancelled) << r.status.message;
-  EXPECT_NE(r.status.error, TransportError::timeout) << "the cancel ended the wait, not the hold timeout: " << r.status.message;
+  EXPECT_NE(r.status.error, TransportError::timeout)
+      << "the cancel ended the wait, not the hold timeout: " << r.status.message;
   EXPECT_TRUE(r.abort_sent);
-  EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), r.bytes_sent)) << "at a command boundary";
+  EXPECT_TRUE(std::binary_search(job.command_end.begin(), job.command_end.end(), r.bytes_sent))
+      << "at a command boundary";
 }
 
 TEST(SendJob, CancelWithoutAbortKeyStillLiftsTheKnife) {
@@ -211,7 +221,8 @@ TEST(SendJob, WaitsForTheDeviceToDrainByQuery) {
   auto c2 = std::make_shared<SimCutter>(esc_o);
   SimTransport t2(c2);
   ASSERT_TRUE(t2.open().ok());
-  const SendResult r2 = send_job(t2, encode_job(townhouse_plan(esc_o), esc_o.dialect, esc_o.tools), send_options(esc_o));
+  const SendResult r2 =
+      send_job(t2, encode_job(townhouse_plan(esc_o), esc_o.dialect, esc_o.tools), send_options(esc_o));
   ASSERT_TRUE(r2.complete()) << r2.status.message;
   EXPECT_EQ(r2.drained_by, DrainedBy::esc_o);
   EXPECT_EQ(c2->buffer_used(), 0u) << "ESC.O said buffer empty";
@@ -237,7 +248,8 @@ TEST(SendJob, ADroppedLineNamesTheLastStrokeReceivedAndTheLastWritten) {
 // A device that stops mid-job (hung, paused for good, power lost): it never cuts what sits in its
 // buffer. E (known executed) <= what it really cut <= M (received) <= N (written), and a fresh
 // device (a power cycle) resumed from E + 1 completes the card with no stroke missing.
-void expect_honest_stop(const std::string& profile_file, FlowControl flow, DrainQuery query, bool answers_tell_progress) {
+void expect_honest_stop(const std::string& profile_file, FlowControl flow, DrainQuery query,
+                        bool answers_tell_progress) {
   DeviceProfile p = load_profile(config(profile_file));
   p.transport.flow = flow;
   p.transport.drain_query = query;
@@ -255,7 +267,8 @@ void expect_honest_stop(const std::string& profile_file, FlowControl flow, Drain
   ASSERT_TRUE(t.open().ok());
   const SendResult r = send_job(t, job, send_options(p));
   EXPECT_EQ(r.status.error, TransportError::timeout) << what << ": " << r.status.message;
-  EXPECT_NE(r.status.message.find("the device stopped answering"), std::string::npos) << what << ": " << r.status.message;
+  EXPECT_NE(r.status.message.find("the device stopped answering"), std::string::npos)
+      << what << ": " << r.status.message;
   EXPECT_NE(r.status.message.find("paused, out of media or stuck, or it lost power"), std::string::npos)
       << what << ": a device that answered before is not a cable or baud problem: " << r.status.message;
   EXPECT_EQ(r.status.message.find("baud"), std::string::npos) << what << ": " << r.status.message;
@@ -270,7 +283,8 @@ void expect_honest_stop(const std::string& profile_file, FlowControl flow, Drain
     EXPECT_GT(e, 0u) << what << ": ESC.B answers showed strokes executed";
   }
   ASSERT_LE(e, cut.size()) << what << ": E never claims a stroke the device did not cut (it cut " << cut.size() << ")";
-  EXPECT_GT(m, cut.size()) << what << ": the stuck device received strokes it never cut (so M is no resume point after a reset)";
+  EXPECT_GT(m, cut.size())
+      << what << ": the stuck device received strokes it never cut (so M is no resume point after a reset)";
   for (std::size_t i = 0; i < cut.size(); ++i) EXPECT_EQ(cut[i].points_pu, planned[i]) << what << ": stroke " << i + 1;
   // Power cycle: a fresh device, from E + 1.
   const SimRun again = run_on_sim(p, encode_job(plan, p.dialect, p.tools, e + 1), send_options(p));
@@ -278,7 +292,8 @@ void expect_honest_stop(const std::string& profile_file, FlowControl flow, Drain
   std::vector<PlotterPath> both;
   for (std::size_t i = 0; i < e; ++i) both.push_back(cut[i].points_pu);
   for (const SimStroke& s : again.strokes) both.push_back(s.points_pu);
-  EXPECT_EQ(both, planned) << what << ": strokes 1.." << e << " before the stop and " << e + 1 << ".. after the power cycle cover the card";
+  EXPECT_EQ(both, planned) << what << ": strokes 1.." << e << " before the stop and " << e + 1
+                           << ".. after the power cycle cover the card";
 }
 
 // A device whose buffer is larger than its profile says: 1024 free of 16384 is not "drained".
@@ -292,7 +307,8 @@ TEST(SendJob, AProfileThatUnderstatesTheBufferDoesNotEndTheJobEarly) {
   const EncodedJob job = encode_job(townhouse_plan(secabo), secabo.dialect, secabo.tools);
   const SendResult r = send_job(t, job, send_options(secabo));
   ASSERT_TRUE(r.complete()) << r.status.message;
-  EXPECT_EQ(cutter->buffer_used(), 0u) << "done means the device's whole buffer is empty, not the profile's share of it";
+  EXPECT_EQ(cutter->buffer_used(), 0u)
+      << "done means the device's whole buffer is empty, not the profile's share of it";
   EXPECT_EQ(cutter->strokes().size(), job.stroke_end.size()) << "every stroke was cut when popcut said done";
 }
 
@@ -364,12 +380,14 @@ TEST(SendJob, AnAbortThatDiscardsTheBufferLeavesReceivedAtExecuted) {
     const SendResult& s = r.cancelled;
     ASSERT_TRUE(s.cancelled && s.abort_sent) << s.status.message;
     ASSERT_GT(r.report.discarded_bytes, 0u) << "the device held strokes it had not cut (else this test proves nothing)";
-    ASSERT_GT(s.received_before_abort, r.cut_before) << "it had received strokes it never cut (else this proves nothing)";
+    ASSERT_GT(s.received_before_abort, r.cut_before)
+        << "it had received strokes it never cut (else this proves nothing)";
     EXPECT_TRUE(s.buffer_discarded);
     EXPECT_EQ(s.last_stroke_sent, s.last_stroke_executed.value_or(0)) << "received is what it executed";
     EXPECT_LE(s.last_stroke_sent, r.cut_before) << "no stroke counted received was dropped uncut";
     EXPECT_EQ(s.buffered_bytes, 0u) << "it cuts nothing more after dropping its buffer";
-    EXPECT_TRUE(covers_plan(r.cut, plan_in_plotter_units(plan, p.dialect))) << "the resume from the advised stroke covers the card";
+    EXPECT_TRUE(covers_plan(r.cut, plan_in_plotter_units(plan, p.dialect)))
+        << "the resume from the advised stroke covers the card";
   }
 }
 
@@ -447,7 +465,8 @@ TEST(SendJob, AStrokeWhoseKnifeNeverWentDownIsNotLeftToCut) {
 // The user presses Ctrl-C while popcut listens for an answer from a device that went silent.
 class CancelWhileListening final : public Transport {
  public:
-  CancelWhileListening(std::shared_ptr<SimCutter> c, std::atomic<bool>& cancel) : cutter_(c), sim_(c), cancel_(cancel) {}
+  CancelWhileListening(std::shared_ptr<SimCutter> c, std::atomic<bool>& cancel)
+      : cutter_(c), sim_(c), cancel_(cancel) {}
   TransportStatus open() override { return sim_.open(); }
   IoResult write(std::span<const std::uint8_t> d, std::chrono::milliseconds t) override { return sim_.write(d, t); }
   IoResult read(std::span<std::uint8_t> b, std::chrono::milliseconds t) override {
@@ -525,15 +544,18 @@ TEST(SendJob, ATinyBufferIsFedWhatItHasRoomFor) {
   tiny.transport.buffer_bytes = 64;
   PlanOptions po = escb.plan;
   po.optimise_work = 1000;
-  const StrokePlan plan = plan_strokes(make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/castle.json")), po);
+  const StrokePlan plan =
+      plan_strokes(make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/castle.json")), po);
   const EncodedJob job = encode_job(plan, escb.dialect, escb.tools);
   std::size_t longest = 0;
-  for (std::size_t i = 0, from = 0; i < job.command_end.size(); from = job.command_end[i++]) longest = std::max(longest, job.command_end[i] - from);
+  for (std::size_t i = 0, from = 0; i < job.command_end.size(); from = job.command_end[i++])
+    longest = std::max(longest, job.command_end[i] - from);
   ASSERT_GT(longest, 64u) << "the job has a command longer than the device's buffer";
   const SimRun run = run_on_sim(tiny, job, send_options(escb));
   ASSERT_TRUE(run.sent.complete()) << run.sent.status.message;
   EXPECT_EQ(run.report.overflow_bytes, 0u) << "paced by its answers";
-  EXPECT_EQ(first_difference(plan_in_plotter_units(plan, escb.dialect), run.strokes), std::nullopt) << "the device cut exactly the job";
+  EXPECT_EQ(first_difference(plan_in_plotter_units(plan, escb.dialect), run.strokes), std::nullopt)
+      << "the device cut exactly the job";
 }
 
 // A device far slower than the plan's estimate that keeps freeing its buffer is waited for: its
@@ -573,8 +595,10 @@ TEST(SendJob, ADeviceThatLostBytesToOverflowFailsTheJob) {
   const SendResult r = send_job(t, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(host));
   ASSERT_GT(cutter->report().overflow_bytes, 0u) << "the mismatch lost bytes";
   EXPECT_FALSE(r.complete()) << "a job the device did not get whole is not done";
-  EXPECT_NE(r.status.message.find("I/O error 16 (ESC.E): its input buffer overflowed"), std::string::npos) << r.status.message;
-  EXPECT_FALSE(r.last_stroke_executed.has_value()) << "with bytes lost, nothing it did is known to be the job's strokes";
+  EXPECT_NE(r.status.message.find("I/O error 16 (ESC.E): its input buffer overflowed"), std::string::npos)
+      << r.status.message;
+  EXPECT_FALSE(r.last_stroke_executed.has_value())
+      << "with bytes lost, nothing it did is known to be the job's strokes";
 
   // The same device with a matching profile reports no error, and the job is done.
   DeviceProfile matching = device;
@@ -582,7 +606,8 @@ TEST(SendJob, ADeviceThatLostBytesToOverflowFailsTheJob) {
   auto fine = std::make_shared<SimCutter>(device, slow);
   SimTransport t2(fine);
   ASSERT_TRUE(t2.open().ok());
-  const SendResult ok = send_job(t2, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
+  const SendResult ok =
+      send_job(t2, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
   EXPECT_TRUE(ok.complete()) << ok.status.message;
   EXPECT_EQ(fine->report().overflow_bytes, 0u);
 
@@ -593,14 +618,17 @@ TEST(SendJob, ADeviceThatLostBytesToOverflowFailsTheJob) {
   ASSERT_TRUE(t3.open().ok());
   SendOptions careless = send_options(host);
   careless.error_query = false;
-  EXPECT_TRUE(send_job(t3, encode_job(townhouse_plan(host), host.dialect, host.tools), careless).complete()) << "not asked, not seen";
+  EXPECT_TRUE(send_job(t3, encode_job(townhouse_plan(host), host.dialect, host.tools), careless).complete())
+      << "not asked, not seen";
   ASSERT_GT(used->report().overflow_bytes, 0u) << "the earlier job lost bytes";
-  const SendResult next = send_job(t3, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
+  const SendResult next =
+      send_job(t3, encode_job(townhouse_plan(host), host.dialect, host.tools), send_options(matching));
   EXPECT_TRUE(next.complete()) << "the stale error is cleared before the job: " << next.status.message;
 }
 
 TEST(SendJob, ADeviceThatStopsMidJobIsNoticedThenAndNamesWhatItExecuted) {
-  expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b, true);  // pacing answers: executed from free space
+  expect_honest_stop("secabo.toml", FlowControl::esc_b, DrainQuery::esc_b,
+                     true);  // pacing answers: executed from free space
   // Pipelined ESC.O pings: "not empty" all along (XON/XOFF keeps the buffer a quarter full)
   // shows nothing executed, and E stays at 0; the device stops while it holds the line.
   expect_honest_stop("sim.toml", FlowControl::xon_xoff, DrainQuery::esc_o, false);
@@ -689,7 +717,8 @@ TEST(SendJob, AJobThatDrainedCountsEveryStrokeReceivedWhateverThePortHoldsBack) 
   ASSERT_TRUE(t.open().ok());
   const SendResult r = send_job(t, job, send_options(p));
   ASSERT_TRUE(r.status.ok()) << r.status.message;
-  EXPECT_EQ(r.last_stroke_sent, job.total_strokes) << "a finished job was received whole, though the port's estimate holds bytes back";
+  EXPECT_EQ(r.last_stroke_sent, job.total_strokes)
+      << "a finished job was received whole, though the port's estimate holds bytes back";
   EXPECT_EQ(r.bytes_received, r.bytes_sent);
 }
 
@@ -708,7 +737,8 @@ TEST(SendJob, BytesStillInTheOsQueueAreNotClaimedReceived) {
   EXPECT_GT(r.bytes_sent, r.bytes_received) << "a chunk was still queued when the line dropped";
   EXPECT_EQ(r.last_stroke_sent, job.last_stroke_within(r.bytes_received));
   ASSERT_GT(r.last_stroke_sent, 0u) << "some strokes got through before the drop";
-  EXPECT_LE(job.stroke_end[r.last_stroke_sent - 1], t.delivered()) << "stroke " << r.last_stroke_sent << " really arrived";
+  EXPECT_LE(job.stroke_end[r.last_stroke_sent - 1], t.delivered())
+      << "stroke " << r.last_stroke_sent << " really arrived";
   EXPECT_GE(r.last_stroke_written, r.last_stroke_sent);
 }
 
@@ -824,14 +854,16 @@ TEST(SendJob, SilenceOrGarbageInsteadOfAnAnswerStopsBeforeTheJob) {
   Answering silent("");
   const SendResult r = send_job(silent, job, o);
   EXPECT_EQ(r.status.error, TransportError::timeout) << r.status.message;
-  EXPECT_NE(r.status.message.find("did not answer ESC.O before sending within 200 ms"), std::string::npos) << r.status.message;
+  EXPECT_NE(r.status.message.find("did not answer ESC.O before sending within 200 ms"), std::string::npos)
+      << r.status.message;
   EXPECT_NE(r.status.message.find("the profile says 115200 baud"), std::string::npos) << r.status.message;
   EXPECT_EQ(r.bytes_sent, 0u) << "no byte of the job went out";
 
   Answering garbage("\xe7x!\r");
   const SendResult g = send_job(garbage, job, o);
   EXPECT_EQ(g.status.error, TransportError::io) << g.status.message;
-  EXPECT_NE(g.status.message.find("answered '\\xe7x!'"), std::string::npos) << "shows what came back: " << g.status.message;
+  EXPECT_NE(g.status.message.find("answered '\\xe7x!'"), std::string::npos)
+      << "shows what came back: " << g.status.message;
   EXPECT_EQ(g.bytes_sent, 0u);
 
   Answering fine("8\r");
@@ -943,7 +975,8 @@ DeviceProfile cannot_be_asked(DeviceProfile p) {
 }
 
 // `earlier`: what the device did before this job (it is left where that ended).
-PacedRun run_paced(DeviceProfile p, const EncodedJob& job, double slowdown, int margin_percent, const std::string& earlier = "") {
+PacedRun run_paced(DeviceProfile p, const EncodedJob& job, double slowdown, int margin_percent,
+                   const std::string& earlier = "") {
   p.transport.flow = FlowControl::none;
   auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, slowdown});
   cutter->preload(earlier);
@@ -977,11 +1010,14 @@ TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
     EXPECT_EQ(r.sent.drained_by, DrainedBy::estimate) << file;
     EXPECT_EQ(r.left_after_send, 0u) << file << ": done only once the device, by the model, has worked through the job";
     EXPECT_EQ(r.report.overflow_bytes, 0u) << file << ": 20 % slower than the plan, within the 25 % margin";
-    EXPECT_LE(r.report.max_buffer_used, 192u) << file << ": about half the buffer, as paced (a full one would be at the edge)";
-    EXPECT_FALSE(first_difference(plan_in_plotter_units(plan, p.dialect), r.strokes).has_value()) << file << ": the whole job cut";
+    EXPECT_LE(r.report.max_buffer_used, 192u)
+        << file << ": about half the buffer, as paced (a full one would be at the edge)";
+    EXPECT_FALSE(first_difference(plan_in_plotter_units(plan, p.dialect), r.strokes).has_value())
+        << file << ": the whole job cut";
     // Pacing costs little: the device waits for bytes for a small part of the job, and the model
     // allows once for a first travel across the area (it may start anywhere).
-    const double first_travel_s = 1.25 * move_time_s(longest_first_travel_mm(p.dialect), p.kinematics.travel_speed_mm_s, p.kinematics.accel_mm_s2);
+    const double first_travel_s = 1.25 * move_time_s(longest_first_travel_mm(p.dialect), p.kinematics.travel_speed_mm_s,
+                                                     p.kinematics.accel_mm_s2);
     EXPECT_LT(r.report.clock_s, 1.1 * r.report.motion_time_s + first_travel_s)
         << file << ": clock " << r.report.clock_s << " s for " << r.report.motion_time_s << " s of motion";
     const PacedRun tight = run_paced(p, job, 1.2, 0);
@@ -1002,9 +1038,11 @@ TEST(SendJob, TimePacingCatchesUpWithADeviceThatSaysItsBufferIsEmpty) {
   p.transport.drain_query = DrainQuery::esc_o;
   const PacedRun told = run_paced(p, job, 1, 25);
   ASSERT_TRUE(blind.sent.complete() && told.sent.complete()) << blind.sent.status.message << told.sent.status.message;
-  EXPECT_GT(blind.report.clock_s / blind.report.motion_time_s, 1.25) << "paced a quarter slower than the plan, after the first travel";
-  EXPECT_LT(told.report.clock_s, 1.1 * told.report.motion_time_s) << "its answers let it go at its own pace: " << told.report.clock_s
-                                                                   << " s for " << told.report.motion_time_s << " s of motion";
+  EXPECT_GT(blind.report.clock_s / blind.report.motion_time_s, 1.25)
+      << "paced a quarter slower than the plan, after the first travel";
+  EXPECT_LT(told.report.clock_s, 1.1 * told.report.motion_time_s)
+      << "its answers let it go at its own pace: " << told.report.clock_s << " s for " << told.report.motion_time_s
+      << " s of motion";
   EXPECT_EQ(told.report.overflow_bytes, 0u);
 }
 
@@ -1196,11 +1234,15 @@ TEST(Profile, AbortAndTransportKeysAreValidated) {
       EXPECT_NE(std::string(e.what()).find("[transport]"), std::string::npos) << "names the section: " << e.what();
     }
   }
-  const DeviceProfile ok = parse_profile(base + "abort = \"\\u001b.K\"\nflow_control = \"dtr_dsr\"\nusb_ids = [\"0B4D:110A\"]\n", "t.toml");
+  const DeviceProfile ok =
+      parse_profile(base + "abort = \"\\u001b.K\"\nflow_control = \"dtr_dsr\"\nusb_ids = [\"0B4D:110A\"]\n", "t.toml");
   EXPECT_EQ(ok.transport.abort, "\x1b.K");
-  EXPECT_TRUE(ok.transport.abort_discards_buffer) << "an abort is taken to drop the device's buffer unless the profile says not";
-  EXPECT_FALSE(parse_profile(base + "abort = \"\\u001b.K\"\nabort_discards_buffer = false\n", "t.toml").transport.abort_discards_buffer);
-  EXPECT_FALSE(parse_profile(base, "t.toml").transport.abort_discards_buffer) << "no abort: the device keeps its buffer";
+  EXPECT_TRUE(ok.transport.abort_discards_buffer)
+      << "an abort is taken to drop the device's buffer unless the profile says not";
+  EXPECT_FALSE(parse_profile(base + "abort = \"\\u001b.K\"\nabort_discards_buffer = false\n", "t.toml")
+                   .transport.abort_discards_buffer);
+  EXPECT_FALSE(parse_profile(base, "t.toml").transport.abort_discards_buffer)
+      << "no abort: the device keeps its buffer";
   EXPECT_EQ(ok.transport.flow, FlowControl::dtr_dsr);
   EXPECT_EQ(ok.transport.usb_ids, std::vector<std::string>{"0b4d:110a"});
   EXPECT_EQ(ok.transport.adapter_fifo_bytes, 4096u) << "unknown adapters: a margin above every FIFO checked";

@@ -38,7 +38,8 @@ TEST(CutterLanguage, DefaultsToHpglAndNamesItExplicitly) {
   EXPECT_EQ(parse_profile(kBase, "a.toml").language, CutterLanguage::hpgl) << "every existing profile is HP-GL";
   EXPECT_EQ(parse_profile(kBase + "language = \"hpgl\"\n", "a.toml").language, CutterLanguage::hpgl);
   for (const LanguageUnit* unit : language_units()) {
-    EXPECT_EQ(kCutterLanguageNames.find(kCutterLanguageNames.name(unit->language)), unit->language) << "a name per unit";
+    EXPECT_EQ(kCutterLanguageNames.find(kCutterLanguageNames.name(unit->language)), unit->language)
+        << "a name per unit";
     EXPECT_EQ(&language_unit(unit->language), unit);
   }
   EXPECT_EQ(language_unit(CutterLanguage::hpgl).section, "hpgl");
@@ -95,14 +96,14 @@ TEST(DeviceReader, TheProfilesReaderGivesEachCommandItsOp) {
   std::vector<DeviceOp> ops;
   std::vector<bool> control;
   for (const DeviceCommand& c : out) ops.push_back(c.op), control.push_back(c.device_control);
-  EXPECT_EQ(ops, (std::vector<DeviceOp>{DeviceOp::reset, DeviceOp::select_tool, DeviceOp::speed, DeviceOp::force,
-                                        DeviceOp::knife_up, DeviceOp::knife_down, DeviceOp::relative, DeviceOp::absolute,
-                                        DeviceOp::defaults, DeviceOp::no_effect, DeviceOp::report_identity,
-                                        DeviceOp::report_status, DeviceOp::report_position, DeviceOp::unknown,
-                                        DeviceOp::query_free_buffer, DeviceOp::unknown_control, DeviceOp::abort,
-                                        DeviceOp::handshake_setup}));
-  EXPECT_EQ(control, (std::vector<bool>{false, false, false, false, false, false, false, false, false, false, false, false,
-                                        false, false, true, true, true, true}));
+  EXPECT_EQ(ops,
+            (std::vector<DeviceOp>{
+                DeviceOp::reset, DeviceOp::select_tool, DeviceOp::speed, DeviceOp::force, DeviceOp::knife_up,
+                DeviceOp::knife_down, DeviceOp::relative, DeviceOp::absolute, DeviceOp::defaults, DeviceOp::no_effect,
+                DeviceOp::report_identity, DeviceOp::report_status, DeviceOp::report_position, DeviceOp::unknown,
+                DeviceOp::query_free_buffer, DeviceOp::unknown_control, DeviceOp::abort, DeviceOp::handshake_setup}));
+  EXPECT_EQ(control, (std::vector<bool>{false, false, false, false, false, false, false, false, false, false, false,
+                                        false, false, false, true, true, true, true}));
   EXPECT_TRUE(reader->starts_device_control('\x1b'));
   EXPECT_FALSE(reader->starts_device_control('P'));
 }
@@ -151,9 +152,12 @@ TEST(TomlChoice, ProfileChoicesNameTheirAllowedValues) {
       {"[transport]\nflow_control = \"smoke\"\n", "[transport] flow_control",
        "\"smoke\" is not one of \"none\", \"xon_xoff\", \"rts_cts\", \"esc_b\", \"dtr_dsr\""},
       {"[transport]\nparity = \"mark\"\n", "[transport] parity", "\"mark\" is not one of \"none\", \"odd\", \"even\""},
-      {"[transport]\ndrain_query = \"esc_e\"\n", "[transport] drain_query", "\"esc_e\" is not one of \"none\", \"esc_b\", \"esc_o\""},
-      {"[transport]\nerror_query = \"esc_b\"\n", "[transport] error_query", "\"esc_b\" is not one of \"none\", \"esc_e\""},
-      {"[tool.cut]\nmode = \"burn\"\n", "[tool.cut] mode", "\"burn\" is not one of \"cut\", \"score\", \"perforate\", \"skip\""},
+      {"[transport]\ndrain_query = \"esc_e\"\n", "[transport] drain_query",
+       "\"esc_e\" is not one of \"none\", \"esc_b\", \"esc_o\""},
+      {"[transport]\nerror_query = \"esc_b\"\n", "[transport] error_query",
+       "\"esc_b\" is not one of \"none\", \"esc_e\""},
+      {"[tool.cut]\nmode = \"burn\"\n", "[tool.cut] mode",
+       "\"burn\" is not one of \"cut\", \"score\", \"perforate\", \"skip\""},
       {"[motors]\n", "[motors]", "unknown section (expected device, hpgl, transport, kinematics, plan, tool.KIND)"},
       {"[tool.edge]\n", "[tool.edge]", "unknown line kind (expected valley, mountain, cut, outline)"},
       {"[plan]\norder = [\"fold\"]\n", "[plan] order", "\"fold\" is not a line kind (valley, mountain, cut, outline)"},
@@ -167,10 +171,12 @@ TEST(TomlChoice, ProfileChoicesNameTheirAllowedValues) {
 }
 
 TEST(TomlChoice, ProfileChoicesArriveAsValues) {
-  const DeviceProfile p = parse_profile(kBase + "[hpgl]\nmove_style = \"inline\"\ncoordinates = \"relative\"\nforce = \"none\"\n"
-                                                "[transport]\nflow_control = \"esc_b\"\nparity = \"even\"\nerror_query = \"esc_e\"\n"
-                                                "[tool.valley]\nmode = \"skip\"\n",
-                                        "v.toml");
+  const DeviceProfile p =
+      parse_profile(kBase +
+                        "[hpgl]\nmove_style = \"inline\"\ncoordinates = \"relative\"\nforce = \"none\"\n"
+                        "[transport]\nflow_control = \"esc_b\"\nparity = \"even\"\nerror_query = \"esc_e\"\n"
+                        "[tool.valley]\nmode = \"skip\"\n",
+                    "v.toml");
   EXPECT_EQ(p.dialect.move_style, MoveStyle::inline_xy);
   EXPECT_EQ(p.dialect.coords, CoordMode::relative);
   EXPECT_EQ(p.dialect.force, ForceStyle::none);

@@ -1,4 +1,5 @@
-// A card fitted to a device's media (import --fit-mm DEVICE) is planned and encoded for that device without running off its area.
+// A card fitted to a device's media (import --fit-mm DEVICE) is planned and encoded for that device without running off
+// its area.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -32,7 +33,8 @@ TEST(MediaFit, EveryShippedProfileCutsACardFittedToItsMedia) {
     const Pattern p = make_pattern(import_mesh(tower, o, "tower").model, "tower");
     const double h = p.sheet.max.v_mm - p.sheet.min.v_mm, w = p.sheet.max.x_mm - p.sheet.min.x_mm;
     EXPECT_TRUE(w <= m.width_mm && h <= m.height_mm) << path << ": " << w << " x " << h;
-    EXPECT_TRUE(h > m.height_mm - 1e-3 || w > m.width_mm - 1e-3) << path << ": as large as the media allow: " << w << " x " << h;
+    EXPECT_TRUE(h > m.height_mm - 1e-3 || w > m.width_mm - 1e-3)
+        << path << ": as large as the media allow: " << w << " x " << h;
     try {
       const DevicePlan plan = plan_for_device(p, profile, path);
       EXPECT_FALSE(plan.encoded.bytes.empty()) << path;

@@ -1,4 +1,5 @@
-// Every shipped profile cuts the card as it reads from its printed side: decoded HP-GL, mapped through each device's own axes, is the pattern turned, never mirrored.
+// Every shipped profile cuts the card as it reads from its printed side: decoded HP-GL, mapped through each device's
+// own axes, is the pattern turned, never mirrored.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -68,7 +69,8 @@ std::vector<std::array<std::array<double, 2>, 2>> knife_down_mm(const std::strin
     EXPECT_EQ(c.params.size() % 2, 0u) << c.name << " with an odd number of coordinates";
     for (std::size_t i = 0; i + 1 < c.params.size(); i += 2) {
       const double nx = absolute ? c.params[i] : x + c.params[i], ny = absolute ? c.params[i + 1] : y + c.params[i + 1];
-      if (down) out.push_back({{{x / d.units_per_mm_x, y / d.units_per_mm_y}, {nx / d.units_per_mm_x, ny / d.units_per_mm_y}}});
+      if (down)
+        out.push_back({{{x / d.units_per_mm_x, y / d.units_per_mm_y}, {nx / d.units_per_mm_x, ny / d.units_per_mm_y}}});
       x = nx, y = ny;
     }
   }
@@ -91,7 +93,8 @@ double farthest(const std::vector<Seg>& from, const std::vector<Seg>& to) {
     const int n = std::max(1, static_cast<int>(std::ceil(len / 0.25)));
     for (int i = 0; i <= n; ++i) {
       const double t = static_cast<double>(i) / n;
-      const View p{s[0].right_mm + t * (s[1].right_mm - s[0].right_mm), s[0].away_mm + t * (s[1].away_mm - s[0].away_mm)};
+      const View p{s[0].right_mm + t * (s[1].right_mm - s[0].right_mm),
+                   s[0].away_mm + t * (s[1].away_mm - s[0].away_mm)};
       double best = std::numeric_limits<double>::infinity();
       for (const Seg& q : to) best = std::min(best, dist_to_seg(p, q));
       worst = std::max(worst, best);
@@ -118,8 +121,14 @@ struct Lay {
   int det() const { return a * e - b * c; }
   View of(Point2 p) const { return {a * p.x_mm + b * p.v_mm, c * p.x_mm + e * p.v_mm}; }
 };
-constexpr std::array<Lay, 8> kLays = {{{1, 0, 0, 1}, {-1, 0, 0, -1}, {0, -1, 1, 0}, {0, 1, -1, 0},
-                                       {-1, 0, 0, 1}, {1, 0, 0, -1}, {0, 1, 1, 0}, {0, -1, -1, 0}}};
+constexpr std::array<Lay, 8> kLays = {{{1, 0, 0, 1},
+                                       {-1, 0, 0, -1},
+                                       {0, -1, 1, 0},
+                                       {0, 1, -1, 0},
+                                       {-1, 0, 0, 1},
+                                       {1, 0, 0, -1},
+                                       {0, 1, 1, 0},
+                                       {0, -1, -1, 0}}};
 
 struct Fit {
   Lay lay;
@@ -135,7 +144,9 @@ std::vector<Fit> fits(const Pattern& pattern, const DeviceProfile& prof, const s
   for (const Lay& lay : kLays) {
     std::vector<Seg> lines, cuts;
     for (const Segment& s : pattern.lines) {
-      const PlanKind k = s.kind == LineKind::cut ? PlanKind::cut : s.kind == LineKind::valley ? PlanKind::valley : PlanKind::mountain;
+      const PlanKind k = s.kind == LineKind::cut      ? PlanKind::cut
+                         : s.kind == LineKind::valley ? PlanKind::valley
+                                                      : PlanKind::mountain;
       if (!cut_kind(k)) continue;
       lines.push_back({lay.of(s.a), lay.of(s.b)});
       if (k == PlanKind::cut) cuts.push_back(lines.back());
@@ -169,7 +180,8 @@ struct Verdict {
 
 Verdict judge(const Pattern& pattern, const DeviceProfile& prof, const DeviceAxes& axes) {
   std::vector<Seg> cut;
-  for (const auto& s : knife_down_mm(encode_hpgl(plan_strokes(pattern, prof.plan), prof.dialect, prof.tools), prof.dialect)) {
+  for (const auto& s :
+       knife_down_mm(encode_hpgl(plan_strokes(pattern, prof.plan), prof.dialect, prof.tools), prof.dialect)) {
     cut.push_back({to_view(axes, s[0][0], s[0][1]), to_view(axes, s[1][0], s[1][1])});
   }
   Verdict v;
@@ -191,10 +203,12 @@ TEST(Orientation, EveryProfileCutsTheCardUnmirrored) {
     ASSERT_NE(axes, kDevices.end()) << stem << ": a shipped profile needs its device's axes in kDevices";
     const DeviceProfile prof = load_profile(file);
     const Verdict v = judge(pattern, prof, axes->second);
-    EXPECT_LT(v.best.error_mm, 1.0) << stem << ": the cut matches the pattern laid square (blade offset and overcut aside)";
+    EXPECT_LT(v.best.error_mm, 1.0) << stem
+                                    << ": the cut matches the pattern laid square (blade offset and overcut aside)";
     EXPECT_EQ(v.best.lay.det(), 1) << stem << ": the card comes out mirrored (best fit " << v.best.error_mm << " mm)";
     EXPECT_GT(v.best_mirror_mm, 3.0) << stem << ": a mirror image must not fit the cut as well: the F tells them apart";
-    EXPECT_STREQ(top_direction(v.best.lay), axes->second.card_top) << stem << ": where the card's top edge lies (profiles.md)";
+    EXPECT_STREQ(top_direction(v.best.lay), axes->second.card_top)
+        << stem << ": where the card's top edge lies (profiles.md)";
   }
 }
 

@@ -63,7 +63,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[hpgl]\nvelocity = \"yes\"\n", "[hpgl] velocity", "true or false"},
       {"[device]\nname = \"x\"\n[transport]\nflow_control = \"smoke\"\n", "[transport] flow_control", "not one of"},
       {"[device]\nname = \"x\"\n[transport]\nbuffer_bytes = 8\n", "[transport] buffer_bytes", "out of range"},
-      {"[device]\nname = \"x\"\n[plan]\norder = [\"cut\", \"cut\", \"valley\", \"mountain\"]\n", "[plan] order", "appears twice"},
+      {"[device]\nname = \"x\"\n[plan]\norder = [\"cut\", \"cut\", \"valley\", \"mountain\"]\n", "[plan] order",
+       "appears twice"},
       {"[device]\nname = \"x\"\n[plan]\norder = [\"cut\"]\n", "[plan] order", "each of"},
       {"[device]\nname = \"x\"\n[plan]\nfold_gap_mm = -1\n", "[plan] fold_gap_mm", "out of range"},
       {"[device]\nname = \"x\"\narea_min_x_mm = -5\n", "[device] area_min_x_mm", "out of range 0"},
@@ -87,7 +88,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
       {"[device]\nname = \"x\"\n[hpgl]\ninit = \"IN;\\u001b.@1024\"\n", "[hpgl] init", "incomplete ESC"},
       {"[device]\nname = \"x\"\n[hpgl]\nfinish = \"PU;SP\"\n", "[hpgl] finish", "'SP' is not ended"},
       {"[device]\nname = \"x\"\n[plan]\nprecut_mm = 1\n", "[plan] precut_mm", "set blade_offset_mm"},
-      {"[device]\nname = \"x\"\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 9\n", "[plan] precut_mm", "out of range 0 to 5"},
+      {"[device]\nname = \"x\"\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 9\n", "[plan] precut_mm",
+       "out of range 0 to 5"},
       {"[device]\nname = \n", "line 2", ""},
       {"[device]\nname = \"x\"\n[transport]\ndefault = \"bogus:thing\"\n", "[transport] default", "unknown scheme"},
       {"[device]\nname = \"x\"\n[transport]\ndefault = \"usb:0b4:110a\"\n", "[transport] default", "four hex digits"},
@@ -104,11 +106,15 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
     }
   }
   EXPECT_NO_THROW(parse_profile(ok, "ok.toml")) << "a name is all a profile needs";
-  EXPECT_NO_THROW(parse_profile(ok + "[hpgl]\ninit = \"\\u001b.@1024;0:IN;\\n!ST1;\"\nfinish = \"PU;\\nSP0;\\n\"\nterminator = \";\\n\"\n", "ok.toml"))
+  EXPECT_NO_THROW(parse_profile(
+      ok + "[hpgl]\ninit = \"\\u001b.@1024;0:IN;\\n!ST1;\"\nfinish = \"PU;\\nSP0;\\n\"\nterminator = \";\\n\"\n",
+      "ok.toml"))
       << "set-up sequences, Roland commands, newlines and a ';' + newline terminator are fine";
-  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nflip_x = true\n", "ok.toml")) << "a swap and a flip: a quarter turn";
+  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nflip_x = true\n", "ok.toml"))
+      << "a swap and a flip: a quarter turn";
   EXPECT_NO_THROW(parse_profile(ok + "flip_x = true\nflip_y = true\n", "ok.toml")) << "two flips: a half turn";
-  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nmirrored_frame = true\n", "ok.toml")) << "a mirrored device, mirrored back";
+  EXPECT_NO_THROW(parse_profile(ok + "swap_axes = true\nmirrored_frame = true\n", "ok.toml"))
+      << "a mirrored device, mirrored back";
   EXPECT_NO_THROW(parse_profile(ok + "negative_coords = true\narea_min_x_mm = -5\n", "ok.toml"))
       << "negative coordinates when the device allows them";
   EXPECT_NO_THROW(parse_profile(ok + "[transport]\ndefault = \"serial:/dev/ttyUSB0\"\n", "ok.toml"))
@@ -119,7 +125,8 @@ TEST(Profiles, BadProfilesNameFileSectionAndKey) {
 // set-up commands pass, so every drawing command of HP-GL is refused, by name.
 TEST(Profile, SetUpStringsNeverLowerTheKnifeOrDraw) {
   const std::string base = "[device]\nname = \"x\"\n";
-  const auto refused = [&](const std::string& section, const std::string& key, const std::string& value, const std::string& says) {
+  const auto refused = [&](const std::string& section, const std::string& key, const std::string& value,
+                           const std::string& says) {
     const std::string text = base + "[" + section + "]\n" + key + " = \"" + value + "\"\n";
     try {
       parse_profile(text, "k.toml");
@@ -129,7 +136,8 @@ TEST(Profile, SetUpStringsNeverLowerTheKnifeOrDraw) {
       EXPECT_EQ(e.source(), "k.toml");
       EXPECT_EQ(e.location(), "[" + section + "] " + key) << value;
       EXPECT_NE(e.message().find(says), std::string::npos) << key << " = " << value << ": " << e.message();
-      EXPECT_NE(e.message().find("allowed are IN, DF, PU"), std::string::npos) << "says what may be used: " << e.message();
+      EXPECT_NE(e.message().find("allowed are IN, DF, PU"), std::string::npos)
+          << "says what may be used: " << e.message();
     }
   };
   for (const char* key : {"init", "finish"}) {
@@ -139,8 +147,9 @@ TEST(Profile, SetUpStringsNeverLowerTheKnifeOrDraw) {
     refused("hpgl", key, "SP1;PR5,5;", "'PR5,5;' moves with the knife perhaps down");
     // Arcs, circles, edges and fills, labels, symbols, encoded polylines, ticks, and what changes
     // the drawing of later strokes (line type, scaling, rotation, window, polygon mode).
-    for (const char* cmd : {"AA", "AR", "AT", "RT", "CI", "EA", "ER", "RA", "RR", "WG", "EW", "EP", "FP", "PM", "LB", "SM", "PE",
-                            "BZ", "BR", "TL", "XT", "YT", "CP", "LT", "IP", "IR", "SC", "RO", "IW", "DI", "UC", "!ZZ", "!PG"}) {
+    for (const char* cmd :
+         {"AA", "AR", "AT", "RT", "CI", "EA", "ER", "RA", "RR", "WG", "EW", "EP", "FP", "PM", "LB",  "SM", "PE",
+          "BZ", "BR", "TL", "XT", "YT", "CP", "LT", "IP", "IR", "SC", "RO", "IW", "DI", "UC", "!ZZ", "!PG"}) {
       const std::string c = std::string(cmd) + "10,10;";
       refused("hpgl", key, "IN;PU;" + c, "'" + c + "' is not a set-up command");
     }
@@ -151,10 +160,12 @@ TEST(Profile, SetUpStringsNeverLowerTheKnifeOrDraw) {
   refused("transport", "abort", "LBabc", "'LB' is not a set-up command");  // a label's text is not HP-GL
   // What set-up needs still passes: initialise, lift, select and park the tool, absolute or
   // relative mode, a move once the knife is up, Roland's force and tool commands, ESC set-ups.
-  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PA;DF;SP1;VS10;FS40;!FS50;!ST1;\"\nfinish = \"PU;PA0,0;PR;SP0;!NR;\"\n"
-                                           "[transport]\nabort = \"\\u001b.KPU;PA0,0;\"\n",
-                                "ok.toml"));
-  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PU0,0;PA100,100;\"\n", "ok.toml")) << "IN and PU lift the knife";
+  EXPECT_NO_THROW(
+      parse_profile(base + "[hpgl]\ninit = \"IN;PA;DF;SP1;VS10;FS40;!FS50;!ST1;\"\nfinish = \"PU;PA0,0;PR;SP0;!NR;\"\n"
+                           "[transport]\nabort = \"\\u001b.KPU;PA0,0;\"\n",
+                    "ok.toml"));
+  EXPECT_NO_THROW(parse_profile(base + "[hpgl]\ninit = \"IN;PU0,0;PA100,100;\"\n", "ok.toml"))
+      << "IN and PU lift the knife";
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Unit tests of the sender's accounting (E <= M <= N, buffered bytes, discards) and status channel (answers, silence, overdue).
+// Unit tests of the sender's accounting (E <= M <= N, buffered bytes, discards) and status channel (answers, silence,
+// overdue).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -150,14 +151,17 @@ TEST(StatusChannel, ARoundTripReturnsTheAnswer) {
 
 TEST(StatusChannel, AnAnswerThatIsNotANumberNamesTheLine) {
   ScriptedLine line;
-  line.answers = {"a\x01" "c\r"};
+  line.answers = {
+      "a\x01"
+      "c\r"};
   SendOptions o;
   o.baud = 9600;
   const EncodedJob job = two_strokes();
   Channel c(line, job, o);
   EXPECT_FALSE(c.channel.ask(DrainQuery::esc_b, "before sending"));
   EXPECT_EQ(c.session.result.status.message,
-            "the device answered 'a\\x01c' to ESC.B, not a status number: check the cable, the port and the baud rate (the profile says "
+            "the device answered 'a\\x01c' to ESC.B, not a status number: check the cable, the port and the baud rate "
+            "(the profile says "
             "9600 baud)");
 }
 
@@ -168,8 +172,9 @@ TEST(StatusChannel, SilenceForTheTimeoutIsADeviceThatDidNotAnswer) {
   const EncodedJob job = two_strokes();
   Channel c(line, job, o);
   EXPECT_FALSE(c.channel.ask(DrainQuery::esc_b, "before sending"));
-  EXPECT_EQ(c.session.result.status.message,
-            "the device did not answer ESC.B before sending within 200 ms: check the cable, the port and the baud rate");
+  EXPECT_EQ(
+      c.session.result.status.message,
+      "the device did not answer ESC.B before sending within 200 ms: check the cable, the port and the baud rate");
 }
 
 TEST(StatusChannel, APingFollowedByMoreThanAStatusIntervalIsWaitedFor) {

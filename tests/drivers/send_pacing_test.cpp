@@ -1,4 +1,5 @@
-// Unit tests of the sender's pacing parts: backoff and stalls, the motion tracker, writes through a held line, the pacers.
+// Unit tests of the sender's pacing parts: backoff and stalls, the motion tracker, writes through a held line, the
+// pacers.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -57,7 +58,8 @@ EncodedJob raw_job(std::size_t size) {
 
 TEST(SendWaits, PollsBackOffToAFifthOfASecond) {
   const std::vector<long> expected = {20, 40, 80, 160, 200, 200, 200};
-  for (int polls = 0; polls < 7; ++polls) EXPECT_EQ(poll_backoff(polls).count(), expected[static_cast<std::size_t>(polls)]) << polls;
+  for (int polls = 0; polls < 7; ++polls)
+    EXPECT_EQ(poll_backoff(polls).count(), expected[static_cast<std::size_t>(polls)]) << polls;
 }
 
 TEST(SendWaits, OnlyALargerAnswerRestartsTheStallClock) {
@@ -124,7 +126,9 @@ TEST(HeldLine, AHoldIsCountedOnceAndWaitedOut) {
   const EncodedJob job = raw_job(3);
   Parts parts(line, job, o);
   std::size_t taken = 0;
-  EXPECT_EQ(parts.held.write("PU;", [&](std::size_t k) { taken += k; }, [](std::size_t) { return false; }), Held::written);
+  EXPECT_EQ(parts.held.write(
+                "PU;", [&](std::size_t k) { taken += k; }, [](std::size_t) { return false; }),
+            Held::written);
   EXPECT_EQ(taken, 3u);
   EXPECT_EQ(parts.held.slice_holds(), 1);
   EXPECT_EQ(line.clock.count(), 750) << "three slices of 250 ms";
@@ -137,9 +141,12 @@ TEST(HeldLine, AHoldPastTheHoldTimeoutFails) {
   o.hold_timeout = milliseconds(1000);
   const EncodedJob job = raw_job(3);
   Parts parts(line, job, o);
-  EXPECT_EQ(parts.held.write("PU;", [](std::size_t) {}, [](std::size_t) { return false; }), Held::failed);
+  EXPECT_EQ(parts.held.write(
+                "PU;", [](std::size_t) {}, [](std::size_t) { return false; }),
+            Held::failed);
   EXPECT_EQ(parts.session.result.status.message,
-            "the device held popcut off for 1 s without taking a byte (hold_timeout_ms): is it paused, out of media or stuck? (held)");
+            "the device held popcut off for 1 s without taking a byte (hold_timeout_ms): is it paused, out of media or "
+            "stuck? (held)");
 }
 
 TEST(HeldLine, ALineThatCannotBeHeldFailsAtTheFirstTimeout) {
@@ -149,7 +156,9 @@ TEST(HeldLine, ALineThatCannotBeHeldFailsAtTheFirstTimeout) {
   SendOptions o;
   const EncodedJob job = raw_job(3);
   Parts parts(line, job, o);
-  EXPECT_EQ(parts.held.write("PU;", [](std::size_t) {}, [](std::size_t) { return false; }), Held::failed);
+  EXPECT_EQ(parts.held.write(
+                "PU;", [](std::size_t) {}, [](std::size_t) { return false; }),
+            Held::failed);
   EXPECT_EQ(parts.session.result.status.message, "held");
 }
 
@@ -166,7 +175,8 @@ TEST(HeldLine, TheAbortWaitsUpToTheHoldTimeoutAndTellsTheUserOnce) {
   EXPECT_FALSE(parts.held.write_abort("PU;"));
   EXPECT_EQ(told, 1);
   EXPECT_EQ(line.clock.count(), 1000);
-  EXPECT_EQ(parts.session.result.status.message, "the device held the line for 1 s (hold_timeout_ms) and did not take the abort sequence: held");
+  EXPECT_EQ(parts.session.result.status.message,
+            "the device held the line for 1 s (hold_timeout_ms) and did not take the abort sequence: held");
   EXPECT_EQ(parts.held.slice_holds(), 0) << "the abort's waits are no holds of the job";
 }
 

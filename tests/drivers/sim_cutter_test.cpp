@@ -74,7 +74,8 @@ TEST(SimCutter, RecordsStrokesWithToolForceAndSpeedAndReportsUnknownCommands) {
   SimTransport t(cutter);
   ASSERT_TRUE(t.open().ok());
   const std::string job = "IN;SP2;VS12;FS55;PU100,100;PD200,100,200,200;PU;XX9;PA400,400;PD;PR0,40;PU;";
-  ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(1000)).status.ok());
+  ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(1000))
+                  .status.ok());
   ASSERT_TRUE(cutter->run_to_end());
   const auto& s = cutter->strokes();
   ASSERT_EQ(s.size(), 2u) << "two knife-down paths";
@@ -97,7 +98,9 @@ TEST(SimCutter, ACommandCutShortByAHangUpIsNotRun) {
     auto cutter = std::make_shared<SimCutter>(sim_profile());
     SimTransport t(cutter);
     ASSERT_TRUE(t.open().ok());
-    ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(1000)).status.ok());
+    ASSERT_TRUE(
+        t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(1000))
+            .status.ok());
     ASSERT_TRUE(cutter->run_to_end(whole));
     // Whole coordinate pairs run as they arrive (the reader splits a long PD); the last pair,
     // "200,348", is the one whose end the line may have cut.
@@ -114,8 +117,8 @@ TEST(SimCutter, HostileNumbersAreReportedNotFatal) {
   SimTransport t(cutter);
   ASSERT_TRUE(t.open().ok());
   // HP-GL has no exponents (a letter starts a command): huge numbers are long digit strings.
-  const std::string job = "IN;PR" + std::string(30, '9') + ",1;PR-" + std::string(30, '9') + ",1;PA1" + std::string(400, '0') +
-                          ",5;PD1,2,3;";
+  const std::string job = "IN;PR" + std::string(30, '9') + ",1;PR-" + std::string(30, '9') + ",1;PA1" +
+                          std::string(400, '0') + ",5;PD1,2,3;";
   t.write({reinterpret_cast<const std::uint8_t*>(job.data()), job.size()}, std::chrono::milliseconds(100));
   ASSERT_TRUE(cutter->run_to_end());
   EXPECT_TRUE(cutter->report().outside_area) << "moves far off the table are flagged";
@@ -156,7 +159,9 @@ TEST(SimCutter, BufferAnswerCountsEveryByteAheadOfTheQuery) {
     SimTransport t(cutter);
     ASSERT_TRUE(t.open().ok());
     const std::string start = "IN;PU0,0;PD4000,4000;";  // the long move holds everything behind it
-    ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(start.data()), start.size()}, std::chrono::milliseconds(100)).status.ok());
+    ASSERT_TRUE(
+        t.write({reinterpret_cast<const std::uint8_t*>(start.data()), start.size()}, std::chrono::milliseconds(100))
+            .status.ok());
     std::string line, expected;
     std::size_t hpgl = 0;
     for (int k = 0; k < 6; ++k) {
@@ -170,7 +175,8 @@ TEST(SimCutter, BufferAnswerCountsEveryByteAheadOfTheQuery) {
     // Split the line into writes of random sizes, as a pseudo-terminal delivers it.
     for (std::size_t i = 0; i < line.size();) {
       const std::size_t n = std::min<std::size_t>(line.size() - i, 1 + rng() % 40);
-      ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(line.data()) + i, n}, std::chrono::milliseconds(100)).status.ok());
+      ASSERT_TRUE(t.write({reinterpret_cast<const std::uint8_t*>(line.data()) + i, n}, std::chrono::milliseconds(100))
+                      .status.ok());
       i += n;
     }
     EXPECT_EQ(drain_replies(t), expected) << "trial " << trial << ": " << line;
@@ -223,7 +229,8 @@ TEST(SimCutter, FaultsShowUpAsTransportErrors) {
     SendOptions o = send_options(p);
     o.hold_timeout = std::chrono::milliseconds(2000);
     const SendResult r = send_job(t, job, o);
-    EXPECT_EQ(r.status.error, TransportError::timeout) << "a device that stops answering times out: " << r.status.message;
+    EXPECT_EQ(r.status.error, TransportError::timeout)
+        << "a device that stops answering times out: " << r.status.message;
     EXPECT_FALSE(c->run_to_end()) << "and never finishes";
   }
   {
@@ -267,7 +274,8 @@ TEST(SimCutter, RecoversThePlannedStrokesForEveryProfile) {
                                      << planned.size() << " planned, " << cutter->strokes().size() << " cut)";
       EXPECT_FALSE(r.outside_area) << file << " model " << n << ": a move left the usable area";
       EXPECT_EQ(r.overflow_bytes, 0u) << file << " model " << n;
-      EXPECT_TRUE(r.unknown.empty()) << file << " model " << n << ": " << (r.unknown.empty() ? "" : r.unknown[0].command);
+      EXPECT_TRUE(r.unknown.empty()) << file << " model " << n << ": "
+                                     << (r.unknown.empty() ? "" : r.unknown[0].command);
       EXPECT_TRUE(r.errors.empty()) << file << " model " << n << ": " << (r.errors.empty() ? "" : r.errors[0].message);
       // Each stroke carries the tool its kind was given.
       std::size_t k = 0;
@@ -290,8 +298,10 @@ TEST(SimCutter, PrecutsCutOnlyAlongThePatternsLines) {
   std::stringstream text;
   text << in.rdbuf();
   const double offset_mm = 0.3;
-  const DeviceProfile prof = parse_profile(text.str() + "\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 1.0\n", "sim+precut.toml");
-  ASSERT_FALSE(prof.dialect.swap_axes || prof.dialect.flip_x || prof.dialect.flip_y) << "the mm mapping below assumes plain axes";
+  const DeviceProfile prof =
+      parse_profile(text.str() + "\n[plan]\nblade_offset_mm = 0.3\nprecut_mm = 1.0\n", "sim+precut.toml");
+  ASSERT_FALSE(prof.dialect.swap_axes || prof.dialect.flip_x || prof.dialect.flip_y)
+      << "the mm mapping below assumes plain axes";
   std::mt19937_64 rng(31);
   int precuts_seen = 0;
   for (int n = 0; n < 8; ++n) {
@@ -303,7 +313,8 @@ TEST(SimCutter, PrecutsCutOnlyAlongThePatternsLines) {
     ASSERT_TRUE(send_job(t, encode_hpgl(plan, prof.dialect, prof.tools), send_options(prof)).status.ok());
     ASSERT_TRUE(cutter->run_to_end());
     const auto planned = plan_in_plotter_units(plan, prof.dialect);
-    EXPECT_FALSE(first_difference(planned, cutter->strokes()).has_value()) << "model " << n << ": the simulator cuts the plan";
+    EXPECT_FALSE(first_difference(planned, cutter->strokes()).has_value())
+        << "model " << n << ": the simulator cuts the plan";
     ASSERT_EQ(cutter->strokes().size(), plan.strokes.size()) << "model " << n << ": no stroke below resolution here";
     std::vector<Segment> lines = kind_lines(pattern, PlanKind::outline, 0);
     for (const Segment& l : pattern.lines) lines.push_back(l);
@@ -316,12 +327,14 @@ TEST(SimCutter, PrecutsCutOnlyAlongThePatternsLines) {
         EXPECT_EQ(plan.strokes[k + 1].kind, plan.strokes[k].kind) << "model " << n << " stroke " << k;
       }
       for (const auto& q : cutter->strokes()[k].points_pu) {
-        const Point2 mm{frame.min.x_mm + static_cast<double>(q[0] - prof.dialect.area_min_x_pu) / prof.dialect.units_per_mm_x,
-                        frame.min.v_mm + static_cast<double>(q[1] - prof.dialect.area_min_y_pu) / prof.dialect.units_per_mm_y};
+        const Point2 mm{
+            frame.min.x_mm + static_cast<double>(q[0] - prof.dialect.area_min_x_pu) / prof.dialect.units_per_mm_x,
+            frame.min.v_mm + static_cast<double>(q[1] - prof.dialect.area_min_y_pu) / prof.dialect.units_per_mm_y};
         double d = 1e9;
         for (const Segment& l : lines) d = std::min(d, dist_to_segment(mm, l.a, l.b));
-        EXPECT_LE(d, offset_mm + 1.0 / 40) << "model " << n << " stroke " << k << (plan.strokes[k].precut ? " (precut)" : "")
-                                           << ": cut point (" << mm.x_mm << ", " << mm.v_mm << ") lies off every line";
+        EXPECT_LE(d, offset_mm + 1.0 / 40)
+            << "model " << n << " stroke " << k << (plan.strokes[k].precut ? " (precut)" : "") << ": cut point ("
+            << mm.x_mm << ", " << mm.v_mm << ") lies off every line";
       }
     }
     EXPECT_EQ(plan.total().precuts, plan.total().strokes) << "model " << n << ": one precut per stroke";
@@ -353,7 +366,8 @@ TEST(SimCutter, MotionScheduleIsTheDevicesOwnPace) {
   std::string job = "IN;SP1;VS10;";
   for (int i = 0; i < 40; ++i) job += "PU" + std::to_string(i * 40) + ",0;PD" + std::to_string(i * 40) + ",400;";
   job += "PU0,0;PD";
-  for (int i = 1; i <= 30; ++i) job += std::to_string(i * 100) + "," + std::to_string(i % 2 * 100) + (i < 30 ? "," : ";");
+  for (int i = 1; i <= 30; ++i)
+    job += std::to_string(i * 100) + "," + std::to_string(i % 2 * 100) + (i < 30 ? "," : ";");
   job += "PU;SP0;";
   const std::vector<MotionMark> marks = motion_schedule(job, p);
   ASSERT_GE(marks.size(), 2u);

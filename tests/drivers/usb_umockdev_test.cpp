@@ -113,9 +113,7 @@ gboolean handle_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* client) {
     case USBDEVFS_RELEASEINTERFACE:
     case USBDEVFS_CLEAR_HALT:
     case USBDEVFS_RESET:
-    case USBDEVFS_RESETEP:
-      umockdev_ioctl_client_complete(client, 0, 0);
-      return TRUE;
+    case USBDEVFS_RESETEP: umockdev_ioctl_client_complete(client, 0, 0); return TRUE;
     case USBDEVFS_DISCARDURB:
       for (std::size_t i = 0; i < d.pending.size(); ++i) {
         if (d.pending[i].urb->client_addr == *reinterpret_cast<gulong*>(arg->data)) {
@@ -132,7 +130,8 @@ gboolean handle_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* client) {
     case USBDEVFS_SUBMITURB: {
       auto* urb = reinterpret_cast<usbdevfs_urb*>(data->data);
       const gsize offset = offsetof(usbdevfs_urb, buffer);
-      UMockdevIoctlData* buffer = umockdev_ioctl_data_resolve(data, offset, static_cast<gsize>(urb->buffer_length), &err);
+      UMockdevIoctlData* buffer =
+          umockdev_ioctl_data_resolve(data, offset, static_cast<gsize>(urb->buffer_length), &err);
       if (err) {
         g_error_free(err);
         return FALSE;
@@ -153,7 +152,8 @@ gboolean handle_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* client) {
         if (before + n >= d.unplug_after) n = d.unplug_after > before ? d.unplug_after - before : 0;
         d.cutter->receive(buffer->data, n, 60);
         urb->actual_length = static_cast<int>(n);
-        urb->status = n == static_cast<std::size_t>(urb->buffer_length) ? 0 : -ESHUTDOWN;  // as the kernel reports an unplug
+        urb->status =
+            n == static_cast<std::size_t>(urb->buffer_length) ? 0 : -ESHUTDOWN;  // as the kernel reports an unplug
         umockdev_ioctl_data_update(data, 0, data->data, data->data_len);
         d.done.push_back(u);
         if (d.cutter->report().bytes_received >= d.unplug_after) d.unplugged = true;
@@ -182,9 +182,7 @@ gboolean handle_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* client) {
       umockdev_ioctl_client_complete(client, 0, 0);
       return TRUE;
     }
-    default:
-      umockdev_ioctl_client_complete(client, -1, ENOTTY);
-      return TRUE;
+    default: umockdev_ioctl_client_complete(client, -1, ENOTTY); return TRUE;
   }
 }
 
@@ -201,11 +199,9 @@ namespace {
 
 // A printer-class cutter: device descriptor, then one configuration with bulk OUT 0x01 and IN 0x82.
 const guint8 kDescriptors[] = {
-    0x12, 0x01, 0x00, 0x02, 0x00, 0x00, 0x00, 0x40, 0x4d, 0x0b, 0x0a, 0x11, 0x00, 0x01, 0x01, 0x02, 0x03, 0x01,
-    0x09, 0x02, 0x20, 0x00, 0x01, 0x01, 0x00, 0x80, 0x32,
-    0x09, 0x04, 0x00, 0x00, 0x02, 0x07, 0x01, 0x02, 0x00,
-    0x07, 0x05, 0x01, 0x02, 0x40, 0x00, 0x00,
-    0x07, 0x05, 0x82, 0x02, 0x40, 0x00, 0x00,
+    0x12, 0x01, 0x00, 0x02, 0x00, 0x00, 0x00, 0x40, 0x4d, 0x0b, 0x0a, 0x11, 0x00, 0x01, 0x01, 0x02, 0x03,
+    0x01, 0x09, 0x02, 0x20, 0x00, 0x01, 0x01, 0x00, 0x80, 0x32, 0x09, 0x04, 0x00, 0x00, 0x02, 0x07, 0x01,
+    0x02, 0x00, 0x07, 0x05, 0x01, 0x02, 0x40, 0x00, 0x00, 0x07, 0x05, 0x82, 0x02, 0x40, 0x00, 0x00,
 };
 
 class UsbMock : public ::testing::Test {
@@ -215,10 +211,11 @@ class UsbMock : public ::testing::Test {
     ASSERT_TRUE(preload && std::strstr(preload, "umockdev-preload")) << "run under umockdev-wrapper (CTest does)";
     bed_ = umockdev_testbed_new();
     sys_ = umockdev_testbed_add_device(bed_, "usb", "usb1/1-1", nullptr, "busnum", "1", "devnum", "2", "speed", "480",
-                                       "bConfigurationValue", "1", "idVendor", "0b4d", "idProduct", "110a", "dev", "189:1", nullptr,
-                                       "DEVNAME", "/dev/bus/usb/001/002", "DEVTYPE", "usb_device", "BUSNUM", "001", "DEVNUM", "002",
-                                       nullptr);
-    umockdev_testbed_set_attribute_binary(bed_, sys_, "descriptors", const_cast<guint8*>(kDescriptors), sizeof kDescriptors);
+                                       "bConfigurationValue", "1", "idVendor", "0b4d", "idProduct", "110a", "dev",
+                                       "189:1", nullptr, "DEVNAME", "/dev/bus/usb/001/002", "DEVTYPE", "usb_device",
+                                       "BUSNUM", "001", "DEVNUM", "002", nullptr);
+    umockdev_testbed_set_attribute_binary(bed_, sys_, "descriptors", const_cast<guint8*>(kDescriptors),
+                                          sizeof kDescriptors);
     // The usbfs node libusb opens; its ioctls go to the handler attached below.
     gchar* root = umockdev_testbed_get_root_dir(bed_);
     const std::filesystem::path node = std::filesystem::path(root) / "dev/bus/usb/001/002";
@@ -233,7 +230,8 @@ class UsbMock : public ::testing::Test {
     g_device = &device_;
     handler_ = static_cast<UMockdevIoctlBase*>(g_object_new(cutter_handler_get_type(), nullptr));
     GError* err = nullptr;
-    ASSERT_TRUE(umockdev_testbed_attach_ioctl(bed_, "/dev/bus/usb/001/002", handler_, &err)) << (err ? err->message : "");
+    ASSERT_TRUE(umockdev_testbed_attach_ioctl(bed_, "/dev/bus/usb/001/002", handler_, &err))
+        << (err ? err->message : "");
   }
   void TearDown() override {
     if (bed_) umockdev_testbed_detach_ioctl(bed_, "/dev/bus/usb/001/002", nullptr);
@@ -246,7 +244,8 @@ class UsbMock : public ::testing::Test {
   EncodedJob job() const {
     PlanOptions o = profile_.plan;
     o.optimise_work = 1000;  // a small work budget: these tests are about the transport, not ordering
-    const StrokePlan plan = plan_strokes(make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json")), o);
+    const StrokePlan plan =
+        plan_strokes(make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json")), o);
     return encode_job(plan, profile_.dialect, profile_.tools);
   }
 
@@ -289,9 +288,11 @@ TEST_F(UsbMock, AJobGoesOutOverBulkOutPacedByBulkInAnswers) {
     return out;
   }();
   ASSERT_EQ(device_.cutter->strokes().size(), planned.size()) << "every stroke arrived";
-  for (std::size_t i = 0; i < planned.size(); ++i) EXPECT_EQ(device_.cutter->strokes()[i].points_pu, planned[i]) << "stroke " << i + 1;
+  for (std::size_t i = 0; i < planned.size(); ++i)
+    EXPECT_EQ(device_.cutter->strokes()[i].points_pu, planned[i]) << "stroke " << i + 1;
   EXPECT_EQ(device_.cutter->report().overflow_bytes, 0u);
-  EXPECT_TRUE(device_.cutter->report().unknown.empty()) << "only the job reached the cutter (no control-transfer bytes)";
+  EXPECT_TRUE(device_.cutter->report().unknown.empty())
+      << "only the job reached the cutter (no control-transfer bytes)";
   EXPECT_EQ(device_.cutter->report().bytes_received, j.bytes.size() + 3 * static_cast<std::size_t>(r.status_queries))
       << "the job and the ESC.B queries, nothing else";
 }
@@ -338,7 +339,8 @@ TEST_F(UsbMock, PermissionDeniedPointsToTheUdevRule) {
   ::waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the unprivileged child ran";
   EXPECT_EQ(msg.rfind("permission: ", 0), 0u) << msg;
-  EXPECT_NE(msg.find("configs/udev/60-popcut-cutters.rules"), std::string::npos) << "names the rule to install: " << msg;
+  EXPECT_NE(msg.find("configs/udev/60-popcut-cutters.rules"), std::string::npos)
+      << "names the rule to install: " << msg;
   EXPECT_NE(msg.find("replug"), std::string::npos) << "and what to do after: " << msg;
 }
 

@@ -1,4 +1,5 @@
-// popcut import's card size in mm (--height-mm, --fit-mm) and its warnings about sheets too big for a device, run as a user would.
+// popcut import's card size in mm (--height-mm, --fit-mm) and its warnings about sheets too big for a device, run as a
+// user would.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -33,7 +34,8 @@ TEST_F(ImportSize, TallMeshWarnsNamingTheDevicesAndSizes) {
   // 120 mm across makes the tower 600 mm high, on a sheet over 1.2 m long: too long for the
   // 1 m flatbeds; a roll cutter takes the sheet's height along its feed.
   EXPECT_NE(r.err.find("popcut: warning: " + tower() + ": the sheet (126 x "), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find(" does not fit generic-hpgl (at most 599.975 x 999.975 mm)"), std::string::npos) << "names the device and its size: " << r.err;
+  EXPECT_NE(r.err.find(" does not fit generic-hpgl (at most 599.975 x 999.975 mm)"), std::string::npos)
+      << "names the device and its size: " << r.err;
   EXPECT_NE(r.err.find("use --fit-mm sim"), std::string::npos) << "and says what to do: " << r.err;
   EXPECT_EQ(r.err.find("does not fit graphtec-ce"), std::string::npos) << "the roll takes it along its feed: " << r.err;
   const CliRun j = run("import " + tower() + " -o " + out("t.json") + " --json");
@@ -62,27 +64,34 @@ TEST_F(ImportSize, HeightAndFitSizeTheCard) {
   EXPECT_LE(j["sheet_mm"]["width"].get<double>(), 600) << "the flat sheet fits across the roll: " << r.out;
   EXPECT_GT(j["sheet_mm"]["width"].get<double>(), 590) << "as large as it lets it be: " << r.out;
   const std::string warnings = j["warnings"].dump();
-  EXPECT_NE(warnings.find("does not fit roland-gx24"), std::string::npos) << "the narrower roll is warned of: " << r.out;
+  EXPECT_NE(warnings.find("does not fit roland-gx24"), std::string::npos)
+      << "the narrower roll is warned of: " << r.out;
   EXPECT_EQ(warnings.find("does not fit graphtec-ce"), std::string::npos) << "not the roll it was fitted to: " << r.out;
-  const CliRun cut = run("plan " + out("t.json") + " --profile " + std::string(POPCUT_SOURCE_DIR) + "/configs/devices/graphtec-ce.toml -o " + out("t.hpgl"));
+  const CliRun cut = run("plan " + out("t.json") + " --profile " + std::string(POPCUT_SOURCE_DIR) +
+                         "/configs/devices/graphtec-ce.toml -o " + out("t.hpgl"));
   EXPECT_EQ(cut.code, 0) << "the fitted card plans for that device: " << cut.err;
 }
 
 TEST_F(ImportSize, ConflictsAndBadValuesExit2NamingTheOption) {
   CliRun r = run("import " + tower() + " -o " + out("t.json") + " --width-mm 100 --height-mm 80");
   EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("--height-mm: give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the card's size), not both --width-mm and --height-mm"),
-            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--height-mm: give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the "
+                       "card's size), not both --width-mm and --height-mm"),
+            std::string::npos)
+      << r.err;
   r = run("import " + tower() + " -o " + out("t.json") + " --fit-mm 100x50 --width-mm 100");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("not both --width-mm and --fit-mm"), std::string::npos) << r.err;
   r = run("import " + tower() + " -o " + out("t.json") + " --fit-mm nowhere");
   EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("--fit-mm: 'nowhere' is neither WxH in mm (e.g. 148x105, or 148×105) nor a device ("), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--fit-mm: 'nowhere' is neither WxH in mm (e.g. 148x105, or 148×105) nor a device ("),
+            std::string::npos)
+      << r.err;
   EXPECT_NE(r.err.find("graphtec-ce"), std::string::npos) << "the devices it could name are listed: " << r.err;
   r = run("import " + tower() + " -o " + out("t.json") + " --height-mm -3");
   EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("--height-mm: the card's height must be a positive number of mm, not -3"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--height-mm: the card's height must be a positive number of mm, not -3"), std::string::npos)
+      << r.err;
 }
 
 }  // namespace

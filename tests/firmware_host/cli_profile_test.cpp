@@ -29,7 +29,8 @@ class CliProfile : public popcut::testing::CliFixture {
     return p.string();
   }
   popcut::testing::CliRun cut(const std::string& profile, const fs::path& out) const {
-    return run(std::string("cut ") + POPCUT_SOURCE_DIR + "/examples/voxel/box.json --device sim --profile " + profile + " --out " + out.string());
+    return run(std::string("cut ") + POPCUT_SOURCE_DIR + "/examples/voxel/box.json --device sim --profile " + profile +
+               " --out " + out.string());
   }
 };
 
@@ -50,11 +51,13 @@ TEST_F(CliProfile, CutRefusesAKnifeDownInitFinishOrAbortWithExit2) {
     const fs::path out = dir_ / "out";
     const popcut::testing::CliRun r = cut(profile, out);
     EXPECT_EQ(r.code, 2) << c.to << ": " << r.err;
-    EXPECT_NE(r.err.find("knife.toml: " + std::string(c.key)), std::string::npos) << "file, section, key and why: " << r.err;
+    EXPECT_NE(r.err.find("knife.toml: " + std::string(c.key)), std::string::npos)
+        << "file, section, key and why: " << r.err;
     EXPECT_NE(r.err.find("allowed are IN"), std::string::npos) << "says what is allowed: " << r.err;
     EXPECT_FALSE(fs::exists(out / "job.hpgl")) << c.to << ": nothing planned or sent";
   }
-  const popcut::testing::CliRun ok = cut(sim_profile_with("finish = \"PU;SP0;\"", "finish = \"PU;PA0,0;SP0;\""), dir_ / "ok");
+  const popcut::testing::CliRun ok =
+      cut(sim_profile_with("finish = \"PU;SP0;\"", "finish = \"PU;PA0,0;SP0;\""), dir_ / "ok");
   EXPECT_EQ(ok.code, 0) << "going home after lifting the knife is fine: " << ok.err;
 }
 

@@ -61,7 +61,8 @@ TEST_F(Cli, HelpEverywhere) {
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
   }
   EXPECT_NE(run("--help").out.find("Exit codes"), std::string::npos) << "top-level help documents exit codes";
-  EXPECT_EQ(run("--version").out, std::string("popcut ") + POPCUT_VERSION + "\n") << "--version gives the project's version";
+  EXPECT_EQ(run("--version").out, std::string("popcut ") + POPCUT_VERSION + "\n")
+      << "--version gives the project's version";
 }
 
 TEST_F(Cli, UsageErrorsExit2) {
@@ -74,9 +75,10 @@ TEST_F(Cli, UsageErrorsExit2) {
   EXPECT_EQ(typo.code, 2) << "a misspelt command";
   EXPECT_NE(typo.err.find("unknown command 'valdate'"), std::string::npos) << "is named: " << typo.err;
   // The command table (cli/commands.cpp) builds the list of commands; scripts may match its text.
-  EXPECT_EQ(typo.err,
-            "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, plan, cut, "
-            "submit, jobs, cancel, devices or sim-plotter)\nRun 'popcut --help' for usage.\n");
+  EXPECT_EQ(
+      typo.err,
+      "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, plan, cut, "
+      "submit, jobs, cancel, devices or sim-plotter)\nRun 'popcut --help' for usage.\n");
   const Result flag = run("validate --jsn x.json");
   EXPECT_EQ(flag.err.rfind("popcut: error: ", 0), 0u) << "usage errors read like every other error: " << flag.err;
   EXPECT_NE(flag.err.find("popcut validate --help"), std::string::npos) << "and point at the right help: " << flag.err;
@@ -102,14 +104,18 @@ TEST_F(Cli, ValidateReportsAndExitCodes) {
   Result piped = run("validate -", file("stdin.json", kBox));
   EXPECT_EQ(piped.code, 0) << "a model on standard input: " << piped.err;
   Result piped_bad = run("validate -", file("stdin-bad.json", "{"));
-  EXPECT_EQ(piped_bad.err.rfind("popcut: error: <stdin>: line 1", 0), 0u) << "standard input is named: " << piped_bad.err;
+  EXPECT_EQ(piped_bad.err.rfind("popcut: error: <stdin>: line 1", 0), 0u)
+      << "standard input is named: " << piped_bad.err;
 }
 
 TEST_F(Cli, BadInputExit2WithFileAndPosition) {
-  Result r = run("validate " + file("broken.json", "{\"format\": \"popcut.voxel.v1\",\n  \"voxel_mm\": 2,\n  \"heights\": [[3, 3], [2, 4]]}"));
+  Result r = run(
+      "validate " +
+      file("broken.json", "{\"format\": \"popcut.voxel.v1\",\n  \"voxel_mm\": 2,\n  \"heights\": [[3, 3], [2, 4]]}"));
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("broken.json: heights[1][1]"), std::string::npos) << "file and field: " << r.err;
-  Result m = run("validate " + file("trunc.json", "{\"format\": \"popcut.voxel.v1\",\n  \"voxel_mm\": 2,\n  \"heights\": [[3, "));
+  Result m = run("validate " +
+                 file("trunc.json", "{\"format\": \"popcut.voxel.v1\",\n  \"voxel_mm\": 2,\n  \"heights\": [[3, "));
   EXPECT_EQ(m.code, 2) << m.err;
   EXPECT_NE(m.err.find("trunc.json: line 3"), std::string::npos) << "file and line: " << m.err;
   Result missing = run("validate " + (dir_ / "nope.json").string());
@@ -183,8 +189,8 @@ TEST_F(Cli, ShippedExamplesValidate) {
 TEST_F(Cli, ImportMeshToCardAndPattern) {
   const fs::path meshes = fs::path(POPCUT_SOURCE_DIR) / "examples" / "meshes";
   const fs::path card = dir_ / "house.json", svg = dir_ / "house.svg";
-  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() + " --resolution 30 --pattern " + svg.string() +
-                 " --json");
+  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() + " --resolution 30 --pattern " +
+                 svg.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["pops_up"].get<bool>()) << r.out;
@@ -196,7 +202,8 @@ TEST_F(Cli, ImportMeshToCardAndPattern) {
   EXPECT_EQ(run("validate " + card.string()).code, 0) << "the card validates";
   EXPECT_NE(slurp(svg).find("<svg"), std::string::npos) << "--pattern writes the SVG";
   // -y as the value of --front, Y-up axes, voxel size instead of width.
-  r = run("import " + (meshes / "tower.ply").string() + " -o " + card.string() + " --up +z --front -y --voxel-mm 2 --resolution 20");
+  r = run("import " + (meshes / "tower.ply").string() + " -o " + card.string() +
+          " --up +z --front -y --voxel-mm 2 --resolution 20");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("voxels of 2 mm"), std::string::npos) << r.out;
 }
@@ -217,7 +224,8 @@ TEST_F(Cli, ShippedMeshCardsAreWhatImportMakes) {
 TEST_F(Cli, ImportFacesFollowTheSilhouette) {
   const fs::path meshes = fs::path(POPCUT_SOURCE_DIR) / "examples" / "meshes";
   const fs::path card = dir_ / "house-faces.json";
-  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() + " --resolution 40 --thin-tops 2 --faces --json");
+  Result r = run("import " + (meshes / "house.obj").string() + " -o " + card.string() +
+                 " --resolution 40 --thin-tops 2 --faces --json");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_GT(j["faces"]["outlines_redrawn"].get<int>(), 0) << r.out;
@@ -239,9 +247,11 @@ TEST_F(Cli, ImportErrorsNameFileAndOption) {
       {"--up +q", "house.obj: --up: '+q' is not an axis: use +x, -x, +y, -y, +z or -z"},
       {"--depth-method fast", "house.obj: --depth-method: 'fast' is not a method: use zbuffer or raycast"},
       {"--resolution 1e10", "house.obj: --resolution: '1e10' is not a whole number: expected 1 to 2048 voxels across"},
-      {"--resolution 99999999999", "house.obj: --resolution: '99999999999' is out of range: expected 1 to 2048 voxels across"},
+      {"--resolution 99999999999",
+       "house.obj: --resolution: '99999999999' is out of range: expected 1 to 2048 voxels across"},
       {"--smooth 3.5", "house.obj: --smooth: '3.5' is not a whole number: expected an odd side, 1 to 15"},
-      {"--thin-tops -99999999999", "house.obj: --thin-tops: '-99999999999' is out of range: expected 0 (off) to 4096 voxels"},
+      {"--thin-tops -99999999999",
+       "house.obj: --thin-tops: '-99999999999' is out of range: expected 0 (off) to 4096 voxels"},
       {"--width-mm 1e308", "--width-mm: gives voxels of 1.25e+306 mm; they must be 0.01 to 1000 mm"},
       {"--voxel-mm nan", "--voxel-mm: the voxel size must be a positive number of mm, not nan"},
       {"--width-mm -5", "--width-mm: the card width must be a positive number of mm, not -5"},
@@ -254,7 +264,8 @@ TEST_F(Cli, ImportErrorsNameFileAndOption) {
     EXPECT_EQ(r.err.find("<input>"), std::string::npos) << flags << ": the mesh is named, not <input>: " << r.err;
     EXPECT_LT(r.err.size(), 200u) << flags << ": the message stays short: " << r.err;
   }
-  r = run("import " + file("bad.obj", "v 0 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\n") + " -o " + (dir_ / "x.json").string() + " --json");
+  r = run("import " + file("bad.obj", "v 0 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\n") + " -o " + (dir_ / "x.json").string() +
+          " --json");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("bad.obj: line 2: 'nan' is not a finite number"), std::string::npos) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["error"]["code"], "invalid_input") << r.out;
@@ -281,9 +292,11 @@ TEST_F(Cli, FoldWritesObjAndGltf) {
   EXPECT_EQ(run("fold " + model + " -o " + (dir_ / "c.stl").string()).code, 2) << "unknown 3D format";
   const Result into_dir = run("fold " + model + " -o " + dir_.string());
   EXPECT_EQ(into_dir.code, 2) << "a directory as -o: " << into_dir.err;
-  EXPECT_NE(into_dir.err.find("is a directory"), std::string::npos) << "the message says it is a directory: " << into_dir.err;
+  EXPECT_NE(into_dir.err.find("is a directory"), std::string::npos)
+      << "the message says it is a directory: " << into_dir.err;
   const Result bare = run("fold " + model + " -o " + (dir_ / "card").string());
-  EXPECT_NE(bare.err.find("no file extension"), std::string::npos) << "the message says the extension is missing: " << bare.err;
+  EXPECT_NE(bare.err.find("no file extension"), std::string::npos)
+      << "the message says the extension is missing: " << bare.err;
 }
 
 TEST_F(Cli, RenderPicturesAndFrames) {
@@ -302,7 +315,10 @@ TEST_F(Cli, RenderPicturesAndFrames) {
   EXPECT_FALSE(fs::exists(dir_ / "open-004.svg")) << "exactly four frames";
   EXPECT_NE(slurp(dir_ / "open-000.svg").substr(0, 300).find("viewBox"), std::string::npos);
   // Every frame shares one view box, so the animation holds still.
-  const auto box = [&](const char* f) { const std::string t = slurp(dir_ / f); return t.substr(t.find("viewBox"), 40); };
+  const auto box = [&](const char* f) {
+    const std::string t = slurp(dir_ / f);
+    return t.substr(t.find("viewBox"), 40);
+  };
   EXPECT_EQ(box("open-000.svg"), box("open-003.svg")) << "frames share their view";
   EXPECT_EQ(run("render " + model + " --frames 0 -o " + (dir_ / "x.svg").string()).code, 2) << "frames out of range";
   EXPECT_EQ(run("render " + model + " -o " + (dir_ / "x.gif").string()).code, 2) << "unknown picture format";
@@ -312,14 +328,17 @@ TEST_F(Cli, RenderPicturesAndFrames) {
   const Result full = run("render " + model + " -o " + (dir_ / "full.png").string());
   EXPECT_EQ(full.code, 3) << "a PNG that did not fit is a write failure: " << full.err;
   EXPECT_EQ(full.err.find("wrote"), std::string::npos) << "no success message after a failed write: " << full.err;
-  EXPECT_TRUE(fs::is_character_file("/dev/full")) << "a device behind a link is written in place, never replaced by a file";
-  EXPECT_EQ(anim.err.find("frames"), anim.err.rfind("frames")) << "no \\r frame counter when stderr is a file: " << anim.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"))
+      << "a device behind a link is written in place, never replaced by a file";
+  EXPECT_EQ(anim.err.find("frames"), anim.err.rfind("frames"))
+      << "no \\r frame counter when stderr is a file: " << anim.err;
 }
 
 TEST_F(Cli, CutFaultFlagsRefuseNotANumber) {
   const std::string model = std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json";
   // CLI11's Range lets NaN through; a NaN slowdown once spun the simulator forever.
-  for (const char* flags : {"--sim-slowdown nan", "--sim-slowdown inf", "--sim-drop-after -1", "--sim-stop-after nan"}) {
+  for (const char* flags :
+       {"--sim-slowdown nan", "--sim-slowdown inf", "--sim-drop-after -1", "--sim-stop-after nan"}) {
     const Result r = run("cut " + model + " --device sim --out " + (dir_ / "o").string() + " " + flags);
     EXPECT_EQ(r.code, 2) << flags << ": " << r.err;
     EXPECT_LT(r.err.size(), 300u) << flags << ": a short message, not a 300-digit limit: " << r.err;
@@ -328,7 +347,8 @@ TEST_F(Cli, CutFaultFlagsRefuseNotANumber) {
 
 TEST_F(Cli, ResumedCutReportsThisRun) {
   const std::string model = std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json";
-  const Result r = run("cut " + model + " --device sim --out " + (dir_ / "r").string() + " --resume-from 34 --no-progress");
+  const Result r =
+      run("cut " + model + " --device sim --out " + (dir_ / "r").string() + " --resume-from 34 --no-progress");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto report = nlohmann::json::parse(slurp(dir_ / "r" / "report.json"));
   EXPECT_EQ(report["this_run"]["first_stroke"], 34) << report.dump();
@@ -354,8 +374,8 @@ TEST_F(Cli, OptionErrorsNameTheOption) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_EQ(r.err.find("<input>"), std::string::npos) << "an option error is not blamed on '<input>': " << r.err;
   EXPECT_NE(r.err.find("--angle"), std::string::npos) << "names the option: " << r.err;
-  const Result p = run("import " + std::string(POPCUT_SOURCE_DIR) + "/examples/meshes/house.obj -o " + (dir_ / "c.json").string() +
-                       " --pattern " + (dir_ / "p.png").string());
+  const Result p = run("import " + std::string(POPCUT_SOURCE_DIR) + "/examples/meshes/house.obj -o " +
+                       (dir_ / "c.json").string() + " --pattern " + (dir_ / "p.png").string());
   EXPECT_EQ(p.code, 2) << p.err;
   EXPECT_NE(p.err.find("--pattern"), std::string::npos) << "the pattern's own option is blamed, not -o: " << p.err;
 }
@@ -384,7 +404,8 @@ TEST_F(Cli, EveryCommandRefusesAnAngleOutsideZeroTo180NamingTheFlag) {
     const Result r = run("render " + model + " --angle " + angle + " -o " + (dir_ / "h.svg").string());
     EXPECT_EQ(r.code, 2) << angle << ": " << r.err;
     EXPECT_NE(r.err.find("--angle"), std::string::npos) << angle << ": names the flag: " << r.err;
-    EXPECT_NE(r.err.find("is not a number of degrees"), std::string::npos) << angle << ": says what it takes: " << r.err;
+    EXPECT_NE(r.err.find("is not a number of degrees"), std::string::npos)
+        << angle << ": says what it takes: " << r.err;
   }
   const Result minus_zero = run("fold " + model + " --angle -0 -o " + (dir_ / "z.obj").string());
   EXPECT_EQ(minus_zero.code, 0) << minus_zero.err;
@@ -402,12 +423,16 @@ TEST_F(Cli, CutNamesABadDeviceStringBeforeAMissingProfile) {
     const Result r = run("cut " + model + " --device " + device + " --out " + (dir_ / "cut").string());
     EXPECT_EQ(r.code, 2) << device << ": " << r.err;
     EXPECT_NE(r.err.find("--device"), std::string::npos) << device << ": " << r.err;
-    EXPECT_NE(r.err.find(std::string("(in device '") + device + "')"), std::string::npos) << device << ": says what is wrong with it: " << r.err;
-    EXPECT_EQ(r.err.find("needs --profile"), std::string::npos) << device << ": not the missing profile first: " << r.err;
+    EXPECT_NE(r.err.find(std::string("(in device '") + device + "')"), std::string::npos)
+        << device << ": says what is wrong with it: " << r.err;
+    EXPECT_EQ(r.err.find("needs --profile"), std::string::npos)
+        << device << ": not the missing profile first: " << r.err;
   }
-  const Result good = run("cut " + model + " --device file:" + (dir_ / "x.hpgl").string() + " --out " + (dir_ / "cut").string());
+  const Result good =
+      run("cut " + model + " --device file:" + (dir_ / "x.hpgl").string() + " --out " + (dir_ / "cut").string());
   EXPECT_EQ(good.code, 2) << good.err;
-  EXPECT_NE(good.err.find("needs --profile"), std::string::npos) << "a well-formed device still needs its profile: " << good.err;
+  EXPECT_NE(good.err.find("needs --profile"), std::string::npos)
+      << "a well-formed device still needs its profile: " << good.err;
 }
 
 // The models shown in docs/formats.md are the first a user copies: they must be valid cards.
@@ -417,7 +442,9 @@ TEST_F(Cli, FormatDocExamplesPopUp) {
   for (std::size_t at = doc.find("```json\n"); at != std::string::npos; at = doc.find("```json\n", at + 1)) {
     const std::size_t start = at + 8, end = doc.find("```", start);
     const std::string block = doc.substr(start, end - start);
-    if (block.find("\"popcut.voxel.v1\"") == std::string::npos && block.find("\"popcut.faces.v1\"") == std::string::npos) continue;
+    if (block.find("\"popcut.voxel.v1\"") == std::string::npos &&
+        block.find("\"popcut.faces.v1\"") == std::string::npos)
+      continue;
     const std::string path = file("doc" + std::to_string(checked++) + ".json", block);
     const Result r = run("validate " + path);
     EXPECT_EQ(r.code, 0) << "docs/formats.md example:\n" << block << "\n" << r.out << r.err;
@@ -426,13 +453,15 @@ TEST_F(Cli, FormatDocExamplesPopUp) {
 }
 
 TEST_F(Cli, FaceModels) {
-  const std::string box = file("box-faces.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
+  const std::string box =
+      file("box-faces.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
     "edits": [{"op": "add_vface", "t": 20, "outline": [[10, 0], [50, 0], [50, 30], [10, 30]]},
               {"op": "add_hface", "t": 30, "outline": [[10, 0], [50, 0], [50, 20], [10, 20]]}]})");
   Result ok = run("validate --json " + box);
   EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
   EXPECT_TRUE(nlohmann::json::parse(ok.out)["pops_up"].get<bool>()) << ok.out;
-  const std::string bowtie = file("bowtie.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
+  const std::string bowtie =
+      file("bowtie.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
     "edits": [{"op": "add_vface", "t": 20, "outline": [[10, 0], [50, 0], [50, 30], [10, 30]]},
               {"op": "add_vface", "t": 5, "outline": [[0, 0], [10, 10], [10, 0], [0, 10]]}]})");
   Result bad = run("validate " + bowtie);
@@ -445,19 +474,23 @@ TEST_F(Cli, FaceModels) {
 
 TEST_F(Cli, FaceModelWithAPieceCutFreeIsBadInput) {
   // A wall at y = 5 that reaches neither the floor nor a roof: cut on every side, it would fall out.
-  const std::string floating = file("floating.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
+  const std::string floating =
+      file("floating.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 60, "back": 50, "floor": 50},
     "edits": [{"op": "add_vface", "t": 20, "outline": [[10, 0], [50, 0], [50, 30], [10, 30]]},
               {"op": "add_vface", "t": 5, "outline": [[20, 10], [30, 10], [30, 25], [20, 25]]}]})");
   for (const std::string command : {"validate", "pattern", "render"}) {
-    const std::string out = command == "validate" ? "" : " -o " + (dir_ / (command == "render" ? "x.svg" : "x.json")).string();
+    const std::string out =
+        command == "validate" ? "" : " -o " + (dir_ / (command == "render" ? "x.svg" : "x.json")).string();
     const Result r = run(command + " " + floating + out);
     EXPECT_EQ(r.code, 2) << command << ": " << r.err;
-    EXPECT_NE(r.err.find("floating.json: edits[1]: leaves a piece cut free of the sheet (1 face, x 20 to 30 mm, v 5 to 20 mm, 150 mm²)"),
+    EXPECT_NE(r.err.find("floating.json: edits[1]: leaves a piece cut free of the sheet (1 face, x 20 to 30 mm, v 5 to "
+                         "20 mm, 150 mm²)"),
               std::string::npos)
         << command << " names the edit that drew the loose face and where it is: " << r.err;
   }
   // Given as final faces, the same piece is named by its face index.
-  const std::string given = file("given.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 20, "back": 10, "floor": 10},
+  const std::string given =
+      file("given.json", R"({"format": "popcut.faces.v1", "sheet": {"width": 20, "back": 10, "floor": 10},
     "faces": [{"kind": "V", "t": 0, "outer": [[0, 0], [20, 0], [20, 10], [0, 10]]},
               {"kind": "H", "t": 0, "outer": [[0, -10], [20, -10], [20, 0], [0, 0]], "holes": [[[5, -8], [5, -2], [15, -2], [15, -8]]]},
               {"kind": "V", "t": 3, "outer": [[5, -8], [15, -8], [15, -2], [5, -2]]}]})");
@@ -484,10 +517,11 @@ TEST_F(Cli, PlanAndCutHaveHelp) {
 
 TEST_F(Cli, PlanWritesHpglAndAReport) {
   const fs::path job = dir_ / "job.hpgl", rep = dir_ / "plan.json";
-  const Result r = run("plan " + example("voxel/townhouse.json") + " --profile " + profile("generic-hpgl.toml") + " -o " +
-                       job.string() + " --report " + rep.string());
+  const Result r = run("plan " + example("voxel/townhouse.json") + " --profile " + profile("generic-hpgl.toml") +
+                       " -o " + job.string() + " --report " + rep.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(slurp(job).rfind("IN;SP1;", 0), 0u) << "the job starts with the profile's init: " << slurp(job).substr(0, 40);
+  EXPECT_EQ(slurp(job).rfind("IN;SP1;", 0), 0u)
+      << "the job starts with the profile's init: " << slurp(job).substr(0, 40);
   const auto j = nlohmann::json::parse(slurp(rep));
   for (const char* k : {"strokes", "pen_lifts", "pen_lift_bound", "cut_mm", "travel_mm", "est_time_s"}) {
     EXPECT_TRUE(j.contains(k)) << "report has " << k << ": " << j.dump();
@@ -505,7 +539,8 @@ TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
   const std::string bad = file("bad.toml", "[device]\nname = \"x\"\n[tool.cut]\nforce_g = 9000\n");
   const Result r = run("plan " + model + " --profile " + bad + " -o " + (dir_ / "j.hpgl").string());
   EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("bad.toml: [tool.cut] force_g: 9000 is out of range"), std::string::npos) << "file, section and key: " << r.err;
+  EXPECT_NE(r.err.find("bad.toml: [tool.cut] force_g: 9000 is out of range"), std::string::npos)
+      << "file, section and key: " << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "j.hpgl")) << "nothing written on error";
   const Result js = run("plan --json " + model + " --profile " + bad + " -o " + (dir_ / "j.hpgl").string());
   EXPECT_EQ(nlohmann::json::parse(js.out)["error"]["location"], "[tool.cut] force_g") << js.out;
@@ -513,11 +548,15 @@ TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
   const Result piped = run("plan " + model + " --profile " + profile("sim.toml") + " -o -");
   EXPECT_EQ(piped.code, 0) << piped.err;
   EXPECT_EQ(piped.out.rfind("IN;", 0), 0u) << "-o - writes the job to standard output: " << piped.out.substr(0, 40);
-  EXPECT_EQ(run("plan --json " + model + " --profile " + profile("sim.toml") + " -o -").code, 2) << "job and report both on stdout";
-  EXPECT_EQ(run("plan " + model + " --profile " + (dir_ / "none.toml").string() + " -o x.hpgl").code, 2) << "missing profile";
-  EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --device serial:/dev/ttyS0").code, 2) << "unsupported device";
+  EXPECT_EQ(run("plan --json " + model + " --profile " + profile("sim.toml") + " -o -").code, 2)
+      << "job and report both on stdout";
+  EXPECT_EQ(run("plan " + model + " --profile " + (dir_ / "none.toml").string() + " -o x.hpgl").code, 2)
+      << "missing profile";
+  EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --device serial:/dev/ttyS0").code, 2)
+      << "unsupported device";
   EXPECT_EQ(run("cut " + model + " --out " + dir_.string() + " --sim-slowdown 0").code, 2) << "slowdown below 1";
-  const Result empty = run("cut " + model + " --out " + dir_.string() + " --profile " + profile("generic-hpgl.toml") + " --device ''");
+  const Result empty =
+      run("cut " + model + " --out " + dir_.string() + " --profile " + profile("generic-hpgl.toml") + " --device ''");
   EXPECT_EQ(empty.code, 2) << "an empty --device is not the profile's default: " << empty.err;
   EXPECT_NE(empty.err.find("--device"), std::string::npos) << empty.err;
   const std::string tiny = file("tiny.toml", "[device]\nname = \"tiny\"\narea_max_x_mm = 5\narea_max_y_mm = 5\n");
@@ -530,7 +569,8 @@ TEST_F(Cli, PlanRejectsBadProfilesAndFlagsWithExit2) {
 // simulator too: a device within pace_margin_percent of the plan cuts the job; one three times as slow
 // loses bytes, which is the device's fault (exit 3, naming the margin), not popcut's (exit 4).
 TEST_F(Cli, TimePacingOnTheSimulatorKeepsUpOrNamesTheMargin) {
-  const std::string base = "cut " + example("voxel/castle.json") + " --profile " + profile("generic-hpgl.toml") + " --device sim --out ";
+  const std::string base =
+      "cut " + example("voxel/castle.json") + " --profile " + profile("generic-hpgl.toml") + " --device sim --out ";
   const Result ok = run(base + (dir_ / "ok").string() + " --sim-slowdown 1.2");
   ASSERT_EQ(ok.code, 0) << ok.err;
   const auto j = nlohmann::json::parse(slurp(dir_ / "ok" / "report.json"));
@@ -541,7 +581,8 @@ TEST_F(Cli, TimePacingOnTheSimulatorKeepsUpOrNamesTheMargin) {
   EXPECT_NE(slow.err.find("pace_margin_percent (25 %)"), std::string::npos) << slow.err;
   const auto slow_report = nlohmann::json::parse(slurp(dir_ / "slow" / "report.json"));
   EXPECT_GT(slow_report["sim"]["overflow_bytes"].get<int>(), 0);
-  EXPECT_FALSE(slow_report["sent"]["complete"].get<bool>()) << "a script reading `sent` sees the job did not get through";
+  EXPECT_FALSE(slow_report["sent"]["complete"].get<bool>())
+      << "a script reading `sent` sees the job did not get through";
 }
 
 TEST_F(Cli, CutOnTheSimulatorWritesJobSvgAndReport) {
@@ -561,17 +602,20 @@ TEST_F(Cli, CutOnTheSimulatorWritesJobSvgAndReport) {
 
 TEST_F(Cli, CutReportsADroppedConnectionWithExit3) {
   const fs::path out = dir_ / "cut";
-  const Result r = run("cut " + example("voxel/townhouse.json") + " --device sim --sim-drop-after 300 --out " + out.string());
+  const Result r =
+      run("cut " + example("voxel/townhouse.json") + " --device sim --sim-drop-after 300 --out " + out.string());
   EXPECT_EQ(r.code, 3) << r.err;
   const auto j = nlohmann::json::parse(slurp(out / "report.json"));
   // 300 bytes reached the device: the job's, and 3 for each ESC.O status query.
-  EXPECT_EQ(j["sent"]["bytes"].get<std::size_t>() + 3 * j["sent"]["status_queries"].get<std::size_t>(), 300u) << j.dump();
+  EXPECT_EQ(j["sent"]["bytes"].get<std::size_t>() + 3 * j["sent"]["status_queries"].get<std::size_t>(), 300u)
+      << j.dump();
   EXPECT_NE(r.err.find(std::to_string(j["sent"]["bytes"].get<std::size_t>()) + " of"), std::string::npos)
       << "says how far it got: " << r.err;
   // The cutter goes on cutting what it holds; every stroke claimed received was cut, so resuming
   // after it skips nothing.
   EXPECT_GE(j["sim"]["strokes"].get<std::size_t>(), j["sent"]["last_stroke_sent"].get<std::size_t>()) << j.dump();
-  EXPECT_NE(r.err.find("--resume-from " + std::to_string(j["sent"]["last_stroke_sent"].get<std::size_t>() + 1)), std::string::npos)
+  EXPECT_NE(r.err.find("--resume-from " + std::to_string(j["sent"]["last_stroke_sent"].get<std::size_t>() + 1)),
+            std::string::npos)
       << r.err;
   EXPECT_FALSE(j["sent"]["complete"].get<bool>());
   EXPECT_EQ(j["sent"]["error"], "disconnected");
@@ -583,14 +627,14 @@ TEST_F(Cli, CutToAFileWritesTheSameBytes) {
                        profile("generic-hpgl.toml") + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(dev), slurp(out / "job.hpgl")) << "the device got exactly the job";
-  const Result empty = run("cut " + example("voxel/box.json") + " --device file: --profile " + profile("generic-hpgl.toml") +
-                           " --out " + out.string());
+  const Result empty = run("cut " + example("voxel/box.json") + " --device file: --profile " +
+                           profile("generic-hpgl.toml") + " --out " + out.string());
   EXPECT_EQ(empty.code, 2) << "file: without a path is a bad command line: " << empty.err;
   EXPECT_NE(empty.err.find("--device: file: needs a path"), std::string::npos) << empty.err;
   // A profile that paces by XON/XOFF or ESC.B queries: a file cannot answer, so it is not asked.
   for (const char* paced : {"sim.toml", "secabo.toml"}) {
-    const Result q = run("cut " + example("voxel/box.json") + " --device file:" + dev.string() + " --profile " + profile(paced) +
-                         " --out " + out.string());
+    const Result q = run("cut " + example("voxel/box.json") + " --device file:" + dev.string() + " --profile " +
+                         profile(paced) + " --out " + out.string());
     ASSERT_EQ(q.code, 0) << paced << ": " << q.err;
     EXPECT_EQ(slurp(dev), slurp(out / "job.hpgl")) << paced << ": the file got exactly the job";
   }

@@ -53,7 +53,8 @@ TEST_F(ConfigDir, FirstDirectoryHoldingTheFileWinsAndMissingNamesEveryPlace) {
   fs::create_directories(dir_ / "a" / "devices");
   fs::create_directories(dir_ / "b" / "devices");
   std::ofstream(dir_ / "b" / "devices" / "sim.toml") << "x";
-  EXPECT_EQ(find_config_file("devices/sim.toml", {dir_ / "a", dir_ / "b"}), (dir_ / "b" / "devices" / "sim.toml").string())
+  EXPECT_EQ(find_config_file("devices/sim.toml", {dir_ / "a", dir_ / "b"}),
+            (dir_ / "b" / "devices" / "sim.toml").string())
       << "a lacks the file, b has it";
   try {
     find_config_file("devices/x.toml", {dir_ / "a", dir_ / "b"});
@@ -70,7 +71,9 @@ TEST_F(ConfigDir, FirstDirectoryHoldingTheFileWinsAndMissingNamesEveryPlace) {
 // (renamed here so the source tree's copy cannot pass for it), and $POPCUT_CONFIG_DIR overrides.
 TEST_F(ConfigDir, InstalledPopcutFindsItsProfiles) {
   const fs::path prefix = dir_ / "prefix";
-  ASSERT_EQ(sh(std::string("'") + POPCUT_CMAKE + "' --install '" + POPCUT_BUILD_DIR + "' --prefix '" + prefix.string() + "'"), 0)
+  ASSERT_EQ(
+      sh(std::string("'") + POPCUT_CMAKE + "' --install '" + POPCUT_BUILD_DIR + "' --prefix '" + prefix.string() + "'"),
+      0)
       << slurp(dir_ / "err");
   const fs::path installed = prefix / "share/popcut/configs/devices/sim.toml";
   ASSERT_TRUE(fs::exists(prefix / "bin/popcut")) << "the binary is installed";
@@ -82,14 +85,16 @@ TEST_F(ConfigDir, InstalledPopcutFindsItsProfiles) {
   std::ofstream(installed) << text;
   const fs::path model = dir_ / "box.json";
   std::ofstream(model) << R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3, 3], [3, 3]]})";
-  const std::string cut = (prefix / "bin/popcut").string() + " cut " + model.string() + " --device sim --json --out " + (dir_ / "job").string();
+  const std::string cut = (prefix / "bin/popcut").string() + " cut " + model.string() + " --device sim --json --out " +
+                          (dir_ / "job").string();
   ASSERT_EQ(sh("env -u POPCUT_CONFIG_DIR " + cut), 0) << slurp(dir_ / "err");
   const auto report = nlohmann::json::parse(slurp(dir_ / "out"));
   EXPECT_EQ(report.at("profile"), installed.string()) << "the installed profile, not the source tree's";
   EXPECT_EQ(report.at("device").get<std::string>().rfind("installed ", 0), 0u) << report.at("device");
 
   fs::create_directories(dir_ / "empty");
-  EXPECT_EQ(sh("POPCUT_CONFIG_DIR='" + (dir_ / "empty").string() + "' " + cut), 2) << "an explicit directory without it: bad input";
+  EXPECT_EQ(sh("POPCUT_CONFIG_DIR='" + (dir_ / "empty").string() + "' " + cut), 2)
+      << "an explicit directory without it: bad input";
   EXPECT_NE(slurp(dir_ / "err").find((dir_ / "empty" / "devices/sim.toml").string()), std::string::npos)
       << "names where it looked: " << slurp(dir_ / "err");
 }

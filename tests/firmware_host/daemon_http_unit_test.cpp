@@ -13,7 +13,9 @@ using namespace popcut::daemon;
 
 void no_handler(ApiContext&, const Caller&, const httplib::Request&, httplib::Response&) {}
 
-httplib::Params params(std::initializer_list<std::pair<std::string, std::string>> list) { return httplib::Params(list.begin(), list.end()); }
+httplib::Params params(std::initializer_list<std::pair<std::string, std::string>> list) {
+  return httplib::Params(list.begin(), list.end());
+}
 
 TEST(RouteTable, RefusalsFollowFromTheTable) {
   const RouteTable table({{Method::get, "/a", Access::token, takes({"x"}), no_handler},
@@ -23,7 +25,8 @@ TEST(RouteTable, RefusalsFollowFromTheTable) {
   EXPECT_FALSE(table.refusal("GET", "/a", {})) << "a route takes its own method";
   EXPECT_FALSE(table.refusal("HEAD", "/a", params({{"x", "1"}}))) << "HEAD goes with GET, and with GET's parameters";
   EXPECT_FALSE(table.refusal("POST", "/b/12", {}));
-  EXPECT_FALSE(table.refusal("GET", "/page", params({{"token", "t"}, {"zoom", "2"}}))) << "a route outside the API takes any query";
+  EXPECT_FALSE(table.refusal("GET", "/page", params({{"token", "t"}, {"zoom", "2"}})))
+      << "a route outside the API takes any query";
 
   const auto missing = table.refusal("GET", "/c", {});
   ASSERT_TRUE(missing);
@@ -67,7 +70,8 @@ TEST(RouteTable, PopcutdsOwnTable) {
   }
 }
 
-httplib::Request request(const std::string& method, std::initializer_list<std::pair<std::string, std::string>> headers) {
+httplib::Request request(const std::string& method,
+                         std::initializer_list<std::pair<std::string, std::string>> headers) {
   httplib::Request req;
   req.method = method;
   for (const auto& [k, v] : headers) req.headers.emplace(k, v);
@@ -89,13 +93,18 @@ TEST(HttpFraming, OneLengthOrChunkedAlone) {
   EXPECT_FALSE(chunked.refusal) << "the coding's name is case-insensitive";
   EXPECT_TRUE(chunked.chunked);
   EXPECT_FALSE(chunked.length);
-  EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "5"}, {"Content-Length", "5"}})), "") << "the same length twice is one length";
-  EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "5"}, {"Content-Length", "6"}})), "two different Content-Length headers (5 and 6)");
-  EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "-1"}})), "Content-Length must be a number of bytes, not '-1'");
+  EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "5"}, {"Content-Length", "5"}})), "")
+      << "the same length twice is one length";
+  EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "5"}, {"Content-Length", "6"}})),
+            "two different Content-Length headers (5 and 6)");
+  EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "-1"}})),
+            "Content-Length must be a number of bytes, not '-1'");
   EXPECT_EQ(framing_error(request("POST", {{"Content-Length", "5"}, {"Transfer-Encoding", "chunked"}})),
             "both Content-Length and Transfer-Encoding: send one");
-  EXPECT_EQ(framing_error(request("POST", {{"Transfer-Encoding", "gzip, chunked"}})), "Transfer-Encoding: only 'chunked' is understood");
-  EXPECT_EQ(read_framing(request("POST", {})).refusal, ApiError::length_required) << "a POST without a length would be read until the client closes";
+  EXPECT_EQ(framing_error(request("POST", {{"Transfer-Encoding", "gzip, chunked"}})),
+            "Transfer-Encoding: only 'chunked' is understood");
+  EXPECT_EQ(read_framing(request("POST", {})).refusal, ApiError::length_required)
+      << "a POST without a length would be read until the client closes";
 }
 
 TEST(HttpFraming, CodingsAndBodiesByMethod) {
@@ -126,12 +135,14 @@ TEST(Metrics, PrometheusText) {
   m.devices = {{"a", true, false}, {"b", false, true}};
   m.uptime_s = 1.5;
   const std::string text = metrics_text(m);
-  for (const char* line : {"# TYPE popcutd_jobs gauge\npopcutd_jobs{state=\"done\"} 3\npopcutd_jobs{state=\"queued\"} 0\n",
-                           "\npopcutd_http_requests_total 10\n", "\npopcutd_http_errors_total{class=\"4xx\"} 2\n",
-                           "\npopcutd_http_errors_total{class=\"5xx\"} 1\n", "\npopcutd_jobs_submitted_total 4\n",
-                           "\npopcutd_cuts_completed_total 3\n", "\npopcutd_device_busy{device=\"a\"} 1\npopcutd_device_busy{device=\"b\"} 0\n",
-                           "\npopcutd_device_paused{device=\"a\"} 0\npopcutd_device_paused{device=\"b\"} 1\n",
-                           "# TYPE popcutd_uptime_seconds gauge\npopcutd_uptime_seconds 1.5\n"}) {
+  for (const char* line :
+       {"# TYPE popcutd_jobs gauge\npopcutd_jobs{state=\"done\"} 3\npopcutd_jobs{state=\"queued\"} 0\n",
+        "\npopcutd_http_requests_total 10\n", "\npopcutd_http_errors_total{class=\"4xx\"} 2\n",
+        "\npopcutd_http_errors_total{class=\"5xx\"} 1\n", "\npopcutd_jobs_submitted_total 4\n",
+        "\npopcutd_cuts_completed_total 3\n",
+        "\npopcutd_device_busy{device=\"a\"} 1\npopcutd_device_busy{device=\"b\"} 0\n",
+        "\npopcutd_device_paused{device=\"a\"} 0\npopcutd_device_paused{device=\"b\"} 1\n",
+        "# TYPE popcutd_uptime_seconds gauge\npopcutd_uptime_seconds 1.5\n"}) {
     EXPECT_NE(text.find(line), std::string::npos) << "missing:\n" << line << "\nin:\n" << text;
   }
   EXPECT_EQ(text.rfind("# HELP popcutd_jobs Jobs in the store by state.\n", 0), 0u);
@@ -139,8 +150,8 @@ TEST(Metrics, PrometheusText) {
 }
 
 TEST(DaemonNames, EveryValueHasItsName) {
-  const JobState states[] = {JobState::queued, JobState::planning, JobState::ready, JobState::cutting,
-                             JobState::done, JobState::failed, JobState::cancelled, JobState::interrupted};
+  const JobState states[] = {JobState::queued, JobState::planning, JobState::ready,     JobState::cutting,
+                             JobState::done,   JobState::failed,   JobState::cancelled, JobState::interrupted};
   for (const JobState s : states) EXPECT_EQ(parse_job_state(to_string(s)), s) << to_string(s);
   EXPECT_STREQ(to_string(JobState::interrupted), "interrupted");
   EXPECT_FALSE(parse_job_state("Done")) << "names are case-sensitive, as stored";
@@ -156,7 +167,8 @@ TEST(DaemonNames, EveryValueHasItsName) {
     EXPECT_GE(http_status(e), 400) << name;
   }
   EXPECT_STREQ(to_string(ApiError::method_not_allowed), "method_not_allowed");
-  EXPECT_EQ(kApiErrorNames.entries.size(), static_cast<std::size_t>(ApiError::internal) + 1) << "every error code has its name";
+  EXPECT_EQ(kApiErrorNames.entries.size(), static_cast<std::size_t>(ApiError::internal) + 1)
+      << "every error code has its name";
 }
 
 }  // namespace

@@ -72,16 +72,21 @@ TEST(DaemonConfig, ErrorsNameFileSectionAndKey) {
       {"[server]\nlisten = \"::g\"\n", "[server] listen: \"::g\" is not an IPv6 address"},
       {"[server]\nlisten = \"my host\"\n", "[server] listen: \"my host\" is neither"},
       {"[server]\ndata_dir = \"/x\"\nheader_timeout_s = 0\n", "[server] header_timeout_s: 0 is out of range 1 to 300"},
-      {"[server]\ndata_dir = \"/x\"\nkeep_alive_timeout_s = 301\n", "[server] keep_alive_timeout_s: 301 is out of range 1 to 300"},
+      {"[server]\ndata_dir = \"/x\"\nkeep_alive_timeout_s = 301\n",
+       "[server] keep_alive_timeout_s: 301 is out of range 1 to 300"},
       {"[server]\ndata_dir = \"/x\"\nhttp_threads = 2000\n", "[server] http_threads: 2000 is out of range 1 to 1024"},
       {"[server]\nport = 1\n", "[server] data_dir: missing"},
       {"[server]\ndata_dir = \"/x\"\n[[token]]\nname=\"k\"\ntoken=\"0123456789abcdef\"\n", "no devices"},
-      {"[server]\ndata_dir = \"/x\"\nspeed = 1\n" + good.substr(good.find("[[device]]")), "[server] speed: unknown key"},
-      {good + "[[device]]\nname = \"a\"\nprofile = \"devices/sim.toml\"\ntransport = \"sim\"\n", "[device.1] name: \"a\" is used by another device"},
+      {"[server]\ndata_dir = \"/x\"\nspeed = 1\n" + good.substr(good.find("[[device]]")),
+       "[server] speed: unknown key"},
+      {good + "[[device]]\nname = \"a\"\nprofile = \"devices/sim.toml\"\ntransport = \"sim\"\n",
+       "[device.1] name: \"a\" is used by another device"},
       {good + "[[device]]\nname = \"../b\"\nprofile = \"devices/sim.toml\"\ntransport = \"sim\"\n", "[device.1] name"},
-      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/sim.toml\"\ntransport = \"telnet:x\"\n", "[device.1] transport"},
+      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/sim.toml\"\ntransport = \"telnet:x\"\n",
+       "[device.1] transport"},
       {good + "[[device]]\nname = \"b\"\nprofile = \"devices/none.toml\"\ntransport = \"sim\"\n", "none.toml"},
-      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/sim.toml\"\ntransport = \"file:x\"\nsim_slowdown = 2\n", "sim_* settings"},
+      {good + "[[device]]\nname = \"b\"\nprofile = \"devices/sim.toml\"\ntransport = \"file:x\"\nsim_slowdown = 2\n",
+       "sim_* settings"},
       {good + "[[token]]\nname = \"j\"\ntoken = \"short\"\n", "[token.1] token: must be at least 16"},
       {good + "[[token]]\nname = \"j\"\ntoken = \"0123456789abcdef\"\n", "[token.1] token: the same secret"},
       {good + "[[token]]\nname = \"j\"\ntoken = \"0123456789abcdefg\"\nrole = \"root\"\n", "[token.1] role"},
@@ -118,14 +123,20 @@ TEST(DaemonConfig, SafeNames) {
   const std::string shortened = job_label_from(castles + "\xe5\x9f\x8e");
   EXPECT_EQ(shortened, castles.substr(0, 63 * 3) + "\u2026") << "63 characters and an ellipsis";
   EXPECT_TRUE(is_job_label(shortened));
-  EXPECT_EQ(job_label_from(std::string(62, 'a') + " " + std::string(10, 'b')), std::string(62, 'a') + "\u2026") << "no blank before the ellipsis";
+  EXPECT_EQ(job_label_from(std::string(62, 'a') + " " + std::string(10, 'b')), std::string(62, 'a') + "\u2026")
+      << "no blank before the ellipsis";
   EXPECT_EQ(job_label_from("a/b"), "") << "a path is no label however short";
-  EXPECT_EQ(job_label_from(std::string(70, 'a') + "\x01"), std::string(63, 'a') + "\u2026") << "what is cut off is not shown";
-  for (const std::string& bad : {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01") + "b",
-                                std::string("tab\there"), std::string("rlo\xe2\x80\xae"), std::string("bad \xff utf8"),
-                                std::string("overlong \xc0\xaf"), std::string("nbsp\xc2\xa0"), std::string("\xe3\x80\x80ideographic space"),
-                                std::string("alm\xd8\x9c"), std::string("\xef\xbb\xbf" "bom"), std::string("cut \xe5\x9f"), std::string("a/b"), std::string("../x"),
-                                std::string(".hidden"), std::string("a\\b"), std::string("c1 \xc2\x85")}) {
+  EXPECT_EQ(job_label_from(std::string(70, 'a') + "\x01"), std::string(63, 'a') + "\u2026")
+      << "what is cut off is not shown";
+  for (const std::string& bad :
+       {std::string(), std::string(65, 'a'), std::string(" lead"), std::string("trail "), std::string("a\x01") + "b",
+        std::string("tab\there"), std::string("rlo\xe2\x80\xae"), std::string("bad \xff utf8"),
+        std::string("overlong \xc0\xaf"), std::string("nbsp\xc2\xa0"), std::string("\xe3\x80\x80ideographic space"),
+        std::string("alm\xd8\x9c"),
+        std::string("\xef\xbb\xbf"
+                    "bom"),
+        std::string("cut \xe5\x9f"), std::string("a/b"), std::string("../x"), std::string(".hidden"),
+        std::string("a\\b"), std::string("c1 \xc2\x85")}) {
     EXPECT_FALSE(is_job_label(bad)) << "'" << bad << "' must be refused as a job name";
   }
 }
@@ -134,7 +145,9 @@ class Store : public ::testing::Test {
  protected:
   popcut::testing::TempDir dir_{"popcut-store"};
   std::string db() const { return (dir_.path() / "jobs.db").string(); }
-  static NewJob job(const std::string& device, const std::string& profile = "sim") { return {"kiosk", "card", device, profile, "{}"}; }
+  static NewJob job(const std::string& device, const std::string& profile = "sim") {
+    return {"kiosk", "card", device, profile, "{}"};
+  }
 };
 
 TEST_F(Store, StrokesExecutedIsKeptPerCutAndAddedToAnOlderDatabase) {
@@ -149,7 +162,8 @@ TEST_F(Store, StrokesExecutedIsKeptPerCutAndAddedToAnOlderDatabase) {
         " resume_from INTEGER NOT NULL DEFAULT 0, est_time_s REAL NOT NULL DEFAULT 0,"
         " created_at REAL NOT NULL, started_at REAL NOT NULL DEFAULT 0, finished_at REAL NOT NULL DEFAULT 0,"
         " cancel_requested INTEGER NOT NULL DEFAULT 0, sim_match INTEGER NOT NULL DEFAULT 0);"
-        "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES ('k', 'old', 'dev1', 'sim', 'done', 1);";
+        "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES ('k', 'old', 'dev1', "
+        "'sim', 'done', 1);";
     ASSERT_EQ(sqlite3_exec(raw, old_schema, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(raw);
     sqlite3_close(raw);
   }
@@ -177,7 +191,8 @@ TEST_F(Store, StrokesExecutedIsKeptPerCutAndAddedToAnOlderDatabase) {
   s.set_executed(a, std::nullopt);
   s.finish(a, JobState::interrupted, "interrupted", "killed");
   EXPECT_EQ(s.get(a)->resume_from, 3) << "not at the strokes the earlier run had sent";
-  EXPECT_EQ(s.resume(a, ResumePoint::executed), ResumeResult::executed_unknown) << "no executed point is known for this run";
+  EXPECT_EQ(s.resume(a, ResumePoint::executed), ResumeResult::executed_unknown)
+      << "no executed point is known for this run";
   EXPECT_EQ(s.get(a)->state, JobState::interrupted) << "a refused resume changes nothing";
   EXPECT_EQ(s.resume(a, ResumePoint::received), ResumeResult::resumed);
   EXPECT_EQ(s.get(a)->resume_point, std::optional<ResumePoint>(ResumePoint::received));
@@ -193,7 +208,8 @@ TEST_F(Store, TransitionsAreGuardedAndSurviveReopen) {
     c = *s.insert(job("dev2"), 100);
     EXPECT_EQ(s.claim_for_planning()->id, a) << "planning takes the oldest queued job";
     s.set_planned(a, 10, 5.0);
-    EXPECT_FALSE(s.claim_for_device("dev2", "other").has_value()) << "dev2 with another profile may not take a job for dev1";
+    EXPECT_FALSE(s.claim_for_device("dev2", "other").has_value())
+        << "dev2 with another profile may not take a job for dev1";
     const std::optional<Job> got = s.claim_for_device("dev1", "sim");
     ASSERT_TRUE(got.has_value()) << "dev1 takes its ready job";
     EXPECT_EQ(got->state, JobState::cutting) << "claimed jobs are cutting";
@@ -254,9 +270,11 @@ TEST_F(Store, AResumedJobIsCutOnlyOnTheDeviceHoldingItsSheet) {
   const std::int64_t later = *s.insert(job(""), 100);
   ASSERT_EQ(s.claim_for_planning()->id, later);
   s.set_planned(later, 10, 5.0);
-  EXPECT_EQ(s.place_in_line(*s.get(later)), 1) << "a job for any sim device may wait behind the bound one (both may take sim-a)";
+  EXPECT_EQ(s.place_in_line(*s.get(later)), 1)
+      << "a job for any sim device may wait behind the bound one (both may take sim-a)";
   const std::int64_t for_b = *s.insert(job("sim-b"), 100);
-  EXPECT_EQ(s.place_in_line(*s.get(for_b)), 1) << "a job naming sim-b waits behind the later one only, not the one bound to sim-a";
+  EXPECT_EQ(s.place_in_line(*s.get(for_b)), 1)
+      << "a job naming sim-b waits behind the later one only, not the one bound to sim-a";
   bool bound_forecast = false;
   for (const WaitingJob& w : s.waiting()) {
     if (w.id == a) bound_forecast = w.targets.device == "sim-a";
@@ -281,7 +299,8 @@ TEST_F(Store, PlaceInLineCountsOnlyJobsThatMayTakeTheSameDevice) {
   EXPECT_EQ(s.place_in_line(*s.get(y)), 1) << "Y (any sim device) waits behind X";
   EXPECT_EQ(s.place_in_line(*s.get(z)), 1) << "Z (sim-b) waits behind Y only: X can only go to sim-a";
   EXPECT_EQ(s.place_in_line(*s.get(w)), 2) << "W (sim-a) waits behind X and Y, not Z";
-  EXPECT_EQ(s.place_in_line(*s.get(*s.insert(job("", "other"), 100))), 0) << "another profile's job waits for none of them";
+  EXPECT_EQ(s.place_in_line(*s.get(*s.insert(job("", "other"), 100))), 0)
+      << "another profile's job waits for none of them";
   EXPECT_EQ(s.waiting().size(), 5u) << "every waiting job is played forward for eta_s";
 }
 
@@ -290,7 +309,8 @@ TEST(Forecast, FollowsTheWorkersThroughTheQueue) {
     return std::vector<ForecastDevice>{{"a", "sim", 1, a_busy_s}, {"b", "sim", 1, b_busy_s}};
   };
   // X (a, 10 s), Y (any sim, 7 s), Z (b, 5 s), W (a, 5 s); a cuts a job with 3 s left, b is idle.
-  const std::vector<WaitingJob> queue{{1, {"a", "sim"}, 10}, {2, {"", "sim"}, 7}, {3, {"b", "sim"}, 5}, {4, {"a", "sim"}, 5}};
+  const std::vector<WaitingJob> queue{
+      {1, {"a", "sim"}, 10}, {2, {"", "sim"}, 7}, {3, {"b", "sim"}, 5}, {4, {"a", "sim"}, 5}};
   auto done = forecast_done_s(queue, devices(3, 0));
   EXPECT_DOUBLE_EQ(done.at(1), 3 + 10) << "X after the cut in progress on a";
   EXPECT_DOUBLE_EQ(done.at(2), 7) << "Y goes to b, free at once";
@@ -302,8 +322,10 @@ TEST(Forecast, FollowsTheWorkersThroughTheQueue) {
   // A simulated cutter at a twentieth of real time cuts a 10 s plan in 0.5 s.
   done = forecast_done_s({{9, {"a", "sim"}, 10}}, {{"a", "sim", 0.05, 0}});
   EXPECT_DOUBLE_EQ(done.at(9), 0.5) << "the device's time factor applies";
-  EXPECT_EQ(forecast_done_s({{9, {"a", "sim"}, 5}}, {{"b", "sim", 1, 0}}).count(9), 0u) << "a paused (not taking work): no estimate";
-  EXPECT_EQ(forecast_done_s({{9, {"", "other"}, 5}}, devices(0, 0)).count(9), 0u) << "no device with its profile: no estimate";
+  EXPECT_EQ(forecast_done_s({{9, {"a", "sim"}, 5}}, {{"b", "sim", 1, 0}}).count(9), 0u)
+      << "a paused (not taking work): no estimate";
+  EXPECT_EQ(forecast_done_s({{9, {"", "other"}, 5}}, devices(0, 0)).count(9), 0u)
+      << "no device with its profile: no estimate";
 }
 
 TEST(Forecast, ACutInProgressHasLeftWhatIsUnsentOrNotYetElapsed) {
@@ -343,11 +365,11 @@ TEST(CutJob, PlanJsonRoundTrips) {
 namespace {
 
 TEST(PreviewCache, DropsTheLeastRecentlyUsedUnderItsByteCap) {
-  popcut::daemon::PreviewCache cache(100);  // bytes of keys and pictures together
-  cache.put("a", std::string(39, 'A'));       // 40 bytes
-  cache.put("b", std::string(39, 'B'));       // 80
+  popcut::daemon::PreviewCache cache(100);     // bytes of keys and pictures together
+  cache.put("a", std::string(39, 'A'));        // 40 bytes
+  cache.put("b", std::string(39, 'B'));        // 80
   ASSERT_TRUE(cache.get("a")) << "a is held";  // a is now the most recent
-  cache.put("c", std::string(39, 'C'));       // 120 > 100: b, the least recently used, goes
+  cache.put("c", std::string(39, 'C'));        // 120 > 100: b, the least recently used, goes
   EXPECT_FALSE(cache.get("b")) << "the least recently used picture was dropped";
   EXPECT_EQ(cache.get("a").value_or(""), std::string(39, 'A')) << "the recently used one stays";
   EXPECT_EQ(cache.get("c").value_or(""), std::string(39, 'C')) << "the new one is held";

@@ -20,7 +20,8 @@ namespace popcut::testing {
 // A picture popcutd rendered has loaded: an object URL (the page's empty placeholder is a data:
 // URL, which has a size too) whose image decoded.
 inline const std::string kRendered =
-    "const rendered = (id) => { const i = document.getElementById(id); return i.src.startsWith('blob:') && i.complete && i.naturalWidth > 0; };";
+    "const rendered = (id) => { const i = document.getElementById(id); return i.src.startsWith('blob:') && i.complete "
+    "&& i.naturalWidth > 0; };";
 
 // A loopback port nobody listens on now (chromedriver cannot be asked for port 0).
 inline int free_port() {
@@ -41,12 +42,18 @@ inline std::string base64_decode(const std::string& in) {
   for (const char ch : in) {
     const int c = static_cast<unsigned char>(ch);
     int d;
-    if (c >= 'A' && c <= 'Z') d = c - 'A';
-    else if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') d = c - '0' + 52;
-    else if (c == '+') d = 62;
-    else if (c == '/') d = 63;
-    else continue;
+    if (c >= 'A' && c <= 'Z')
+      d = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      d = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      d = c - '0' + 52;
+    else if (c == '+')
+      d = 62;
+    else if (c == '/')
+      d = 63;
+    else
+      continue;
     val = (val << 6) + d;
     bits += 6;
     if (bits >= 0) {
@@ -68,14 +75,16 @@ class Browser {
       ::_exit(127);
     }
     http_.set_read_timeout(120);
-    if (!wait_until([&] { return static_cast<bool>(http_.Get("/status")); }, 60)) throw std::runtime_error("chromedriver did not start");
+    if (!wait_until([&] { return static_cast<bool>(http_.Get("/status")); }, 60))
+      throw std::runtime_error("chromedriver did not start");
     const nlohmann::json caps = {{"capabilities",
-                        {{"alwaysMatch",
-                          {{"browserName", "chrome"},
-                           {"goog:chromeOptions",
-                            {{"binary", "/usr/bin/chromium"},
-                             {"args", {"--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                                       "--window-size=1024,768", "--user-data-dir=" + profile_dir}}}}}}}}};
+                                  {{"alwaysMatch",
+                                    {{"browserName", "chrome"},
+                                     {"goog:chromeOptions",
+                                      {{"binary", "/usr/bin/chromium"},
+                                       {"args",
+                                        {"--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                                         "--window-size=1024,768", "--user-data-dir=" + profile_dir}}}}}}}}};
     const nlohmann::json r = call("POST", "/session", caps);
     session_ = r["value"].value("sessionId", "");
     if (session_.empty()) throw std::runtime_error("no browser session: " + r.dump());
@@ -85,15 +94,20 @@ class Browser {
     ::kill(pid_, SIGTERM);
     ::waitpid(pid_, nullptr, 0);
   }
-  nlohmann::json call(const std::string& method, const std::string& path, const nlohmann::json& body = nlohmann::json::object()) {
-    const httplib::Result r = method == "GET" ? http_.Get(path.c_str()) : http_.Post(path.c_str(), body.dump(), "application/json");
+  nlohmann::json call(const std::string& method, const std::string& path,
+                      const nlohmann::json& body = nlohmann::json::object()) {
+    const httplib::Result r =
+        method == "GET" ? http_.Get(path.c_str()) : http_.Post(path.c_str(), body.dump(), "application/json");
     if (!r) throw std::runtime_error("chromedriver did not answer " + path);
     return nlohmann::json::parse(r->body);
   }
-  nlohmann::json session(const std::string& method, const std::string& path, const nlohmann::json& body = nlohmann::json::object()) {
+  nlohmann::json session(const std::string& method, const std::string& path,
+                         const nlohmann::json& body = nlohmann::json::object()) {
     return call(method, "/session/" + session_ + path, body)["value"];
   }
-  nlohmann::json run(const std::string& script) { return session("POST", "/execute/sync", {{"script", script}, {"args", nlohmann::json::array()}}); }
+  nlohmann::json run(const std::string& script) {
+    return session("POST", "/execute/sync", {{"script", script}, {"args", nlohmann::json::array()}});
+  }
   void click(const std::string& css) {
     const nlohmann::json el = session("POST", "/element", {{"using", "css selector"}, {"value", css}});
     ASSERT_TRUE(el.is_object() && !el.empty()) << "element " << css << " exists: " << el.dump();

@@ -9,12 +9,12 @@
 
 namespace {
 using nlohmann::json;
-using popcut::testing::PopcutdProcess;
-using popcut::testing::TempDir;
-using popcut::testing::wait_until;
 using popcut::testing::base64_decode;
 using popcut::testing::Browser;
 using popcut::testing::kRendered;
+using popcut::testing::PopcutdProcess;
+using popcut::testing::TempDir;
+using popcut::testing::wait_until;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
 
@@ -22,42 +22,58 @@ TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
   TempDir dir("popcut-kiosk");
   PopcutdProcess d(POPCUTD, kSrc + "/configs/popcutd.toml", (dir.path() / "data").string());
   Browser b((dir.path() / "chromium").string());
-  b.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#example option').length").get<int>() > 3; }, 60))
+  b.session("POST", "/url",
+            {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelectorAll('#example option').length").get<int>() > 3; }, 60))
       << "the page lists the examples";
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#device option').length").get<int>() == 2; }, 60))
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelectorAll('#device option').length").get<int>() == 2; }, 60))
       << "the page lists both cutters";
   b.click("#example option[value='voxel-castle']");
   ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 60))
-      << "the pattern renders and Queue becomes available; page says: " << b.run("return document.body.innerText").dump();
+      << "the pattern renders and Queue becomes available; page says: "
+      << b.run("return document.body.innerText").dump();
   ASSERT_TRUE(wait_until([&] { return b.run(kRendered + "return rendered('preview')").get<bool>(); }, 60))
       << "the card preview shows";
   EXPECT_TRUE(b.run(kRendered + "return rendered('pattern')").get<bool>()) << "the pattern shows";
   // The slider asks for another angle; the picture changes.
   const std::string before = b.run("return document.getElementById('preview').src").get<std::string>();
   b.run("const a = document.getElementById('angle'); a.value = 150; a.dispatchEvent(new Event('input'));");
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.getElementById('preview').src").get<std::string>() != before; }, 60))
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.getElementById('preview').src").get<std::string>() != before; }, 60))
       << "moving the opening-angle slider renders a new preview";
-  EXPECT_EQ(b.run("return document.getElementById('angle-value').textContent").get<std::string>(), "150") << "the angle is shown";
+  EXPECT_EQ(b.run("return document.getElementById('angle-value').textContent").get<std::string>(), "150")
+      << "the angle is shown";
   const std::string at150 = b.run("return document.getElementById('preview').src").get<std::string>();
   b.run("const a = document.getElementById('angle'); a.value = 60; a.dispatchEvent(new Event('input'));");
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.getElementById('preview').src").get<std::string>() != at150; }, 60))
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.getElementById('preview').src").get<std::string>() != at150; }, 60))
       << "and again at 60 degrees";
   b.click("#device option[value='sim-b']");
   b.click("#queue");
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#jobs .job').length").get<int>() == 1; }, 60))
+  ASSERT_TRUE(
+      wait_until([&] { return b.run("return document.querySelectorAll('#jobs .job').length").get<int>() == 1; }, 60))
       << "the queued card appears under My cards";
   std::string state;
-  ASSERT_TRUE(wait_until([&] {
-    state = b.run("return document.querySelector('#jobs .job').dataset.state").get<std::string>();
-    return state == "done" || state == "failed" || state == "cancelled";
-  }, 300)) << "the card finishes on the simulated cutter";
+  ASSERT_TRUE(wait_until(
+      [&] {
+        state = b.run("return document.querySelector('#jobs .job').dataset.state").get<std::string>();
+        return state == "done" || state == "failed" || state == "cancelled";
+      },
+      300))
+      << "the card finishes on the simulated cutter";
   EXPECT_EQ(state, "done") << "the card was cut; page: " << b.run("return document.body.innerText").dump();
-  EXPECT_EQ(b.run("return document.querySelector('#jobs .job progress').value").get<double>(), 1.0) << "the progress bar is full";
-  EXPECT_NE(b.run("return document.querySelector('#jobs .job .where').textContent").get<std::string>().find("on sim-b"), std::string::npos)
+  EXPECT_EQ(b.run("return document.querySelector('#jobs .job progress').value").get<double>(), 1.0)
+      << "the progress bar is full";
+  EXPECT_NE(b.run("return document.querySelector('#jobs .job .where').textContent").get<std::string>().find("on sim-b"),
+            std::string::npos)
       << "it says which cutter cut it";
   // Every kiosk file came from the daemon: nothing from elsewhere.
-  EXPECT_EQ(b.run("return performance.getEntriesByType('resource').filter(e => !e.name.startsWith(location.origin)).length").get<int>(), 0)
+  EXPECT_EQ(
+      b.run("return performance.getEntriesByType('resource').filter(e => !e.name.startsWith(location.origin)).length")
+          .get<int>(),
+      0)
       << "no resource is loaded from outside popcutd";
   const std::string png = base64_decode(b.session("GET", "/screenshot").get<std::string>());
   EXPECT_EQ(png.substr(1, 3), "PNG") << "a screenshot of the page";
@@ -66,28 +82,42 @@ TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
 
 TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
   TempDir dir("popcut-kiosk");
-  const std::string cfg = dir.write("slow.toml", "[server]\ndata_dir = \"x\"\n[[device]]\nname = \"slow\"\nprofile = \"" + kSrc +
-                                                     "/configs/devices/sim.toml\"\ntransport = \"sim\"\nsim_time_scale = 1\nsim_slowdown = 20\n"
-                                                     "[[token]]\nname = \"kiosk\"\ntoken = \"kiosk-change-me-0123456789\"\n");
+  const std::string cfg = dir.write(
+      "slow.toml", "[server]\ndata_dir = \"x\"\n[[device]]\nname = \"slow\"\nprofile = \"" + kSrc +
+                       "/configs/devices/sim.toml\"\ntransport = \"sim\"\nsim_time_scale = 1\nsim_slowdown = 20\n"
+                       "[[token]]\nname = \"kiosk\"\ntoken = \"kiosk-change-me-0123456789\"\n");
   PopcutdProcess d(POPCUTD, cfg, (dir.path() / "data").string());
   Browser b((dir.path() / "chromium").string());
-  b.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#example option').length").get<int>() > 3; }, 60))
+  b.session("POST", "/url",
+            {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelectorAll('#example option').length").get<int>() > 3; }, 60))
       << "the page lists the examples";
   // This time the model comes from a file, as a visitor's own would.
   const json input = b.session("POST", "/element", {{"using", "css selector"}, {"value", "#upload"}});
-  b.session("POST", "/element/" + input.begin().value().get<std::string>() + "/value", {{"text", kSrc + "/examples/voxel/castle.json"}});
+  b.session("POST", "/element/" + input.begin().value().get<std::string>() + "/value",
+            {{"text", kSrc + "/examples/voxel/castle.json"}});
   ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 60))
       << "the uploaded model renders and can be queued; page: " << b.run("return document.body.innerText").dump();
-  EXPECT_EQ(b.run("return document.getElementById('model-name').textContent").get<std::string>(), "castle") << "named after the file";
+  EXPECT_EQ(b.run("return document.getElementById('model-name').textContent").get<std::string>(), "castle")
+      << "named after the file";
   b.click("#queue");
-  ASSERT_TRUE(wait_until([&] {
-    return b.run("const j = document.querySelector('#jobs .job'); return j ? j.dataset.state : ''").get<std::string>() == "cutting";
-  }, 120)) << "the castle is being cut (slowly)";
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return b.run("const j = document.querySelector('#jobs .job'); return j ? j.dataset.state : ''")
+                   .get<std::string>() == "cutting";
+      },
+      120))
+      << "the castle is being cut (slowly)";
   b.click("#jobs .job .cancel");
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelector('#jobs .job').dataset.state").get<std::string>() == "cancelled"; }, 120))
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return b.run("return document.querySelector('#jobs .job').dataset.state").get<std::string>() == "cancelled";
+      },
+      120))
       << "the kiosk cancels its own job mid-cut";
-  EXPECT_TRUE(b.run("return document.querySelector('#jobs .job .cancel').hidden").get<bool>()) << "no cancel button on a cancelled job";
+  EXPECT_TRUE(b.run("return document.querySelector('#jobs .job .cancel').hidden").get<bool>())
+      << "no cancel button on a cancelled job";
 }
 
 // A visitor's 3D mesh: popcutd imports it with the options on the page, the card shows, it is cut.
@@ -95,25 +125,34 @@ TEST(Kiosk, UploadsAMeshImportsItAndSeesItCut) {
   TempDir dir("popcut-kiosk");
   PopcutdProcess d(POPCUTD, kSrc + "/configs/popcutd.toml", (dir.path() / "data").string());
   Browser b((dir.path() / "chromium").string());
-  b.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
-  ASSERT_TRUE(wait_until([&] { return b.run("return document.querySelectorAll('#device option').length").get<int>() == 2; }, 60))
+  b.session("POST", "/url",
+            {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelectorAll('#device option').length").get<int>() == 2; }, 60))
       << "the page lists both cutters";
   b.run("document.getElementById('resolution').value = 30;");
   const json input = b.session("POST", "/element", {{"using", "css selector"}, {"value", "#upload"}});
-  b.session("POST", "/element/" + input.begin().value().get<std::string>() + "/value", {{"text", kSrc + "/examples/meshes/house.obj"}});
+  b.session("POST", "/element/" + input.begin().value().get<std::string>() + "/value",
+            {{"text", kSrc + "/examples/meshes/house.obj"}});
   ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 120))
       << "the mesh is imported and can be queued; page: " << b.run("return document.body.innerText").dump();
-  EXPECT_FALSE(b.run("return document.getElementById('import').hidden").get<bool>()) << "the import options show for a mesh";
-  EXPECT_EQ(b.run("return document.getElementById('model-name').textContent").get<std::string>().rfind("house.obj: 30 x ", 0), 0u)
-      << "the page says what the import made: " << b.run("return document.getElementById('model-name').textContent").dump();
+  EXPECT_FALSE(b.run("return document.getElementById('import').hidden").get<bool>())
+      << "the import options show for a mesh";
+  EXPECT_EQ(
+      b.run("return document.getElementById('model-name').textContent").get<std::string>().rfind("house.obj: 30 x ", 0),
+      0u)
+      << "the page says what the import made: "
+      << b.run("return document.getElementById('model-name').textContent").dump();
   ASSERT_TRUE(wait_until([&] { return b.run(kRendered + "return rendered('preview')").get<bool>(); }, 60))
       << "the card preview shows";
   // A bad option: the importer's message shows on the page.
   b.run("document.getElementById('up').value = '-y';");
   b.click("#reimport");
-  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('model-error').hidden").get<bool>(); }, 60))
+  ASSERT_TRUE(
+      wait_until([&] { return !b.run("return document.getElementById('model-error').hidden").get<bool>(); }, 60))
       << "an impossible orientation is refused";
-  EXPECT_NE(b.run("return document.getElementById('model-error').textContent").get<std::string>().find("perpendicular"), std::string::npos)
+  EXPECT_NE(b.run("return document.getElementById('model-error').textContent").get<std::string>().find("perpendicular"),
+            std::string::npos)
       << "with the importer's message: " << b.run("return document.getElementById('model-error').textContent").dump();
   b.run("document.getElementById('up').value = '+z';");
   b.click("#reimport");
@@ -121,13 +160,18 @@ TEST(Kiosk, UploadsAMeshImportsItAndSeesItCut) {
       << "imported again with a good orientation";
   b.click("#queue");
   std::string state;
-  ASSERT_TRUE(wait_until([&] {
-    state = b.run("const j = document.querySelector('#jobs .job'); return j ? j.dataset.state : ''").get<std::string>();
-    return state == "done" || state == "failed" || state == "cancelled";
-  }, 300)) << "the card finishes on the simulated cutter";
+  ASSERT_TRUE(wait_until(
+      [&] {
+        state =
+            b.run("const j = document.querySelector('#jobs .job'); return j ? j.dataset.state : ''").get<std::string>();
+        return state == "done" || state == "failed" || state == "cancelled";
+      },
+      300))
+      << "the card finishes on the simulated cutter";
   EXPECT_EQ(state, "done") << "the imported card was cut; page: " << b.run("return document.body.innerText").dump();
   const std::string title = b.run("return document.querySelector('#jobs .job .title').textContent").get<std::string>();
-  EXPECT_EQ(title.substr(title.find(' ') + 1), "house") << "the job is named after the file as the API names it: " << title;
+  EXPECT_EQ(title.substr(title.find(' ') + 1), "house")
+      << "the job is named after the file as the API names it: " << title;
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// popcut's client commands against a loopback server that is not popcutd: answers of the wrong shape are exit 3, never a crash.
+// popcut's client commands against a loopback server that is not popcutd: answers of the wrong shape are exit 3, never
+// a crash.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -10,17 +11,31 @@
 
 namespace {
 using nlohmann::json;
-using popcut::testing::TempDir;
 using popcut::testing::read_file;
+using popcut::testing::TempDir;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
 
 // A job as popcutd answers it (docs/api.md): the shape the client must take.
-const json kJob = {{"id", 7},           {"name", "box"},         {"owner", "kiosk"},          {"device", "a"},
-                   {"profile", "sim"},  {"cut_on", nullptr},     {"state", "queued"},         {"strokes_total", 12},
-                   {"strokes_sent", 0}, {"resume_from", 0},      {"resume_point", nullptr},   {"strokes_executed", nullptr},
-                   {"progress", 0.0},   {"est_time_s", 3.5},     {"created_at", 1700000000},  {"started_at", nullptr},
-                   {"finished_at", nullptr}, {"place_in_line", 1}, {"eta_s", nullptr}};
+const json kJob = {{"id", 7},
+                   {"name", "box"},
+                   {"owner", "kiosk"},
+                   {"device", "a"},
+                   {"profile", "sim"},
+                   {"cut_on", nullptr},
+                   {"state", "queued"},
+                   {"strokes_total", 12},
+                   {"strokes_sent", 0},
+                   {"resume_from", 0},
+                   {"resume_point", nullptr},
+                   {"strokes_executed", nullptr},
+                   {"progress", 0.0},
+                   {"est_time_s", 3.5},
+                   {"created_at", 1700000000},
+                   {"started_at", nullptr},
+                   {"finished_at", nullptr},
+                   {"place_in_line", 1},
+                   {"eta_s", nullptr}};
 
 // An HTTP server on a free loopback port that answers each "METHOD /path" as told (else a default).
 class FakeServer {
@@ -75,16 +90,22 @@ class PopcutClientAnswers : public ::testing::Test {
  protected:
   CliRun cli(const std::string& args) {
     const std::string out = (dir_.path() / "cli.out").string(), err = (dir_.path() / "cli.err").string();
-    const std::string command = std::string(POPCUT_CLI) + " " + args + " --server " + server_.address() + " --token kiosk-0123456789abcdef";
+    const std::string command =
+        std::string(POPCUT_CLI) + " " + args + " --server " + server_.address() + " --token kiosk-0123456789abcdef";
     // Through a shell, so a killed popcut shows as 128 + signal like an interactive run would.
     const int status = std::system((command + " >" + out + " 2>" + err).c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
   }
   // Every client command, each needing one answer from the server.
   static std::vector<std::string> commands() {
-    return {"jobs", "jobs --json", "submit " + kSrc + "/examples/voxel/box.json --device a",
-            "submit " + kSrc + "/examples/voxel/box.json --device a --json", "submit " + kSrc + "/examples/meshes/house.obj --profile sim",
-            "cancel 7", "resume 7", "resume 7 --from executed"};
+    return {"jobs",
+            "jobs --json",
+            "submit " + kSrc + "/examples/voxel/box.json --device a",
+            "submit " + kSrc + "/examples/voxel/box.json --device a --json",
+            "submit " + kSrc + "/examples/meshes/house.obj --profile sim",
+            "cancel 7",
+            "resume 7",
+            "resume 7 --from executed"};
   }
   TempDir dir_{"popcut-client-test"};
   FakeServer server_;
@@ -101,7 +122,8 @@ const std::vector<FakeServer::Answer> kWrongShapes = {
     {201, kJob.dump().replace(kJob.dump().find("\"queued\""), 8, "\"bogus\"")},
     {409, R"({"error":{"code":"conflict","message":"m","field":3}})"},
     // A WebDriver (chromedriver) on the port: its answer to a path it does not know.
-    {404, R"({"value":{"error":"unknown command","message":"unknown command: unknown command: api/v1/jobs","stacktrace":""}})"},
+    {404,
+     R"({"value":{"error":"unknown command","message":"unknown command: unknown command: api/v1/jobs","stacktrace":""}})"},
 };
 
 TEST_F(PopcutClientAnswers, EveryCommandCallsAWrongShapeNotPopcutdAndExitsThree) {
@@ -111,7 +133,8 @@ TEST_F(PopcutClientAnswers, EveryCommandCallsAWrongShapeNotPopcutdAndExitsThree)
       const CliRun r = cli(command);
       const std::string what = "popcut " + command + " answered " + std::to_string(a.status) + " " + a.body;
       EXPECT_EQ(r.code, 3) << what << ": exit 3, not an abort; stderr: " << r.err;
-      EXPECT_NE(r.err.find("is not popcutd: it answered " + std::to_string(a.status)), std::string::npos) << what << ": says so: " << r.err;
+      EXPECT_NE(r.err.find("is not popcutd: it answered " + std::to_string(a.status)), std::string::npos)
+          << what << ": says so: " << r.err;
       EXPECT_EQ(r.err.find("queued job"), std::string::npos) << what << ": nothing printed as if queued: " << r.err;
       // Standard output holds nothing of the answer: with --json, only the error.
       if (!r.out.empty()) {
@@ -130,8 +153,10 @@ TEST_F(PopcutClientAnswers, WaitChecksEveryAnswerWhileItPolls) {
     const CliRun r = cli("submit " + kSrc + "/examples/voxel/box.json --device a --wait");
     const std::string what = "submit --wait polled and got " + std::to_string(a.status) + " " + a.body;
     EXPECT_EQ(r.code, 3) << what << ": exit 3, not an abort; stderr: " << r.err;
-    EXPECT_NE(r.err.find("queued job 7 (box), place 1 in line"), std::string::npos) << what << ": the good answer was shown: " << r.err;
-    EXPECT_NE(r.err.find("is not popcutd: it answered " + std::to_string(a.status)), std::string::npos) << what << ": says so: " << r.err;
+    EXPECT_NE(r.err.find("queued job 7 (box), place 1 in line"), std::string::npos)
+        << what << ": the good answer was shown: " << r.err;
+    EXPECT_NE(r.err.find("is not popcutd: it answered " + std::to_string(a.status)), std::string::npos)
+        << what << ": says so: " << r.err;
   }
 }
 
@@ -152,7 +177,8 @@ TEST_F(PopcutClientAnswers, PopcutdsShapesAreTaken) {
     EXPECT_EQ(r.code, 0) << command << ": " << r.err;
   }
   const CliRun jobs = cli("jobs");
-  EXPECT_NE(jobs.out.find("7  done  box  on a  strokes 12/12  (device_error: it said 16)"), std::string::npos) << jobs.out;
+  EXPECT_NE(jobs.out.find("7  done  box  on a  strokes 12/12  (device_error: it said 16)"), std::string::npos)
+      << jobs.out;
   EXPECT_EQ(cli("submit " + kSrc + "/examples/voxel/box.json --device a --wait").code, 0) << "waited until done";
   server_.answer_everything({404, R"({"error":{"code":"not_found","message":"no job 7"}})"});
   const CliRun refused = cli("cancel 7");

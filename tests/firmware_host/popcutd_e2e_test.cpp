@@ -24,22 +24,22 @@
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
+using popcut::testing::get_json;
 using popcut::testing::PopcutdProcess;
+using popcut::testing::post_json;
+using popcut::testing::read_file;
 using popcut::testing::Reply;
 using popcut::testing::TempDir;
-using popcut::testing::read_file;
-using popcut::testing::get_json;
-using popcut::testing::post_json;
 using popcut::testing::wait_until;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
-const std::string kKiosk = "kiosk-change-me-0123456789";   // configs/popcutd.toml's tokens
+const std::string kKiosk = "kiosk-change-me-0123456789";  // configs/popcutd.toml's tokens
 const std::string kAdmin = "admin-change-me-0123456789";
-
 
 std::string example(const std::string& rel) { return read_file(kSrc + "/examples/" + rel); }
 
-std::string submission(const std::string& model, const std::string& target_key, const std::string& target, const std::string& name) {
+std::string submission(const std::string& model, const std::string& target_key, const std::string& target,
+                       const std::string& name) {
   return json{{"model", json::parse(model)}, {target_key, target}, {"name", name}}.dump();
 }
 
@@ -63,7 +63,9 @@ class Popcutd : public ::testing::Test {
   std::unique_ptr<PopcutdProcess> start(const std::string& config) {
     return std::make_unique<PopcutdProcess>(POPCUTD, config, data_);
   }
-  static json job(httplib::Client& c, std::int64_t id) { return get_json(c, "/api/v1/jobs/" + std::to_string(id)).body; }
+  static json job(httplib::Client& c, std::int64_t id) {
+    return get_json(c, "/api/v1/jobs/" + std::to_string(id)).body;
+  }
   static bool final_state(const json& j) {
     const std::string s = j.value("state", "");
     return s == "done" || s == "failed" || s == "cancelled" || s == "interrupted";
@@ -78,14 +80,16 @@ class Popcutd : public ::testing::Test {
 TEST_F(Popcutd, TwoDevicesManyJobsInOrder) {
   const auto d = start(kSrc + "/configs/popcutd.toml");
   httplib::Client c = d->client(kKiosk);
-  const std::vector<std::string> models = {"voxel/box.json", "voxel/pyramid.json", "faces/porch.json", "voxel/townhouse.json"};
+  const std::vector<std::string> models = {"voxel/box.json", "voxel/pyramid.json", "faces/porch.json",
+                                           "voxel/townhouse.json"};
   std::vector<std::int64_t> ids;
   std::map<std::int64_t, std::string> target;
   for (int i = 0; i < 12; ++i) {
     const std::string model = example(models[static_cast<std::size_t>(i) % models.size()]);
     const bool by_profile = i % 3 == 2;
     const std::string dev = i % 2 ? "sim-b" : "sim-a";
-    ids.push_back(submit(c, submission(model, by_profile ? "profile" : "device", by_profile ? "sim" : dev, "job" + std::to_string(i))));
+    ids.push_back(submit(
+        c, submission(model, by_profile ? "profile" : "device", by_profile ? "sim" : dev, "job" + std::to_string(i))));
     target[ids.back()] = by_profile ? "" : dev;
   }
   ASSERT_TRUE(wait_until([&] {
@@ -93,14 +97,16 @@ TEST_F(Popcutd, TwoDevicesManyJobsInOrder) {
       if (!final_state(job(c, id))) return false;
     }
     return true;
-  })) << "every job finishes; log:\n" << d->log();
+  })) << "every job finishes; log:\n"
+      << d->log();
   std::map<std::string, std::vector<std::pair<double, std::int64_t>>> starts;  // device -> (started_at, id)
   for (std::int64_t id : ids) {
     const json j = job(c, id);
     EXPECT_EQ(j["state"], "done") << "job " << id << " is done: " << j.dump();
     EXPECT_EQ(j.value("sim_match", false), true) << "job " << id << ": the simulated cutter cut exactly the plan";
     EXPECT_EQ(j["strokes_sent"], j["strokes_total"]) << "job " << id << ": every stroke sent";
-    EXPECT_EQ(j["strokes_executed"], j["strokes_total"]) << "job " << id << ": the device confirmed it executed every stroke";
+    EXPECT_EQ(j["strokes_executed"], j["strokes_total"])
+        << "job " << id << ": the device confirmed it executed every stroke";
     if (!target[id].empty()) {
       EXPECT_EQ(j["cut_on"], target[id]) << "job " << id << " was cut on the device it named";
     }
@@ -134,7 +140,8 @@ TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
       seen = j.value("strokes_sent", std::int64_t{0});
       total = j.value("strokes_total", std::int64_t{0});
       return j["state"] == "cutting" && seen >= 2;
-    })) << "the cut starts; log:\n" << d->log();
+    })) << "the cut starts; log:\n"
+        << d->log();
     EXPECT_EQ(d->stop(SIGKILL), 128 + SIGKILL) << "popcutd dies of SIGKILL";
   }
   const auto d = start(slow_config(dir_, 0, 1));
@@ -145,7 +152,8 @@ TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
   EXPECT_GE(sent, seen) << "no stroke reported sent is forgotten";
   EXPECT_LT(sent, total) << "the kill came mid-cut (else this test proves nothing)";
   EXPECT_EQ(j["resume_from"], sent) << "it will resume at the first stroke not fully sent";
-  EXPECT_TRUE(j["strokes_executed"].is_null()) << "a cut killed midway never learnt what the device executed: " << j.dump();
+  EXPECT_TRUE(j["strokes_executed"].is_null())
+      << "a cut killed midway never learnt what the device executed: " << j.dump();
   EXPECT_NE(d->log().find("recovered after an unclean stop: 1 cutting -> interrupted"), std::string::npos)
       << "the restart says it recovered the job: " << d->log();
   // The device goes on with other work while the interrupted job waits to be asked.
@@ -154,9 +162,11 @@ TEST_F(Popcutd, KillDuringCutThenRestartAndResume) {
   EXPECT_EQ(job(c, other)["state"], "done") << "the device cut the next job";
   EXPECT_EQ(job(c, id)["state"], "interrupted") << "the interrupted job is not resumed unasked";
   const Reply unknown = post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", R"({"from": "executed"})");
-  EXPECT_EQ(unknown.status, 409) << "no executed point to resume from: the crash came before the device was asked: " << unknown.body.dump();
+  EXPECT_EQ(unknown.status, 409) << "no executed point to resume from: the crash came before the device was asked: "
+                                 << unknown.body.dump();
   EXPECT_EQ(unknown.body["error"].value("field", ""), "from") << unknown.body.dump();
-  EXPECT_NE(unknown.body["error"].value("message", "").find("executed are unknown"), std::string::npos) << "says why: " << unknown.body.dump();
+  EXPECT_NE(unknown.body["error"].value("message", "").find("executed are unknown"), std::string::npos)
+      << "says why: " << unknown.body.dump();
   EXPECT_EQ(job(c, id)["state"], "interrupted") << "a refused resume changes nothing";
   const Reply r = post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "");
   EXPECT_EQ(r.status, 202) << "resume accepted: " << r.body.dump();
@@ -177,7 +187,8 @@ std::string two_cutters_config(const TempDir& dir, double time_scale) {
   std::ostringstream o;
   o << "[server]\ndata_dir = \"unused\"\n";
   for (const char* name : {"sim-a", "sim-b"}) {
-    o << "[[device]]\nname = \"" << name << "\"\nprofile = \"" << kSrc << "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+    o << "[[device]]\nname = \"" << name << "\"\nprofile = \"" << kSrc
+      << "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
       << "sim_time_scale = " << time_scale << "\nsim_slowdown = " << (time_scale > 0 ? 20 : 1) << "\n";
   }
   o << "[[token]]\nname = \"kiosk\"\ntoken = \"" << kKiosk << "\"\n"
@@ -194,7 +205,8 @@ TEST_F(Popcutd, AResumedJobWaitsForTheCutterHoldingItsSheet) {
     const auto d = start(two_cutters_config(dir_, 1.0));
     httplib::Client c = d->client(kKiosk);
     id = submit(c, submission(example("voxel/castle.json"), "profile", "sim", "castle"));
-    ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 2; })) << d->log();
+    ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 2; }))
+        << d->log();
     first = job(c, id)["cut_on"];
     EXPECT_EQ(d->stop(SIGKILL), 128 + SIGKILL);
   }
@@ -236,21 +248,24 @@ TEST_F(Popcutd, SigtermStopsTheCutSafelyAndCancelStopsAJob) {
     httplib::Client c = d->client(kKiosk);
     a = submit(c, submission(castle, "device", "slow", "a"));
     b = submit(c, submission(castle, "device", "slow", "b"));
-    ASSERT_TRUE(wait_until([&] { return job(c, a)["state"] == "cutting" && job(c, a)["strokes_sent"] >= 1; })) << "a is cutting";
+    ASSERT_TRUE(wait_until([&] { return job(c, a)["state"] == "cutting" && job(c, a)["strokes_sent"] >= 1; }))
+        << "a is cutting";
     EXPECT_EQ(job(c, b)["place_in_line"], 0) << "b is next in line";
     const Reply cancel = post_json(c, "/api/v1/jobs/" + std::to_string(a) + "/cancel", "");
     EXPECT_EQ(cancel.status, 202) << "cancel accepted: " << cancel.body.dump();
     ASSERT_TRUE(wait_until([&] { return final_state(job(c, a)); })) << "the cancelled cut stops";
     EXPECT_EQ(job(c, a)["state"], "cancelled") << "a was cancelled mid-cut";
     EXPECT_LT(job(c, a)["strokes_sent"], job(c, a)["strokes_total"]) << "a stopped before its end";
-    ASSERT_TRUE(wait_until([&] { return job(c, b)["state"] == "cutting" && job(c, b)["strokes_sent"] >= 1; })) << "b is cutting next";
+    ASSERT_TRUE(wait_until([&] { return job(c, b)["state"] == "cutting" && job(c, b)["strokes_sent"] >= 1; }))
+        << "b is cutting next";
     EXPECT_EQ(d->stop(SIGTERM), 0) << "SIGTERM during a cut exits 0 once the cut is stopped";
   }
   const auto d = start(slow);
   httplib::Client c = d->client(kKiosk);
   const json j = job(c, b);
   EXPECT_EQ(j["state"], "interrupted") << "SIGTERM leaves the cut interrupted, resumable: " << j.dump();
-  EXPECT_NE(j["error"]["message"].get<std::string>().find("knife was lifted"), std::string::npos) << "it says the knife was lifted";
+  EXPECT_NE(j["error"]["message"].get<std::string>().find("knife was lifted"), std::string::npos)
+      << "it says the knife was lifted";
   EXPECT_EQ(d->log().find("recovered"), std::string::npos) << "a clean stop leaves nothing to recover";
 }
 
@@ -265,7 +280,9 @@ TEST_F(Popcutd, HundredConcurrentSubmissionsNoneLostOrDuplicated) {
     threads.emplace_back([&, t] {
       httplib::Client c = d->client(kKiosk);
       for (int i = 0; i < 10; ++i) {
-        const Reply r = post_json(c, "/api/v1/jobs", submission(box, "profile", "sim", "load-" + std::to_string(t) + "-" + std::to_string(i)));
+        const Reply r =
+            post_json(c, "/api/v1/jobs",
+                      submission(box, "profile", "sim", "load-" + std::to_string(t) + "-" + std::to_string(i)));
         if (r.status != 201) {
           ++refused;
           continue;
@@ -293,7 +310,8 @@ TEST_F(Popcutd, HundredConcurrentSubmissionsNoneLostOrDuplicated) {
   }
   EXPECT_EQ(names.size(), 100u) << "each submission is one job";
   const std::string metrics = d->client("").Get("/metrics")->body;
-  EXPECT_NE(metrics.find("popcutd_jobs{state=\"done\"} 100"), std::string::npos) << "metrics count 100 done jobs:\n" << metrics;
+  EXPECT_NE(metrics.find("popcutd_jobs{state=\"done\"} 100"), std::string::npos) << "metrics count 100 done jobs:\n"
+                                                                                 << metrics;
 }
 
 TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
@@ -325,13 +343,16 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
       {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": "box"})", 400, "bad_request"},
       {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "profile": "sim", "model": {}})", 400, "bad_request"},
       {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {}, "colour": 1})", 400, "bad_request"},
-      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "heights": "x"}})", 422, "bad_model"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "heights": "x"}})",
+       422, "bad_model"},
       {&c, "POST", "/api/v1/jobs", R"({"device": "sim-z", "model": {}})", 422, "no_device"},
       {&c, "POST", "/api/v1/jobs", R"({"profile": "roland", "model": {}})", 422, "no_device"},
       {&c, "POST", "/api/v1/jobs", R"({"device": "../sim-a", "model": {}})", 400, "bad_name"},
       {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "../../etc/passwd"), 400, "bad_name"},
       {&c, "POST", "/api/v1/jobs", submission(box, "device", "sim-a", "a/b"), 400, "bad_name"},
-      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "voxel_mm": 1, "grid": {"width": 101, "depth": 100, "height": 100}, "heights": [[1]]}})", 413, "model_too_complex"},
+      {&c, "POST", "/api/v1/jobs",
+       R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "voxel_mm": 1, "grid": {"width": 101, "depth": 100, "height": 100}, "heights": [[1]]}})",
+       413, "model_too_complex"},
       {&c, "POST", "/api/v1/jobs", big, 413, "too_large"},
       {&none, "GET", "/api/v1/jobs", "", 401, "unauthorized"},
       {&wrong, "GET", "/api/v1/jobs", "", 401, "unauthorized"},
@@ -355,8 +376,10 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
       {&c, "POST", "/api/v1/render/pattern.svg", R"({"format": "popcut.voxel.v1", "heights": "x"})", 422, "bad_model"},
       {&c, "POST", "/api/v1/import", box, 400, "bad_request"},
       // A key twice in one object would silently keep the last; a query parameter twice, the first.
-      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "device": "sim-b", "model": )" + box + "}", 400, "bad_request"},
-      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "format": "x"}})", 400, "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "device": "sim-b", "model": )" + box + "}", 400,
+       "bad_request"},
+      {&c, "POST", "/api/v1/jobs", R"({"device": "sim-a", "model": {"format": "popcut.voxel.v1", "format": "x"}})", 400,
+       "bad_request"},
       {&c, "GET", "/api/v1/jobs/" + std::to_string(mine) + "/preview.png?angle=10&angle=20", "", 400, "bad_request"},
       {&c, "GET", "/api/v1/jobs?limit=1&limit=2", "", 400, "bad_request"},
       {&c, "GET", "/api/v1/jobs?foo=1", "", 400, "bad_request"},
@@ -370,28 +393,34 @@ TEST_F(Popcutd, BadRequestsGetDocumentedCodesAndTheDaemonKeepsServing) {
   };
   for (const Case& k : cases) {
     const Reply r = k.method == "GET" ? get_json(*k.client, k.path) : post_json(*k.client, k.path, k.body);
-    EXPECT_EQ(r.status, k.status) << k.method << " " << k.path << " " << k.body.substr(0, 120) << " -> " << r.body.dump();
+    EXPECT_EQ(r.status, k.status) << k.method << " " << k.path << " " << k.body.substr(0, 120) << " -> "
+                                  << r.body.dump();
     EXPECT_EQ(r.body.is_object() && r.body.contains("error") ? r.body["error"].value("code", "") : "", k.code)
-        << k.method << " " << k.path << " " << k.body.substr(0, 120) << " answers with the documented code: " << r.body.dump();
+        << k.method << " " << k.path << " " << k.body.substr(0, 120)
+        << " answers with the documented code: " << r.body.dump();
   }
   const Reply unicode = post_json(c, "/api/v1/jobs", submission(box, "device", "sim-a", "café 城 2"));
   EXPECT_EQ(unicode.status, 201) << "a name in any script is a fine label: " << unicode.body.dump();
   EXPECT_EQ(unicode.body.value("name", ""), "café 城 2") << "and is kept as given";
   const Reply unnamed = post_json(c, "/api/v1/jobs", json{{"device", "sim-a"}, {"model", json::parse(box)}}.dump());
-  EXPECT_EQ(unnamed.body.value("name", ""), json::parse(box)["name"]) << "an unnamed job takes its model's name: " << unnamed.body.dump();
+  EXPECT_EQ(unnamed.body.value("name", ""), json::parse(box)["name"])
+      << "an unnamed job takes its model's name: " << unnamed.body.dump();
   httplib::Client admin = d->client(kAdmin);
   EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/pause", "").status, 200) << "the admin pauses a device";
   const std::int64_t held = submit(c, submission(box, "device", "sim-a", "held"));
-  EXPECT_EQ(post_json(admin, "/api/v1/jobs/" + std::to_string(held) + "/cancel", "").status, 202) << "the admin cancels anyone's job";
+  EXPECT_EQ(post_json(admin, "/api/v1/jobs/" + std::to_string(held) + "/cancel", "").status, 202)
+      << "the admin cancels anyone's job";
   EXPECT_EQ(job(c, held)["state"], "cancelled") << "a job waiting on a paused device is cancelled at once";
   const std::int64_t waiting = submit(c, submission(box, "device", "sim-a", "waiting"));
   ASSERT_TRUE(wait_until([&] { return job(c, waiting)["state"] == "ready"; })) << "planned while the device is paused";
   EXPECT_EQ(get_json(admin, "/api/v1/devices").body["devices"][0]["state"], "paused") << "the device says it is paused";
   EXPECT_EQ(job(c, waiting)["state"], "ready") << "a paused device takes no job";
   EXPECT_EQ(post_json(admin, "/api/v1/devices/sim-a/resume", "").status, 200) << "the admin resumes the device";
-  ASSERT_TRUE(wait_until([&] { return final_state(job(c, waiting)); })) << "the waiting job is cut once the device resumes";
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, waiting)); }))
+      << "the waiting job is cut once the device resumes";
   EXPECT_EQ(job(c, waiting)["state"], "done") << "and it is done";
-  EXPECT_EQ(job(c, held)["error"]["code"], "cancelled") << "a cancelled job says so in its error code: " << job(c, held).dump();
+  EXPECT_EQ(job(c, held)["error"]["code"], "cancelled")
+      << "a cancelled job says so in its error code: " << job(c, held).dump();
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon still serves after every bad request";
   // RFC 7235: the scheme is case-insensitive.
   httplib::Client lower = d->client("");
@@ -413,7 +442,8 @@ std::string raw_exchange(int port, const std::string& request) {
   timeval tv{30, 0};
   ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
   std::string out;
-  if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 && ::send(s, request.data(), request.size(), 0) > 0) {
+  if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
+      ::send(s, request.data(), request.size(), 0) > 0) {
     char buf[4096];
     for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
   }
@@ -424,16 +454,22 @@ std::string raw_exchange(int port, const std::string& request) {
 // A POST without Content-Length used to hold a request thread until the read timeout (httplib
 // reads such a body until the client closes): with every thread held, /healthz waited too.
 TEST_F(Popcutd, PostWithoutContentLengthIsRefusedAtOnce) {
-  const std::string cfg = dir_.write("two-threads.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = 2\n"
-                                                          "[[device]]\nname = \"a\"\nprofile = \"" + kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
-                                                          "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n");
+  const std::string cfg = dir_.write("two-threads.toml",
+                                     "[server]\ndata_dir = \"x\"\nhttp_threads = 2\n"
+                                     "[[device]]\nname = \"a\"\nprofile = \"" +
+                                         kSrc +
+                                         "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                         "[[token]]\nname = \"kiosk\"\ntoken = \"" +
+                                         kKiosk + "\"\n");
   const auto d = start(cfg);
   std::vector<std::thread> holders;
   std::vector<std::string> answers(2);
   // As many such clients as there are threads; each keeps its connection open.
   for (std::size_t i = 0; i < answers.size(); ++i) {
     holders.emplace_back([&, i] {
-      answers[i] = raw_exchange(d->port(), "POST /api/v1/jobs/1/cancel HTTP/1.1\r\nHost: x\r\nConnection: close\r\nAuthorization: Bearer " + kKiosk + "\r\n\r\n");
+      answers[i] = raw_exchange(
+          d->port(), "POST /api/v1/jobs/1/cancel HTTP/1.1\r\nHost: x\r\nConnection: close\r\nAuthorization: Bearer " +
+                         kKiosk + "\r\n\r\n");
     });
   }
   for (auto& t : holders) t.join();
@@ -457,21 +493,26 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
     const std::string bytes = example("meshes/" + mesh);
     const Reply imported = post_mesh(c, "/api/v1/import", bytes, mesh, {{"resolution", "40"}, {"thin-tops", "1"}});
     ASSERT_EQ(imported.status, 200) << mesh << " imports: " << imported.body.dump();
-    json got = imported.body["model"], want = json::parse(example("meshes/" + fs::path(mesh).stem().string() + ".json"));
+    json got = imported.body["model"],
+         want = json::parse(example("meshes/" + fs::path(mesh).stem().string() + ".json"));
     got.erase("name");
     want.erase("name");
     EXPECT_EQ(got, want) << mesh << ": popcutd's import equals popcut import's (examples/meshes/*.json)";
-    const Reply r = post_mesh(c, "/api/v1/jobs", bytes, mesh, {{"device", "sim-a"}, {"name", "mesh " + mesh}, {"resolution", "40"}, {"thin-tops", "1"}});
+    const Reply r =
+        post_mesh(c, "/api/v1/jobs", bytes, mesh,
+                  {{"device", "sim-a"}, {"name", "mesh " + mesh}, {"resolution", "40"}, {"thin-tops", "1"}});
     ASSERT_EQ(r.status, 201) << mesh << " is queued: " << r.body.dump();
     EXPECT_EQ(r.body["name"], "mesh " + mesh) << "the job keeps its name";
     ids.push_back(r.body["id"].get<std::int64_t>());
   }
-  const Reply faces = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "house.obj",
-                                {{"profile", "sim"}, {"resolution", "30"}, {"faces", "true"}, {"up", "+z"}, {"front", "-y"}});
+  const Reply faces =
+      post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "house.obj",
+                {{"profile", "sim"}, {"resolution", "30"}, {"faces", "true"}, {"up", "+z"}, {"front", "-y"}});
   ASSERT_EQ(faces.status, 201) << "a face model that follows the silhouette is queued: " << faces.body.dump();
   EXPECT_EQ(faces.body["name"], "house") << "an unnamed mesh job is named after its file";
   ids.push_back(faces.body["id"].get<std::int64_t>());
-  const Reply accented = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "maison d'été.obj", {{"device", "sim-a"}, {"resolution", "30"}});
+  const Reply accented = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "maison d'été.obj",
+                                   {{"device", "sim-a"}, {"resolution", "30"}});
   ASSERT_EQ(accented.status, 201) << "a file name in any script is fine: " << accented.body.dump();
   EXPECT_EQ(accented.body["name"], "maison d'été") << "and names the job";
   ids.push_back(accented.body["id"].get<std::int64_t>());
@@ -497,16 +538,46 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
       // A place inside the mesh goes in the message; the field stays "mesh".
       {"v 0 0 0\nf 1 2 3\n", "bad.obj", {{"device", "sim-a"}}, 422, "bad_model", "mesh", "bad.obj"},
       {house, "", {{"device", "sim-a"}}, 400, "bad_request", "mesh", "file part"},
-      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "abc"}}, 400, "bad_request", "resolution", "not a whole number"},
+      {house,
+       "house.obj",
+       {{"device", "sim-a"}, {"resolution", "abc"}},
+       400,
+       "bad_request",
+       "resolution",
+       "not a whole number"},
       {house, "house.obj", {{"device", "sim-a"}, {"resolution", "5000"}}, 400, "bad_request", "resolution", "2048"},
       {house, "house.obj", {{"device", "sim-a"}, {"up", "sideways"}}, 400, "bad_request", "up", "not an axis"},
-      {house, "house.obj", {{"device", "sim-a"}, {"up", "+z"}, {"front", "+z"}}, 400, "bad_request", "front", "perpendicular"},
+      {house,
+       "house.obj",
+       {{"device", "sim-a"}, {"up", "+z"}, {"front", "+z"}},
+       400,
+       "bad_request",
+       "front",
+       "perpendicular"},
       {house, "house.obj", {{"device", "sim-a"}, {"faces", "yes"}}, 400, "bad_request", "faces", "true or false"},
-      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "400"}}, 413, "model_too_complex", "resolution", "at most 1000000"},
+      {house,
+       "house.obj",
+       {{"device", "sim-a"}, {"resolution", "400"}},
+       413,
+       "model_too_complex",
+       "resolution",
+       "at most 1000000"},
       {house, "house.obj", {{"device", "sim-a"}, {"colour", "red"}}, 400, "bad_request", "colour", "unknown field"},
       // A repeated part is a malformed form, whichever part it is.
-      {house, "house.obj", {{"device", "sim-a"}, {"resolution", "40"}, {"resolution", "50"}}, 400, "bad_request", "resolution", "given twice"},
-      {house, "house.obj", {{"device", "sim-a"}, {"name", "a"}, {"name", "b"}}, 400, "bad_request", "name", "given twice"},
+      {house,
+       "house.obj",
+       {{"device", "sim-a"}, {"resolution", "40"}, {"resolution", "50"}},
+       400,
+       "bad_request",
+       "resolution",
+       "given twice"},
+      {house,
+       "house.obj",
+       {{"device", "sim-a"}, {"name", "a"}, {"name", "b"}},
+       400,
+       "bad_request",
+       "name",
+       "given twice"},
       {house, "../house.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
       {house, "maison\x01.obj", {{"device", "sim-a"}}, 400, "bad_name", "mesh", "mesh file names"},
       {house, "house.obj", {{"device", "sim-z"}, {"resolution", "40"}}, 422, "no_device", "device", "sim-z"},
@@ -516,33 +587,44 @@ TEST_F(Popcutd, MeshesImportAndCutThroughTheApi) {
     const Reply r = post_mesh(c, "/api/v1/jobs", k.content, k.filename, k.fields);
     const json e = r.body.is_object() ? r.body.value("error", json::object()) : json::object();
     EXPECT_EQ(r.status, k.status) << k.filename << " " << json(k.fields).dump() << " -> " << r.body.dump();
-    EXPECT_EQ(e.value("code", ""), k.code) << k.filename << " " << json(k.fields).dump() << ": documented code: " << r.body.dump();
+    EXPECT_EQ(e.value("code", ""), k.code)
+        << k.filename << " " << json(k.fields).dump() << ": documented code: " << r.body.dump();
     if (!k.field.empty()) {
       EXPECT_EQ(e.value("field", ""), k.field) << k.filename << ": the field at fault: " << r.body.dump();
     }
-    EXPECT_NE(e.value("message", "").find(k.says), std::string::npos) << k.filename << ": the message says '" << k.says << "': " << r.body.dump();
+    EXPECT_NE(e.value("message", "").find(k.says), std::string::npos)
+        << k.filename << ": the message says '" << k.says << "': " << r.body.dump();
   }
   httplib::Client none = d->client("");
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon still serves after every bad mesh";
 }
 
 TEST_F(Popcutd, MeshTriangleLimitComesFromTheConfig) {
-  const auto d = start(dir_.write("few.toml", "[server]\ndata_dir = \"x\"\n[limits]\nmesh_triangles = 4\n"
-                                                "[[device]]\nname = \"a\"\nprofile = \"" + kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
-                                                "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"));
+  const auto d = start(dir_.write("few.toml",
+                                  "[server]\ndata_dir = \"x\"\n[limits]\nmesh_triangles = 4\n"
+                                  "[[device]]\nname = \"a\"\nprofile = \"" +
+                                      kSrc +
+                                      "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                      "[[token]]\nname = \"kiosk\"\ntoken = \"" +
+                                      kKiosk + "\"\n"));
   httplib::Client c = d->client(kKiosk);
   const Reply r = post_mesh(c, "/api/v1/jobs", example("meshes/house.obj"), "house.obj", {{"device", "a"}});
   EXPECT_EQ(r.status, 413) << "over [limits] mesh_triangles: " << r.body.dump();
   EXPECT_EQ(r.body["error"].value("code", ""), "model_too_complex") << r.body.dump();
-  EXPECT_NE(r.body["error"].value("message", "").find("at most 4"), std::string::npos) << "names the limit: " << r.body.dump();
+  EXPECT_NE(r.body["error"].value("message", "").find("at most 4"), std::string::npos)
+      << "names the limit: " << r.body.dump();
 }
 
 // A job cut on a real (non-simulated) transport has nothing to compare its cut with: no sim_match.
 TEST_F(Popcutd, SimMatchOnlyForSimulatedCutters) {
   const std::string out = (dir_.path() / "plotter.hpgl").string();
-  const auto d = start(dir_.write("file.toml", "[server]\ndata_dir = \"x\"\n"
-                                                 "[[device]]\nname = \"f\"\nprofile = \"" + kSrc + "/configs/devices/generic-hpgl.toml\"\ntransport = \"file:" + out + "\"\n"
-                                                 "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n"));
+  const auto d = start(dir_.write("file.toml",
+                                  "[server]\ndata_dir = \"x\"\n"
+                                  "[[device]]\nname = \"f\"\nprofile = \"" +
+                                      kSrc + "/configs/devices/generic-hpgl.toml\"\ntransport = \"file:" + out +
+                                      "\"\n"
+                                      "[[token]]\nname = \"kiosk\"\ntoken = \"" +
+                                      kKiosk + "\"\n"));
   httplib::Client c = d->client(kKiosk);
   const std::int64_t id = submit(c, submission(example("voxel/box.json"), "device", "f", "to a file"));
   ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); })) << "the job finishes; log:\n" << d->log();
@@ -579,12 +661,17 @@ TEST_F(Popcutd, DevicesShowAKioskOnlyItsOwnJobBeingCut) {
   httplib::Client admin = d->client(kAdmin);
   const std::int64_t id = submit(a, submission(example("voxel/castle.json"), "device", "slow", "long cut"));
   ASSERT_TRUE(wait_until([&] { return job(a, id)["state"] == "cutting"; })) << "the cut starts; log:\n" << d->log();
-  const auto cutting_on_slow = [&](httplib::Client& c) { return get_json(c, "/api/v1/devices").body["devices"][0]["job"]; };
+  const auto cutting_on_slow = [&](httplib::Client& c) {
+    return get_json(c, "/api/v1/devices").body["devices"][0]["job"];
+  };
   EXPECT_EQ(cutting_on_slow(a), id) << "its owner sees which job the device cuts";
   EXPECT_EQ(cutting_on_slow(admin), id) << "so does the admin";
-  EXPECT_TRUE(cutting_on_slow(b).is_null()) << "another kiosk sees the device busy, not the id of a job it may not open";
-  EXPECT_EQ(get_json(b, "/api/v1/devices").body["devices"][0]["state"], "cutting") << "but it does see that it is cutting";
-  EXPECT_EQ(post_json(a, "/api/v1/jobs/" + std::to_string(id) + "/cancel", "").status, 202) << "cancelled to end the test";
+  EXPECT_TRUE(cutting_on_slow(b).is_null())
+      << "another kiosk sees the device busy, not the id of a job it may not open";
+  EXPECT_EQ(get_json(b, "/api/v1/devices").body["devices"][0]["state"], "cutting")
+      << "but it does see that it is cutting";
+  EXPECT_EQ(post_json(a, "/api/v1/jobs/" + std::to_string(id) + "/cancel", "").status, 202)
+      << "cancelled to end the test";
   ASSERT_TRUE(wait_until([&] { return final_state(job(a, id)); })) << "the cut stops";
 }
 
@@ -594,7 +681,8 @@ TEST_F(Popcutd, BadConfigExitsTwoNamingTheKey) {
   const std::string cmd = std::string(POPCUTD) + " --config " + cfg + " 2>" + (dir_.path() / "err").string();
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(status), 2) << "bad config is exit 2";
-  EXPECT_NE(read_file((dir_.path() / "err").string()).find("bad.toml: [server] port: expected a whole number"), std::string::npos)
+  EXPECT_NE(read_file((dir_.path() / "err").string()).find("bad.toml: [server] port: expected a whole number"),
+            std::string::npos)
       << "the message names file, section and key: " << read_file((dir_.path() / "err").string());
 }
 
@@ -606,8 +694,8 @@ TEST_F(Popcutd, SecondDaemonOnTheSameDataDirOrPortExitsThree) {
   const std::string err = (dir_.path() / "second.err").string();
   const auto run_second = [&](const std::string& data_dir, int port) {
     // Bounded: a second daemon that wrongly starts would otherwise serve forever.
-    const std::string cmd = "timeout -s KILL 30 " + std::string(POPCUTD) + " --config " + cfg + " --data-dir " + data_dir + " --port " +
-                            std::to_string(port) + " >/dev/null 2>" + err;
+    const std::string cmd = "timeout -s KILL 30 " + std::string(POPCUTD) + " --config " + cfg + " --data-dir " +
+                            data_dir + " --port " + std::to_string(port) + " >/dev/null 2>" + err;
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   };
@@ -650,7 +738,8 @@ TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
   r = cli("cancel " + std::to_string(job["id"].get<int>()) + " " + server);
   EXPECT_EQ(r.code, 0) << "cancel exits 0: " << r.err;
   httplib::Client c = d->client(kKiosk);
-  ASSERT_TRUE(wait_until([&] { return final_state(Popcutd::job(c, job["id"].get<std::int64_t>())); })) << "the job ends";
+  ASSERT_TRUE(wait_until([&] { return final_state(Popcutd::job(c, job["id"].get<std::int64_t>())); }))
+      << "the job ends";
   EXPECT_EQ(Popcutd::job(c, job["id"].get<std::int64_t>())["state"], "cancelled") << "cancelled through the CLI";
 
   r = cli("cancel " + std::to_string(job["id"].get<int>()) + " " + server);
@@ -671,8 +760,8 @@ TEST_F(PopcutClient, SubmitJobsCancelWithDocumentedExitCodes) {
   EXPECT_EQ(r.code, 0) << "a trailing slash, as a browser shows the address, is fine: " << r.err;
   r = cli("jobs --server http://127.0.0.1:" + std::to_string(d->port()) + "/api --token " + kKiosk);
   EXPECT_EQ(r.code, 2) << "a path is refused, not ignored: " << r.err;
-  const std::string deep = dir_.write("deep.json", R"({"format": "popcut.voxel.v1", "heights": )" + std::string(100000, '[') +
-                                                       std::string(100000, ']') + "}");
+  const std::string deep = dir_.write("deep.json", R"({"format": "popcut.voxel.v1", "heights": )" +
+                                                       std::string(100000, '[') + std::string(100000, ']') + "}");
   r = cli("submit " + deep + " --device slow " + server);
   EXPECT_EQ(r.code, 2) << "a model nested 100,000 deep is refused, not a crash: " << r.err;
   r = cli("submit " + kSrc + "/examples/voxel/box.json --device slow --name '' " + server);
@@ -691,7 +780,8 @@ TEST_F(PopcutClient, SubmitsAMeshWithImportOptions) {
   const auto d = start(slow_config(dir_, 0, 1));
   const std::string server = "--server http://127.0.0.1:" + std::to_string(d->port()) + " --token " + kKiosk;
   for (const std::string mesh : {"house.obj", "arch.off", "tower.ply"}) {
-    const CliRun r = cli("submit " + kSrc + "/examples/meshes/" + mesh + " --device slow --resolution 30 --thin-tops 1 --wait --json " + server);
+    const CliRun r = cli("submit " + kSrc + "/examples/meshes/" + mesh +
+                         " --device slow --resolution 30 --thin-tops 1 --wait --json " + server);
     ASSERT_EQ(r.code, 0) << mesh << ": submitted and cut, exit 0: " << r.err;
     const json j = json::parse(r.out);
     EXPECT_EQ(j["state"], "done") << mesh << " was cut: " << r.out;
@@ -712,8 +802,12 @@ TEST_F(PopcutClient, SubmitsAMeshWithImportOptions) {
 // Something answers at --server, but not popcutd: exit 3 (cannot get the job through), not a crash.
 TEST_F(PopcutClient, NonJsonAnswerExitsThree) {
   httplib::Server other;
-  other.Get(".*", [](const httplib::Request&, httplib::Response& res) { res.set_content("<html>a web server</html>", "text/html"); });
-  other.Post(".*", [](const httplib::Request&, httplib::Response& res) { res.set_content("<html>a web server</html>", "text/html"); });
+  other.Get(".*", [](const httplib::Request&, httplib::Response& res) {
+    res.set_content("<html>a web server</html>", "text/html");
+  });
+  other.Post(".*", [](const httplib::Request&, httplib::Response& res) {
+    res.set_content("<html>a web server</html>", "text/html");
+  });
   const int port = other.bind_to_any_port("127.0.0.1");
   std::thread serve([&] { other.listen_after_bind(); });
   const std::string server = "--server http://127.0.0.1:" + std::to_string(port) + " --token " + kKiosk;
@@ -746,7 +840,8 @@ class SerialPopcutd : public PopcutClient {
   }
   std::unique_ptr<popcut::testing::SimPlotterProcess> plotter(const std::string& name, std::vector<std::string> args) {
     args.insert(args.end(), {"--buffer", "256"});
-    return std::make_unique<popcut::testing::SimPlotterProcess>(POPCUT_CLI, args, (dir_.path() / (name + ".json")).string());
+    return std::make_unique<popcut::testing::SimPlotterProcess>(POPCUT_CLI, args,
+                                                                (dir_.path() / (name + ".json")).string());
   }
   // popcutd with one device, "cutter", on the plotter's port.
   std::unique_ptr<PopcutdProcess> start_on(const popcut::testing::SimPlotterProcess& p) {
@@ -781,17 +876,22 @@ class SerialPopcutd : public PopcutClient {
     EXPECT_EQ(j["state"], "interrupted") << "a cutter that stops mid-job leaves the job interrupted: " << j.dump();
     EXPECT_EQ(j["error"]["code"], "device_error") << j.dump();
     EXPECT_TRUE(j["strokes_executed"].is_number()) << "the cutter answered ESC.O: E is known: " << j.dump();
-    EXPECT_GT(j.value("strokes_executed", std::int64_t{0}), 0) << "the cutter was seen to execute strokes (else resuming "
-                                                                  "after them would be a restart): " << j.dump();
+    EXPECT_GT(j.value("strokes_executed", std::int64_t{0}), 0)
+        << "the cutter was seen to execute strokes (else resuming "
+           "after them would be a restart): "
+        << j.dump();
     EXPECT_LT(j.value("strokes_executed", std::int64_t{0}), j["strokes_sent"].get<std::int64_t>())
         << "the cutter holds strokes it received and never cut (else this test proves nothing): " << j.dump();
     EXPECT_EQ(j["resume_from"], j["strokes_sent"]) << "by default it resumes after the strokes received";
     EXPECT_TRUE(j["resume_point"].is_null()) << "not resumed yet: " << j.dump();
     const auto cut = popcut::testing::sim_plotter_strokes(stuck->report());
     const auto plan = planned(id);
-    EXPECT_GE(cut.size(), j.value("strokes_executed", std::size_t{0})) << "E never claims a stroke the cutter did not cut";
-    EXPECT_LT(cut.size(), static_cast<std::size_t>(j["strokes_sent"].get<std::int64_t>()) + 1) << "it cut no more than it received";
-    EXPECT_EQ(cut, std::vector<popcut::PlotterPath>(plan.begin(), plan.begin() + static_cast<std::ptrdiff_t>(std::min(cut.size(), plan.size()))))
+    EXPECT_GE(cut.size(), j.value("strokes_executed", std::size_t{0}))
+        << "E never claims a stroke the cutter did not cut";
+    EXPECT_LT(cut.size(), static_cast<std::size_t>(j["strokes_sent"].get<std::int64_t>()) + 1)
+        << "it cut no more than it received";
+    EXPECT_EQ(cut, std::vector<popcut::PlotterPath>(
+                       plan.begin(), plan.begin() + static_cast<std::ptrdiff_t>(std::min(cut.size(), plan.size()))))
         << "what it cut before it stopped is the plan's beginning";
     return j;
   }
@@ -818,11 +918,13 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
     struct Bad {
       std::string path, body, code, field;
     };
-    for (const Bad& bad : {Bad{resume_a, R"({"from": "sideways"})", "bad_request", "from"}, Bad{resume_a, R"({"from": 1})", "bad_request", "from"},
-                           Bad{resume_a, R"({"frm": "executed"})", "bad_request", "frm"},
-                           Bad{resume_a, R"({"from": "executed", "from": "received"})", "bad_request", "from"},
-                           Bad{resume_a, R"(["executed"])", "bad_request", ""}, Bad{resume_a, "executed", "bad_json", ""},
-                           Bad{resume_a + "?from=executed", "", "bad_request", ""}}) {
+    for (const Bad& bad :
+         {Bad{resume_a, R"({"from": "sideways"})", "bad_request", "from"},
+          Bad{resume_a, R"({"from": 1})", "bad_request", "from"},
+          Bad{resume_a, R"({"frm": "executed"})", "bad_request", "frm"},
+          Bad{resume_a, R"({"from": "executed", "from": "received"})", "bad_request", "from"},
+          Bad{resume_a, R"(["executed"])", "bad_request", ""}, Bad{resume_a, "executed", "bad_json", ""},
+          Bad{resume_a + "?from=executed", "", "bad_request", ""}}) {
       const Reply r = post_json(c, bad.path, bad.body);
       EXPECT_EQ(r.status, 400) << bad.path << " " << bad.body << ": " << r.body.dump();
       EXPECT_EQ(r.body["error"]["code"], bad.code) << bad.path << " " << bad.body << ": " << r.body.dump();
@@ -836,7 +938,8 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
     EXPECT_EQ(r.body["state"], "ready") << r.body.dump();
     EXPECT_EQ(r.body["resume_from"], e) << "the resumed run starts after the strokes executed: " << r.body.dump();
     EXPECT_EQ(r.body["resume_point"], "executed") << r.body.dump();
-    EXPECT_EQ(r.body["strokes_sent"], e) << "a power-cycled cutter holds nothing: received drops to executed: " << r.body.dump();
+    EXPECT_EQ(r.body["strokes_sent"], e) << "a power-cycled cutter holds nothing: received drops to executed: "
+                                         << r.body.dump();
     EXPECT_EQ(d->stop(SIGKILL), 128 + SIGKILL) << "a crash between accepting the resume and cutting";
   }
   {
@@ -858,7 +961,8 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
   ASSERT_EQ(fresh_a->wait(), 0) << fresh_a->log();
   const json ra = fresh_a->report();
   EXPECT_EQ(ra["overflow_bytes"], 0) << "the resumed job reached the plotter intact";
-  EXPECT_EQ(popcut::testing::sim_plotter_strokes(ra), from_stroke(planned(ia), e)) << "the power-cycled cutter cut exactly strokes " << e + 1 << ".." << total;
+  EXPECT_EQ(popcut::testing::sim_plotter_strokes(ra), from_stroke(planned(ia), e))
+      << "the power-cycled cutter cut exactly strokes " << e + 1 << ".." << total;
 
   // The other job, resumed after the strokes received (through the CLI): strokes M+1.. only.
   const std::int64_t m = b["strokes_sent"];
@@ -883,7 +987,8 @@ TEST_F(SerialPopcutd, ResumeAfterTheExecutedStrokesOnAPowerCycledCutterCutsExact
     EXPECT_EQ(d->stop(SIGTERM), 0);
   }
   ASSERT_EQ(fresh_b->wait(), 0) << fresh_b->log();
-  EXPECT_EQ(popcut::testing::sim_plotter_strokes(fresh_b->report()), from_stroke(planned(ib), m)) << "the cutter cut exactly strokes " << m + 1 << "..";
+  EXPECT_EQ(popcut::testing::sim_plotter_strokes(fresh_b->report()), from_stroke(planned(ib), m))
+      << "the cutter cut exactly strokes " << m + 1 << "..";
 }
 
 // SIGTERM while cutting: popcutd aborts with the profile's ESC.K, which makes the cutter drop what
@@ -905,7 +1010,8 @@ TEST_F(SerialPopcutd, AfterSigtermTheDefaultResumeCutsTheStrokesTheCutterDiscard
     httplib::Client c = d->client(kKiosk);
     id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "sigterm"));
     ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 8; }, 120))
-        << "the cut is under way; log:\n" << d->log();
+        << "the cut is under way; log:\n"
+        << d->log();
     EXPECT_EQ(d->stop(SIGTERM), 0) << d->log();
   }
   const auto d = start_on(*plot);
@@ -926,7 +1032,8 @@ TEST_F(SerialPopcutd, AfterSigtermTheDefaultResumeCutsTheStrokesTheCutterDiscard
   ::close(hold);
   ASSERT_EQ(plot->wait(), 0) << plot->log();
   const json report = plot->report();
-  EXPECT_GT(report.value("discarded_bytes", 0), 0) << "the cutter dropped strokes it held (else this test proves nothing)";
+  EXPECT_GT(report.value("discarded_bytes", 0), 0)
+      << "the cutter dropped strokes it held (else this test proves nothing)";
   EXPECT_EQ(report["overflow_bytes"], 0);
   // Both runs on one sheet: every planned stroke cut, in order, the seam's cut twice at most.
   const auto cut = popcut::testing::sim_plotter_strokes(report);
@@ -954,7 +1061,8 @@ TEST_F(SerialPopcutd, ACutterThatLostBytesFailsTheJobInsteadOfOfferingAResume) {
   const std::int64_t id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "lossy"));
   ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); }, 120)) << "the cut ends; log:\n" << d->log();
   const json j = job(c, id);
-  EXPECT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "").status, 409) << "a failed job does not resume";
+  EXPECT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/resume", "").status, 409)
+      << "a failed job does not resume";
   EXPECT_EQ(d->stop(SIGTERM), 0);
   ASSERT_EQ(plot->wait(), 0) << plot->log();
   ASSERT_GT(plot->report()["overflow_bytes"].get<int>(), 0) << "the plotter lost bytes";
@@ -976,7 +1084,8 @@ TEST_F(SerialPopcutd, ACutterWithNoHandshakeIsLeftToFinishItsBufferBeforeTheNext
   edit_profile("abort = \"\\u001b.K\"", "abort = \"\"");
   edit_profile("buffer_bytes = 256", "buffer_bytes = 1024");  // half of it is several seconds of cutting
   auto plot = std::make_unique<popcut::testing::SimPlotterProcess>(
-      POPCUT_CLI, std::vector<std::string>{"--profile", profile_, "--slowdown", "1.2"}, (dir_.path() / "nohandshake.json").string());
+      POPCUT_CLI, std::vector<std::string>{"--profile", profile_, "--slowdown", "1.2"},
+      (dir_.path() / "nohandshake.json").string());
   const int hold = ::open(plot->port().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);  // one session for both jobs
   ASSERT_GE(hold, 0) << plot->port();
   const auto d = start_on(*plot);
@@ -984,7 +1093,8 @@ TEST_F(SerialPopcutd, ACutterWithNoHandshakeIsLeftToFinishItsBufferBeforeTheNext
   const std::int64_t first = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "first"));
   // Nothing answers, so nothing is confirmed received while it cuts (strokes_sent stays low):
   // some seconds into the cut, its buffer holds strokes.
-  ASSERT_TRUE(wait_until([&] { return job(c, first)["state"] == "cutting"; }, 60)) << "the cut starts; log:\n" << d->log();
+  ASSERT_TRUE(wait_until([&] { return job(c, first)["state"] == "cutting"; }, 60)) << "the cut starts; log:\n"
+                                                                                   << d->log();
   std::this_thread::sleep_for(std::chrono::seconds(6));
   EXPECT_EQ(post_json(c, "/api/v1/jobs/" + std::to_string(first) + "/cancel", "").status / 100, 2);
   ASSERT_TRUE(wait_until([&] { return final_state(job(c, first)); }, 60)) << d->log();
@@ -1009,7 +1119,8 @@ TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {
   const std::int64_t id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "held"));
   const std::string cancel = "/api/v1/jobs/" + std::to_string(id) + "/cancel";
   ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 1; }, 120))
-      << "the cut starts; log:\n" << d->log();
+      << "the cut starts; log:\n"
+      << d->log();
   EXPECT_TRUE(job(c, id)["cancel"].is_null()) << "no cancel yet: " << job(c, id).dump();
   // Its buffer is full and the line held by now (it says XOFF at 192 bytes and then cuts a
   // thousand times slower than planned); else the abort goes through and the test fails below.
@@ -1019,17 +1130,23 @@ TEST_F(SerialPopcutd, ASecondCancelGivesUpWaitingForACutterThatHoldsTheLine) {
   EXPECT_EQ(first.body["state"], "cutting") << first.body.dump();
   EXPECT_EQ(first.body["cancel"], "requested") << first.body.dump();
   ASSERT_TRUE(wait_until([&] { return job(c, id)["cancel"] == "waiting_for_device"; }, 30))
-      << "the job says its cancel waits for the cutter to let the abort through: " << job(c, id).dump() << "\n" << d->log();
-  EXPECT_NE(d->log().find("holds the line (XOFF or CTS): waiting up to 60 s"), std::string::npos) << "and the log says so: " << d->log();
+      << "the job says its cancel waits for the cutter to let the abort through: " << job(c, id).dump() << "\n"
+      << d->log();
+  EXPECT_NE(d->log().find("holds the line (XOFF or CTS): waiting up to 60 s"), std::string::npos)
+      << "and the log says so: " << d->log();
   const Reply second = post_json(c, cancel, "");
-  EXPECT_EQ(second.status, 200) << "the second cancel gives up the wait, well before the 60 s hold timeout, and answers the "
-                                   "outcome: " << second.body.dump();
+  EXPECT_EQ(second.status, 200)
+      << "the second cancel gives up the wait, well before the 60 s hold timeout, and answers the "
+         "outcome: "
+      << second.body.dump();
   EXPECT_EQ(second.body["state"], "cancelled") << second.body.dump();
-  EXPECT_EQ(second.body["error"]["code"], "device_error") << "the knife-up did not reach the cutter: " << second.body.dump();
+  EXPECT_EQ(second.body["error"]["code"], "device_error")
+      << "the knife-up did not reach the cutter: " << second.body.dump();
   const std::string message = second.body["error"].value("message", "");
   EXPECT_EQ(message.find("cancelled during the cut: gave up waiting for the device"), 0u) << message;
   EXPECT_NE(message.find("neither the abort sequence nor the knife-up reached it"), std::string::npos) << message;
-  EXPECT_NE(message.find("the device may still cut up to "), std::string::npos) << "says how much it may still cut: " << message;
+  EXPECT_NE(message.find("the device may still cut up to "), std::string::npos)
+      << "says how much it may still cut: " << message;
   EXPECT_NE(message.find(" bytes (strokes "), std::string::npos) << "in bytes and strokes: " << message;
   EXPECT_EQ(job(c, id)["error"]["message"], message) << "the job keeps it";
   EXPECT_FALSE(job(c, id).contains("cancel")) << "a finished job has no cancel under way: " << job(c, id).dump();

@@ -1,4 +1,5 @@
-// popcutd at the HTTP level, over raw loopback sockets: bodies refused as they arrive, framing, methods, idle connections.
+// popcutd at the HTTP level, over raw loopback sockets: bodies refused as they arrive, framing, methods, idle
+// connections.
 #include <arpa/inet.h>
 #include <brotli/encode.h>
 #include <fcntl.h>
@@ -22,11 +23,11 @@
 
 namespace {
 using nlohmann::json;
-using popcut::testing::PopcutdProcess;
-using popcut::testing::TempDir;
 using popcut::testing::connect_loopback;
 using popcut::testing::get_json;
+using popcut::testing::PopcutdProcess;
 using popcut::testing::read_file;
+using popcut::testing::TempDir;
 
 const std::string kSrc = POPCUT_SOURCE_DIR;
 const std::string kKiosk = "kiosk-change-me-0123456789";  // configs/popcutd.toml's kiosk token
@@ -88,7 +89,8 @@ std::string error_code(const std::string& answer) {
 std::string brotli(const std::string& text) {
   std::string out(BrotliEncoderMaxCompressedSize(text.size()), '\0');
   std::size_t size = out.size();
-  if (!BrotliEncoderCompress(5, 22, BROTLI_MODE_GENERIC, text.size(), reinterpret_cast<const std::uint8_t*>(text.data()), &size,
+  if (!BrotliEncoderCompress(5, 22, BROTLI_MODE_GENERIC, text.size(),
+                             reinterpret_cast<const std::uint8_t*>(text.data()), &size,
                              reinterpret_cast<std::uint8_t*>(out.data()))) {
     return "";
   }
@@ -114,19 +116,28 @@ TEST_F(PopcutdHttp, BodiesAreRefusedBeforeOrAsTheyPassTheLimit) {
     std::string what, head, body, status, code;
   };
   const std::vector<Case> cases = {
-      {"chunked without a token", post_head("/api/v1/jobs", "", "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 401", "unauthorized"},
-      {"Content-Length with a wrong token", post_head("/api/v1/jobs", "wrong-token-0123456789", "Content-Length: " + std::to_string(big.size()) + "\r\n"), big,
+      {"chunked without a token", post_head("/api/v1/jobs", "", "Transfer-Encoding: chunked\r\n"), big_chunked,
        "HTTP/1.1 401", "unauthorized"},
-      {"chunked over the limit", post_head("/api/v1/jobs", kKiosk, "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 413", "too_large"},
-      {"chunked over the limit, to render", post_head("/api/v1/render/pattern.svg", kKiosk, "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 413", "too_large"},
-      {"Content-Length over the limit", post_head("/api/v1/jobs", kKiosk, "Content-Length: 2000000\r\n"), std::string(2000000, 'a'), "HTTP/1.1 413", "too_large"},
+      {"Content-Length with a wrong token",
+       post_head("/api/v1/jobs", "wrong-token-0123456789", "Content-Length: " + std::to_string(big.size()) + "\r\n"),
+       big, "HTTP/1.1 401", "unauthorized"},
+      {"chunked over the limit", post_head("/api/v1/jobs", kKiosk, "Transfer-Encoding: chunked\r\n"), big_chunked,
+       "HTTP/1.1 413", "too_large"},
+      {"chunked over the limit, to render",
+       post_head("/api/v1/render/pattern.svg", kKiosk, "Transfer-Encoding: chunked\r\n"), big_chunked, "HTTP/1.1 413",
+       "too_large"},
+      {"Content-Length over the limit", post_head("/api/v1/jobs", kKiosk, "Content-Length: 2000000\r\n"),
+       std::string(2000000, 'a'), "HTTP/1.1 413", "too_large"},
   };
   for (const Case& k : cases) {
     const Exchange e = send_watching(d->port(), k.head, k.body);
-    EXPECT_EQ(status_line(e.answer).rfind(k.status, 0), 0u) << k.what << ": answered " << k.status << ": " << e.answer.substr(0, 300);
+    EXPECT_EQ(status_line(e.answer).rfind(k.status, 0), 0u)
+        << k.what << ": answered " << k.status << ": " << e.answer.substr(0, 300);
     EXPECT_EQ(error_code(e.answer), k.code) << k.what << ": with the documented code: " << e.answer.substr(0, 300);
-    EXPECT_LT(e.body_sent, k.body.size()) << k.what << ": answered while the body was still coming, not after reading it all";
-    EXPECT_NE(e.answer.find("Connection: close"), std::string::npos) << k.what << ": the unread body ends the connection";
+    EXPECT_LT(e.body_sent, k.body.size())
+        << k.what << ": answered while the body was still coming, not after reading it all";
+    EXPECT_NE(e.answer.find("Connection: close"), std::string::npos)
+        << k.what << ": the unread body ends the connection";
   }
   // A small gzip body that inflates past the limit (httplib checks the length it is sent, then
   // inflates to no limit): counted after inflating.
@@ -137,13 +148,20 @@ TEST_F(PopcutdHttp, BodiesAreRefusedBeforeOrAsTheyPassTheLimit) {
     ::pclose(gz);
   }
   ASSERT_FALSE(zipped.empty()) << "gzip made the test body";
-  const Exchange bomb = send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Content-Encoding: gzip\r\nContent-Length: " + std::to_string(zipped.size()) + "\r\n"), zipped);
-  EXPECT_EQ(error_code(bomb.answer), "too_large") << zipped.size() << " bytes of gzip inflating to 8 MiB: " << bomb.answer.substr(0, 300);
+  const Exchange bomb =
+      send_watching(d->port(),
+                    post_head("/api/v1/jobs", kKiosk,
+                              "Content-Encoding: gzip\r\nContent-Length: " + std::to_string(zipped.size()) + "\r\n"),
+                    zipped);
+  EXPECT_EQ(error_code(bomb.answer), "too_large")
+      << zipped.size() << " bytes of gzip inflating to 8 MiB: " << bomb.answer.substr(0, 300);
   // A chunked body within the limit is read and used like any other.
   const std::string box = read_file(kSrc + "/examples/voxel/box.json");
-  const Exchange ok = send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Transfer-Encoding: chunked\r\nConnection: close\r\n"),
-                                    chunked(R"({"device": "sim-a", "name": "chunked", "model": )" + box + "}"));
-  EXPECT_EQ(status_line(ok.answer).rfind("HTTP/1.1 201", 0), 0u) << "a chunked submission within the limit is accepted: " << ok.answer.substr(0, 300);
+  const Exchange ok =
+      send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Transfer-Encoding: chunked\r\nConnection: close\r\n"),
+                    chunked(R"({"device": "sim-a", "name": "chunked", "model": )" + box + "}"));
+  EXPECT_EQ(status_line(ok.answer).rfind("HTTP/1.1 201", 0), 0u)
+      << "a chunked submission within the limit is accepted: " << ok.answer.substr(0, 300);
   httplib::Client none = d->client("");
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
 }
@@ -153,38 +171,61 @@ TEST_F(PopcutdHttp, BodiesAreRefusedBeforeOrAsTheyPassTheLimit) {
 TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
   const auto d = start(kSrc + "/configs/popcutd.toml");
   const std::string auth = "Authorization: Bearer " + kKiosk + "\r\n";
-  const auto request = [&](const std::string& method, const std::string& path, const std::string& headers, const std::string& body = "") {
-    return send_watching(d->port(), method + " " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n" + auth + headers + "\r\n", body).answer;
+  const auto request = [&](const std::string& method, const std::string& path, const std::string& headers,
+                           const std::string& body = "") {
+    return send_watching(
+               d->port(),
+               method + " " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n" + auth + headers + "\r\n", body)
+        .answer;
   };
   struct Case {
     std::string what, answer, status, code;
   };
   const std::vector<Case> cases = {
-      {"two different Content-Length headers", request("POST", "/api/v1/jobs/1/cancel", "Content-Length: 5\r\nContent-Length: 7\r\n", "{}{}{}{"), "HTTP/1.1 400", "bad_request"},
-      {"Content-Length: abc", request("POST", "/api/v1/jobs", "Content-Length: abc\r\n"), "HTTP/1.1 400", "bad_request"},
+      {"two different Content-Length headers",
+       request("POST", "/api/v1/jobs/1/cancel", "Content-Length: 5\r\nContent-Length: 7\r\n", "{}{}{}{"),
+       "HTTP/1.1 400", "bad_request"},
+      {"Content-Length: abc", request("POST", "/api/v1/jobs", "Content-Length: abc\r\n"), "HTTP/1.1 400",
+       "bad_request"},
       // httplib would take a coding it does not know as none and parse the compressed bytes.
-      {"Content-Encoding: zstd", request("POST", "/api/v1/jobs", "Content-Encoding: zstd\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
+      {"Content-Encoding: zstd",
+       request("POST", "/api/v1/jobs", "Content-Encoding: zstd\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400",
+       "bad_request"},
       // httplib decodes only the lower-case names: "GZIP" would be read undecoded (a bad_json).
-      {"Content-Encoding: GZIP", request("POST", "/api/v1/jobs", "Content-Encoding: GZIP\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
-      {"Content-Encoding: Br", request("POST", "/api/v1/jobs", "Content-Encoding: Br\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400", "bad_request"},
-      {"Transfer-Encoding: gzip, chunked", request("POST", "/api/v1/jobs", "Transfer-Encoding: gzip, chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
-      {"Content-Length and chunked together", request("POST", "/api/v1/jobs", "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400", "bad_request"},
-      {"a GET with a body", request("GET", "/api/v1/jobs", "Content-Length: 5\r\n", "hello"), "HTTP/1.1 400", "bad_request"},
-      {"PUT on the jobs", request("PUT", "/api/v1/jobs", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405", "method_not_allowed"},
-      {"PATCH on a job", request("PATCH", "/api/v1/jobs/1", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405", "method_not_allowed"},
+      {"Content-Encoding: GZIP",
+       request("POST", "/api/v1/jobs", "Content-Encoding: GZIP\r\nContent-Length: 2\r\n", "{}"), "HTTP/1.1 400",
+       "bad_request"},
+      {"Content-Encoding: Br", request("POST", "/api/v1/jobs", "Content-Encoding: Br\r\nContent-Length: 2\r\n", "{}"),
+       "HTTP/1.1 400", "bad_request"},
+      {"Transfer-Encoding: gzip, chunked",
+       request("POST", "/api/v1/jobs", "Transfer-Encoding: gzip, chunked\r\n", "0\r\n\r\n"), "HTTP/1.1 400",
+       "bad_request"},
+      {"Content-Length and chunked together",
+       request("POST", "/api/v1/jobs", "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n", "0\r\n\r\n"),
+       "HTTP/1.1 400", "bad_request"},
+      {"a GET with a body", request("GET", "/api/v1/jobs", "Content-Length: 5\r\n", "hello"), "HTTP/1.1 400",
+       "bad_request"},
+      {"PUT on the jobs", request("PUT", "/api/v1/jobs", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405",
+       "method_not_allowed"},
+      {"PATCH on a job", request("PATCH", "/api/v1/jobs/1", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405",
+       "method_not_allowed"},
       {"DELETE on a job", request("DELETE", "/api/v1/jobs/1", ""), "HTTP/1.1 405", "method_not_allowed"},
       {"OPTIONS on healthz", request("OPTIONS", "/healthz", ""), "HTTP/1.1 405", "method_not_allowed"},
       {"GET on cancel", request("GET", "/api/v1/jobs/1/cancel", ""), "HTTP/1.1 405", "method_not_allowed"},
-      {"PATCH on no route", request("PATCH", "/api/v1/nothing", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 404", "not_found"},
+      {"PATCH on no route", request("PATCH", "/api/v1/nothing", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 404",
+       "not_found"},
       {"DELETE on no route", request("DELETE", "/nothing", ""), "HTTP/1.1 404", "not_found"},
   };
   for (const Case& k : cases) {
-    EXPECT_EQ(status_line(k.answer).rfind(k.status, 0), 0u) << k.what << ": answered " << k.status << ": " << k.answer.substr(0, 300);
+    EXPECT_EQ(status_line(k.answer).rfind(k.status, 0), 0u)
+        << k.what << ": answered " << k.status << ": " << k.answer.substr(0, 300);
     EXPECT_EQ(error_code(k.answer), k.code) << k.what << ": with the documented code: " << k.answer.substr(0, 300);
   }
-  EXPECT_NE(request("PUT", "/api/v1/jobs", "Content-Length: 0\r\n").find("\r\nAllow: GET, HEAD, POST\r\n"), std::string::npos)
+  EXPECT_NE(request("PUT", "/api/v1/jobs", "Content-Length: 0\r\n").find("\r\nAllow: GET, HEAD, POST\r\n"),
+            std::string::npos)
       << "405 names the methods the path takes";
-  EXPECT_NE(request("DELETE", "/api/v1/jobs/1", "").find("\r\nAllow: GET, HEAD\r\n"), std::string::npos) << "405 names the methods the path takes";
+  EXPECT_NE(request("DELETE", "/api/v1/jobs/1", "").find("\r\nAllow: GET, HEAD\r\n"), std::string::npos)
+      << "405 names the methods the path takes";
   EXPECT_EQ(status_line(request("HEAD", "/healthz", "")).rfind("HTTP/1.1 200", 0), 0u) << "HEAD goes with GET";
   httplib::Client none = d->client("");
   EXPECT_EQ(get_json(none, "/healthz").status, 200) << "the daemon serves on";
@@ -195,9 +236,13 @@ TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
 // read) and /healthz waited for them. With header_timeout_s they are cut off, so /healthz is
 // answered while more of them are open than there are threads.
 TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen) {
-  const std::string cfg = dir_.write("tiny-pool.toml", "[server]\ndata_dir = \"x\"\nhttp_threads = 2\nheader_timeout_s = 2\n"
-                                                         "[[device]]\nname = \"a\"\nprofile = \"" + kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
-                                                         "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n");
+  const std::string cfg = dir_.write("tiny-pool.toml",
+                                     "[server]\ndata_dir = \"x\"\nhttp_threads = 2\nheader_timeout_s = 2\n"
+                                     "[[device]]\nname = \"a\"\nprofile = \"" +
+                                         kSrc +
+                                         "/configs/devices/sim.toml\"\ntransport = \"sim\"\n"
+                                         "[[token]]\nname = \"kiosk\"\ntoken = \"" +
+                                         kKiosk + "\"\n");
   const auto d = start(cfg);
   std::vector<int> idle;
   for (int i = 0; i < 4; ++i) idle.push_back(connect_loopback(d->port()));
@@ -226,7 +271,8 @@ TEST_F(PopcutdHttp, HealthzIsAnsweredWhileMoreIdleConnectionsThanThreadsAreOpen)
   answered = true;
   for (auto& t : tricklers) t.join();
   for (const int s : idle) ::close(s);
-  EXPECT_EQ(r.status, 200) << "/healthz answered with 8 idle or trickling connections open and 2 threads; log:\n" << d->log();
+  EXPECT_EQ(r.status, 200) << "/healthz answered with 8 idle or trickling connections open and 2 threads; log:\n"
+                           << d->log();
 }
 
 // A burst of fresh connections (scripts running `popcut submit` at once) is held by the kernel
@@ -269,29 +315,38 @@ TEST_F(PopcutdHttp, ABurstOfConnectionsIsHeldUntilTakenUpNotDropped) {
     ::close(s);
   }
   EXPECT_EQ(answered, kBurst) << "every connection of the burst was answered 200";
-  EXPECT_EQ(retried, 0) << retried << " of " << kBurst << " connections had to be sent again (their SYN was dropped: the "
-                        << "listen backlog holds fewer); log:\n" << d->log();
+  EXPECT_EQ(retried, 0) << retried << " of " << kBurst
+                        << " connections had to be sent again (their SYN was dropped: the "
+                        << "listen backlog holds fewer); log:\n"
+                        << d->log();
 }
 
 // Content-Encoding br is decoded like gzip and deflate (the Debian cpp-httplib is built with
 // brotli), and its decoded bytes count against [limits] upload_bytes.
 TEST_F(PopcutdHttp, BrotliBodiesAreDecodedAndCountedAfterDecoding) {
   const auto d = start(kSrc + "/configs/popcutd.toml");
-  const std::string body = R"({"device": "sim-a", "name": "brotli", "model": )" + read_file(kSrc + "/examples/voxel/box.json") + "}";
+  const std::string body =
+      R"({"device": "sim-a", "name": "brotli", "model": )" + read_file(kSrc + "/examples/voxel/box.json") + "}";
   const std::string small = brotli(body), bomb = brotli(std::string(8 * kLimit, ' '));
   ASSERT_FALSE(small.empty() || bomb.empty()) << "brotli made the test bodies";
   const auto post = [&](const std::string& coding, const std::string& bytes) {
-    return send_watching(d->port(), post_head("/api/v1/jobs", kKiosk, "Content-Encoding: " + coding + "\r\nContent-Length: " +
-                                                                          std::to_string(bytes.size()) + "\r\nConnection: close\r\n"),
-                         bytes).answer;
+    return send_watching(d->port(),
+                         post_head("/api/v1/jobs", kKiosk,
+                                   "Content-Encoding: " + coding + "\r\nContent-Length: " +
+                                       std::to_string(bytes.size()) + "\r\nConnection: close\r\n"),
+                         bytes)
+        .answer;
   };
   const std::string ok = post("br", small);
-  EXPECT_EQ(status_line(ok).rfind("HTTP/1.1 201", 0), 0u) << "a brotli submission is decoded and queued: " << ok.substr(0, 300);
+  EXPECT_EQ(status_line(ok).rfind("HTTP/1.1 201", 0), 0u)
+      << "a brotli submission is decoded and queued: " << ok.substr(0, 300);
   EXPECT_NE(ok.find(R"("name":"brotli")"), std::string::npos) << "the decoded model was read: " << ok.substr(0, 300);
   const std::string big = post("br", bomb);
-  EXPECT_EQ(error_code(big), "too_large") << bomb.size() << " bytes of brotli decoding to 8 MiB: " << big.substr(0, 300);
+  EXPECT_EQ(error_code(big), "too_large")
+      << bomb.size() << " bytes of brotli decoding to 8 MiB: " << big.substr(0, 300);
   const std::string garbage = post("br", "{\"not\": \"brotli\"}");
-  EXPECT_EQ(status_line(garbage).rfind("HTTP/1.1 400", 0), 0u) << "a body that is not brotli: " << garbage.substr(0, 300);
+  EXPECT_EQ(status_line(garbage).rfind("HTTP/1.1 400", 0), 0u)
+      << "a body that is not brotli: " << garbage.substr(0, 300);
   EXPECT_EQ(error_code(garbage), "bad_request") << garbage.substr(0, 300);
 }
 
@@ -301,7 +356,8 @@ TEST_F(PopcutdHttp, ThePreviewAngleHasTheRangeOfEveryOpeningAngle) {
   httplib::Client c = d->client(kKiosk);
   const std::string box = read_file(kSrc + "/examples/voxel/box.json");
   for (const char* angle : {"500", "181", "1000000000"}) {
-    const popcut::testing::Reply r = popcut::testing::post_json(c, std::string("/api/v1/render/preview.png?angle=") + angle, box);
+    const popcut::testing::Reply r =
+        popcut::testing::post_json(c, std::string("/api/v1/render/preview.png?angle=") + angle, box);
     EXPECT_EQ(r.status, 400) << angle << ": " << r.body.dump();
     EXPECT_EQ(r.body.value("/error/field"_json_pointer, ""), "angle") << r.body.dump();
     EXPECT_EQ(r.body.value("/error/message"_json_pointer, ""),

@@ -40,7 +40,8 @@ class Child {
     pid_ = ::fork();
     if (pid_ == 0) {
       if (shim) ::setenv("LD_PRELOAD", POPCUT_PTY_PRELOAD, 1);
-      const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644),
+                e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       ::dup2(o, 1);
       ::dup2(e, 2);
       std::vector<char*> argv;
@@ -107,8 +108,10 @@ class SerialPty : public ::testing::Test {
     auto c = std::make_unique<Child>(args, dir_ / (name + ".out"), dir_ / (name + ".err"));
     for (int i = 0; i < 500 && port.empty(); ++i) {
       const std::string out = slurp(dir_ / (name + ".out"));
-      if (out.find('\n') != std::string::npos) port = out.substr(0, out.find('\n'));
-      else std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      if (out.find('\n') != std::string::npos)
+        port = out.substr(0, out.find('\n'));
+      else
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     EXPECT_EQ(port.rfind("/dev/pts/", 0), 0u) << "sim-plotter prints its port first: " << slurp(dir_ / (name + ".err"));
     return c;
@@ -119,10 +122,11 @@ class SerialPty : public ::testing::Test {
     std::string err;
     json report;
   };
-  Cut cut(const std::string& model, const std::string& device, const std::string& extra = "", const std::string& name = "cut") {
+  Cut cut(const std::string& model, const std::string& device, const std::string& extra = "",
+          const std::string& name = "cut") {
     Child c({"/bin/sh", "-c",
-             std::string(POPCUT_CLI) + " cut " + std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/" + model + " --profile " + profile_ +
-                 " --device " + device + " --out " + (dir_ / name).string() + " " + extra},
+             std::string(POPCUT_CLI) + " cut " + std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/" + model +
+                 " --profile " + profile_ + " --device " + device + " --out " + (dir_ / name).string() + " " + extra},
             dir_ / (name + ".stdout"), dir_ / (name + ".stderr"), true);
     Cut r{c.wait(), "", {}};
     r.err = slurp(dir_ / (name + ".stderr"));
@@ -142,7 +146,9 @@ class SerialPty : public ::testing::Test {
     for (const auto& s : c.strokes()) out.push_back(s.points_pu);
     return out;
   }
-  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) { return popcut::testing::sim_plotter_strokes(plotter_report); }
+  static std::vector<popcut::PlotterPath> strokes_of(const json& plotter_report) {
+    return popcut::testing::sim_plotter_strokes(plotter_report);
+  }
   json plotter_report(const std::string& name) { return json::parse(slurp(dir_ / (name + ".json"))); }
   // Sets the port up as a raw host at the simulator's 115200 baud (a pty starts at 38400 with line
   // editing: the plotter would hear garbage), for tests that write bytes themselves.
@@ -158,7 +164,8 @@ class SerialPty : public ::testing::Test {
     if (fd >= 0) set_up_host(fd);
     return fd;
   }
-  static long first_difference_at(const std::vector<popcut::PlotterPath>& a, const std::vector<popcut::PlotterPath>& b) {
+  static long first_difference_at(const std::vector<popcut::PlotterPath>& a,
+                                  const std::vector<popcut::PlotterPath>& b) {
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
       if (a[i] != b[i]) return static_cast<long>(i);
     }
@@ -179,7 +186,8 @@ TEST_F(SerialPty, WholeJobArrivesIntactAndASmallerBufferThanTheProfileSaysNeverO
   const std::string job = slurp(dir_ / "cut" / "job.hpgl");
   EXPECT_EQ(r.report["sent"]["bytes"], job.size()) << "every byte went out";
   EXPECT_EQ(r.report["sent"]["bytes_received"], job.size()) << "and the device confirmed them all";
-  EXPECT_EQ(pr["bytes_received"].get<std::size_t>(), job.size() + 3 * r.report["sent"]["status_queries"].get<std::size_t>())
+  EXPECT_EQ(pr["bytes_received"].get<std::size_t>(),
+            job.size() + 3 * r.report["sent"]["status_queries"].get<std::size_t>())
       << "the plotter got the job and the host's ESC.O queries, nothing else";
   EXPECT_TRUE(pr["host_xon_xoff_in_os"].get<bool>()) << "popcut left XON/XOFF to the OS (IXON)";
   EXPECT_EQ(pr["overflow_bytes"], 0) << "the host's OS stopped on XOFF: no byte lost";
@@ -231,7 +239,8 @@ TEST_F(SerialPty, AProfileWhoseFlowControlTheDeviceDoesNotDoFailsTheJob) {
   ASSERT_GT(pr["overflow_bytes"].get<int>(), 0) << "the plotter lost bytes";
   EXPECT_EQ(r.code, 3) << "not a job that got through: " << r.err;
   EXPECT_NE(r.err.find("I/O error 16 (ESC.E)"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("cut the whole job again"), std::string::npos) << "no resume point repairs lost bytes: " << r.err;
+  EXPECT_NE(r.err.find("cut the whole job again"), std::string::npos)
+      << "no resume point repairs lost bytes: " << r.err;
   EXPECT_EQ(r.report["sent"]["device_io_error"], 16) << r.report.dump();
 }
 
@@ -261,7 +270,8 @@ TEST_F(SerialPty, TimePacingKeepsAPlotterWithNoHandshakeWithinItsBuffer) {
   replace(p, "accel_mm_s2 = 2000.0", "accel_mm_s2 = 50000.0");
   replace(p, "knife_up_s = 0.03", "knife_up_s = 0.001");
   replace(p, "knife_down_s = 0.03", "knife_down_s = 0.001");
-  for (std::size_t at; (at = p.find("\nspeed_cm_s = 1")) != std::string::npos;) p.replace(at, 15, "\nspeed_cm_s = 9");  // 10, 15 cm/s: 90, 95
+  for (std::size_t at; (at = p.find("\nspeed_cm_s = 1")) != std::string::npos;)
+    p.replace(at, 15, "\nspeed_cm_s = 9");  // 10, 15 cm/s: 90, 95
   const std::string fast = (dir_ / "fast.toml").string();
   std::ofstream(fast) << p;
   const std::string tight = (dir_ / "tight.toml").string();
@@ -288,12 +298,15 @@ TEST_F(SerialPty, TimePacingKeepsAPlotterWithNoHandshakeWithinItsBuffer) {
   profile_ = tight;
   const Cut r2 = cut("townhouse.json", "serial:" + port2, "", "tight");
   ASSERT_EQ(plot2->wait(), 0) << slurp(dir_ / "unpaced.err");
-  EXPECT_GT(plotter_report("unpaced")["overflow_bytes"].get<int>(), 0) << "a plotter with no handshake loses what overruns it";
+  EXPECT_GT(plotter_report("unpaced")["overflow_bytes"].get<int>(), 0)
+      << "a plotter with no handshake loses what overruns it";
   EXPECT_EQ(r2.code, 3) << "not a job that got through: " << r2.err;
   // Its ESC.E answer says so, unless what it made of the garbled bytes keeps it busy past the end
   // wait (a lost separator can merge two coordinates into a move of metres); the message names
   // pace_margin_percent in the first case (SendJob.ADeviceFarSlowerThanThePaceMarginIsCaughtByItsErrorReport).
-  EXPECT_TRUE(r2.err.find("I/O error 16 (ESC.E)") != std::string::npos || r2.err.find("still not empty") != std::string::npos) << r2.err;
+  EXPECT_TRUE(r2.err.find("I/O error 16 (ESC.E)") != std::string::npos ||
+              r2.err.find("still not empty") != std::string::npos)
+      << r2.err;
 }
 
 // At 9600 baud under XON/XOFF a status query waits behind what the plotter has not read while it
@@ -337,10 +350,12 @@ TEST_F(SerialPty, ADroppedLineNeverOverClaimsAndResumeFromTheAdvisedStrokeCovers
   ASSERT_LT(m, total);
   EXPECT_LE(m, n) << "received never exceeds written";
   EXPECT_EQ(first.report["sent"]["received_counted_by"], "status_answers") << "the sim profile answers ESC.O";
-  EXPECT_NE(first.err.find("last stroke certainly received " + std::to_string(m) + " of " + std::to_string(total)), std::string::npos)
+  EXPECT_NE(first.err.find("last stroke certainly received " + std::to_string(m) + " of " + std::to_string(total)),
+            std::string::npos)
       << first.err;
   EXPECT_NE(first.err.find("last stroke written " + std::to_string(n)), std::string::npos) << first.err;
-  EXPECT_NE(first.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos) << "says how to finish: " << first.err;
+  EXPECT_NE(first.err.find("--resume-from " + std::to_string(m + 1)), std::string::npos)
+      << "says how to finish: " << first.err;
   if (n > m) {
     EXPECT_NE(first.err.find("may have been cut already and are then cut a second time"), std::string::npos)
         << "says honestly that strokes " << m + 1 << ".." << n << " may be cut twice: " << first.err;
@@ -367,17 +382,19 @@ TEST_F(SerialPty, ADroppedLineNeverOverClaimsAndResumeFromTheAdvisedStrokeCovers
   std::vector<popcut::PlotterPath> both(cut1.begin(), cut1.begin() + static_cast<std::ptrdiff_t>(m));
   both.insert(both.end(), cut2.begin(), cut2.end());
   EXPECT_EQ(both, planned) << "the two runs together cut every planned stroke";
-  EXPECT_EQ(plotter_report("p2")["knife_downs"].get<std::size_t>(), total - m) << "no knife-down on the way to the first";
+  EXPECT_EQ(plotter_report("p2")["knife_downs"].get<std::size_t>(), total - m)
+      << "no knife-down on the way to the first";
 }
 
 TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwiceWithItsOwnExitCode) {
   std::string port;
   auto plot = plotter("p", {"--slowdown", "1"}, port);  // 27 s of motion: the job is surely running
-  Child c({POPCUT_CLI, "cut", std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json", "--profile", profile_, "--device",
-           "serial:" + port, "--out", (dir_ / "cut").string()},
+  Child c({POPCUT_CLI, "cut", std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json", "--profile", profile_,
+           "--device", "serial:" + port, "--out", (dir_ / "cut").string()},
           dir_ / "cut.stdout", dir_ / "cut.stderr", true);
   // Wait until bytes flow (the job file is written before the port opens), then interrupt twice.
-  for (int i = 0; i < 500 && !fs::exists(dir_ / "cut" / "job.hpgl"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 500 && !fs::exists(dir_ / "cut" / "job.hpgl"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   c.signal(SIGINT);
   c.signal(SIGINT);
@@ -397,8 +414,8 @@ TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwiceWithItsOwnExitCode) {
   const std::size_t buffered = rep["sent"]["buffered_bytes"].get<std::size_t>();
   if (buffered > 0) {
     const json strokes = rep["sent"]["buffered_strokes"];
-    EXPECT_NE(err.find("may still cut up to " + std::to_string(buffered) + " bytes (strokes " + std::to_string(strokes[0].get<int>()) +
-                       ".." + std::to_string(strokes[1].get<int>()) + ")"),
+    EXPECT_NE(err.find("may still cut up to " + std::to_string(buffered) + " bytes (strokes " +
+                       std::to_string(strokes[0].get<int>()) + ".." + std::to_string(strokes[1].get<int>()) + ")"),
               std::string::npos)
         << "says how much the device may still cut, in bytes and strokes: " << err;
   }
@@ -410,9 +427,11 @@ TEST_F(SerialPty, CtrlCCancelsSafelyEvenTwiceWithItsOwnExitCode) {
   EXPECT_TRUE(rep["sent"]["buffer_discarded"].get<bool>()) << rep.dump();
   EXPECT_EQ(m, e) << "received is what the device executed: " << rep["sent"].dump();
   EXPECT_LE(m, popcut::testing::sim_plotter_strokes(pr).size()) << "every stroke counted received was cut: " << err;
-  EXPECT_NE(err.find("discard its buffer, so finish with the same command and --resume-from " + std::to_string(e + 1)), std::string::npos)
+  EXPECT_NE(err.find("discard its buffer, so finish with the same command and --resume-from " + std::to_string(e + 1)),
+            std::string::npos)
       << "--resume-from E+1 is the advice: " << err;
-  EXPECT_GT(pr.value("discarded_bytes", 0), 0) << "the plotter dropped what it held (else this proves little): " << pr.dump();
+  EXPECT_GT(pr.value("discarded_bytes", 0), 0)
+      << "the plotter dropped what it held (else this proves little): " << pr.dump();
   EXPECT_FALSE(pr["knife_down_at_end"].get<bool>()) << "the knife is up";
   EXPECT_EQ(pr["overflow_bytes"], 0);
 }
@@ -425,16 +444,18 @@ TEST_F(SerialPty, ASecondCtrlCGivesUpWaitingForADeviceThatHoldsTheLine) {
   std::ofstream(profile_) << p;
   std::string port;
   auto plot = plotter("p", {"--slowdown", "1000"}, port);
-  Child c({POPCUT_CLI, "cut", std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json", "--profile", profile_, "--device",
-           "serial:" + port, "--out", (dir_ / "cut").string()},
+  Child c({POPCUT_CLI, "cut", std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json", "--profile", profile_,
+           "--device", "serial:" + port, "--out", (dir_ / "cut").string()},
           dir_ / "cut.stdout", dir_ / "cut.stderr", true);
-  for (int i = 0; i < 500 && !fs::exists(dir_ / "cut" / "job.hpgl"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 500 && !fs::exists(dir_ / "cut" / "job.hpgl"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(700));  // the line is held by now
   c.signal(SIGINT);
   // popcut says it is waiting for the device to take the abort (it holds the line).
   bool told = false;
   for (int i = 0; i < 3000 && !told; ++i) {
-    told = slurp(dir_ / "cut.stderr").find("waiting up to 60 s (hold_timeout_ms) for it to take the abort") != std::string::npos;
+    told = slurp(dir_ / "cut.stderr").find("waiting up to 60 s (hold_timeout_ms) for it to take the abort") !=
+           std::string::npos;
     if (!told) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   ASSERT_TRUE(told) << "popcut says what it waits for: " << slurp(dir_ / "cut.stderr");
@@ -458,7 +479,8 @@ TEST_F(SerialPty, ASecondCtrlCGivesUpWaitingForADeviceThatHoldsTheLine) {
   const json pr = plotter_report("p");
   // What the port still queued was dropped on giving up: the plotter got at most the job's bytes
   // and the queries, never the abort afterwards.
-  EXPECT_LE(pr["bytes_received"].get<std::size_t>(), rep["sent"]["bytes"].get<std::size_t>() + 3 * rep["sent"]["status_queries"].get<std::size_t>())
+  EXPECT_LE(pr["bytes_received"].get<std::size_t>(),
+            rep["sent"]["bytes"].get<std::size_t>() + 3 * rep["sent"]["status_queries"].get<std::size_t>())
       << "nothing beyond the job's bytes and the queries reached it";
 }
 
@@ -468,7 +490,9 @@ TEST_F(SerialPty, ASilentDeviceIsReportedBeforeTheJobAsALineProblem) {
   const Cut mute = cut("box.json", "serial:" + port, "", "mute");
   EXPECT_EQ(mute.code, 3) << mute.err;
   EXPECT_NE(mute.err.find("the device did not answer ESC.O before sending"), std::string::npos) << mute.err;
-  EXPECT_NE(mute.err.find("check the cable, the port and the baud rate (the profile says 115200 baud)"), std::string::npos) << mute.err;
+  EXPECT_NE(mute.err.find("check the cable, the port and the baud rate (the profile says 115200 baud)"),
+            std::string::npos)
+      << mute.err;
   EXPECT_EQ(mute.report["sent"]["bytes"], 0) << "no byte of the job went out";
   ASSERT_EQ(plot->wait(), 0);
 }
@@ -486,7 +510,8 @@ TEST_F(SerialPty, AHostThatClosesThePortWithoutWritingEndsTheSession) {
   const json pr = plotter_report("silent");
   EXPECT_EQ(pr["ended"], "host closed the port") << pr.dump();
   EXPECT_EQ(pr["bytes_received"], 0) << "nothing was written";
-  EXPECT_NE(slurp(dir_ / "silent.err").find("sim-plotter: host closed the port"), std::string::npos) << slurp(dir_ / "silent.err");
+  EXPECT_NE(slurp(dir_ / "silent.err").find("sim-plotter: host closed the port"), std::string::npos)
+      << slurp(dir_ / "silent.err");
 }
 
 // A host that opens the port and writes only later keeps the session: the open alone ends nothing.
@@ -531,7 +556,8 @@ TEST_F(SerialPty, MalformedAndUnknownCommandsAreListedWithTheirOffsets) {
   const json want_unknown = json::array({{{"offset", 32}, {"command", "ZZ"}, {"message", "unknown command"}}});
   EXPECT_EQ(pr["unknown_commands"], want_unknown) << pr["unknown_commands"].dump();
   const std::string err = slurp(dir_ / "bad.err");
-  EXPECT_NE(err.find("; 2 malformed commands (first: \"PD\" at byte 9: odd number of coordinates); 1 unknown command (\"ZZ\" at byte "
+  EXPECT_NE(err.find("; 2 malformed commands (first: \"PD\" at byte 9: odd number of coordinates); 1 unknown command "
+                     "(\"ZZ\" at byte "
                      "32: unknown command) (" +
                      (dir_ / "bad.json").string() + " lists them all)"),
             std::string::npos)
@@ -548,13 +574,16 @@ TEST_F(SerialPty, APortNamedThroughASymlinkIsCutTo) {
   const Cut r = cut("box.json", "serial:" + link.string());
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "linked.err");
-  EXPECT_EQ(strokes_of(plotter_report("linked")), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_EQ(strokes_of(plotter_report("linked")), strokes_of(slurp(dir_ / "cut" / "job.hpgl")))
+      << "the device cut exactly the job";
   EXPECT_FALSE(fs::exists(fs::symlink_status(link))) << "the link is removed when the plotter ends";
 
   std::ofstream(dir_ / "precious.txt") << "keep me";  // --link never replaces what is not a link
-  Child refused({POPCUT_CLI, "sim-plotter", "--link", (dir_ / "precious.txt").string()}, dir_ / "refused.out", dir_ / "refused.err");
+  Child refused({POPCUT_CLI, "sim-plotter", "--link", (dir_ / "precious.txt").string()}, dir_ / "refused.out",
+                dir_ / "refused.err");
   EXPECT_EQ(refused.wait(), 2) << slurp(dir_ / "refused.err");
-  EXPECT_NE(slurp(dir_ / "refused.err").find("exists and is not a symlink"), std::string::npos) << slurp(dir_ / "refused.err");
+  EXPECT_NE(slurp(dir_ / "refused.err").find("exists and is not a symlink"), std::string::npos)
+      << slurp(dir_ / "refused.err");
   EXPECT_EQ(slurp(dir_ / "precious.txt"), "keep me") << "the file is intact";
 }
 
@@ -576,7 +605,8 @@ TEST_F(SerialPty, AStuckDeviceNamesWhatItExecutedAndResumingFromThereAfterAPower
   // It stops answering, or (stopped while it held XOFF) holds the line for good: either way the
   // device is blamed, not the line.
   EXPECT_NE(stuck.err.find("paused, out of media or stuck"), std::string::npos) << stuck.err;
-  EXPECT_EQ(stuck.err.find("baud"), std::string::npos) << "it answered before: not the cable or the baud rate: " << stuck.err;
+  EXPECT_EQ(stuck.err.find("baud"), std::string::npos)
+      << "it answered before: not the cable or the baud rate: " << stuck.err;
   const json& sent = stuck.report["sent"];
   ASSERT_TRUE(sent["last_stroke_executed"].is_number()) << "the device answered queries: E is known: " << sent.dump();
   const std::size_t e = sent["last_stroke_executed"].get<std::size_t>();
@@ -584,11 +614,13 @@ TEST_F(SerialPty, AStuckDeviceNamesWhatItExecutedAndResumingFromThereAfterAPower
   const std::size_t n = sent["last_stroke_written"].get<std::size_t>();
   EXPECT_LE(e, m);
   EXPECT_LE(m, n);
-  EXPECT_NE(stuck.err.find("last stroke known executed " + std::to_string(e) + ", last stroke certainly received " + std::to_string(m)),
+  EXPECT_NE(stuck.err.find("last stroke known executed " + std::to_string(e) + ", last stroke certainly received " +
+                           std::to_string(m)),
             std::string::npos)
       << stuck.err;
   if (e < m) {
-    EXPECT_NE(stuck.err.find("if it was reset or power-cycled, or lost its buffer, use --resume-from " + std::to_string(e + 1)),
+    EXPECT_NE(stuck.err.find("if it was reset or power-cycled, or lost its buffer, use --resume-from " +
+                             std::to_string(e + 1)),
               std::string::npos)
         << stuck.err;
   }
@@ -598,7 +630,8 @@ TEST_F(SerialPty, AStuckDeviceNamesWhatItExecutedAndResumingFromThereAfterAPower
   const auto planned = strokes_of(job);
   const auto cut1 = strokes_of(plotter_report("stuck"));
   ASSERT_LE(e, cut1.size()) << "E never claims a stroke the device did not cut";
-  for (std::size_t i = 0; i < cut1.size(); ++i) EXPECT_EQ(cut1[i], planned[i]) << "stroke " << i + 1 << " before the stop";
+  for (std::size_t i = 0; i < cut1.size(); ++i)
+    EXPECT_EQ(cut1[i], planned[i]) << "stroke " << i + 1 << " before the stop";
 
   std::string port2;
   std::vector<std::string> args2 = {"--slowdown", "0.05"};
@@ -611,10 +644,14 @@ TEST_F(SerialPty, AStuckDeviceNamesWhatItExecutedAndResumingFromThereAfterAPower
   const auto cut2 = strokes_of(fresh);
   EXPECT_EQ(fresh["overflow_bytes"], 0) << "the resumed job reached the fresh plotter intact";
   EXPECT_EQ(cut2.size(), planned.size() - e) << "the fresh plotter cut strokes " << e + 1 << ".." << planned.size();
-  EXPECT_EQ(first_difference_at(std::vector<popcut::PlotterPath>(planned.begin() + static_cast<std::ptrdiff_t>(e), planned.end()), cut2), -1)
+  EXPECT_EQ(
+      first_difference_at(
+          std::vector<popcut::PlotterPath>(planned.begin() + static_cast<std::ptrdiff_t>(e), planned.end()), cut2),
+      -1)
       << "index of the first resumed stroke cut otherwise than planned";
   both.insert(both.end(), cut2.begin(), cut2.end());
-  EXPECT_EQ(both, planned) << "strokes 1.." << e << " before the stop and " << e + 1 << ".. after the power cycle cover the card";
+  EXPECT_EQ(both, planned) << "strokes 1.." << e << " before the stop and " << e + 1
+                           << ".. after the power cycle cover the card";
 }
 
 TEST_F(SerialPty, WithoutAStatusQueryAHeldLineIsAStallWithHonestNumbers) {
@@ -660,11 +697,13 @@ TEST_F(SerialPty, BadPortsAndBaudsAreReported) {
   EXPECT_EQ(missing.code, 3) << missing.err;
   EXPECT_NE(missing.err.find("No such file"), std::string::npos) << missing.err;
   EXPECT_NE(missing.err.find("popcut devices"), std::string::npos) << "points to the listing: " << missing.err;
-  EXPECT_NE(missing.err.find("popcut-no-such-port: device: not_found: "), std::string::npos) << "names the documented class: " << missing.err;
+  EXPECT_NE(missing.err.find("popcut-no-such-port: device: not_found: "), std::string::npos)
+      << "names the documented class: " << missing.err;
 
   const Cut by_id = cut("box.json", "serial:0403:6001:POPCUT-NONE", "", "byid");
   EXPECT_EQ(by_id.code, 3) << by_id.err;
-  EXPECT_NE(by_id.err.find("no serial port belongs to USB 0403:6001 with serial number POPCUT-NONE"), std::string::npos) << by_id.err;
+  EXPECT_NE(by_id.err.find("no serial port belongs to USB 0403:6001 with serial number POPCUT-NONE"), std::string::npos)
+      << by_id.err;
 
   const Cut notty = cut("box.json", "serial:/dev/null", "", "notty");
   EXPECT_EQ(notty.code, 2) << "not a serial port is a bad --device: " << notty.err;
@@ -717,11 +756,12 @@ TEST_F(SerialPty, BadPortsAndBaudsAreReported) {
 TEST_F(SerialPty, AUsbProfileRefusesAnotherDevice) {
   const std::string graphtec = std::string(POPCUT_SOURCE_DIR) + "/configs/devices/graphtec-ce.toml";
   Child c({"/bin/sh", "-c",
-           std::string(POPCUT_CLI) + " cut " + std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json --profile " + graphtec +
-               " --device usb:1234:5678 --out " + (dir_ / "o").string()},
+           std::string(POPCUT_CLI) + " cut " + std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json --profile " +
+               graphtec + " --device usb:1234:5678 --out " + (dir_ / "o").string()},
           dir_ / "o.stdout", dir_ / "o.stderr");
   EXPECT_EQ(c.wait(), 2) << slurp(dir_ / "o.stderr");
-  EXPECT_NE(slurp(dir_ / "o.stderr").find("the profile is for USB 0b4d:110a"), std::string::npos) << slurp(dir_ / "o.stderr");
+  EXPECT_NE(slurp(dir_ / "o.stderr").find("the profile is for USB 0b4d:110a"), std::string::npos)
+      << slurp(dir_ / "o.stderr");
 }
 
 }  // namespace

@@ -25,9 +25,9 @@ using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, int>;
 using Arrangement = CGAL::Arrangement_2<Traits>;
 
 struct EdgeInfo {
-  int left = -1;   // face left of the edge walked left-to-right (above a horizontal edge)
-  int right = -1;  // face on the other side
-  int kind = -1;   // -1: outline (one side is outside the sheet); else LineKind
+  int left = -1;         // face left of the edge walked left-to-right (above a horizontal edge)
+  int right = -1;        // face on the other side
+  int kind = -1;         // -1: outline (one side is outside the sheet); else LineKind
   bool chained = false;  // already part of an emitted maximal line
 };
 
@@ -44,7 +44,8 @@ Pattern arrangement_lines(const FaceModel& model) {
         for (auto e = ring.edges_begin(); e != ring.edges_end(); ++e) {
           const bool forward = CGAL::compare_xy(e->source(), e->target()) == CGAL::SMALLER;
           // Rings run with their face on the left (outer CCW, holes CW).
-          curves.emplace_back(SegmentTraits::Curve_2(e->source(), e->target()), static_cast<int>(2 * i + (forward ? 0 : 1)));
+          curves.emplace_back(SegmentTraits::Curve_2(e->source(), e->target()),
+                              static_cast<int>(2 * i + (forward ? 0 : 1)));
         }
       };
       add_ring(input[i]->polygon.outer_boundary());
@@ -96,7 +97,8 @@ Pattern arrangement_lines(const FaceModel& model) {
         continue;
       }
       if (ei.left == ei.right) continue;  // inside one merged face: no line
-      const LineKind kind = line_between(*faces[static_cast<std::size_t>(ei.left)], *faces[static_cast<std::size_t>(ei.right)], horizontal, a.y());
+      const LineKind kind = line_between(*faces[static_cast<std::size_t>(ei.left)],
+                                         *faces[static_cast<std::size_t>(ei.right)], horizontal, a.y());
       ei.kind = static_cast<int>(kind);
       if (kind != LineKind::cut) {
         auto [it, fresh] = link_index.emplace(std::make_pair(ei.left, ei.right), p.folds.size());
@@ -143,7 +145,8 @@ Pattern arrangement_lines(const FaceModel& model) {
       Arrangement::Vertex_const_handle vr = e->source()->point() == lo0 ? e->target() : e->source();
       extend(vl, lo, hi0);
       extend(vr, hi, lo);
-      p.lines.push_back({static_cast<LineKind>(ei.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
+      p.lines.push_back({static_cast<LineKind>(ei.kind),
+                         {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
                          {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
     }
     sort_lines_and_folds(p);

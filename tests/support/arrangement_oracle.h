@@ -1,4 +1,5 @@
-// The pattern's lines and folds worked out a second, independent way: CGAL's general arrangement of all face boundaries.
+// The pattern's lines and folds worked out a second, independent way: CGAL's general arrangement of all face
+// boundaries.
 #pragma once
 
 #include "popcut/model/face_model.h"

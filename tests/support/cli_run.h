@@ -30,14 +30,15 @@ class CliFixture : public ::testing::Test {
  protected:
   explicit CliFixture(std::string prefix) : prefix_(std::move(prefix)) {}
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           (prefix_ + "-" + std::to_string(::getpid()) + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = std::filesystem::temp_directory_path() / (prefix_ + "-" + std::to_string(::getpid()) + "-" +
+                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(dir_);
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   // `popcut ARGS` through the shell, with no standard input.
   CliRun run(const std::string& args) const {
-    const std::string cmd = std::string(POPCUT_CLI) + " " + args + " </dev/null >" + (dir_ / "cli.stdout").string() + " 2>" + (dir_ / "cli.stderr").string();
+    const std::string cmd = std::string(POPCUT_CLI) + " " + args + " </dev/null >" + (dir_ / "cli.stdout").string() +
+                            " 2>" + (dir_ / "cli.stderr").string();
     const int status = std::system(cmd.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "cli.stdout"), slurp(dir_ / "cli.stderr")};
   }

@@ -21,7 +21,8 @@ Key ring_key(const Ring& ring) {
   // Start at the smallest vertex so rotations compare equal.
   std::size_t start = 0;
   for (std::size_t i = 1; i < ring.size(); ++i) {
-    if (std::make_pair(q(ring[i].x_mm), q(ring[i].v_mm)) < std::make_pair(q(ring[start].x_mm), q(ring[start].v_mm))) start = i;
+    if (std::make_pair(q(ring[i].x_mm), q(ring[i].v_mm)) < std::make_pair(q(ring[start].x_mm), q(ring[start].v_mm)))
+      start = i;
   }
   Key k;
   for (std::size_t i = 0; i < ring.size(); ++i) {
@@ -85,12 +86,14 @@ std::string compare_patterns(const Pattern& a, const Pattern& b) {
   if (faces_of(a, all_faces(a)) != faces_of(b, all_faces(b))) {
     return "faces differ: " + std::to_string(a.faces.size()) + " vs " + std::to_string(b.faces.size());
   }
-  if (face_key(a.faces[static_cast<std::size_t>(a.back_face)]) != face_key(b.faces[static_cast<std::size_t>(b.back_face)])) {
+  if (face_key(a.faces[static_cast<std::size_t>(a.back_face)]) !=
+      face_key(b.faces[static_cast<std::size_t>(b.back_face)])) {
     return "back boards differ";
   }
   const PopupReport ra = check_popup(a), rb = check_popup(b);
   if (ra.pops_up() != rb.pops_up() || ra.sheet_split != rb.sheet_split) return "pop-up verdicts differ";
-  if (faces_of(a, problem_faces(ra.not_standing)) != faces_of(b, problem_faces(rb.not_standing))) return "failing faces differ";
+  if (faces_of(a, problem_faces(ra.not_standing)) != faces_of(b, problem_faces(rb.not_standing)))
+    return "failing faces differ";
   if (faces_of(a, problem_faces(ra.flaps)) != faces_of(b, problem_faces(rb.flaps))) return "flaps differ";
   if (ra.loose_pieces.size() != rb.loose_pieces.size()) return "loose pieces differ";
   return "";

@@ -59,7 +59,8 @@ std::vector<std::string> check_tiling(const Pattern& p, double step) {
   double area = 0;
   for (std::size_t i = 0; i < p.faces.size(); ++i) {
     const PatternFace& f = p.faces[i];
-    if (signed_area_mm2(f.outer) <= 0) problems.push_back("face " + std::to_string(i) + ": outer ring not counter-clockwise");
+    if (signed_area_mm2(f.outer) <= 0)
+      problems.push_back("face " + std::to_string(i) + ": outer ring not counter-clockwise");
     for (const Ring& h : f.holes) {
       if (signed_area_mm2(h) >= 0) problems.push_back("face " + std::to_string(i) + ": hole not clockwise");
     }
@@ -70,7 +71,8 @@ std::vector<std::string> check_tiling(const Pattern& p, double step) {
   }
   const double sheet_area = (p.sheet.max.x_mm - p.sheet.min.x_mm) * (p.sheet.max.v_mm - p.sheet.min.v_mm);
   if (std::abs(area - sheet_area) > 1e-6 * sheet_area) {
-    problems.push_back("face areas sum to " + std::to_string(area) + " mm² but the sheet is " + std::to_string(sheet_area));
+    problems.push_back("face areas sum to " + std::to_string(area) + " mm² but the sheet is " +
+                       std::to_string(sheet_area));
   }
   for (double x = p.sheet.min.x_mm + step / 2; x < p.sheet.max.x_mm; x += step) {
     for (double v = p.sheet.min.v_mm + step / 2; v < p.sheet.max.v_mm; v += step) {
@@ -94,7 +96,8 @@ std::vector<std::string> check_lines(const Pattern& p, double step) {
       problems.push_back("line " + pt(s.a) + "-" + pt(s.b) + " is neither x-parallel nor across x");
       continue;
     }
-    if (!horizontal && s.kind != LineKind::cut) problems.push_back("fold " + pt(s.a) + "-" + pt(s.b) + " is not x-parallel");
+    if (!horizontal && s.kind != LineKind::cut)
+      problems.push_back("fold " + pt(s.a) + "-" + pt(s.b) + " is not x-parallel");
     const long long fixed = horizontal ? key(s.a.v_mm, step) : key(s.a.x_mm, step);
     long long lo = horizontal ? key(s.a.x_mm, step) : key(s.a.v_mm, step);
     long long hi = horizontal ? key(s.b.x_mm, step) : key(s.b.v_mm, step);
@@ -107,7 +110,8 @@ std::vector<std::string> check_lines(const Pattern& p, double step) {
     }
     for (long long e : {lo, hi}) {
       const auto k = std::make_tuple(horizontal, fixed, e, static_cast<int>(s.kind));
-      if (!endpoints.insert(k).second) problems.push_back("lines of one kind touch end to end at " + pt(s.a) + ": not maximal");
+      if (!endpoints.insert(k).second)
+        problems.push_back("lines of one kind touch end to end at " + pt(s.a) + ": not maximal");
     }
   }
   // Every unit edge inside the sheet: faces on both sides decide whether a line belongs there.
@@ -129,7 +133,8 @@ std::vector<std::string> check_lines(const Pattern& p, double step) {
           continue;
         }
         if (it == covered.end()) {
-          problems.push_back("no line between faces " + std::to_string(fa) + " and " + std::to_string(fb) + " at " + pt(m));
+          problems.push_back("no line between faces " + std::to_string(fa) + " and " + std::to_string(fb) + " at " +
+                             pt(m));
           continue;
         }
         // The kind from 3D: both faces' images of the edge must coincide for a fold.
@@ -143,8 +148,8 @@ std::vector<std::string> check_lines(const Pattern& p, double step) {
           }
         }
         if (it->second != expect) {
-          problems.push_back(std::string("line at ") + pt(m) + " is " + to_string(it->second) + " but the faces make it " +
-                             to_string(expect));
+          problems.push_back(std::string("line at ") + pt(m) + " is " + to_string(it->second) +
+                             " but the faces make it " + to_string(expect));
         }
         if (problems.size() > 20) return problems;
       }
@@ -160,7 +165,9 @@ std::vector<std::string> check_folds(const Pattern& p) {
     const PatternFace& lo = p.faces[static_cast<std::size_t>(f.lower)];
     const bool ok = (f.kind == LineKind::valley && up.kind == FaceKind::vertical && lo.kind == FaceKind::horizontal) ||
                     (f.kind == LineKind::mountain && up.kind == FaceKind::horizontal && lo.kind == FaceKind::vertical);
-    if (!ok) problems.push_back("fold link " + std::to_string(f.upper) + "→" + std::to_string(f.lower) + " has the wrong kind");
+    if (!ok)
+      problems.push_back("fold link " + std::to_string(f.upper) + "→" + std::to_string(f.lower) +
+                         " has the wrong kind");
     if (f.length_mm <= 0) problems.push_back("fold link with no length");
   }
   return problems;

@@ -40,7 +40,8 @@ namespace {
 // Runs `args` (args[0] the binary) with `env` entries added, its standard error appended to
 // `err_path`, and returns its pid and the first line it prints on standard output ("" if it
 // closed that first: it exited).
-std::pair<pid_t, std::string> spawn(std::vector<std::string> args, const std::string& err_path, std::vector<std::string> env) {
+std::pair<pid_t, std::string> spawn(std::vector<std::string> args, const std::string& err_path,
+                                    std::vector<std::string> env) {
   // Everything the child needs is built before fork: the child of a threaded process may only
   // make async-signal-safe calls (no allocation) before exec.
   std::vector<char*> argv;
@@ -146,7 +147,8 @@ bool wait_until(const std::function<bool()>& condition, double give_up_s) {
   return false;
 }
 
-SimPlotterProcess::SimPlotterProcess(const std::string& popcut, const std::vector<std::string>& args, const std::string& report_path)
+SimPlotterProcess::SimPlotterProcess(const std::string& popcut, const std::vector<std::string>& args,
+                                     const std::string& report_path)
     : report_path_(report_path), log_path_(report_path + ".log") {
   std::vector<std::string> all = {popcut, "sim-plotter"};
   all.insert(all.end(), args.begin(), args.end());
@@ -177,7 +179,9 @@ int SimPlotterProcess::wait(double give_up_s) {
 
 std::string SimPlotterProcess::log() const { return read_file(log_path_); }
 
-nlohmann::json SimPlotterProcess::report() const { return nlohmann::json::parse(read_file(report_path_), nullptr, false); }
+nlohmann::json SimPlotterProcess::report() const {
+  return nlohmann::json::parse(read_file(report_path_), nullptr, false);
+}
 
 std::vector<std::vector<std::array<std::int64_t, 2>>> sim_plotter_strokes(const nlohmann::json& report) {
   std::vector<std::vector<std::array<std::int64_t, 2>>> out;

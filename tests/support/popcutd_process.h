@@ -67,8 +67,8 @@ class SimPlotterProcess {
   const std::string& port() const { return port_; }
   // Its exit status once the host has closed the port, or -1 if it still runs after `give_up_s`.
   int wait(double give_up_s = 120);
-  std::string log() const;            // its standard error
-  nlohmann::json report() const;      // what it received and cut (popcut.sim-plotter.v1), after wait()
+  std::string log() const;        // its standard error
+  nlohmann::json report() const;  // what it received and cut (popcut.sim-plotter.v1), after wait()
 
  private:
   pid_t pid_ = -1;

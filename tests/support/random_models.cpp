@@ -19,8 +19,10 @@ VoxelModel random_staircase(std::mt19937_64& rng, int width, int depth, int heig
     for (int y = 0; y < depth; ++y) {
       m.h_at(x, y) = h;
       // Mostly gentle steps, sometimes a drop, so faces come in many sizes.
-      if (uniform(rng, 0, 3) == 0) h = uniform(rng, 0, h);
-      else if (h > 0 && uniform(rng, 0, 1) == 0) --h;
+      if (uniform(rng, 0, 3) == 0)
+        h = uniform(rng, 0, h);
+      else if (h > 0 && uniform(rng, 0, 1) == 0)
+        --h;
     }
   }
   return m;
@@ -70,7 +72,8 @@ FaceModel random_face_model(std::mt19937_64& rng, const RandomFaceSpec& spec) {
       if (v == vertical) same_kind.push_back(t);
     }
     const bool reuse = hole || std::uniform_int_distribution<int>(0, 3)(rng) == 0;
-    e.t_mm = reuse ? same_kind[std::uniform_int_distribution<std::size_t>(0, same_kind.size() - 1)(rng)] : half_steps(rng, 0, 25);
+    e.t_mm = reuse ? same_kind[std::uniform_int_distribution<std::size_t>(0, same_kind.size() - 1)(rng)]
+                   : half_steps(rng, 0, 25);
     // The second coordinate (z in y = t, y in z = t) keeps v = z - t or v = t - y on the sheet.
     const double lo2 = vertical ? std::max(0.0, e.t_mm - floor) : std::max(0.0, e.t_mm - back);
     const double hi2 = vertical ? e.t_mm + back : e.t_mm + floor;

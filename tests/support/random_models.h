@@ -27,8 +27,8 @@ VoxelModel random_staircase(std::mt19937_64& rng, int width, int depth, int heig
 namespace popcut::testing {
 
 struct RandomFaceSpec {
-  int edits = 8;         // edits attempted; those the model rejects are skipped
-  bool slanted = true;   // trapezoids and triangles as well as rectangles
+  int edits = 8;        // edits attempted; those the model rejects are skipped
+  bool slanted = true;  // trapezoids and triangles as well as rectangles
 };
 
 // A face model drawn by random edits on a random sheet: faces and holes in both planes, often

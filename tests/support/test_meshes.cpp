@@ -167,7 +167,8 @@ std::string to_stl_ascii(const TriangleSoup& s) {
   o << "solid popcut\n";
   for (const auto& t : s.triangles) {
     o << "facet normal 0 0 0\nouter loop\n";
-    for (std::uint32_t i : t) o << "vertex " << s.points[i][0] << ' ' << s.points[i][1] << ' ' << s.points[i][2] << '\n';
+    for (std::uint32_t i : t)
+      o << "vertex " << s.points[i][0] << ' ' << s.points[i][1] << ' ' << s.points[i][2] << '\n';
     o << "endloop\nendfacet\n";
   }
   o << "endsolid popcut\n";
@@ -184,7 +185,8 @@ std::string to_stl_binary(const TriangleSoup& s) {
     const float normal[3] = {0, 0, 0};
     put(normal, sizeof normal);
     for (std::uint32_t i : t) {
-      const float v[3] = {static_cast<float>(s.points[i][0]), static_cast<float>(s.points[i][1]), static_cast<float>(s.points[i][2])};
+      const float v[3] = {static_cast<float>(s.points[i][0]), static_cast<float>(s.points[i][1]),
+                          static_cast<float>(s.points[i][2])};
       put(v, sizeof v);
     }
     const std::uint16_t attributes = 0;

@@ -15,8 +15,10 @@ enum class ErrorCode {
   io,             // a file could not be read or written
   internal,       // a broken invariant inside popcut: a bug, never the user's fault
 };
-inline constexpr auto kErrorCodeNames = enum_names<ErrorCode>(
-    {{ErrorCode::invalid_input, "invalid_input"}, {ErrorCode::limit, "limit"}, {ErrorCode::io, "io"}, {ErrorCode::internal, "internal"}});
+inline constexpr auto kErrorCodeNames = enum_names<ErrorCode>({{ErrorCode::invalid_input, "invalid_input"},
+                                                               {ErrorCode::limit, "limit"},
+                                                               {ErrorCode::io, "io"},
+                                                               {ErrorCode::internal, "internal"}});
 
 const char* to_string(ErrorCode code);
 

@@ -13,7 +13,8 @@ enum class FaceKind { vertical, horizontal };  // VFace (plane y = t) / HFace (p
 
 inline constexpr auto kLineKindNames =
     enum_names<LineKind>({{LineKind::cut, "cut"}, {LineKind::mountain, "mountain"}, {LineKind::valley, "valley"}});
-inline constexpr auto kFaceKindNames = enum_names<FaceKind>({{FaceKind::vertical, "V"}, {FaceKind::horizontal, "H"}});  // as in the file formats
+inline constexpr auto kFaceKindNames =
+    enum_names<FaceKind>({{FaceKind::vertical, "V"}, {FaceKind::horizontal, "H"}});  // as in the file formats
 const char* to_string(LineKind kind);
 const char* to_string(FaceKind kind);  // "V" / "H"
 

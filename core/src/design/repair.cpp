@@ -20,7 +20,8 @@ WindowMarking mark_windows(VoxelModel& m, const std::vector<std::uint8_t>& rows,
   for (int x = 0; x < m.width; ++x) {
     // Bottom row first: tall openings keep their solid rows at one height, so sills line up (repair.h).
     for (int z = 0; z < m.height; ++z) {
-      if (!rows[static_cast<std::size_t>(x) * static_cast<std::size_t>(m.height) + static_cast<std::size_t>(z)]) continue;
+      if (!rows[static_cast<std::size_t>(x) * static_cast<std::size_t>(m.height) + static_cast<std::size_t>(z)])
+        continue;
       if (card.model().is_window(x, z) || z >= m.h(x, 0)) continue;
       if (card.try_window(x, z)) {
         ++out.added;

@@ -1,4 +1,5 @@
-// Thin top faces found per step and joined across slices, each dropped as a whole, lowest first, under the incremental check.
+// Thin top faces found per step and joined across slices, each dropped as a whole, lowest first, under the incremental
+// check.
 #include "popcut/design/thin_tops.h"
 
 #include <algorithm>
@@ -64,7 +65,8 @@ ThinTops drop_thin_tops(VoxelModel& m, int max_width_voxels, const std::string& 
   std::vector<std::vector<Step>> thin(face_width.size());
   for (const auto& slice : slices) {
     for (const Step& s : slice) {
-      if (face_width[static_cast<std::size_t>(s.face)] <= max_width_voxels) thin[static_cast<std::size_t>(s.face)].push_back(s);
+      if (face_width[static_cast<std::size_t>(s.face)] <= max_width_voxels)
+        thin[static_cast<std::size_t>(s.face)].push_back(s);
     }
   }
   std::vector<std::size_t> order;
@@ -87,7 +89,8 @@ ThinTops drop_thin_tops(VoxelModel& m, int max_width_voxels, const std::string& 
     while (done > 0) {
       --done;
       if (!card.try_drop_top(face[done].x, face[done].z, false)) {
-        throw Error(ErrorCode::internal, source, "", "thin tops: undoing a dropped top was refused by the pop-up check");
+        throw Error(ErrorCode::internal, source, "",
+                    "thin tops: undoing a dropped top was refused by the pop-up check");
       }
     }
   }

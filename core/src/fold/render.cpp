@@ -77,8 +77,8 @@ CardMesh fold_card_for_picture(const Pattern& pattern, double angle_deg) {
 }
 
 ViewBox view_box(const std::vector<CardMesh>& meshes) {
-  ViewBox b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
-            std::numeric_limits<double>::lowest()};
+  ViewBox b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+            std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
   for (const CardMesh& m : meshes) {
     for (const Point3& p : m.vertices) {
       const Screen s = project(p);
@@ -100,7 +100,8 @@ void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, 
   for (std::size_t i = 0; i < order.size(); ++i) {
     order[i] = i;
     const auto& t = m.triangles[i];
-    depth[i] = (project(m.vertices[t[0]]).depth + project(m.vertices[t[1]]).depth + project(m.vertices[t[2]]).depth) / 3;
+    depth[i] =
+        (project(m.vertices[t[0]]).depth + project(m.vertices[t[1]]).depth + project(m.vertices[t[2]]).depth) / 3;
   }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return depth[a] < depth[b]; });
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(w)
@@ -111,7 +112,8 @@ void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, 
     const Shade s = shade_of(m, t);
     char colour[8];
     std::snprintf(colour, sizeof colour, "#%02x%02x%02x", s.r, s.g, s.b);
-    out << "  <polygon fill=\"" << colour << "\" stroke=\"" << colour << "\" stroke-width=\"0.6\" stroke-linejoin=\"round\" points=\"";
+    out << "  <polygon fill=\"" << colour << "\" stroke=\"" << colour
+        << "\" stroke-width=\"0.6\" stroke-linejoin=\"round\" points=\"";
     for (int k = 0; k < 3; ++k) {
       const Screen p = project(m.vertices[t[static_cast<std::size_t>(k)]]);
       out << (k ? " " : "") << num((p.x - box.min_x) * px_per_mm) << "," << num((box.max_y - p.y) * px_per_mm);
@@ -126,7 +128,8 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
   const double scale = width_px * ss / (box.max_x - box.min_x);
   const int W = width_px * ss;
   const int H = std::max(1, static_cast<int>(std::ceil((box.max_y - box.min_y) * scale)));
-  std::vector<double> zbuf(static_cast<std::size_t>(W) * static_cast<std::size_t>(H), std::numeric_limits<double>::lowest());
+  std::vector<double> zbuf(static_cast<std::size_t>(W) * static_cast<std::size_t>(H),
+                           std::numeric_limits<double>::lowest());
   std::vector<unsigned char> rgb(zbuf.size() * 3, 255);
   for (const auto& t : m.triangles) {
     Screen p[3];
@@ -166,9 +169,12 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
       for (int c = 0; c < 3; ++c) {
         int sum = 0;
         for (int dy = 0; dy < ss; ++dy)
-          for (int dx = 0; dx < ss; ++dx) sum += rgb[3 * (static_cast<std::size_t>(y * ss + dy) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x * ss + dx)) + static_cast<std::size_t>(c)];
-        image[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) + static_cast<std::size_t>(c)] =
-            static_cast<unsigned char>(sum / (ss * ss));
+          for (int dx = 0; dx < ss; ++dx)
+            sum += rgb[3 * (static_cast<std::size_t>(y * ss + dy) * static_cast<std::size_t>(W) +
+                            static_cast<std::size_t>(x * ss + dx)) +
+                       static_cast<std::size_t>(c)];
+        image[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) +
+              static_cast<std::size_t>(c)] = static_cast<unsigned char>(sum / (ss * ss));
       }
     }
   }

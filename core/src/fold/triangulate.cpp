@@ -69,7 +69,8 @@ std::vector<std::array<Point2, 3>> triangulate(const PatternFace& face) {
     for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
       if (f->info().depth % 2 != 1) continue;  // odd depth: inside the face
       std::array<Point2, 3> t;
-      for (int k = 0; k < 3; ++k) t[static_cast<std::size_t>(k)] = {f->vertex(k)->point().x(), f->vertex(k)->point().y()};
+      for (int k = 0; k < 3; ++k)
+        t[static_cast<std::size_t>(k)] = {f->vertex(k)->point().x(), f->vertex(k)->point().y()};
       out.push_back(t);  // CGAL's faces are counter-clockwise
     }
     return out;

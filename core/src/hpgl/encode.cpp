@@ -50,7 +50,8 @@ std::string encode_hpgl(const StrokePlan& plan, const HpglDialect& d, const std:
   return encode_job(plan, d, tools).bytes;
 }
 
-EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::array<ToolSetting, 4>& tools, std::size_t from_stroke) {
+EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::array<ToolSetting, 4>& tools,
+                      std::size_t from_stroke) {
   const Rect frame = plan.extent();
   const Placement placement = place_sheet(frame, d);
   Writer w(d);
@@ -121,7 +122,8 @@ EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::a
       const long v = std::max(1L, std::lround(t.speed_cm_s));
       if (d.velocity && v != speed) w.cmd("VS" + std::to_string(speed = v));
       const long f = std::max(1L, std::lround(t.force_g / d.force_g_per_unit));
-      if (d.force != ForceStyle::none && f != force) w.cmd((d.force == ForceStyle::roland ? "!FS" : "FS") + std::to_string(force = f));
+      if (d.force != ForceStyle::none && f != force)
+        w.cmd((d.force == ForceStyle::roland ? "!FS" : "FS") + std::to_string(force = f));
     }
     move(false, {pts.front()});
     job.stroke_cut_start.push_back(w.size());  // the knife goes down with the next command

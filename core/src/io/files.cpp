@@ -126,14 +126,16 @@ void write_in_place(const std::string& path, const fs::path& target, const std::
   const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));
   const int write_err = write_to_fd(fd, write, [&] { ::close(fd); });
-  if (::close(fd) != 0 && write_err == 0) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
+  if (::close(fd) != 0 && write_err == 0)
+    throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(errno));
   if (write_err) throw Error(ErrorCode::io, path, "", std::string("write failed: ") + std::strerror(write_err));
 }
 
 }  // namespace
 
 void write_text_file(const std::string& path, const std::string& content) {
-  write_text_file(path, [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); });
+  write_text_file(path,
+                  [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); });
 }
 
 void write_text_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
@@ -154,7 +156,8 @@ void write_text_file(const std::string& path, const std::function<void(std::ostr
     return;
   }
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec)) throw Error(ErrorCode::io, path, "", "cannot write: directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(dir, ec))
+    throw Error(ErrorCode::io, path, "", "cannot write: directory " + dir.string() + " does not exist");
   std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
   const int fd = ::mkstemp(tmp.data());
   if (fd < 0) throw Error(ErrorCode::io, path, "", std::string("cannot write: ") + std::strerror(errno));

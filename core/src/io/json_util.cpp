@@ -41,14 +41,16 @@ json parse(const std::string& text, const std::string& source) {
   std::vector<std::set<std::string>> keys;
   auto check = [&](int depth, json::parse_event_t event, json& parsed) {
     if (depth > kMaxDepth) {
-      throw Error(ErrorCode::invalid_input, source, "", "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels");
+      throw Error(ErrorCode::invalid_input, source, "",
+                  "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels");
     }
     switch (event) {
       case json::parse_event_t::object_start: keys.emplace_back(); break;
       case json::parse_event_t::object_end: keys.pop_back(); break;
       case json::parse_event_t::key:
         if (!keys.back().insert(parsed.get<std::string>()).second) {
-          throw Error(ErrorCode::invalid_input, source, "", "duplicate key \"" + parsed.get<std::string>() + "\" in one object");
+          throw Error(ErrorCode::invalid_input, source, "",
+                      "duplicate key \"" + parsed.get<std::string>() + "\" in one object");
         }
         break;
       default: break;
@@ -74,7 +76,9 @@ json parse(const std::string& text, const std::string& source) {
     const auto open = what.find('\''), close = what.rfind('\'');
     if (open != std::string::npos && close > open + 1) {
       const std::string token = what.substr(open + 1, close - open - 1);
-      const auto is_token_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+'; };
+      const auto is_token_char = [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+';
+      };
       for (auto at = text.find(token); at != std::string::npos; at = text.find(token, at + 1)) {
         const std::size_t end = at + token.size();
         if ((at == 0 || !is_token_char(text[at - 1])) && (end == text.size() || !is_token_char(text[end]))) {
@@ -141,7 +145,8 @@ int Reader::integer(const json& j, const std::string& path, long long min, long 
 }
 
 double Reader::number(const json& j, const std::string& path, double min, double max) const {
-  if (!j.is_number()) fail(path, "expected a number from " + number_text(min) + " to " + number_text(max) + ", got " + type_name(j));
+  if (!j.is_number())
+    fail(path, "expected a number from " + number_text(min) + " to " + number_text(max) + ", got " + type_name(j));
   const double d = j.get<double>();
   if (!std::isfinite(d) || d < min || d > max) {
     fail(path, "expected a number from " + number_text(min) + " to " + number_text(max) + ", got " + j.dump());
@@ -156,8 +161,8 @@ std::string Reader::string(const json& j, const std::string& path, std::size_t m
   return s;
 }
 
-std::vector<std::array<double, 2>> Reader::points(const json& j, const std::string& path, double limit, std::size_t min_points,
-                                                  std::size_t max_points) const {
+std::vector<std::array<double, 2>> Reader::points(const json& j, const std::string& path, double limit,
+                                                  std::size_t min_points, std::size_t max_points) const {
   require_array(j, path);
   if (j.size() < min_points) fail(path, "needs at least " + std::to_string(min_points) + " points");
   if (j.size() > max_points) fail(path, "has more than " + std::to_string(max_points) + " points");
@@ -171,7 +176,8 @@ std::vector<std::array<double, 2>> Reader::points(const json& j, const std::stri
   return out;
 }
 
-void Reader::require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const {
+void Reader::require_document(const json& root, const char* expected,
+                              std::initializer_list<const char*> allowed) const {
   require_object(root, "document");
   // The tag first: a file of another format is named as such, not as a list of unknown fields.
   const std::string format = string(require(root, "format", ""), "format");

@@ -41,8 +41,8 @@ class Reader {
     fail(path, "expected " + names.quoted_list(" or ", '"') + ", got \"" + text + "\"");
   }
   // A list of points, each two numbers within ±limit (mm), at most max_points long.
-  std::vector<std::array<double, 2>> points(const json& j, const std::string& path, double limit, std::size_t min_points,
-                                            std::size_t max_points) const;
+  std::vector<std::array<double, 2>> points(const json& j, const std::string& path, double limit,
+                                            std::size_t min_points, std::size_t max_points) const;
   // The document must be an object with only `allowed` keys and "format" equal to `expected`.
   void require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const;
 

@@ -139,7 +139,8 @@ void write_gltf(std::ostream& out, const CardMesh& m) {
       pos["max"] = {hi[0], hi[1], hi[2]};
     }
     accessors.push_back(pos);
-    accessors.push_back({{"bufferView", view(norm_offset)}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}});
+    accessors.push_back(
+        {{"bufferView", view(norm_offset)}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}});
     primitives.push_back({{"attributes", {{"POSITION", accessors.size() - 2}, {"NORMAL", accessors.size() - 1}}},
                           {"material", side},
                           {"mode", 4}});
@@ -152,8 +153,12 @@ void write_gltf(std::ostream& out, const CardMesh& m) {
       {"nodes", {{{"mesh", 0}, {"name", "card"}}}},
       {"meshes", {{{"name", "card"}, {"primitives", primitives}}}},
       {"materials",
-       {{{"name", "front"}, {"pbrMetallicRoughness", {{"baseColorFactor", rgba(kFront)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}},
-        {{"name", "back"}, {"pbrMetallicRoughness", {{"baseColorFactor", rgba(kBack)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}}}},
+       {{{"name", "front"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", rgba(kFront)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}},
+        {{"name", "back"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", rgba(kBack)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}}}},
       {"accessors", accessors},
       {"bufferViews", views},
       {"buffers", {{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}}}};

@@ -65,7 +65,8 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     FaceEdit edit;
     edit.op = in.named(kEditOpNames, in.require(e, "op", path), path + ".op");
     edit.t_mm = in.number(in.require(e, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
-    edit.outline = in.points(in.require(e, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 0, kMaxOutlinePoints);
+    edit.outline =
+        in.points(in.require(e, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 0, kMaxOutlinePoints);
     model.apply(edit, source, path);
   }
   return model;
@@ -82,10 +83,13 @@ AnyModel parse_model(const std::string& text, const std::string& source) {
   const std::string format = in.string(in.require(root, "format", ""), "format");
   if (format == kVoxelFormat) return voxel_model_from_json(root, source);
   if (format == kFacesFormat) return face_model_from_json(root, source);
-  in.fail("format", "expected \"" + std::string(kVoxelFormat) + "\" or \"" + kFacesFormat + "\", got \"" + format + "\"");
+  in.fail("format",
+          "expected \"" + std::string(kVoxelFormat) + "\" or \"" + kFacesFormat + "\", got \"" + format + "\"");
 }
 
-AnyModel load_model(const std::string& path) { return parse_model(read_text_file(path), path == "-" ? "<stdin>" : path); }
+AnyModel load_model(const std::string& path) {
+  return parse_model(read_text_file(path), path == "-" ? "<stdin>" : path);
+}
 
 std::string to_face_json(const FaceModel& model, const std::string& name) {
   std::ostringstream o;
@@ -100,8 +104,8 @@ std::string to_face_json(const FaceModel& model, const std::string& name) {
     for (std::size_t i = 0; i < edits.size(); ++i) {
       Ring outline;
       for (const auto& [a, b] : edits[i].outline) outline.push_back({a, b});
-      o << (i ? ",\n    " : "\n    ") << "{\"op\": \"" << to_string(edits[i].op) << "\", \"t\": " << number_text(edits[i].t_mm)
-        << ", \"outline\": ";
+      o << (i ? ",\n    " : "\n    ") << "{\"op\": \"" << to_string(edits[i].op)
+        << "\", \"t\": " << number_text(edits[i].t_mm) << ", \"outline\": ";
       put_ring(o, outline);
       o << "}";
     }
@@ -111,8 +115,8 @@ std::string to_face_json(const FaceModel& model, const std::string& name) {
   o << "  \"faces\": [";
   const auto faces = model.faces();
   for (std::size_t i = 0; i < faces.size(); ++i) {
-    o << (i ? ",\n    " : "\n    ") << "{\"kind\": \"" << to_string(faces[i].kind) << "\", \"t\": " << number_text(faces[i].t_mm)
-      << ", \"outer\": ";
+    o << (i ? ",\n    " : "\n    ") << "{\"kind\": \"" << to_string(faces[i].kind)
+      << "\", \"t\": " << number_text(faces[i].t_mm) << ", \"outer\": ";
     put_ring(o, faces[i].polygon.outer);
     o << ", \"holes\": [";
     for (std::size_t h = 0; h < faces[i].polygon.holes.size(); ++h) {

@@ -49,7 +49,8 @@ PatternFace read_face(const json_util::Reader& in, const json& f, const std::str
   if (f.contains("label")) face.label = get_point(in, f["label"], path + ".label");
   if (f.contains("holes")) {
     in.require_array(f["holes"], path + ".holes");
-    for (std::size_t h = 0; h < f["holes"].size(); ++h) face.holes.push_back(ring(f["holes"][h], index_path(path + ".holes", h)));
+    for (std::size_t h = 0; h < f["holes"].size(); ++h)
+      face.holes.push_back(ring(f["holes"][h], index_path(path + ".holes", h)));
   }
   return face;
 }
@@ -102,7 +103,8 @@ void write_pattern_json(std::ostream& o, const Pattern& p) {
 Pattern parse_pattern(const std::string& text, const std::string& source) {
   const json root = json_util::parse(text, source);
   const json_util::Reader in(source);
-  in.require_document(root, kPatternFormat, {"format", "units", "sheet", "lines", "faces", "folds", "back_face", "floor_face"});
+  in.require_document(root, kPatternFormat,
+                      {"format", "units", "sheet", "lines", "faces", "folds", "back_face", "floor_face"});
   if (in.string(in.require(root, "units", ""), "units") != "mm") in.fail("units", "expected \"mm\"");
 
   Pattern p;
@@ -128,7 +130,8 @@ Pattern parse_pattern(const std::string& text, const std::string& source) {
 
   const json& faces = in.require(root, "faces", "");
   in.require_array(faces, "faces");
-  for (std::size_t i = 0; i < faces.size(); ++i) p.faces.push_back(read_face(in, faces[i], index_path("faces", i), kMaxCoordinateMm));
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    p.faces.push_back(read_face(in, faces[i], index_path("faces", i), kMaxCoordinateMm));
 
   const long long face_count = static_cast<long long>(p.faces.size());
   if (root.contains("folds")) {

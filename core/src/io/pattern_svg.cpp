@@ -24,8 +24,8 @@ void ring_path(std::ostream& o, const Frame& f, const Ring& ring) {
 }
 
 void line_group(std::ostream& o, const Frame& f, const Pattern& p, LineKind kind, const char* attrs) {
-  o << "  <g id=\"" << to_string(kind) << "\" inkscape:label=\"" << to_string(kind) << "\" inkscape:groupmode=\"layer\" "
-    << attrs << ">\n";
+  o << "  <g id=\"" << to_string(kind) << "\" inkscape:label=\"" << to_string(kind)
+    << "\" inkscape:groupmode=\"layer\" " << attrs << ">\n";
   for (const Segment& s : p.lines) {
     if (s.kind != kind) continue;
     o << "    <line x1=\"" << f.x(s.a.x_mm) << "\" y1=\"" << f.y(s.a.v_mm) << "\" x2=\"" << f.x(s.b.x_mm) << "\" y2=\""
@@ -51,7 +51,8 @@ void write_pattern_svg(std::ostream& o, const Pattern& p, const SvgOptions& opti
     << "width=\"" << w << "mm\" height=\"" << h << "mm\" viewBox=\"0 0 " << w << " " << h << "\">\n"
     << "  <title>popcut pattern: cut (black), mountain (red dash-dot), valley (blue dashed)</title>\n";
   if (options.shade_faces) {
-    o << "  <g id=\"faces\" inkscape:label=\"faces\" inkscape:groupmode=\"layer\" stroke=\"none\" fill-rule=\"evenodd\">\n";
+    o << "  <g id=\"faces\" inkscape:label=\"faces\" inkscape:groupmode=\"layer\" stroke=\"none\" "
+         "fill-rule=\"evenodd\">\n";
     for (const PatternFace& face : p.faces) {
       o << "    <path fill=\"" << (face.kind == FaceKind::vertical ? "#dfe6ee" : "#f4efe2") << "\" d=\"";
       ring_path(o, f, face.outer);

@@ -18,6 +18,7 @@ namespace json_util {
 class Reader;
 }
 // One face object {"kind": "V"|"H", "t", "outer", "holes", "label"}, coordinates within ±limit_mm.
-PatternFace read_face(const json_util::Reader& in, const nlohmann::json& face, const std::string& path, double limit_mm);
+PatternFace read_face(const json_util::Reader& in, const nlohmann::json& face, const std::string& path,
+                      double limit_mm);
 
 }  // namespace popcut

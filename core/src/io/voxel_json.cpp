@@ -33,17 +33,20 @@ void read_sheet(const json_util::Reader& in, const json& j, SheetSpec& sheet) {
 }
 
 // Column tops from a heights array; grid size from its extent.
-void read_heights(const json_util::Reader& in, const json& heights, std::vector<std::vector<int>>& tops, GridSize& size) {
+void read_heights(const json_util::Reader& in, const json& heights, std::vector<std::vector<int>>& tops,
+                  GridSize& size) {
   in.require_array(heights, "heights");
   if (heights.size() > static_cast<std::size_t>(kMaxVoxelAxis)) {
-    in.fail("heights", "has " + std::to_string(heights.size()) + " columns; the limit is " + std::to_string(kMaxVoxelAxis));
+    in.fail("heights",
+            "has " + std::to_string(heights.size()) + " columns; the limit is " + std::to_string(kMaxVoxelAxis));
   }
   tops.resize(heights.size());
   for (std::size_t x = 0; x < heights.size(); ++x) {
     const std::string px = index_path("heights", x);
     in.require_array(heights[x], px);
     if (heights[x].size() > static_cast<std::size_t>(kMaxVoxelAxis)) {
-      in.fail(px, "has " + std::to_string(heights[x].size()) + " entries; the limit is " + std::to_string(kMaxVoxelAxis));
+      in.fail(px,
+              "has " + std::to_string(heights[x].size()) + " entries; the limit is " + std::to_string(kMaxVoxelAxis));
     }
     for (std::size_t y = 0; y < heights[x].size(); ++y) {
       const int h = in.integer(heights[x][y], index_path(px, y), 0, kMaxVoxelAxis);
@@ -95,7 +98,8 @@ VoxelFile parse_voxel_file(const std::string& text, const std::string& source) {
 
 VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
   const json_util::Reader in(source);
-  in.require_document(root, kVoxelFormat, {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "dropped_tops", "sheet"});
+  in.require_document(root, kVoxelFormat,
+                      {"format", "voxel_mm", "name", "grid", "heights", "voxels", "windows", "dropped_tops", "sheet"});
   VoxelFile file;
   VoxelModel& m = file.model;
   const double voxel_mm = in.number(in.require(root, "voxel_mm", ""), "voxel_mm", kMinVoxelMm, kMaxVoxelMm);
@@ -106,8 +110,10 @@ VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
   GridSize size;
   std::vector<std::vector<int>> tops;
   std::vector<Cell> cells;
-  if (has_heights) read_heights(in, root["heights"], tops, size);
-  else read_voxels(in, root["voxels"], cells, size);
+  if (has_heights)
+    read_heights(in, root["heights"], tops, size);
+  else
+    read_voxels(in, root["voxels"], cells, size);
 
   if (root.contains("grid")) {
     const json& g = root["grid"];
@@ -135,7 +141,8 @@ VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
     for (; j < cells.size() && cells[j].x == cells[i].x && cells[j].y == cells[i].y; ++j) {
       for (int z = expected_z; z < cells[j].z; ++z) {
         ++file.gap_cells;
-        file.gap_rows[static_cast<std::size_t>(cells[i].x) * static_cast<std::size_t>(size.height) + static_cast<std::size_t>(z)] = 1;
+        file.gap_rows[static_cast<std::size_t>(cells[i].x) * static_cast<std::size_t>(size.height) +
+                      static_cast<std::size_t>(z)] = 1;
         if (!file.first_gap) file.first_gap = std::array<int, 3>{cells[i].x, cells[i].y, z};
       }
       expected_z = cells[j].z + 1;
@@ -159,17 +166,19 @@ VoxelFile voxel_file_from_json(const json& root, const std::string& source) {
       std::string cell("[");
       cell.append(std::to_string(x)).append(", ").append(std::to_string(z)).append("]");
       if (x >= size.width || z > z_hi) {
-        in.fail(p, cell + " is outside the grid (x from 0 to " + std::to_string(size.width - 1) + ", z from " + std::to_string(z_lo) +
-                       " to " + std::to_string(z_hi) + ")");
+        in.fail(p, cell + " is outside the grid (x from 0 to " + std::to_string(size.width - 1) + ", z from " +
+                       std::to_string(z_lo) + " to " + std::to_string(z_hi) + ")");
       }
       if (is_set(x, z)) in.fail(p, std::string("repeats an earlier ") + what + " " + cell);
       set(x, z);
     }
   };
-  read_cells("windows", "window", 0, size.height - 1, [&](int x, int z) { return m.is_window(x, z); },
-             [&](int x, int z) { m.set_window(x, z, true); });
-  read_cells("dropped_tops", "top", 1, size.height, [&](int x, int z) { return m.is_top_dropped(x, z); },
-             [&](int x, int z) { m.set_top_dropped(x, z, true); });
+  read_cells(
+      "windows", "window", 0, size.height - 1, [&](int x, int z) { return m.is_window(x, z); },
+      [&](int x, int z) { m.set_window(x, z, true); });
+  read_cells(
+      "dropped_tops", "top", 1, size.height, [&](int x, int z) { return m.is_top_dropped(x, z); },
+      [&](int x, int z) { m.set_top_dropped(x, z, true); });
   if (root.contains("sheet")) read_sheet(in, root["sheet"], m.sheet);
   if (root.contains("name")) m.name = in.string(root["name"], "name", 256);
   return file;
@@ -232,9 +241,17 @@ std::string to_voxel_json(const VoxelModel& m) {
   if (m.sheet.back || m.sheet.floor || m.sheet.side) {
     o << ",\n  \"sheet\": {";
     const char* sep = "";
-    if (m.sheet.back) { o << sep << "\"back\": " << *m.sheet.back; sep = ", "; }
-    if (m.sheet.floor) { o << sep << "\"floor\": " << *m.sheet.floor; sep = ", "; }
-    if (m.sheet.side) { o << sep << "\"side\": " << *m.sheet.side; }
+    if (m.sheet.back) {
+      o << sep << "\"back\": " << *m.sheet.back;
+      sep = ", ";
+    }
+    if (m.sheet.floor) {
+      o << sep << "\"floor\": " << *m.sheet.floor;
+      sep = ", ";
+    }
+    if (m.sheet.side) {
+      o << sep << "\"side\": " << *m.sheet.side;
+    }
     o << "}";
   }
   o << "\n}\n";

@@ -19,14 +19,16 @@ std::array<double, 2> along_axes(Point2 p, const Rect& sheet, const PlotterFrame
 
 }  // namespace
 
-PlotterPath stroke_in_plotter_units(const Stroke& s, const Rect& sheet, const Placement& placement, const PlotterFrame& f) {
+PlotterPath stroke_in_plotter_units(const Stroke& s, const Rect& sheet, const Placement& placement,
+                                    const PlotterFrame& f) {
   PlotterPath pts;
   for (Point2 p : s.points) {
     const auto q = to_plotter(p, sheet, placement, f);
     if (q[0] < f.area_min_x_pu || q[0] > f.area_max_x_pu || q[1] < f.area_min_y_pu || q[1] > f.area_max_y_pu ||
         (!f.allow_negative && (q[0] < 0 || q[1] < 0))) {
-      throw Error(ErrorCode::internal, "", "hpgl", "point (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) +
-                                                       ") plotter units lies outside the usable area; not sent");
+      throw Error(ErrorCode::internal, "", "hpgl",
+                  "point (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) +
+                      ") plotter units lies outside the usable area; not sent");
     }
     if (pts.empty() || pts.back() != q) pts.push_back(q);
   }
@@ -80,9 +82,11 @@ Placement place_sheet(const Rect& sheet, const PlotterFrame& f) {
   const std::int64_t avail_x = f.area_max_x_pu - f.area_min_x_pu, avail_y = f.area_max_y_pu - f.area_min_y_pu;
   if (p.width_pu > avail_x || p.height_pu > avail_y) {
     throw Error(ErrorCode::invalid_input, "", "usable area",
-                "the sheet (" + format_fixed(size[0], 1) + " x " + format_fixed(size[1], 1) + " mm on the plotter's axes) does not fit the "
-                "usable area (" + format_fixed(static_cast<double>(avail_x) / f.units_per_mm_x, 1) + " x " +
-                format_fixed(static_cast<double>(avail_y) / f.units_per_mm_y, 1) + " mm)");
+                "the sheet (" + format_fixed(size[0], 1) + " x " + format_fixed(size[1], 1) +
+                    " mm on the plotter's axes) does not fit the "
+                    "usable area (" +
+                    format_fixed(static_cast<double>(avail_x) / f.units_per_mm_x, 1) + " x " +
+                    format_fixed(static_cast<double>(avail_y) / f.units_per_mm_y, 1) + " mm)");
   }
   // The sheet sits in the corner the axes grow from: the usable area's min, or max when flipped.
   p.origin_x_pu = f.flip_x ? f.area_max_x_pu : f.area_min_x_pu;

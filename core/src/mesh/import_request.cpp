@@ -27,14 +27,18 @@ std::optional<double> number_in(std::string_view text) {
 }
 
 // --fit-mm: a device's name (its flat sheet on the media), or W x H of the closed card.
-CardFit parse_fit(const std::string& text, const std::vector<NamedMedia>& media, const std::function<Error(const std::string&)>& bad) {
+CardFit parse_fit(const std::string& text, const std::vector<NamedMedia>& media,
+                  const std::function<Error(const std::string&)>& bad) {
   for (const NamedMedia& m : media) {
-    if (m.name == text) return {m.width_mm, m.height_mm, true, m.name + "'s media (" + mm_text(m.width_mm) + " x " + mm_text(m.height_mm) + " mm)"};
+    if (m.name == text)
+      return {m.width_mm, m.height_mm, true,
+              m.name + "'s media (" + mm_text(m.width_mm) + " x " + mm_text(m.height_mm) + " mm)"};
   }
   for (std::string_view sep : {"\xc3\x97", "x", "X"}) {  // ×, x, X
     const std::size_t at = text.find(sep);
     if (at == std::string::npos) continue;
-    const std::optional<double> w = number_in(std::string_view(text).substr(0, at)), h = number_in(std::string_view(text).substr(at + sep.size()));
+    const std::optional<double> w = number_in(std::string_view(text).substr(0, at)),
+                                h = number_in(std::string_view(text).substr(at + sep.size()));
     if (w && h) return {*w, *h, false, mm_text(*w) + " x " + mm_text(*h) + " mm"};
     break;
   }
@@ -51,14 +55,15 @@ std::vector<std::string> media_warnings(const Rect& sheet, const std::vector<Nam
   std::vector<std::string> out;
   for (const NamedMedia& m : media) {
     if (w <= m.width_mm && h <= m.height_mm) continue;
-    out.push_back("the sheet (" + mm_text(w) + " x " + mm_text(h) + " mm) does not fit " + m.name + " (at most " + mm_text(m.width_mm) +
-                  " x " + mm_text(m.height_mm) + " mm): use --fit-mm " + m.name + " or a smaller --height-mm");
+    out.push_back("the sheet (" + mm_text(w) + " x " + mm_text(h) + " mm) does not fit " + m.name + " (at most " +
+                  mm_text(m.width_mm) + " x " + mm_text(m.height_mm) + " mm): use --fit-mm " + m.name +
+                  " or a smaller --height-mm");
   }
   return out;
 }
 
-ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source,
-                                   const std::vector<NamedMedia>& media) {
+ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values,
+                                   const std::string& source, const std::vector<NamedMedia>& media) {
   ImportRequest r;
   ImportOptions& o = r.options;
   std::vector<std::string> seen;
@@ -80,7 +85,8 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
       int value = 0;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
       if (ec == std::errc::result_out_of_range) throw bad(shown + " is out of range: expected " + range);
-      if (ec != std::errc() || end != text.data() + text.size()) throw bad(shown + " is not a whole number: expected " + range);
+      if (ec != std::errc() || end != text.data() + text.size())
+        throw bad(shown + " is not a whole number: expected " + range);
       return value;
     };
     const auto real = [&] {
@@ -98,25 +104,40 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
       if (text == "false") return false;
       throw bad(shown + " is not a switch value: use true or false");
     };
-    if (name == "up") o.up = axis();
-    else if (name == "front") o.front = axis();
-    else if (name == "resolution") o.resolution = whole("1 to " + std::to_string(kMaxImportResolution) + " voxels across");
-    else if (name == "width-mm") o.width_mm = real();
-    else if (name == "voxel-mm") o.voxel_mm = real();
-    else if (name == "height-mm") o.height_mm = real();
-    else if (name == "fit-mm") o.fit = parse_fit(text, media, bad);
-    else if (name == "keep-depth") o.keep_depth = real();
-    else if (name == "smooth") o.structuring_element = whole("an odd side, 1 to " + std::to_string(kMaxStructuringElement));
-    else if (name == "no-windows") o.windows = !flag();
-    else if (name == "thin-tops") o.thin_top_voxels = whole("0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
-    else if (name == "faces") r.faces = flag();
-    else if (const auto method = kDepthMethodNames.find(text)) o.depth = *method;  // name == "depth-method"
-    else throw bad(shown + " is not a method: use " + kDepthMethodNames.list());
+    if (name == "up")
+      o.up = axis();
+    else if (name == "front")
+      o.front = axis();
+    else if (name == "resolution")
+      o.resolution = whole("1 to " + std::to_string(kMaxImportResolution) + " voxels across");
+    else if (name == "width-mm")
+      o.width_mm = real();
+    else if (name == "voxel-mm")
+      o.voxel_mm = real();
+    else if (name == "height-mm")
+      o.height_mm = real();
+    else if (name == "fit-mm")
+      o.fit = parse_fit(text, media, bad);
+    else if (name == "keep-depth")
+      o.keep_depth = real();
+    else if (name == "smooth")
+      o.structuring_element = whole("an odd side, 1 to " + std::to_string(kMaxStructuringElement));
+    else if (name == "no-windows")
+      o.windows = !flag();
+    else if (name == "thin-tops")
+      o.thin_top_voxels = whole("0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
+    else if (name == "faces")
+      r.faces = flag();
+    else if (const auto method = kDepthMethodNames.find(text))
+      o.depth = *method;  // name == "depth-method"
+    else
+      throw bad(shown + " is not a method: use " + kDepthMethodNames.list());
   }
   return r;
 }
 
-MeshImport import_mesh_file(const std::string& path, const ImportRequest& request, const std::string& source, std::int64_t max_triangles) {
+MeshImport import_mesh_file(const std::string& path, const ImportRequest& request, const std::string& source,
+                            std::int64_t max_triangles) {
   const auto t0 = std::chrono::steady_clock::now();
   TriangleSoup mesh;
   try {
@@ -126,8 +147,9 @@ MeshImport import_mesh_file(const std::string& path, const ImportRequest& reques
     throw Error(e.code(), source, e.location(), e.message());
   }
   if (static_cast<std::int64_t>(mesh.triangles.size()) > max_triangles) {
-    throw Error(ErrorCode::limit, source, "", std::to_string(mesh.triangles.size()) + " triangles; at most " +
-                                                  std::to_string(max_triangles) + " are allowed here");
+    throw Error(ErrorCode::limit, source, "",
+                std::to_string(mesh.triangles.size()) + " triangles; at most " + std::to_string(max_triangles) +
+                    " are allowed here");
   }
   const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   MeshImport m;

@@ -35,7 +35,8 @@ std::string extension_of(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
   std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
 }
 
@@ -116,7 +117,8 @@ std::optional<std::pair<int, std::string>> diagnose_ascii_stl(const std::string&
       }
       if (w == "endfacet") {
         if (vertices != 3) {
-          return std::make_pair(number, "the facet from line " + std::to_string(facet_line) + " has " + std::to_string(vertices) +
+          return std::make_pair(number, "the facet from line " + std::to_string(facet_line) + " has " +
+                                            std::to_string(vertices) +
                                             " vertices: only triangles (3 'vertex x y z') can be read");
         }
         in_facet = false;
@@ -127,8 +129,10 @@ std::optional<std::pair<int, std::string>> diagnose_ascii_stl(const std::string&
           char* end = nullptr;
           if (words >> c) std::strtod(c.c_str(), &end);
           if (c.empty() || end != c.c_str() + c.size()) {
-            return std::make_pair(number, c.empty() ? "'vertex' has " + std::to_string(k) + " of its 3 numbers on its line: expected x y z"
-                                                    : "'" + printable(c) + "' is not a number: expected 'vertex x y z'");
+            return std::make_pair(
+                number, c.empty()
+                            ? "'vertex' has " + std::to_string(k) + " of its 3 numbers on its line: expected x y z"
+                            : "'" + printable(c) + "' is not a number: expected 'vertex x y z'");
           }
         }
       }
@@ -150,15 +154,17 @@ void check_binary_stl(const std::string& path, const std::string& bytes) {
   std::memcpy(&count, bytes.data() + 80, 4);
   if (84 + std::uint64_t{count} * 50 != bytes.size()) {
     throw Error(ErrorCode::invalid_input, path, "",
-                "binary STL says " + std::to_string(count) + " triangles, which take " + std::to_string(84 + std::uint64_t{count} * 50) +
-                    " bytes, but the file has " + std::to_string(bytes.size()) + " (truncated?)");
+                "binary STL says " + std::to_string(count) + " triangles, which take " +
+                    std::to_string(84 + std::uint64_t{count} * 50) + " bytes, but the file has " +
+                    std::to_string(bytes.size()) + " (truncated?)");
   }
   for (std::uint32_t t = 0; t < count; ++t) {
     for (int k = 0; k < 9; ++k) {
       float v = 0;
       std::memcpy(&v, bytes.data() + 84 + std::size_t{t} * 50 + 12 + static_cast<std::size_t>(k) * 4, 4);
       if (!std::isfinite(v)) {
-        throw Error(ErrorCode::invalid_input, path, "triangle " + std::to_string(t + 1), "coordinate is not a finite number (NaN or infinite)");
+        throw Error(ErrorCode::invalid_input, path, "triangle " + std::to_string(t + 1),
+                    "coordinate is not a finite number (NaN or infinite)");
       }
     }
   }
@@ -202,15 +208,17 @@ void check_declared_counts(const std::string& path, const std::string& ext, cons
   const unsigned long long size = bytes.size();
   if (vertices > size / 6 || faces > size / 2 || vertices * 6 + faces * 2 > size) {
     throw Error(ErrorCode::invalid_input, path, "header",
-                "declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) + " faces, more than a file of " +
-                    std::to_string(size) + " bytes can hold: the file is truncated or corrupt");
+                "declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+                    " faces, more than a file of " + std::to_string(size) +
+                    " bytes can hold: the file is truncated or corrupt");
   }
 }
 
 // Runs one of CGAL's readers on the file's bytes. They report failure as `false` without a
 // reason (and may throw on absurd counts), so the error says which format did not parse.
 template <typename Points, typename Polygons>
-void parse(const std::string& path, const std::string& ext, const std::string& bytes, Points& points, Polygons& polygons) {
+void parse(const std::string& path, const std::string& ext, const std::string& bytes, Points& points,
+           Polygons& polygons) {
   std::istringstream in(bytes, std::ios::in | std::ios::binary);
   bool ok = false;
   try {
@@ -224,7 +232,8 @@ void parse(const std::string& path, const std::string& ext, const std::string& b
       ok = CGAL::IO::read_STL(in, points, polygons, CGAL::parameters::verbose(false));
     }
   } catch (const std::bad_alloc&) {
-    throw Error(ErrorCode::limit, path, "", "the file's counts need more memory than there is; is it truncated or corrupt?");
+    throw Error(ErrorCode::limit, path, "",
+                "the file's counts need more memory than there is; is it truncated or corrupt?");
   } catch (const std::exception& e) {
     throw Error(ErrorCode::invalid_input, path, "", "not a readable " + ext + " file: " + e.what());
   }
@@ -235,10 +244,12 @@ void parse(const std::string& path, const std::string& ext, const std::string& b
   }
   if (!ok) {
     std::string upper = ext;
-    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
-    throw Error(ErrorCode::invalid_input, path, "",
-                "not a readable " + upper + " file (malformed or truncated; CGAL's reader stopped" +
-                    (points.empty() ? " before the first vertex)" : " after " + std::to_string(points.size()) + " vertices)"));
+    std::transform(upper.begin(), upper.end(), upper.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    throw Error(
+        ErrorCode::invalid_input, path, "",
+        "not a readable " + upper + " file (malformed or truncated; CGAL's reader stopped" +
+            (points.empty() ? " before the first vertex)" : " after " + std::to_string(points.size()) + " vertices)"));
   }
 }
 
@@ -252,7 +263,8 @@ TriangleSoup read_mesh(const std::string& path) {
                     ": the format is taken from the name: .obj, .stl, .off or .ply");
   }
   const std::string bytes = read_text_file(path, kMaxMeshFileBytes);
-  if (bytes.find_first_not_of(" \t\r\n") == std::string::npos) throw Error(ErrorCode::invalid_input, path, "", "the file is empty");
+  if (bytes.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw Error(ErrorCode::invalid_input, path, "", "the file is empty");
 
   if (ext == "stl") check_binary_stl(path, bytes);
   check_declared_counts(path, ext, bytes);
@@ -336,7 +348,8 @@ DepthMap sample_depth_raycast(const TriangleSoup& mesh, const ImportGrid& grid) 
   DepthMap map;
   map.width = grid.width;
   map.height = grid.height;
-  map.front.assign(static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height), -std::numeric_limits<double>::infinity());
+  map.front.assign(static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height),
+                   -std::numeric_limits<double>::infinity());
   if (triangles.empty()) return map;
   Tree tree(triangles.begin(), triangles.end());
   const double start_y = y_max + 1 + std::abs(y_max);

@@ -23,7 +23,9 @@ namespace {
   throw Error(ErrorCode::invalid_input, path, where, message);
 }
 
-std::string record_name(const std::string& element, std::uint64_t index) { return element + " " + std::to_string(index + 1); }
+std::string record_name(const std::string& element, std::uint64_t index) {
+  return element + " " + std::to_string(index + 1);
+}
 
 // ---- PLY ----
 
@@ -50,10 +52,10 @@ int ply_type_size(const std::string& type, bool* is_signed = nullptr) {
     int size;
     bool is_signed;
   };
-  static const Type types[] = {{"char", 1, true},     {"int8", 1, true},    {"uchar", 1, false},  {"uint8", 1, false},
-                               {"short", 2, true},    {"int16", 2, true},   {"ushort", 2, false}, {"uint16", 2, false},
-                               {"int", 4, true},      {"int32", 4, true},   {"uint", 4, false},   {"uint32", 4, false},
-                               {"float", 4, true},    {"float32", 4, true}, {"double", 8, true},  {"float64", 8, true}};
+  static const Type types[] = {{"char", 1, true},  {"int8", 1, true},    {"uchar", 1, false},  {"uint8", 1, false},
+                               {"short", 2, true}, {"int16", 2, true},   {"ushort", 2, false}, {"uint16", 2, false},
+                               {"int", 4, true},   {"int32", 4, true},   {"uint", 4, false},   {"uint32", 4, false},
+                               {"float", 4, true}, {"float32", 4, true}, {"double", 8, true},  {"float64", 8, true}};
   for (const Type& t : types) {
     if (type == t.name) {
       if (is_signed) *is_signed = t.is_signed;
@@ -70,7 +72,8 @@ std::int64_t read_count(const std::string& bytes, std::size_t pos, int size, boo
     const auto b = static_cast<unsigned char>(bytes[pos + static_cast<std::size_t>(big_endian ? k : size - 1 - k)]);
     u = (u << 8) | b;
   }
-  if (is_signed && size < 8 && (u >> (8 * size - 1)) != 0) return static_cast<std::int64_t>(u) - (std::int64_t{1} << (8 * size));
+  if (is_signed && size < 8 && (u >> (8 * size - 1)) != 0)
+    return static_cast<std::int64_t>(u) - (std::int64_t{1} << (8 * size));
   return static_cast<std::int64_t>(u);
 }
 
@@ -86,22 +89,24 @@ std::uint64_t vertex_count(const std::vector<PlyElement>& elements) {
   return 0;
 }
 
-[[noreturn]] void bad_corner(const std::string& path, const std::string& where, std::uint64_t corner, const std::string& value,
-                             std::uint64_t vertices) {
+[[noreturn]] void bad_corner(const std::string& path, const std::string& where, std::uint64_t corner,
+                             const std::string& value, std::uint64_t vertices) {
   fail(path, where,
-       "corner " + std::to_string(corner + 1) + " is vertex " + value + ", but the file has " + std::to_string(vertices) +
-           " vertices: expected " + (vertices > 0 ? "0 to " + std::to_string(vertices - 1) : "none, as there are no vertices"));
+       "corner " + std::to_string(corner + 1) + " is vertex " + value + ", but the file has " +
+           std::to_string(vertices) + " vertices: expected " +
+           (vertices > 0 ? "0 to " + std::to_string(vertices - 1) : "none, as there are no vertices"));
 }
 
 // A binary PLY body from `body`: every record within the file, every corner a vertex.
-void walk_ply_binary(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements, std::size_t body,
-                     bool big) {
+void walk_ply_binary(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements,
+                     std::size_t body, bool big) {
   const std::size_t size = bytes.size();
   const std::uint64_t vertices = vertex_count(elements);
   std::size_t at = body;
   const auto truncated = [&](const PlyElement& e, std::uint64_t i) {
-    fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
-                                            "): the file is truncated");
+    fail(path, record_name(e.name, i),
+         "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+             "): the file is truncated");
   };
   for (const PlyElement& e : elements) {
     for (std::uint64_t i = 0; i < e.count; ++i) {
@@ -118,11 +123,13 @@ void walk_ply_binary(const std::string& path, const std::string& bytes, const st
         if (n < 0 || static_cast<std::uint64_t>(n) > room) {
           fail(path, record_name(e.name, i),
                "list '" + p.name + "' says " + std::to_string(n) + " entries, but only " + std::to_string(size - at) +
-                   " bytes (" + std::to_string(room) + " entries) are left in the file: the file is truncated or corrupt");
+                   " bytes (" + std::to_string(room) +
+                   " entries) are left in the file: the file is truncated or corrupt");
         }
         if (is_corner_list(e, p) && !p.item_float) {
           for (std::int64_t k = 0; k < n; ++k) {
-            const std::int64_t v = read_count(bytes, at + static_cast<std::size_t>(k * p.size), p.size, p.item_signed, big);
+            const std::int64_t v =
+                read_count(bytes, at + static_cast<std::size_t>(k * p.size), p.size, p.item_signed, big);
             if (v < 0 || static_cast<std::uint64_t>(v) >= vertices) {
               bad_corner(path, record_name(e.name, i), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
             }
@@ -135,11 +142,14 @@ void walk_ply_binary(const std::string& path, const std::string& bytes, const st
 }
 
 // A text PLY body from `body`: no list claims more numbers than are left, every corner a vertex.
-void walk_ply_text(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements, std::size_t body) {
+void walk_ply_text(const std::string& path, const std::string& bytes, const std::vector<PlyElement>& elements,
+                   std::size_t body) {
   const std::size_t size = bytes.size();
   const std::uint64_t vertices = vertex_count(elements);
   // Text: count the tokens once, then walk them; a list may not claim more than are left.
-  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
+  const auto is_space = [](char c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+  };
   std::uint64_t total = 0;
   for (std::size_t k = body; k < size; ++k) {
     if (!is_space(bytes[k]) && (k == body || is_space(bytes[k - 1]))) ++total;
@@ -157,8 +167,9 @@ void walk_ply_text(const std::string& path, const std::string& bytes, const std:
     for (std::uint64_t i = 0; i < e.count; ++i) {
       for (const PlyProperty& p : e.properties) {
         if (used >= total) {
-          fail(path, record_name(e.name, i), "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
-                                                  "): the file is truncated");
+          fail(path, record_name(e.name, i),
+               "the file ends inside this " + e.name + " (it declares " + std::to_string(e.count) +
+                   "): the file is truncated");
         }
         const std::string_view token = next();
         if (!p.list) continue;
@@ -176,7 +187,8 @@ void walk_ply_text(const std::string& path, const std::string& bytes, const std:
           if (!is_corner_list(e, p)) continue;
           const std::string value(entry);
           const double v = std::strtod(value.c_str(), &end);
-          if (end != value.c_str() + value.size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
+          if (end != value.c_str() + value.size() || !(v >= 0) || v != std::floor(v) ||
+              v >= static_cast<double>(vertices)) {
             bad_corner(path, record_name(e.name, i), k, "'" + value + "'", vertices);
           }
         }
@@ -235,8 +247,9 @@ void check_ply(const std::string& path, const std::string& bytes) {
   // Elements without properties take no bytes; CGAL would still loop over their count.
   for (const PlyElement& e : elements) {
     if (e.properties.empty() && e.count > size) {
-      fail(path, "header", "element '" + e.name + "' has no properties but a count of " + std::to_string(e.count) +
-                               ", more than the file's " + std::to_string(size) + " bytes: the file is corrupt");
+      fail(path, "header",
+           "element '" + e.name + "' has no properties but a count of " + std::to_string(e.count) +
+               ", more than the file's " + std::to_string(size) + " bytes: the file is corrupt");
     }
   }
 
@@ -277,7 +290,7 @@ void check_off(const std::string& path, const std::string& bytes) {
       if (keyword.empty()) {
         keyword = w;
         if (keyword.find("OFF") == std::string::npos) return;  // CGAL reports it
-        if (keyword.find('n') != std::string::npos) return;  // nOFF: a dimension first; left to CGAL (rare)
+        if (keyword.find('n') != std::string::npos) return;    // nOFF: a dimension first; left to CGAL (rare)
       } else if (w == "BINARY" && tokens.empty()) {
         binary = true;
         break;  // binary counts follow the newline
@@ -297,8 +310,9 @@ void check_off(const std::string& path, const std::string& bytes) {
     const std::uint32_t vertices = read_be32(bytes, at), faces = read_be32(bytes, at + 4);
     at += 12;
     if (std::uint64_t{vertices} * 12 > size - at) {
-      fail(path, "header", "declares " + std::to_string(vertices) + " vertices, more than the file's " + std::to_string(size) +
-                               " bytes can hold: the file is truncated or corrupt");
+      fail(path, "header",
+           "declares " + std::to_string(vertices) + " vertices, more than the file's " + std::to_string(size) +
+               " bytes can hold: the file is truncated or corrupt");
     }
     at += std::size_t{vertices} * 12;
     for (std::uint32_t f = 0; f < faces; ++f) {
@@ -308,8 +322,9 @@ void check_off(const std::string& path, const std::string& bytes) {
         at += 4;
         if (n < 0 || static_cast<std::uint64_t>(n) > (size - at) / 4) {
           fail(path, record_name("face", f),
-               std::string(part == 0 ? "says " : "has ") + std::to_string(n) + (part == 0 ? " corners" : " colour components") +
-                   ", but only " + std::to_string((size - at) / 4) + " numbers are left in the file: the file is truncated or corrupt");
+               std::string(part == 0 ? "says " : "has ") + std::to_string(n) +
+                   (part == 0 ? " corners" : " colour components") + ", but only " + std::to_string((size - at) / 4) +
+                   " numbers are left in the file: the file is truncated or corrupt");
         }
         for (std::int32_t k = 0; part == 0 && k < n; ++k) {
           const auto v = static_cast<std::int32_t>(read_be32(bytes, at + static_cast<std::size_t>(k) * 4));
@@ -352,9 +367,10 @@ void check_off(const std::string& path, const std::string& bytes) {
     }
     for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k) {
       const double v = std::strtod(numbers[k].c_str(), &end);
-      if (end != numbers[k].c_str() + numbers[k].size() || !(v >= 0) || v != std::floor(v) || v >= static_cast<double>(vertices)) {
-        bad_corner(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")", k - 1, "'" + numbers[k] + "'",
-                   vertices);
+      if (end != numbers[k].c_str() + numbers[k].size() || !(v >= 0) || v != std::floor(v) ||
+          v >= static_cast<double>(vertices)) {
+        bad_corner(path, "line " + std::to_string(line_number) + " (" + record_name("face", face) + ")", k - 1,
+                   "'" + numbers[k] + "'", vertices);
       }
     }
   }

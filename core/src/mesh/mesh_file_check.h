@@ -1,4 +1,5 @@
-// Bounds every list and face count of a PLY or OFF file by what the rest of the file can hold, and every corner by the vertex count, before CGAL reads it.
+// Bounds every list and face count of a PLY or OFF file by what the rest of the file can hold, and every corner by the
+// vertex count, before CGAL reads it.
 #pragma once
 
 #include <string>

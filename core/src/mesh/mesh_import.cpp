@@ -31,12 +31,14 @@ void check_options(const ImportOptions& o, const std::string& source) {
     throw Error(ErrorCode::invalid_input, source, option, message);
   };
   if (o.resolution < 1 || o.resolution > kMaxImportResolution) {
-    bad("--resolution", "must be 1 to " + std::to_string(kMaxImportResolution) + " voxels across, not " + std::to_string(o.resolution));
+    bad("--resolution",
+        "must be 1 to " + std::to_string(kMaxImportResolution) + " voxels across, not " + std::to_string(o.resolution));
   }
-  if (!(o.keep_depth > 0 && o.keep_depth <= 1)) bad("--keep-depth", "must be a fraction above 0 and at most 1, not " + fmt(o.keep_depth));
+  if (!(o.keep_depth > 0 && o.keep_depth <= 1))
+    bad("--keep-depth", "must be a fraction above 0 and at most 1, not " + fmt(o.keep_depth));
   if (o.structuring_element < 1 || o.structuring_element > kMaxStructuringElement || o.structuring_element % 2 == 0) {
-    bad("--smooth", "the structuring element's side must be odd, 1 to " + std::to_string(kMaxStructuringElement) + ", not " +
-                        std::to_string(o.structuring_element));
+    bad("--smooth", "the structuring element's side must be odd, 1 to " + std::to_string(kMaxStructuringElement) +
+                        ", not " + std::to_string(o.structuring_element));
   }
   // Each of these sets the card's size on its own, so any two disagree.
   std::vector<const char*> sizes;
@@ -45,23 +47,30 @@ void check_options(const ImportOptions& o, const std::string& source) {
   if (o.height_mm) sizes.push_back("--height-mm");
   if (o.fit) sizes.push_back("--fit-mm");
   if (sizes.size() > 1) {
-    bad(sizes[1], std::string("give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the card's size), not both ") +
-                      sizes[0] + " and " + sizes[1]);
+    bad(sizes[1],
+        std::string(
+            "give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the card's size), not both ") +
+            sizes[0] + " and " + sizes[1]);
   }
-  if (o.thin_top_voxels < 0 || o.thin_top_voxels > kMaxVoxelAxis) bad("--thin-tops", "must be 0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
-  if (o.width_mm && !(*o.width_mm > 0)) bad("--width-mm", "the card width must be a positive number of mm, not " + fmt(*o.width_mm));
-  if (o.voxel_mm && !(*o.voxel_mm > 0)) bad("--voxel-mm", "the voxel size must be a positive number of mm, not " + fmt(*o.voxel_mm));
+  if (o.thin_top_voxels < 0 || o.thin_top_voxels > kMaxVoxelAxis)
+    bad("--thin-tops", "must be 0 (off) to " + std::to_string(kMaxVoxelAxis) + " voxels");
+  if (o.width_mm && !(*o.width_mm > 0))
+    bad("--width-mm", "the card width must be a positive number of mm, not " + fmt(*o.width_mm));
+  if (o.voxel_mm && !(*o.voxel_mm > 0))
+    bad("--voxel-mm", "the voxel size must be a positive number of mm, not " + fmt(*o.voxel_mm));
   if (o.height_mm && !(*o.height_mm > 0 && std::isfinite(*o.height_mm))) {
     bad("--height-mm", "the card's height must be a positive number of mm, not " + fmt(*o.height_mm));
   }
-  if (o.fit && !(o.fit->width_mm > 0 && o.fit->height_mm > 0 && std::isfinite(o.fit->width_mm) && std::isfinite(o.fit->height_mm))) {
-    bad("--fit-mm", "the box must be a positive number of mm each way, not " + fmt(o.fit->width_mm) + " x " + fmt(o.fit->height_mm));
+  if (o.fit && !(o.fit->width_mm > 0 && o.fit->height_mm > 0 && std::isfinite(o.fit->width_mm) &&
+                 std::isfinite(o.fit->height_mm))) {
+    bad("--fit-mm", "the box must be a positive number of mm each way, not " + fmt(o.fit->width_mm) + " x " +
+                        fmt(o.fit->height_mm));
   }
   // A height or a box gives the voxel size only once the model's sheet is known (sized_voxel_mm).
   const double voxel = o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution;
   if (!o.height_mm && !o.fit && !(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
-    bad(o.voxel_mm ? "--voxel-mm" : "--width-mm", "gives voxels of " + fmt(voxel) + " mm; they must be " + fmt(kMinVoxelMm) + " to " +
-                                                      fmt(kMaxVoxelMm) + " mm");
+    bad(o.voxel_mm ? "--voxel-mm" : "--width-mm",
+        "gives voxels of " + fmt(voxel) + " mm; they must be " + fmt(kMinVoxelMm) + " to " + fmt(kMaxVoxelMm) + " mm");
   }
   if (axis_index(o.up) == axis_index(o.front)) {
     bad("--front", std::string("must be perpendicular to --up (both are along ") + "xyz"[axis_index(o.up)] + ")");
@@ -74,7 +83,8 @@ void check_options(const ImportOptions& o, const std::string& source) {
 // under a nanometre per voxel).
 double sized_voxel_mm(const VoxelModel& m, const ImportOptions& o, const std::string& source) {
   const SheetVoxels s = resolve_sheet(m, source);
-  const double across = m.width + 2.0 * s.side, closed = std::max(s.back, s.floor), flat = static_cast<double>(s.back) + s.floor;
+  const double across = m.width + 2.0 * s.side, closed = std::max(s.back, s.floor),
+               flat = static_cast<double>(s.back) + s.floor;
   double voxel = 0;
   const char* option = "--height-mm";
   std::string asked;
@@ -91,7 +101,8 @@ double sized_voxel_mm(const VoxelModel& m, const ImportOptions& o, const std::st
   if (!(voxel >= kMinVoxelMm && voxel <= kMaxVoxelMm)) {
     throw Error(ErrorCode::invalid_input, source, option,
                 asked + " needs voxels of " + fmt(voxel) + " mm (the sheet is " + fmt(across) + " x " + fmt(flat) +
-                    " voxels); they must be " + fmt(kMinVoxelMm) + " to " + fmt(kMaxVoxelMm) + " mm: change the size or --resolution");
+                    " voxels); they must be " + fmt(kMinVoxelMm) + " to " + fmt(kMaxVoxelMm) +
+                    " mm: change the size or --resolution");
   }
   return voxel;
 }
@@ -108,7 +119,8 @@ const char* to_string(Axis axis) { return kAxisNames.name(axis).data(); }
 // Card axes from the mesh's: z = up, y = towards the viewer, x = up × front, which is the
 // viewer's right (with +Z up and -Y to the viewer, +X stays +X).
 TriangleSoup to_card_frame(const TriangleSoup& mesh, Axis up, Axis front, const std::string& source) {
-  if (axis_index(up) == axis_index(front)) throw Error(ErrorCode::invalid_input, source, "--front", "must be perpendicular to --up");
+  if (axis_index(up) == axis_index(front))
+    throw Error(ErrorCode::invalid_input, source, "--front", "must be perpendicular to --up");
   double u[3] = {0, 0, 0}, f[3] = {0, 0, 0};
   u[axis_index(up)] = axis_sign(up);
   f[axis_index(front)] = axis_sign(front);
@@ -116,7 +128,8 @@ TriangleSoup to_card_frame(const TriangleSoup& mesh, Axis up, Axis front, const 
   TriangleSoup out = mesh;
   for (auto& p : out.points) {
     const double q[3] = {p[0], p[1], p[2]};
-    p = {r[0] * q[0] + r[1] * q[1] + r[2] * q[2], f[0] * q[0] + f[1] * q[1] + f[2] * q[2], u[0] * q[0] + u[1] * q[1] + u[2] * q[2]};
+    p = {r[0] * q[0] + r[1] * q[1] + r[2] * q[2], f[0] * q[0] + f[1] * q[1] + f[2] * q[2],
+         u[0] * q[0] + u[1] * q[1] + u[2] * q[2]};
   }
   return out;
 }
@@ -136,11 +149,13 @@ ImportGrid plan_grid(const TriangleSoup& mesh, const ImportOptions& o, const std
   // Finite coordinates near ±1.8e308 can still span more than a double holds.
   for (int k = 0; k < 3; ++k) {
     if (!std::isfinite(ext[k])) {
-      throw Error(ErrorCode::limit, source, "", std::string("the mesh's ") + "xyz"[k] +
-                                                    " extent (card axes) overflows a double: its coordinates are too large (near 1e308)");
+      throw Error(ErrorCode::limit, source, "",
+                  std::string("the mesh's ") + "xyz"[k] +
+                      " extent (card axes) overflows a double: its coordinates are too large (near 1e308)");
     }
   }
-  if (!(ext[0] > 0)) throw Error(ErrorCode::invalid_input, source, "", "the mesh has no width across the view: check --up and --front");
+  if (!(ext[0] > 0))
+    throw Error(ErrorCode::invalid_input, source, "", "the mesh has no width across the view: check --up and --front");
   if (!(ext[2] > 0)) throw Error(ErrorCode::invalid_input, source, "", "the mesh has no height: check --up");
   ImportGrid g;
   g.width = o.resolution;
@@ -149,7 +164,8 @@ ImportGrid plan_grid(const TriangleSoup& mesh, const ImportOptions& o, const std
   g.z0 = lo[2];
   // Whole nanometres: face models snap every coordinate to 1 nm, and a fold needs t_h - t_v = v
   // exactly, which independent rounding of 120 / 42 mm multiples would break (--faces).
-  g.voxel_mm = std::round((o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution) * 1e6) / 1e6;
+  g.voxel_mm =
+      std::round((o.voxel_mm ? *o.voxel_mm : o.width_mm.value_or(kDefaultCardWidthMm) / o.resolution) * 1e6) / 1e6;
   const double slab = o.keep_depth * ext[1];
   g.back_wall_y = hi[1] - slab;
   // Sizes in voxels, computed in double first so a flat sliver of a mesh cannot overflow int.
@@ -157,8 +173,9 @@ ImportGrid plan_grid(const TriangleSoup& mesh, const ImportOptions& o, const std
   const double depth = std::ceil(slab / g.step - 1e-9);
   if (height > kMaxVoxelAxis || depth > kMaxVoxelAxis) {
     throw Error(ErrorCode::limit, source, "--resolution",
-                "the model would be " + fmt(height) + " voxels high and " + fmt(depth) + " deep at " + std::to_string(o.resolution) +
-                    " across; the limit is " + std::to_string(kMaxVoxelAxis) + " per axis: lower --resolution or --keep-depth");
+                "the model would be " + fmt(height) + " voxels high and " + fmt(depth) + " deep at " +
+                    std::to_string(o.resolution) + " across; the limit is " + std::to_string(kMaxVoxelAxis) +
+                    " per axis: lower --resolution or --keep-depth");
   }
   if (!(depth >= 1)) {
     throw Error(ErrorCode::invalid_input, source, "",
@@ -202,7 +219,8 @@ DepthMap sample_depth_zbuffer(const TriangleSoup& mesh, const ImportGrid& grid) 
         const double l1 = ((u[2] - x) * (w[0] - z) - (u[0] - x) * (w[2] - z)) * inv;
         const double l2 = 1 - l0 - l1;
         if (l0 < kEdge || l1 < kEdge || l2 < kEdge) continue;
-        double& d = map.front[static_cast<std::size_t>(x) * static_cast<std::size_t>(grid.height) + static_cast<std::size_t>(z)];
+        double& d = map.front[static_cast<std::size_t>(x) * static_cast<std::size_t>(grid.height) +
+                              static_cast<std::size_t>(z)];
         d = std::max(d, l0 * y[0] + l1 * y[1] + l2 * y[2]);
       }
     }
@@ -264,9 +282,9 @@ ImportResult import_mesh(const TriangleSoup& mesh, const ImportOptions& o, const
   const std::int64_t grid_cells = std::int64_t{g.width} * g.depth * g.height;
   if (o.max_cells > 0 && grid_cells > o.max_cells) {
     throw Error(ErrorCode::limit, source, "--resolution",
-                "the model would be " + std::to_string(g.width) + " x " + std::to_string(g.depth) + " x " + std::to_string(g.height) + " = " +
-                    std::to_string(grid_cells) + " voxel cells; at most " + std::to_string(o.max_cells) +
-                    " are allowed here: lower --resolution or --keep-depth");
+                "the model would be " + std::to_string(g.width) + " x " + std::to_string(g.depth) + " x " +
+                    std::to_string(g.height) + " = " + std::to_string(grid_cells) + " voxel cells; at most " +
+                    std::to_string(o.max_cells) + " are allowed here: lower --resolution or --keep-depth");
   }
   out.grid = g;
   const DepthMap map = o.depth == DepthMethod::zbuffer ? sample_depth_zbuffer(card, g) : sample_depth_raycast(card, g);
@@ -306,9 +324,11 @@ ImportResult import_mesh(const TriangleSoup& mesh, const ImportOptions& o, const
     }
   }
   if (!any) {
-    throw Error(ErrorCode::invalid_input, source, "",
-                "no voxel is left in front of the back wall (the surface seen from the front lies behind it, or every feature is "
-                "narrower than the smoothing square): check --front, raise --keep-depth or --resolution, or lower --smooth");
+    throw Error(
+        ErrorCode::invalid_input, source, "",
+        "no voxel is left in front of the back wall (the surface seen from the front lies behind it, or every feature "
+        "is "
+        "narrower than the smoothing square): check --front, raise --keep-depth or --resolution, or lower --smooth");
   }
   try {
     resolve_sheet(m, source);  // the pattern's cell limit, named before any work on windows

@@ -44,7 +44,8 @@ bool parse_index(std::string_view text, std::int64_t& value) {
 // What a corner may be: 1 to the file's vertex count, or back to the first vertex so far.
 std::string expected(std::int64_t total, std::int64_t defined) {
   std::string out = total > 0 ? "1 to " + std::to_string(total) : "a vertex, but the file has none";
-  if (defined > 0) out += defined == 1 ? " or -1 counting back" : " or -1 to -" + std::to_string(defined) + " counting back";
+  if (defined > 0)
+    out += defined == 1 ? " or -1 counting back" : " or -1 to -" + std::to_string(defined) + " counting back";
   return out;
 }
 
@@ -83,14 +84,15 @@ std::vector<std::vector<std::size_t>> read_obj_faces(const std::string& path, co
       std::int64_t index = 0;
       if (!parse_index(corner, index)) {
         const bool digits = !shown.empty() && shown.find_first_not_of("+-0123456789") == std::string::npos;
-        fail("corner " + std::to_string(k) + " '" + std::string(words[k]) + "': " +
-             (digits ? "'" + shown + "' is far larger than any vertex index" : "'" + shown + "' is not a whole number") +
-             ": expected a vertex index, " + expected(total, defined));
+        fail(
+            "corner " + std::to_string(k) + " '" + std::string(words[k]) + "': " +
+            (digits ? "'" + shown + "' is far larger than any vertex index" : "'" + shown + "' is not a whole number") +
+            ": expected a vertex index, " + expected(total, defined));
       }
       if (index == 0) fail("corner " + std::to_string(k) + ": vertex 0 does not exist: OBJ counts vertices from 1");
       if (index > total) {
-        fail("face refers to vertex " + shown + ", but the file has only " + std::to_string(total) + " vertices: expected " +
-             expected(total, defined));
+        fail("face refers to vertex " + shown + ", but the file has only " + std::to_string(total) +
+             " vertices: expected " + expected(total, defined));
       }
       if (index < 0 && -index > defined) {
         fail("face refers to vertex " + shown + " (counting back), but only " + std::to_string(defined) +

@@ -18,7 +18,9 @@ namespace {
 struct FineDepth {
   int scale = 1, width = 0, height = 0;
   std::vector<double> voxels;
-  double at(int i, int k) const { return voxels[static_cast<std::size_t>(i) * static_cast<std::size_t>(height) + static_cast<std::size_t>(k)]; }
+  double at(int i, int k) const {
+    return voxels[static_cast<std::size_t>(i) * static_cast<std::size_t>(height) + static_cast<std::size_t>(k)];
+  }
 
   // Top (in voxels) of the run of fine cells in column i reaching depth t, searched from z_ref
   // (voxels) within two voxels either way; nothing when the mesh is not there.
@@ -63,7 +65,8 @@ struct FineDepth {
   }
 };
 
-FineDepth fine_depth(const TriangleSoup& mesh, const ImportOptions& o, const ImportGrid& coarse, const std::string& source) {
+FineDepth fine_depth(const TriangleSoup& mesh, const ImportOptions& o, const ImportGrid& coarse,
+                     const std::string& source) {
   FineDepth f;
   // 8× finer, or less when that would pass 16 million samples.
   const double cells = static_cast<double>(coarse.width) * coarse.height;
@@ -99,8 +102,10 @@ std::size_t find_or_insert(Ring& ring, Point2 p) {
   }
   for (std::size_t i = 0; i < ring.size(); ++i) {
     const Point2 a = ring[i], b = ring[(i + 1) % ring.size()];
-    const bool on_v = a.x_mm == b.x_mm && p.x_mm == a.x_mm && p.v_mm > std::min(a.v_mm, b.v_mm) && p.v_mm < std::max(a.v_mm, b.v_mm);
-    const bool on_h = a.v_mm == b.v_mm && p.v_mm == a.v_mm && p.x_mm > std::min(a.x_mm, b.x_mm) && p.x_mm < std::max(a.x_mm, b.x_mm);
+    const bool on_v =
+        a.x_mm == b.x_mm && p.x_mm == a.x_mm && p.v_mm > std::min(a.v_mm, b.v_mm) && p.v_mm < std::max(a.v_mm, b.v_mm);
+    const bool on_h =
+        a.v_mm == b.v_mm && p.v_mm == a.v_mm && p.x_mm > std::min(a.x_mm, b.x_mm) && p.x_mm < std::max(a.x_mm, b.x_mm);
     if (on_v || on_h) {
       ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(i + 1), p);
       return i + 1;
@@ -111,7 +116,8 @@ std::size_t find_or_insert(Ring& ring, Point2 p) {
 
 // Replaces the ring's path from `from` to `to` when it is exactly `expected` (corners between
 // them), by `interior`; false (ring unchanged) otherwise.
-bool replace_path(std::vector<Ring*> rings, Point2 from, Point2 to, const std::vector<Point2>& expected, const std::vector<Point2>& interior) {
+bool replace_path(std::vector<Ring*> rings, Point2 from, Point2 to, const std::vector<Point2>& expected,
+                  const std::vector<Point2>& interior) {
   for (Ring* ring_ptr : rings) {
     Ring ring = *ring_ptr;
     const std::size_t i = find_or_insert(ring, from);
@@ -135,7 +141,8 @@ bool replace_path(std::vector<Ring*> rings, Point2 from, Point2 to, const std::v
 // At least three distinct points: a ring the face model accepts.
 bool ring_ok(const Ring& ring) {
   std::vector<Point2> distinct(ring.begin(), ring.end());
-  std::sort(distinct.begin(), distinct.end(), [](Point2 a, Point2 b) { return std::tie(a.x_mm, a.v_mm) < std::tie(b.x_mm, b.v_mm); });
+  std::sort(distinct.begin(), distinct.end(),
+            [](Point2 a, Point2 b) { return std::tie(a.x_mm, a.v_mm) < std::tie(b.x_mm, b.v_mm); });
   return std::unique(distinct.begin(), distinct.end()) - distinct.begin() >= 3;
 }
 
@@ -147,7 +154,9 @@ struct FaceGrid {
   int side = 0, floor = 0;
   double mm = 0;
 
-  int reg(int c, int row) const { return region[static_cast<std::size_t>(row) * static_cast<std::size_t>(g.columns) + static_cast<std::size_t>(c)]; }
+  int reg(int c, int row) const {
+    return region[static_cast<std::size_t>(row) * static_cast<std::size_t>(g.columns) + static_cast<std::size_t>(c)];
+  }
   int t_of(int f) const { return static_cast<int>(std::lround(faces[static_cast<std::size_t>(f)].t_mm / mm)); }
   bool is_v(int f) const { return faces[static_cast<std::size_t>(f)].kind == FaceKind::vertical; }
 
@@ -157,7 +166,9 @@ struct FaceGrid {
   // one place; otherwise the boundary is a cut and may follow the silhouette.
   bool is_fold(int a, int b, int row) const {
     const int v = row - floor;
-    const auto place = [&](int f) { return is_v(f) ? std::make_pair(t_of(f), v + t_of(f)) : std::make_pair(t_of(f) - v, t_of(f)); };
+    const auto place = [&](int f) {
+      return is_v(f) ? std::make_pair(t_of(f), v + t_of(f)) : std::make_pair(t_of(f) - v, t_of(f));
+    };
     return place(a) == place(b);
   }
   bool wall_is_below(int a, int b) const { return is_v(a) && (!is_v(b) || t_of(a) > t_of(b)); }
@@ -201,7 +212,8 @@ std::vector<Chain> find_chains(const FaceGrid& fg, int model_width) {
         }
       }
       if (!joined) {
-        chains.push_back(Chain{key.first, key.second, fg.wall_is_below(key.first, key.second), c, {row}, {low}, {high + 1}});
+        chains.push_back(
+            Chain{key.first, key.second, fg.wall_is_below(key.first, key.second), c, {row}, {low}, {high + 1}});
         next[key] = chains.size() - 1;
       }
     }
@@ -229,7 +241,8 @@ Outline outline_of(const Chain& ch, double t, const FaceGrid& fg, const FineDept
     const int x_model = c + 1 - fg.side;  // the boundary, in model voxels
     const double z_ref = ch.rows[static_cast<std::size_t>(k)] - fg.floor + t;
     std::optional<double> z1 = fine.edge(x_model * fine.scale - 1, t, z_ref, ch.wall_below);
-    std::optional<double> z2 = fine.edge(x_model * fine.scale, t, ch.rows[static_cast<std::size_t>(k + 1)] - fg.floor + t, ch.wall_below);
+    std::optional<double> z2 =
+        fine.edge(x_model * fine.scale, t, ch.rows[static_cast<std::size_t>(k + 1)] - fg.floor + t, ch.wall_below);
     const double lo = std::max(ch.low[static_cast<std::size_t>(k)], ch.low[static_cast<std::size_t>(k + 1)]) + 0.1;
     const double hi = std::min(ch.high[static_cast<std::size_t>(k)], ch.high[static_cast<std::size_t>(k + 1)]) - 0.1;
     const int r1 = ch.rows[static_cast<std::size_t>(k)], r2 = ch.rows[static_cast<std::size_t>(k + 1)];
@@ -271,7 +284,8 @@ Distances distances(const Chain& ch, double t, const Outline& outline, const Fac
     if (!z_sil) continue;
     // The polyline between the vertices of slice k: the left end x = k, the right x = k + 1.
     const double f = x - static_cast<int>(x);
-    const double row = outline.vertex_rows[static_cast<std::size_t>(k)] * (1 - f) + outline.vertex_rows[static_cast<std::size_t>(k + 1)] * f;
+    const double row = outline.vertex_rows[static_cast<std::size_t>(k)] * (1 - f) +
+                       outline.vertex_rows[static_cast<std::size_t>(k + 1)] * f;
     const double z_face = row - fg.floor + t;
     const double dv = std::abs(z_voxel - *z_sil) * fg.mm, df = std::abs(z_face - *z_sil) * fg.mm;
     d.voxel_sum += dv;
@@ -298,7 +312,8 @@ Redrawn redraw(std::vector<PatternFace>& faces, const Chain& ch, const Outline& 
   const std::vector<Point2> expected_rev(outline.expected.rbegin(), outline.expected.rend());
   const std::vector<Point2> interior_rev(outline.interior.rbegin(), outline.interior.rend());
   const PatternFace keep_a = fa, keep_b = fb;
-  if (!replace_path(rings_a, right, left, expected_rev, interior_rev) || !replace_path(rings_b, left, right, outline.expected, outline.interior)) {
+  if (!replace_path(rings_a, right, left, expected_rev, interior_rev) ||
+      !replace_path(rings_b, left, right, outline.expected, outline.interior)) {
     fa = keep_a;
     fb = keep_b;
     return Redrawn::no_route;
@@ -307,8 +322,8 @@ Redrawn redraw(std::vector<PatternFace>& faces, const Chain& ch, const Outline& 
   // a face (a point it passes twice) or a face would vanish, this outline stays in steps.
   const double before = face_area_mm2(keep_a) + face_area_mm2(keep_b);
   const double area_a = face_area_mm2(fa), area_b = face_area_mm2(fb);
-  if (!(area_a > 0 && area_b > 0 && std::abs(area_a + area_b - before) <= 1e-6 * std::max(1.0, before)) || !ring_ok(fa.outer) ||
-      !ring_ok(fb.outer)) {
+  if (!(area_a > 0 && area_b > 0 && std::abs(area_a + area_b - before) <= 1e-6 * std::max(1.0, before)) ||
+      !ring_ok(fa.outer) || !ring_ok(fb.outer)) {
     fa = keep_a;
     fb = keep_b;
     return Redrawn::area_changed;
@@ -346,7 +361,8 @@ SilhouetteFaces finish(const Pattern& voxel_pattern, const std::vector<PatternFa
 
 }  // namespace
 
-SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& o, const ImportResult& r, const std::string& source) {
+SilhouetteFaces silhouette_faces(const TriangleSoup& mesh, const ImportOptions& o, const ImportResult& r,
+                                 const std::string& source) {
   const VoxelModel& m = r.model;
   const CellGrid g = make_cell_grid(m, source);
   const Pattern voxel_pattern = make_pattern(g);

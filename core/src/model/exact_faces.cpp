@@ -29,7 +29,8 @@ double checked_size(double value, const char* what) {
 ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where,
                            std::vector<ExactPoint> exact) {
   if (ring.size() > kMaxOutlinePoints) {
-    fail(source, where, "has " + std::to_string(ring.size()) + " points; the limit is " + std::to_string(kMaxOutlinePoints));
+    fail(source, where,
+         "has " + std::to_string(ring.size()) + " points; the limit is " + std::to_string(kMaxOutlinePoints));
   }
   std::vector<ExactPoint> pts;
   for (std::size_t i = 0; i < ring.size(); ++i) {
@@ -44,7 +45,8 @@ ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const st
   while (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
   if (pts.size() < 3) fail(source, where, "needs at least 3 distinct points");
   ExactPolygon poly(pts.begin(), pts.end());
-  const bool collinear = std::all_of(pts.begin() + 2, pts.end(), [&](const ExactPoint& p) { return CGAL::collinear(pts[0], pts[1], p); });
+  const bool collinear =
+      std::all_of(pts.begin() + 2, pts.end(), [&](const ExactPoint& p) { return CGAL::collinear(pts[0], pts[1], p); });
   if (collinear) fail(source, where, "has zero area: all its points lie on one line");
   if (!poly.is_simple()) fail(source, where, "crosses or touches itself: an outline must be a simple polygon");
   if (poly.is_clockwise_oriented()) poly.reverse_orientation();
@@ -81,12 +83,16 @@ std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh)
   for (auto& loop : loops) {
     if (loop.size() < 3) continue;
     ExactPolygon poly(loop.begin(), loop.end());
-    if (poly.is_counterclockwise_oriented()) lobes.emplace_back(poly);
-    else holes.push_back(poly);
+    if (poly.is_counterclockwise_oriented())
+      lobes.emplace_back(poly);
+    else
+      holes.push_back(poly);
   }
   for (ExactPolygon& h : holes) {
     for (ExactPolygonWithHoles& lobe : lobes) {
-      const auto inside = [&](const ExactPoint& p) { return lobe.outer_boundary().bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE; };
+      const auto inside = [&](const ExactPoint& p) {
+        return lobe.outer_boundary().bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE;
+      };
       if (std::all_of(h.vertices_begin(), h.vertices_end(), inside)) {
         lobe.add_hole(h);
         break;
@@ -122,7 +128,8 @@ std::shared_ptr<FaceModelState> initial_state(double width_mm, double back_mm, d
   return s;
 }
 
-std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet, const ExactFaces& drawn, std::size_t given) {
+std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet, const ExactFaces& drawn,
+                                                     std::size_t given) {
   return guarded("", "faces", [&] {
     std::vector<std::vector<std::size_t>> above(drawn.size());
     for_overlapping_boxes(drawn, [&](std::size_t i, std::size_t j) {
@@ -153,9 +160,11 @@ std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet
       std::vector<ExactPolygonWithHoles> pieces;
       rest.polygons_with_holes(std::back_inserter(pieces));
       for (const ExactPolygonWithHoles& piece : pieces) {
-        for (ExactPolygonWithHoles& lobe : split_lobes(piece)) s->faces.push_back(make_face(d.kind, d.t, std::move(lobe)));
+        for (ExactPolygonWithHoles& lobe : split_lobes(piece))
+          s->faces.push_back(make_face(d.kind, d.t, std::move(lobe)));
       }
-      if (s->faces.size() > kMaxFaces) fail("", "edits", "the model would have more than " + std::to_string(kMaxFaces) + " faces");
+      if (s->faces.size() > kMaxFaces)
+        fail("", "edits", "the model would have more than " + std::to_string(kMaxFaces) + " faces");
     }
     return std::shared_ptr<const FaceModelState>(std::move(s));
   });

@@ -67,6 +67,7 @@ void for_overlapping_boxes(const ExactFaces& faces, Visit visit) {
 // Eq. 5 for the whole history at once: face i is drawn polygon i minus the union of the
 // polygons drawn after it that come near it (one aggregated union each). A polygon nothing
 // covers is shared as it is; pieces that touch only at a corner become separate faces.
-std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet, const ExactFaces& drawn, std::size_t given);
+std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet, const ExactFaces& drawn,
+                                                     std::size_t given);
 
 }  // namespace popcut::detail

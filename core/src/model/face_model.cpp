@@ -35,7 +35,8 @@ PatternOutline pattern_outline(const FaceEdit& edit, bool vertical_plane, const 
            vertical_plane ? "z is below the floor (z must be ≥ 0)" : "y is behind the back wall (y must be ≥ 0)");
     }
     out.ring.push_back({x, vertical_plane ? second - edit.t_mm : edit.t_mm - second});
-    if (std::isfinite(x) && std::isfinite(second) && std::abs(x) <= kMaxFaceCoordinateMm && std::abs(second) <= kMaxFaceCoordinateMm) {
+    if (std::isfinite(x) && std::isfinite(second) && std::abs(x) <= kMaxFaceCoordinateMm &&
+        std::abs(second) <= kMaxFaceCoordinateMm) {
       const FT s2 = exact_decimal(second);
       out.exact.emplace_back(exact_decimal(x), vertical_plane ? s2 - t_exact : t_exact - s2);
     }
@@ -60,7 +61,8 @@ void check_hole_inside(const ExactPolygon& q, FaceKind kind, const FT& t, const 
       shown.intersection(d.polygon);
       if (!shown.is_empty()) {
         fail(source, where + ".outline",
-             std::string("the hole is not inside ") + (kind == FaceKind::vertical ? "a VFace at depth y = " : "an HFace at height z = ") +
+             std::string("the hole is not inside ") +
+                 (kind == FaceKind::vertical ? "a VFace at depth y = " : "an HFace at height z = ") +
                  format_decimal(edit.t_mm, 3) + " mm");
       }
     }
@@ -71,11 +73,12 @@ void check_hole_inside(const ExactPolygon& q, FaceKind kind, const FT& t, const 
 // A face made from a hole may reach past the back wall (an HFace with y < 0, i.e. v > t) or
 // below the floor (a VFace with z < 0, i.e. v < -t). As with windows in the voxel paper (§2.3)
 // that part lies on the back wall or the floor instead, with the same pattern polygon.
-ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool from_hole, const FaceModelState& sheet) {
+ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool from_hole,
+                        const FaceModelState& sheet) {
   const FT limit = kind == FaceKind::horizontal ? t : -t;
   const bool spills = from_hole && std::any_of(q.vertices_begin(), q.vertices_end(), [&](const ExactPoint& p) {
-    return kind == FaceKind::horizontal ? p.y() > limit : p.y() < limit;
-  });
+                        return kind == FaceKind::horizontal ? p.y() > limit : p.y() < limit;
+                      });
   if (!spills) return {make_face(kind, t, ExactPolygonWithHoles(q))};
   const ExactPolygon stays = kind == FaceKind::horizontal ? rectangle(sheet.min_x, sheet.min_v, sheet.max_x, limit)
                                                           : rectangle(sheet.min_x, limit, sheet.max_x, sheet.max_v);
@@ -96,16 +99,19 @@ const char* to_string(EditOp op) { return kEditOpNames.name(op).data(); }
 FaceModel::FaceModel(double width_mm, double back_mm, double floor_mm) {
   auto s = initial_state(width_mm, back_mm, floor_mm);
   drawn_.push_back(make_face(FaceKind::vertical, 0, ExactPolygonWithHoles(rectangle(s->min_x, 0, s->max_x, s->max_v))));
-  drawn_.push_back(make_face(FaceKind::horizontal, 0, ExactPolygonWithHoles(rectangle(s->min_x, s->min_v, s->max_x, 0))));
+  drawn_.push_back(
+      make_face(FaceKind::horizontal, 0, ExactPolygonWithHoles(rectangle(s->min_x, s->min_v, s->max_x, 0))));
   given_ = drawn_.size();  // the boards do not overlap
   sheet_ = std::move(s);
   changed();
 }
 
 void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std::string& where) {
-  if (edits_.size() >= kMaxEdits) fail(source, where, "a model may have at most " + std::to_string(kMaxEdits) + " edits");
+  if (edits_.size() >= kMaxEdits)
+    fail(source, where, "a model may have at most " + std::to_string(kMaxEdits) + " edits");
   if (!std::isfinite(edit.t_mm) || edit.t_mm < 0 || edit.t_mm > kMaxFaceCoordinateMm) {
-    fail(source, where + ".t", "must be from 0 to 100000 mm (a depth in front of the back wall or a height above the floor)");
+    fail(source, where + ".t",
+         "must be from 0 to 100000 mm (a depth in front of the back wall or a height above the floor)");
   }
   const bool vertical_plane = edit.op == EditOp::add_vface || edit.op == EditOp::add_vhole;
   const FT t_exact = exact_decimal(edit.t_mm);

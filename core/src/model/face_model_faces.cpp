@@ -15,7 +15,8 @@ namespace {
 // One face as given: its rings oriented and split at pinches, exact, on the sheet, holes inside.
 std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelState& sheet, const std::string& source,
                                             const std::string& where) {
-  if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm) fail(source, where + ".t", "must be from 0 to 100000 mm");
+  if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm)
+    fail(source, where + ".t", "must be from 0 to 100000 mm");
   // A region may touch itself at a corner: its rings then split into one counter-clockwise
   // outer loop and clockwise holes that touch it there.
   // Rings written the other way round (outer clockwise) are read as the writer meant them.
@@ -29,11 +30,14 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
   for (std::size_t k = 0; k < loops.size(); ++k) {
     const bool ccw = signed_area_mm2(loops[k]) > 0;
     ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? ".outer" : ".holes"));
-    if (ccw) outers.push_back(std::move(poly));
-    else holes.push_back(std::move(poly));
+    if (ccw)
+      outers.push_back(std::move(poly));
+    else
+      holes.push_back(std::move(poly));
   }
   if (outers.size() != 1) {
-    fail(source, where + ".outer", "must enclose one connected region: give the outer ring counter-clockwise and holes clockwise");
+    fail(source, where + ".outer",
+         "must enclose one connected region: give the outer ring counter-clockwise and holes clockwise");
   }
   ExactPolygonWithHoles pwh(outers.front());
   if (!inside_sheet(pwh.outer_boundary(), sheet)) fail(source, where + ".outer", "leaves the sheet");
@@ -66,15 +70,17 @@ void check_partition(const ExactFaces& given, const FaceModelState& sheet, const
   if (union_area != area) {
     for_overlapping_boxes(given, [&](std::size_t i, std::size_t j) {
       if (CGAL::do_intersect(given[i]->polygon, given[j]->polygon)) {
-        fail(source, "faces[" + std::to_string(i) + "]", "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
+        fail(source, "faces[" + std::to_string(i) + "]",
+             "overlaps faces[" + std::to_string(j) + "]: faces must not overlap (eq. 4)");
       }
     });
     fail(source, "faces", "overlap: faces must not overlap (eq. 4)");
   }
   const FT sheet_area = (sheet.max_x - sheet.min_x) * (sheet.max_v - sheet.min_v);
   if (area != sheet_area) {
-    fail(source, "faces", "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
-                              format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
+    fail(source, "faces",
+         "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
+             format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
   }
 }
 
@@ -83,10 +89,12 @@ void check_partition(const ExactFaces& given, const FaceModelState& sheet, const
 FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                                 const std::string& source) {
   auto s = initial_state(width_mm, back_mm, floor_mm);
-  if (faces.size() > kMaxFaces) fail(source, "faces", "has " + std::to_string(faces.size()) + " faces; the limit is " + std::to_string(kMaxFaces));
+  if (faces.size() > kMaxFaces)
+    fail(source, "faces", "has " + std::to_string(faces.size()) + " faces; the limit is " + std::to_string(kMaxFaces));
   Drawn given;
   guarded(source, "faces", [&] {
-    for (std::size_t i = 0; i < faces.size(); ++i) given.push_back(given_face(faces[i], *s, source, "faces[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      given.push_back(given_face(faces[i], *s, source, "faces[" + std::to_string(i) + "]"));
     check_partition(given, *s, source);
     return 0;
   });

@@ -13,16 +13,14 @@ namespace {
 
 std::string format_mm(double mm) { return format_decimal(mm, 3); }
 
-std::string cell_name(int x, int y) {
-  return "heights[" + std::to_string(x) + "][" + std::to_string(y) + "]";
-}
+std::string cell_name(int x, int y) { return "heights[" + std::to_string(x) + "][" + std::to_string(y) + "]"; }
 
 void require_in_grid(const VoxelModel& m, int x, int y, int z, const char* what) {
   if (x < 0 || x >= m.width || y < 0 || y >= m.depth || z < 0 || z >= m.height) {
     throw Error(ErrorCode::invalid_input, "", what,
                 "voxel (" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
-                    ") is outside the grid " + std::to_string(m.width) + " x " + std::to_string(m.depth) +
-                    " x " + std::to_string(m.height));
+                    ") is outside the grid " + std::to_string(m.width) + " x " + std::to_string(m.depth) + " x " +
+                    std::to_string(m.height));
   }
 }
 
@@ -77,26 +75,27 @@ std::optional<ModelViolation> find_violation(const VoxelModel& m) {
         return ModelViolation{cell_name(x, y), "must be from 0 to the grid height " + std::to_string(m.height)};
       }
       if (y > 0 && hy > m.h(x, y - 1)) {
-        return ModelViolation{cell_name(x, y),
-                              std::to_string(hy) + " is higher than " + cell_name(x, y - 1) + " = " +
-                                  std::to_string(m.h(x, y - 1)) +
-                                  ": a column may not be taller than the one behind it (the staircase rule, voxel paper "
-                                  "eq. 4), or the card could not fold flat; 'popcut repair' fills the model to satisfy it"};
+        return ModelViolation{
+            cell_name(x, y),
+            std::to_string(hy) + " is higher than " + cell_name(x, y - 1) + " = " + std::to_string(m.h(x, y - 1)) +
+                ": a column may not be taller than the one behind it (the staircase rule, voxel paper "
+                "eq. 4), or the card could not fold flat; 'popcut repair' fills the model to satisfy it"};
       }
     }
     for (int z = 0; z < m.height; ++z) {
       if (m.is_window(x, z) && z >= m.h(x, 0)) {
-        return ModelViolation{"windows",
-                              "window [" + std::to_string(x) + ", " + std::to_string(z) + "] is on row z=" +
-                                  std::to_string(z) + " but column x=" + std::to_string(x) + " is only " +
-                                  std::to_string(m.h(x, 0)) + " high, so that row has no front face to open"};
+        return ModelViolation{
+            "windows", "window [" + std::to_string(x) + ", " + std::to_string(z) +
+                           "] is on row z=" + std::to_string(z) + " but column x=" + std::to_string(x) + " is only " +
+                           std::to_string(m.h(x, 0)) + " high, so that row has no front face to open"};
       }
     }
     for (int z = 1; z <= m.height; ++z) {
       if (m.is_top_dropped(x, z) && !m.has_top(x, z)) {
-        return ModelViolation{"dropped_tops", "top [" + std::to_string(x) + ", " + std::to_string(z) + "]: slice x=" +
-                                                  std::to_string(x) + " has no column exactly " + std::to_string(z) +
-                                                  " high, so there is no top face at z=" + std::to_string(z) + " to drop"};
+        return ModelViolation{
+            "dropped_tops", "top [" + std::to_string(x) + ", " + std::to_string(z) + "]: slice x=" + std::to_string(x) +
+                                " has no column exactly " + std::to_string(z) +
+                                " high, so there is no top face at z=" + std::to_string(z) + " to drop"};
       }
     }
   }
@@ -130,9 +129,9 @@ SheetVoxels resolve_sheet(const VoxelModel& m, const std::string& source) {
   s.side = m.sheet.side.value_or(kDefaultSideVoxels);
   auto check_half = [&](const char* field, int value) {
     if (value < 1 || value > kMaxSheetVoxels) {
-      throw Error(ErrorCode::invalid_input, source, field,
-                  std::to_string(value) + " is out of range: expected 1 to " + std::to_string(kMaxSheetVoxels) +
-                      " voxels");
+      throw Error(
+          ErrorCode::invalid_input, source, field,
+          std::to_string(value) + " is out of range: expected 1 to " + std::to_string(kMaxSheetVoxels) + " voxels");
     }
     if (value < need) {
       throw Error(ErrorCode::invalid_input, source, field,

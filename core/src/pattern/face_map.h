@@ -14,7 +14,8 @@ namespace popcut::detail {
 
 class CoplanarGroups {
  public:
-  explicit CoplanarGroups(const std::vector<std::shared_ptr<const ExactFace>>& faces) : faces_(faces), parent_(faces.size()) {
+  explicit CoplanarGroups(const std::vector<std::shared_ptr<const ExactFace>>& faces)
+      : faces_(faces), parent_(faces.size()) {
     for (std::size_t i = 0; i < parent_.size(); ++i) parent_[i] = static_cast<int>(i);
   }
   // Faces a and b meet along an edge (not just a corner): one face if they share a plane.
@@ -43,7 +44,8 @@ class CoplanarGroups {
  private:
   int find(int f) {
     while (parent_[static_cast<std::size_t>(f)] != f) {
-      f = parent_[static_cast<std::size_t>(f)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(f)])];
+      f = parent_[static_cast<std::size_t>(f)] =
+          parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(f)])];
     }
     return f;
   }

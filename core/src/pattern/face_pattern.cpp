@@ -71,7 +71,8 @@ struct Piece {
 // of the map lies on a line through collinear edges; splitting each supporting line at all the
 // endpoints on it gives exactly the edges of the arrangement of all face boundaries, each with
 // its two faces (the half-edge pair of ../shared/seeds/003 §3), without a general intersection sweep.
-std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces, const std::string& source) {
+std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces,
+                                      const std::string& source) {
   struct Edge {
     ExactPoint lo, hi;
     int face;
@@ -106,7 +107,9 @@ std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const Ex
     add_ring(faces[i]->polygon.outer_boundary());
     for (const ExactPolygon& h : faces[i]->polygon.holes()) add_ring(h);
   }
-  const auto same_line = [](const Edge& a, const Edge& b) { return a.dir == b.dir && a.key == b.key && a.key2 == b.key2; };
+  const auto same_line = [](const Edge& a, const Edge& b) {
+    return a.dir == b.dir && a.key == b.key && a.key2 == b.key2;
+  };
   std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
     if (a.dir != b.dir) return a.dir < b.dir;
     if (a.key != b.key) return a.key < b.key;
@@ -175,7 +178,8 @@ std::vector<std::shared_ptr<const ExactFace>> merged_faces(const std::vector<std
     set.join(parts.begin(), parts.end());
     std::vector<ExactPolygonWithHoles> joined;
     set.polygons_with_holes(std::back_inserter(joined));
-    if (joined.size() != 1) throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
+    if (joined.size() != 1)
+      throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
     faces.push_back(std::make_shared<const ExactFace>(ExactFace{first.kind, first.t, std::move(joined.front()), {}}));
   }
   return faces;
@@ -212,7 +216,8 @@ EdgeLengths type_pieces(std::vector<Piece>& pieces, CoplanarGroups& groups,
       continue;
     }
     if (pc.left == pc.right) continue;  // inside one merged face: no line
-    const LineKind kind = line_between(*faces[static_cast<std::size_t>(pc.left)], *faces[static_cast<std::size_t>(pc.right)], horizontal, pc.key);
+    const LineKind kind = line_between(*faces[static_cast<std::size_t>(pc.left)],
+                                       *faces[static_cast<std::size_t>(pc.right)], horizontal, pc.key);
     pc.kind = static_cast<int>(kind);
     if (kind != LineKind::cut) {
       auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
@@ -235,7 +240,8 @@ void add_maximal_lines(const std::vector<Piece>& pieces, Pattern& p) {
       }
       const ExactPoint& lo = start.a;
       const ExactPoint& hi = pieces[end - 1].b;
-      p.lines.push_back({static_cast<LineKind>(start.kind), {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
+      p.lines.push_back({static_cast<LineKind>(start.kind),
+                         {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
                          {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
     }
     k = end;
@@ -287,17 +293,20 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
   }
 }
 
-void require_attached(const FaceModel& model, const Pattern& pattern, const PopupReport& report, const std::string& source) {
+void require_attached(const FaceModel& model, const Pattern& pattern, const PopupReport& report,
+                      const std::string& source) {
   if (report.loose_pieces.empty()) return;
   const LoosePiece& piece = report.loose_pieces.front();
   const PatternFace& face = pattern.faces.at(static_cast<std::size_t>(piece.faces.front()));
   const auto mm = [](double v) { return format_decimal(v, 2); };
   std::string message = "leaves a piece cut free of the sheet (" + std::to_string(piece.faces.size()) +
                         (piece.faces.size() == 1 ? " face" : " faces") + ", x " + mm(piece.bounds.min.x_mm) + " to " +
-                        mm(piece.bounds.max.x_mm) + " mm, v " + mm(piece.bounds.min.v_mm) + " to " + mm(piece.bounds.max.v_mm) +
-                        " mm, " + mm(piece.area_mm2) + " mm²): no fold joins it to the back board or the floor, so it "
+                        mm(piece.bounds.max.x_mm) + " mm, v " + mm(piece.bounds.min.v_mm) + " to " +
+                        mm(piece.bounds.max.v_mm) + " mm, " + mm(piece.area_mm2) +
+                        " mm²): no fold joins it to the back board or the floor, so it "
                         "would fall out; give it a face that meets the card along a fold";
-  if (report.loose_pieces.size() > 1) message += " (" + std::to_string(report.loose_pieces.size() - 1) + " more loose pieces)";
+  if (report.loose_pieces.size() > 1)
+    message += " (" + std::to_string(report.loose_pieces.size() - 1) + " more loose pieces)";
   throw Error(ErrorCode::invalid_input, source, model.drawn_by(face.label), message);
 }
 
@@ -322,7 +331,8 @@ FaceModel to_face_model(const VoxelModel& model, const std::string& source) {
     for (const Ring& h : f.holes) face.polygon.holes.push_back(ring(h));
     faces.push_back(std::move(face));
   }
-  return FaceModel::from_faces(whole(p.sheet.max.x_mm - p.sheet.min.x_mm), whole(p.sheet.max.v_mm), whole(-p.sheet.min.v_mm), faces, source);
+  return FaceModel::from_faces(whole(p.sheet.max.x_mm - p.sheet.min.x_mm), whole(p.sheet.max.v_mm),
+                               whole(-p.sheet.min.v_mm), faces, source);
 }
 
 }  // namespace popcut

@@ -1,4 +1,5 @@
-// The pop-up walks on the region graph of strip segments, re-labelled only where one changed slice reaches (see the header).
+// The pop-up walks on the region graph of strip segments, re-labelled only where one changed slice reaches (see the
+// header).
 #include "popcut/pattern/incremental_popup.h"
 
 #include <algorithm>
@@ -26,9 +27,7 @@ IncrementalPopup::IncrementalPopup(VoxelModel model, const std::string& source)
   rebuild();
 }
 
-bool IncrementalPopup::full_check() const {
-  return check_popup(make_pattern(model_, source_)).pops_up();
-}
+bool IncrementalPopup::full_check() const { return check_popup(make_pattern(model_, source_)).pops_up(); }
 
 // An x-parallel edge is a fold exactly when a VFace t_v and an HFace t_h meet there in 3D:
 // t_h - t_v = v (docs/architecture.md, "Geometry"); two VFaces or two HFaces never fold.
@@ -109,7 +108,8 @@ void IncrementalPopup::new_folds(const Column& col, int index) {
     return s.seen == epoch_ ? s.next_region : s.region;
   };
   if (fold_below(col, index)) new_edges_.emplace_back(label(index), label(index - 1));
-  if (index + 1 < static_cast<int>(col.size()) && fold_below(col, index + 1) && col[static_cast<std::size_t>(index + 1)].seen != epoch_) {
+  if (index + 1 < static_cast<int>(col.size()) && fold_below(col, index + 1) &&
+      col[static_cast<std::size_t>(index + 1)].seen != epoch_) {
     new_edges_.emplace_back(label(index + 1), label(index));
   }
 }
@@ -169,7 +169,8 @@ bool IncrementalPopup::walk_regions() {
     if (!a && !b) neither += r.size;
     // A VFace must be reached by both walks unless it is the back board (walk (a)'s start, the
     // V0 face that holds a strip's top).
-    if (CellGrid::kind_of(r.face) == FaceKind::vertical && !(a && b) && !(a && r.face == kBackWall && r.tops > 0)) return false;
+    if (CellGrid::kind_of(r.face) == FaceKind::vertical && !(a && b) && !(a && r.face == kBackWall && r.tops > 0))
+      return false;
   }
   // Every VFace stands. With every face reached by one walk or the other and the floor reached
   // from the back board, every piece hangs together with both boards. Otherwise (rare) only the
@@ -266,7 +267,9 @@ bool IncrementalPopup::decide(int x) {
 // Makes the decision in progress the committed state: dissolved regions free their ids, new
 // ones take ids, flooded segments their new region, the fold counts their new keys.
 void IncrementalPopup::commit() {
-  const auto erase = [](std::vector<int>& list, int id) { list.erase(std::remove(list.begin(), list.end(), id), list.end()); };
+  const auto erase = [](std::vector<int>& list, int id) {
+    list.erase(std::remove(list.begin(), list.end(), id), list.end());
+  };
   for (int id : dead_) {
     const auto d = static_cast<std::size_t>(id);
     for (int other : down_[d]) erase(up_[static_cast<std::size_t>(other)], id);
@@ -292,7 +295,9 @@ void IncrementalPopup::commit() {
   dead_mark_.resize(regions_.size(), 0);
   down_.resize(regions_.size());
   up_.resize(regions_.size());
-  const auto remap = [&](int id) { return static_cast<std::size_t>(id) < base ? id : final_id[static_cast<std::size_t>(id) - base]; };
+  const auto remap = [&](int id) {
+    return static_cast<std::size_t>(id) < base ? id : final_id[static_cast<std::size_t>(id) - base];
+  };
   for (Ref r : flooded_) {
     Segment& s = at(r);
     s.region = remap(s.next_region);

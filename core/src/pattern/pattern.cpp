@@ -25,9 +25,18 @@ LineCounts count_lines(const Pattern& pattern) {
   for (const Segment& s : pattern.lines) {
     const double len = std::hypot(s.b.x_mm - s.a.x_mm, s.b.v_mm - s.a.v_mm);
     switch (s.kind) {
-      case LineKind::cut: ++c.cut; c.cut_mm += len; break;
-      case LineKind::mountain: ++c.mountain; c.mountain_mm += len; break;
-      case LineKind::valley: ++c.valley; c.valley_mm += len; break;
+      case LineKind::cut:
+        ++c.cut;
+        c.cut_mm += len;
+        break;
+      case LineKind::mountain:
+        ++c.mountain;
+        c.mountain_mm += len;
+        break;
+      case LineKind::valley:
+        ++c.valley;
+        c.valley_mm += len;
+        break;
     }
   }
   return c;

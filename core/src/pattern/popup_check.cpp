@@ -57,7 +57,8 @@ std::vector<int> components(const Adjacency& adj) {
 void require_consistent(const Pattern& p) {
   const auto bad = [&](int f) { return f < 0 || static_cast<std::size_t>(f) >= p.faces.size(); };
   for (const FoldLink& f : p.folds) {
-    if (bad(f.upper) || bad(f.lower)) throw Error(ErrorCode::invalid_input, "", "folds", "a fold names a face that does not exist");
+    if (bad(f.upper) || bad(f.lower))
+      throw Error(ErrorCode::invalid_input, "", "folds", "a fold names a face that does not exist");
   }
 }
 

@@ -242,7 +242,8 @@ Pattern make_pattern(const CellGrid& g) {
       if (up == lo) return 0;
       // Face offsets are whole voxels, so the comparison in voxel units is exact.
       LineKind kind = LineKind::cut;
-      classify_x_edge(CellGrid::kind_of(up), CellGrid::t_of(up), CellGrid::kind_of(lo), CellGrid::t_of(lo), v, 0.0, kind);
+      classify_x_edge(CellGrid::kind_of(up), CellGrid::t_of(up), CellGrid::kind_of(lo), CellGrid::t_of(lo), v, 0.0,
+                      kind);
       if (kind != LineKind::cut) {
         const int a = regions.at(c, r), b = regions.at(c, r - 1);
         const std::uint64_t key = (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
@@ -252,12 +253,22 @@ Pattern make_pattern(const CellGrid& g) {
       }
       return 1 + static_cast<int>(kind);
     };
-    emit_runs(g.columns, kind_at, [&](int c) { return Point2{c * mm, v * mm}; }, p.lines);
+    emit_runs(
+        g.columns, kind_at,
+        [&](int c) {
+          return Point2{c * mm, v * mm};
+        },
+        p.lines);
   }
   // Edges across x are never folds: a cut wherever the two cells show different faces.
   for (int c = 1; c < g.columns; ++c) {
     const auto kind_at = [&](int r) { return g.at(c - 1, r) != g.at(c, r) ? 1 : 0; };
-    emit_runs(g.rows, kind_at, [&](int r) { return Point2{c * mm, (r - g.sheet.floor) * mm}; }, p.lines);
+    emit_runs(
+        g.rows, kind_at,
+        [&](int r) {
+          return Point2{c * mm, (r - g.sheet.floor) * mm};
+        },
+        p.lines);
   }
   std::sort(p.folds.begin(), p.folds.end(), [](const FoldLink& a, const FoldLink& b) {
     return a.upper != b.upper ? a.upper < b.upper : a.lower < b.lower;

@@ -78,7 +78,8 @@ void add_virtual_edges(Graph& g, const std::vector<int>& comp, int count) {
 
 // Iterative Hierholzer from s over the unused edges: the closed walk as (vertex, edge used to
 // arrive), the first with edge -1. `used` and `next` carry over between components.
-std::vector<std::pair<int, int>> euler_circuit(const Graph& g, std::size_t s, std::vector<char>& used, std::vector<std::size_t>& next) {
+std::vector<std::pair<int, int>> euler_circuit(const Graph& g, std::size_t s, std::vector<char>& used,
+                                               std::vector<std::size_t>& next) {
   std::vector<std::pair<int, int>> stack{{static_cast<int>(s), -1}}, circuit;
   while (!stack.empty()) {
     const auto v = static_cast<std::size_t>(stack.back().first);
@@ -143,7 +144,8 @@ std::vector<std::pair<Point2, Point2>> split_at_junctions(const std::vector<std:
   std::vector<Point2> ends;
   for (const auto& [a, b] : segs) ends.insert(ends.end(), {a, b});
   SpatialGrid grid(bounds_of(ends), segs.size());
-  for (std::size_t i = 0; i < segs.size(); ++i) grid.insert_segment(static_cast<int>(i), segs[i].first, segs[i].second, kEps);
+  for (std::size_t i = 0; i < segs.size(); ++i)
+    grid.insert_segment(static_cast<int>(i), segs[i].first, segs[i].second, kEps);
   std::vector<std::vector<double>> cuts_at(segs.size());
   for (Point2 p : ends) {
     for (int j : grid.at(p)) {

@@ -1,4 +1,5 @@
-// Fold clearance as a distance in the plane: the points of a fold closer than the gap to a cut lie in that cut's capsule.
+// Fold clearance as a distance in the plane: the points of a fold closer than the gap to a cut lie in that cut's
+// capsule.
 #include "plan/fold_clearance.h"
 
 #include <algorithm>
@@ -56,8 +57,9 @@ Interval in_capsule(Point2 a, Point2 d, Point2 p, Point2 q, double r) {
 
 }  // namespace
 
-std::vector<std::pair<double, double>> clear_pieces(Point2 a, Point2 b, const std::vector<std::pair<Point2, Point2>>& cuts,
-                                                    double gap_mm, double min_piece_mm) {
+std::vector<std::pair<double, double>> clear_pieces(Point2 a, Point2 b,
+                                                    const std::vector<std::pair<Point2, Point2>>& cuts, double gap_mm,
+                                                    double min_piece_mm) {
   const double len = std::hypot(b.x_mm - a.x_mm, b.v_mm - a.v_mm);
   std::vector<std::pair<double, double>> out;
   if (!(len > 0)) return out;

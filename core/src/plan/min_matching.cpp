@@ -7,7 +7,8 @@
 
 namespace popcut::plan_detail {
 
-std::optional<long long> min_weight_perfect_matching(int n, const std::vector<WeightedPair>& pairs, std::vector<char>& chosen) {
+std::optional<long long> min_weight_perfect_matching(int n, const std::vector<WeightedPair>& pairs,
+                                                     std::vector<char>& chosen) {
   lemon::SmartGraph g;
   g.reserveNode(n);
   g.reserveEdge(static_cast<int>(pairs.size()));

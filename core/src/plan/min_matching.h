@@ -13,6 +13,7 @@ struct WeightedPair {
 
 // The least total weight of a perfect matching of vertices 0..n-1 over `pairs`, with
 // chosen[i] = 1 for the pairs in it; nullopt when no perfect matching exists.
-std::optional<long long> min_weight_perfect_matching(int n, const std::vector<WeightedPair>& pairs, std::vector<char>& chosen);
+std::optional<long long> min_weight_perfect_matching(int n, const std::vector<WeightedPair>& pairs,
+                                                     std::vector<char>& chosen);
 
 }  // namespace popcut::plan_detail

@@ -37,7 +37,8 @@ std::vector<std::vector<Point2>> greedy_order(std::vector<std::vector<Point2>> p
   }
   first_entry.push_back(entries.size());
   std::vector<Point2> pts;
-  for (const Entry& e : entries) pts.push_back(paths[static_cast<std::size_t>(e.path)][static_cast<std::size_t>(e.vertex)]);
+  for (const Entry& e : entries)
+    pts.push_back(paths[static_cast<std::size_t>(e.path)][static_cast<std::size_t>(e.vertex)]);
   pts.push_back(start);
   SpatialGrid grid(bounds_of(pts), entries.size());
   for (std::size_t i = 0; i < entries.size(); ++i) grid.insert(static_cast<int>(i), pts[i]);
@@ -50,8 +51,10 @@ std::vector<std::vector<Point2>> greedy_order(std::vector<std::vector<Point2>> p
     const auto s = static_cast<std::size_t>(e.path);
     for (std::size_t k = first_entry[s]; k < first_entry[s + 1]; ++k) grid.erase(static_cast<int>(k), pts[k]);
     auto p = std::move(paths[s]);
-    if (is_closed(p)) plan_detail::rotate_loop(p, static_cast<std::size_t>(e.vertex));
-    else if (e.vertex != 0) p = plan_detail::reversed(std::move(p));
+    if (is_closed(p))
+      plan_detail::rotate_loop(p, static_cast<std::size_t>(e.vertex));
+    else if (e.vertex != 0)
+      p = plan_detail::reversed(std::move(p));
     at = p.back();
     tour.push_back(std::move(p));
   }
@@ -60,7 +63,8 @@ std::vector<std::vector<Point2>> greedy_order(std::vector<std::vector<Point2>> p
 
 }  // namespace
 
-std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start, std::uint64_t work_budget) {
+std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
+                                             std::uint64_t work_budget) {
   if (paths.empty()) return paths;
   std::vector<std::vector<Point2>> tour = greedy_order(std::move(paths), start);
   if (work_budget == 0) return tour;

@@ -21,7 +21,9 @@ inline double dist(Point2 a, Point2 b) {
 }
 inline bool same(Point2 a, Point2 b) { return dist(a, b) <= kEps; }
 
-inline Point2 lerp(Point2 a, Point2 b, double t) { return {a.x_mm + (b.x_mm - a.x_mm) * t, a.v_mm + (b.v_mm - a.v_mm) * t}; }
+inline Point2 lerp(Point2 a, Point2 b, double t) {
+  return {a.x_mm + (b.x_mm - a.x_mm) * t, a.v_mm + (b.v_mm - a.v_mm) * t};
+}
 
 inline std::vector<Point2> reversed(std::vector<Point2> p) {
   std::reverse(p.begin(), p.end());

@@ -23,10 +23,12 @@ std::array<std::pair<Point2, Point2>, 4> sheet_edges(const Rect& s) {
 }
 
 // A kind's paths, chained at the Euler bound and (perforate) cut into dashes, not yet ordered.
-std::vector<std::vector<Point2>> kind_paths(const Pattern& pattern, PlanKind kind, const PlanOptions& options, KindStats& stats) {
+std::vector<std::vector<Point2>> kind_paths(const Pattern& pattern, PlanKind kind, const PlanOptions& options,
+                                            KindStats& stats) {
   const KindPlan& kp = options.kinds[index_of(kind)];
   std::vector<std::pair<Point2, Point2>> segs;
-  for (const Segment& s : kind_lines(pattern, kind, options.fold_gap_mm, &stats.folds_dropped)) segs.emplace_back(s.a, s.b);
+  for (const Segment& s : kind_lines(pattern, kind, options.fold_gap_mm, &stats.folds_dropped))
+    segs.emplace_back(s.a, s.b);
   segs = split_at_junctions(segs);
   stats.pen_lift_bound = euler_bound(segs);
   std::vector<std::vector<Point2>> paths = chain_edges(segs, options.max_turn_deg);
@@ -39,12 +41,13 @@ std::vector<std::vector<Point2>> kind_paths(const Pattern& pattern, PlanKind kin
 }
 
 // The ordered paths' strokes, each after its precut if any; returns where the blade tip stops.
-Point2 append_strokes(const std::vector<std::vector<Point2>>& paths, PlanKind kind, const PlanOptions& options, Point2 at,
-                      StrokePlan& plan) {
+Point2 append_strokes(const std::vector<std::vector<Point2>>& paths, PlanKind kind, const PlanOptions& options,
+                      Point2 at, StrokePlan& plan) {
   KindStats& stats = plan.kinds[index_of(kind)];
   for (const auto& p : paths) {
     // Overcut closes a loop; the blade offset applies to every pass, turns included.
-    const std::vector<Point2> tip = with_passes(with_overcut(p, options.overcut_mm), options.kinds[index_of(kind)].passes);
+    const std::vector<Point2> tip =
+        with_passes(with_overcut(p, options.overcut_mm), options.kinds[index_of(kind)].passes);
     at = tip.back();  // the next kind is ordered from where the blade tip stands
     if (const std::vector<Point2> pre = precut_path(tip, options.precut_mm); !pre.empty()) {
       // Turn the blade: cut the stroke's own first millimetres, lift, and start again there.
@@ -105,7 +108,8 @@ std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fo
     for (const auto& [a, b] : sheet_edges(pattern.sheet)) out.push_back({LineKind::cut, a, b});
     return out;
   }
-  const LineKind want = kind == PlanKind::cut ? LineKind::cut : (kind == PlanKind::valley ? LineKind::valley : LineKind::mountain);
+  const LineKind want =
+      kind == PlanKind::cut ? LineKind::cut : (kind == PlanKind::valley ? LineKind::valley : LineKind::mountain);
   // Cut lines and the outline's four edges in a grid, so each fold looks only at the cuts near it.
   std::vector<std::pair<Point2, Point2>> cuts;
   for (const Segment& l : pattern.lines) {
@@ -113,7 +117,8 @@ std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fo
   }
   for (const auto& edge : sheet_edges(pattern.sheet)) cuts.push_back(edge);
   SpatialGrid grid(pattern.sheet, cuts.size());
-  for (std::size_t i = 0; i < cuts.size(); ++i) grid.insert_segment(static_cast<int>(i), cuts[i].first, cuts[i].second, kEps);
+  for (std::size_t i = 0; i < cuts.size(); ++i)
+    grid.insert_segment(static_cast<int>(i), cuts[i].first, cuts[i].second, kEps);
   std::vector<int> near_ids;
   std::vector<std::pair<Point2, Point2>> near;
   for (const Segment& l : pattern.lines) {
@@ -146,7 +151,8 @@ StrokePlan plan_strokes(const Pattern& pattern, const PlanOptions& options) {
   for (PlanKind kind : options.order) {
     if (options.kinds[index_of(kind)].mode == ToolMode::skip) continue;
     KindStats& stats = plan.kinds[index_of(kind)];
-    std::vector<std::vector<Point2>> paths = order_paths(kind_paths(pattern, kind, options, stats), at, options.optimise_work);
+    std::vector<std::vector<Point2>> paths =
+        order_paths(kind_paths(pattern, kind, options, stats), at, options.optimise_work);
     for (auto& p : paths) p = without_straight_vertices(p);
     stats.travel_mm = travel_mm(paths, at);
     at = append_strokes(paths, kind, options, at, plan);

@@ -21,8 +21,12 @@ SpatialGrid::SpatialGrid(Rect box, std::size_t items) {
   cells_.resize(static_cast<std::size_t>(nx_ * nv_));
 }
 
-long SpatialGrid::cx(double x) const { return std::clamp(static_cast<long>((x - origin_.x_mm) / cell_mm_), 0L, nx_ - 1); }
-long SpatialGrid::cv(double v) const { return std::clamp(static_cast<long>((v - origin_.v_mm) / cell_mm_), 0L, nv_ - 1); }
+long SpatialGrid::cx(double x) const {
+  return std::clamp(static_cast<long>((x - origin_.x_mm) / cell_mm_), 0L, nx_ - 1);
+}
+long SpatialGrid::cv(double v) const {
+  return std::clamp(static_cast<long>((v - origin_.v_mm) / cell_mm_), 0L, nv_ - 1);
+}
 
 void SpatialGrid::insert(int id, Point2 lo, Point2 hi) {
   if (seen_.size() <= static_cast<std::size_t>(id)) seen_.resize(static_cast<std::size_t>(id) + 1, 0);
@@ -76,15 +80,18 @@ void SpatialGrid::gather_ring(Point2 at, long r, std::size_t k, int skip_group,
   for (long v = std::max(0L, qv - r); v <= std::min(nv_ - 1, qv + r); ++v) {
     const bool edge_row = v == qv - r || v == qv + r;
     const long step = edge_row ? 1 : 2 * r;
-    for (long x = edge_row ? std::max(0L, qx - r) : qx - r; x <= (edge_row ? std::min(nx_ - 1, qx + r) : qx + r); x += step) {
+    for (long x = edge_row ? std::max(0L, qx - r) : qx - r; x <= (edge_row ? std::min(nx_ - 1, qx + r) : qx + r);
+         x += step) {
       if (x < 0 || x >= nx_) continue;
       for (int id : cell(x, v)) {
         const Item& item = points_[static_cast<std::size_t>(id)];
         if (item.group == skip_group) continue;
         const std::pair<double, int> candidate{dist(at, item.at), id};
         if (found.size() >= k && !(candidate < found.back())) continue;
-        if (found.size() < k) found.push_back(candidate);
-        else found.back() = candidate;
+        if (found.size() < k)
+          found.push_back(candidate);
+        else
+          found.back() = candidate;
         for (std::size_t j = found.size() - 1; j > 0 && found[j] < found[j - 1]; --j) std::swap(found[j], found[j - 1]);
       }
     }

@@ -67,7 +67,8 @@ std::vector<Point2> without_straight_vertices(const std::vector<Point2>& path) {
     const Point2 a = out.back(), b = path[i], c = path[i + 1];
     const double ux = b.x_mm - a.x_mm, uv = b.v_mm - a.v_mm, wx = c.x_mm - b.x_mm, wv = c.v_mm - b.v_mm;
     const double len = dist(a, c);
-    const bool straight = len > 0 && std::abs(ux * (c.v_mm - a.v_mm) - uv * (c.x_mm - a.x_mm)) / len <= kEps && ux * wx + uv * wv > 0;
+    const bool straight =
+        len > 0 && std::abs(ux * (c.v_mm - a.v_mm) - uv * (c.x_mm - a.x_mm)) / len <= kEps && ux * wx + uv * wv > 0;
     if (!straight) out.push_back(b);
   }
   out.push_back(path.back());
@@ -118,7 +119,9 @@ std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip, double off
     const double l = dist(a, b);
     return Point2{(b.x_mm - a.x_mm) / l, (b.v_mm - a.v_mm) / l};
   };
-  const auto ahead = [&](Point2 p, Point2 d) { return Point2{p.x_mm + offset_mm * d.x_mm, p.v_mm + offset_mm * d.v_mm}; };
+  const auto ahead = [&](Point2 p, Point2 d) {
+    return Point2{p.x_mm + offset_mm * d.x_mm, p.v_mm + offset_mm * d.v_mm};
+  };
   const double step = std::max(1.0, swivel_step_deg) * kPi / 180;
   std::vector<Point2> out{ahead(pts[0], unit(pts[0], pts[1]))};
   for (std::size_t i = 1; i + 1 < pts.size(); ++i) {

@@ -222,8 +222,10 @@ bool TourSearch::place_loop_start(long i) {
     double lo = 0, hi = 1;
     for (int step = 0; step < kLoopSearchSteps; ++step) {
       const double a = hi - kGolden * (hi - lo), b = lo + kGolden * (hi - lo);
-      if (cost(lerp(p[k], p[k + 1], a)) < cost(lerp(p[k], p[k + 1], b))) hi = b;
-      else lo = a;
+      if (cost(lerp(p[k], p[k + 1], a)) < cost(lerp(p[k], p[k + 1], b)))
+        hi = b;
+      else
+        lo = a;
     }
     const double t = (lo + hi) / 2, len = dist(p[k], p[k + 1]);
     if (t * len <= kLoopSplitGain || (1 - t) * len <= kLoopSplitGain) continue;  // a vertex: tried above

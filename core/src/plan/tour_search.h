@@ -59,13 +59,15 @@ class TourSearch {
   bool is_entry(const Anchor& a) const {
     if (a.owner < 0) return false;
     const auto s = static_cast<std::size_t>(a.owner);
-    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
+    if (closed_[s])
+      return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
     return (a.vertex == 0) != static_cast<bool>(flip_[s]);
   }
   bool is_exit(const Anchor& a) const {
     if (a.owner < 0) return true;
     const auto s = static_cast<std::size_t>(a.owner);
-    if (closed_[s]) return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
+    if (closed_[s])
+      return static_cast<std::size_t>(a.vertex) == loop_at_[s].seg;  // the anchor before a mid-segment start
     return (a.vertex == 0) == static_cast<bool>(flip_[s]);
   }
   long position(const Anchor& a) const { return a.owner < 0 ? -1 : pos_[static_cast<std::size_t>(a.owner)]; }
@@ -97,10 +99,10 @@ class TourSearch {
   std::uint64_t budget_;
   std::uint64_t work_ = 0;
   long n_;
-  std::vector<int> order_;           // path ids in cutting order
-  std::vector<long> pos_;            // position of each path id
-  std::vector<char> flip_;           // open path cut back to front
-  std::vector<LoopStart> loop_at_;   // closed loop: where it starts and ends
+  std::vector<int> order_;          // path ids in cutting order
+  std::vector<long> pos_;           // position of each path id
+  std::vector<char> flip_;          // open path cut back to front
+  std::vector<LoopStart> loop_at_;  // closed loop: where it starts and ends
   std::vector<char> closed_;
   std::vector<Anchor> anchors_;
   std::vector<std::vector<int>> of_path_;  // anchors of each path

@@ -47,7 +47,9 @@ double point_segment(Point2 p, Point2 a, Point2 b) {
   return dist(p, {a.x_mm + t * dx, a.v_mm + t * dv});
 }
 
-double cross(Point2 o, Point2 a, Point2 b) { return (a.x_mm - o.x_mm) * (b.v_mm - o.v_mm) - (a.v_mm - o.v_mm) * (b.x_mm - o.x_mm); }
+double cross(Point2 o, Point2 a, Point2 b) {
+  return (a.x_mm - o.x_mm) * (b.v_mm - o.v_mm) - (a.v_mm - o.v_mm) * (b.x_mm - o.x_mm);
+}
 
 // Segments of different components may cross without sharing a vertex (only T-junctions are
 // split): a proper crossing is distance 0; otherwise the nearest pair involves an end point.
@@ -87,8 +89,8 @@ Problem ends_of(const std::vector<std::vector<std::pair<Point2, Point2>>>& kinds
       if (g.adj[v].size() % 2 == 1) odd[static_cast<std::size_t>(comp[v])].push_back(static_cast<int>(v));
     }
     for (const auto& [u, w] : g.edges) {
-      segs[static_cast<std::size_t>(comp[static_cast<std::size_t>(u)])].emplace_back(g.pos[static_cast<std::size_t>(u)],
-                                                                                      g.pos[static_cast<std::size_t>(w)]);
+      segs[static_cast<std::size_t>(comp[static_cast<std::size_t>(u)])].emplace_back(
+          g.pos[static_cast<std::size_t>(u)], g.pos[static_cast<std::size_t>(w)]);
     }
     for (std::size_t c = 0; c < odd.size(); ++c) {
       if (segs[c].empty()) continue;
@@ -115,7 +117,8 @@ double end_distance(const Problem& pr, const End& a, const End& b) {
   if (a.loop >= 0 && b.loop >= 0) {
     double d = 1e300;
     for (const auto& [p, q] : pr.loops[static_cast<std::size_t>(a.loop)]) {
-      for (const auto& [r, s] : pr.loops[static_cast<std::size_t>(b.loop)]) d = std::min(d, segment_segment(p, q, r, s));
+      for (const auto& [r, s] : pr.loops[static_cast<std::size_t>(b.loop)])
+        d = std::min(d, segment_segment(p, q, r, s));
     }
     return d;
   }
@@ -163,7 +166,9 @@ void add_unconnected_cuts(const Problem& pr, const std::vector<Pair>& pairs, con
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  const auto cluster_of = [&](int end) { return static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(end)].cluster); };
+  const auto cluster_of = [&](int end) {
+    return static_cast<std::size_t>(pr.ends[static_cast<std::size_t>(end)].cluster);
+  };
   for (std::size_t e = 0; e < pairs.size(); ++e) {
     if (chosen[e]) parent[find(cluster_of(pairs[e].a))] = find(cluster_of(pairs[e].b));
   }
@@ -201,7 +206,7 @@ KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2
   for (std::size_t e = 0; e < pairs.size(); ++e) graph[e] = {pairs[e].a, pairs[e].b, 0};
 
   std::vector<std::vector<int>> cut_pairs;  // per cut: the pairs crossing it
-  std::vector<double> mu;                    // per cut, >= 0
+  std::vector<double> mu;                   // per cut, >= 0
   std::set<std::vector<char>> known_cuts;
   std::vector<double> lambda(static_cast<std::size_t>(std::max(0, pr.kinds - 1)), 0.0);  // index k - 1
   std::vector<double> modified(pairs.size());
@@ -211,7 +216,8 @@ KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2
   int since_better = 0;
   for (int iteration = 0; iteration < 400; ++iteration) {
     for (std::size_t e = 0; e < pairs.size(); ++e) {
-      modified[e] = pairs[e].cost + (pairs[e].between > 0 ? lambda[static_cast<std::size_t>(pairs[e].between - 1)] : 0.0);
+      modified[e] =
+          pairs[e].cost + (pairs[e].between > 0 ? lambda[static_cast<std::size_t>(pairs[e].between - 1)] : 0.0);
     }
     double constant = 0;
     for (std::size_t s = 0; s < mu.size(); ++s) {
@@ -220,7 +226,8 @@ KnifeUpBound knife_up_lower_bound(const std::vector<std::vector<std::pair<Point2
       constant += 2 * mu[s];
     }
     for (double l : lambda) constant -= l;
-    for (std::size_t e = 0; e < pairs.size(); ++e) graph[e].weight = static_cast<long long>(std::floor(modified[e] * kScale));
+    for (std::size_t e = 0; e < pairs.size(); ++e)
+      graph[e].weight = static_cast<long long>(std::floor(modified[e] * kScale));
     const std::optional<long long> least = plan_detail::min_weight_perfect_matching(n, graph, chosen);
     if (!least) throw std::logic_error("knife_up_lower_bound: no perfect matching, yet every plan gives one");
     const double value = static_cast<double>(*least) / kScale + constant;

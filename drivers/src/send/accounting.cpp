@@ -65,8 +65,10 @@ std::size_t SendAccounting::received() const {
   Transport& t = session_.transport;
   // Drained: everything arrived, whatever the port's own counts still hold back as unseen.
   if (drained_) return r.bytes_sent;
-  const std::size_t gone = t.writes_acknowledged() ? r.bytes_sent : r.bytes_sent - std::min(r.bytes_sent, t.in_flight());
-  if (session_.query != DrainQuery::none) return t.writes_acknowledged() ? r.bytes_sent : std::min(confirmed_, r.bytes_sent);
+  const std::size_t gone =
+      t.writes_acknowledged() ? r.bytes_sent : r.bytes_sent - std::min(r.bytes_sent, t.in_flight());
+  if (session_.query != DrainQuery::none)
+    return t.writes_acknowledged() ? r.bytes_sent : std::min(confirmed_, r.bytes_sent);
   // No handshake and no answers: a device that stopped (paused, stuck) went on taking bytes and
   // lost all that found its buffer full, and nothing tells when it stopped. Only its buffer's
   // worth from the start is certainly in it. While all goes well (progress) it is what left.

@@ -1,4 +1,5 @@
-// Send accounting: what the device can be shown to have received, executed and still hold (E <= M <= N), never over-claimed.
+// Send accounting: what the device can be shown to have received, executed and still hold (E <= M <= N), never
+// over-claimed.
 #pragma once
 
 #include <cstddef>

@@ -16,7 +16,8 @@ std::span<const std::uint8_t> bytes_of(std::string_view s) {
 
 }  // namespace
 
-Held write_through_holds(Transport& transport, std::chrono::milliseconds timeout, const HeldWrite& write, TransportStatus& status) {
+Held write_through_holds(Transport& transport, std::chrono::milliseconds timeout, const HeldWrite& write,
+                         TransportStatus& status) {
   const bool held_line = transport.backpressure();
   const auto slice = held_line ? std::min(timeout, std::chrono::milliseconds(250)) : timeout;
   const std::string_view bytes = write.bytes;
@@ -35,7 +36,8 @@ Held write_through_holds(Transport& transport, std::chrono::milliseconds timeout
     } else {
       st = transport.drain(slice);
     }
-    if (at.done == bytes.size() && (st.ok() || !write.until_out)) return Held::written;  // all of it queued for the line
+    if (at.done == bytes.size() && (st.ok() || !write.until_out))
+      return Held::written;  // all of it queued for the line
     if (st.ok()) continue;
     if (st.error != TransportError::timeout || !held_line) {
       status = st;

@@ -15,16 +15,16 @@ enum class Held { written, stopped, failed };
 
 // A write slice the device held back (a timeout on a line that can be held).
 struct HeldSlice {
-  std::size_t done = 0;                 // bytes of the write through so far
-  bool new_hold = false;                // the first slice of a hold: it moved no byte, the one before did
-  std::chrono::milliseconds held{0};    // since the last slice that moved a byte
-  std::chrono::milliseconds waited{0};  // all held slices of the write
+  std::size_t done = 0;                     // bytes of the write through so far
+  bool new_hold = false;                    // the first slice of a hold: it moved no byte, the one before did
+  std::chrono::milliseconds held{0};        // since the last slice that moved a byte
+  std::chrono::milliseconds waited{0};      // all held slices of the write
   const TransportStatus* status = nullptr;  // the slice's timeout
 };
 
 struct HeldWrite {
   std::string_view bytes;
-  bool until_out = false;  // done only once the port has let every byte out (drain)
+  bool until_out = false;                  // done only once the port has let every byte out (drain)
   std::function<void(std::size_t)> taken;  // after every write slice: the bytes it moved
   // Each held slice: written goes on waiting; stopped or failed (failed: it set the status) end it.
   std::function<Held(const HeldSlice&)> on_held;
@@ -33,7 +33,8 @@ struct HeldWrite {
 // The one write loop: `write.bytes` in slices of `timeout` (at most 250 ms where the device may
 // hold the line, so that a cancel is noticed). A transport error, or a timeout on a line that
 // cannot be held: failed with `status` set.
-Held write_through_holds(Transport& transport, std::chrono::milliseconds timeout, const HeldWrite& write, TransportStatus& status);
+Held write_through_holds(Transport& transport, std::chrono::milliseconds timeout, const HeldWrite& write,
+                         TransportStatus& status);
 
 // The sender's two uses of it.
 class HeldLine {

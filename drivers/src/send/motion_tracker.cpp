@@ -11,7 +11,8 @@ MotionTracker::MotionTracker(const std::vector<MotionMark>& marks, int pace_marg
     : marks_(marks), margin_percent_(pace_margin_percent), at_(start) {}
 
 std::vector<MotionMark>::const_iterator MotionTracker::first_mark_past(std::size_t bytes) const {
-  return std::upper_bound(marks_.begin(), marks_.end(), bytes, [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
+  return std::upper_bound(marks_.begin(), marks_.end(), bytes,
+                          [](std::size_t b, const MotionMark& m) { return b < m.bytes_read; });
 }
 
 double MotionTracker::start_of(std::vector<MotionMark>::const_iterator mark) const {
@@ -32,8 +33,8 @@ std::size_t MotionTracker::advance(Clock::time_point now, std::size_t has_bytes)
   const double limit_s = start_of(waits_for);
   seconds_ = std::min(seconds_ + std::max(0.0, dt_s), std::max(seconds_, limit_s));
   needs_ = waits_for != marks_.end() && seconds_ >= limit_s ? waits_for->bytes_read : 0;
-  const auto started =
-      std::upper_bound(marks_.begin(), marks_.end(), seconds_, [](double t, const MotionMark& m) { return t < m.start_s; });
+  const auto started = std::upper_bound(marks_.begin(), marks_.end(), seconds_,
+                                        [](double t, const MotionMark& m) { return t < m.start_s; });
   return started == marks_.begin() ? 0 : std::prev(started)->bytes_read;
 }
 
@@ -45,13 +46,16 @@ void MotionTracker::heard(const Whereabouts& where) {
 
 std::chrono::milliseconds MotionTracker::quiet_for() const {
   double longest_s = 0;
-  for (std::size_t i = 1; i < marks_.size(); ++i) longest_s = std::max(longest_s, marks_[i].start_s - marks_[i - 1].start_s);
-  return std::max(std::chrono::milliseconds(500), std::chrono::milliseconds(static_cast<long>(std::ceil(longest_s * slowdown() * 1000))));
+  for (std::size_t i = 1; i < marks_.size(); ++i)
+    longest_s = std::max(longest_s, marks_[i].start_s - marks_[i - 1].start_s);
+  return std::max(std::chrono::milliseconds(500),
+                  std::chrono::milliseconds(static_cast<long>(std::ceil(longest_s * slowdown() * 1000))));
 }
 
 std::size_t advance_by_line(MotionTracker& tracker, Transport& transport, std::size_t bytes_sent) {
   const auto now = transport.now();
-  const std::size_t has_bytes = tracker.is_all_out() ? bytes_sent : bytes_sent - std::min(bytes_sent, transport.expected_in_flight());
+  const std::size_t has_bytes =
+      tracker.is_all_out() ? bytes_sent : bytes_sent - std::min(bytes_sent, transport.expected_in_flight());
   return tracker.advance(now, has_bytes);
 }
 

@@ -39,8 +39,9 @@ class XonXoffPacer final : public Pacer {
         continue;
       }
       if (held >= o.hold_timeout) {
-        session_.result.status = {TransportError::timeout, 0, "the device held popcut off (XOFF) for " + duration_text(o.hold_timeout) +
-                                                                  " (hold_timeout_ms): is it paused, out of media or stuck?"};
+        session_.result.status = {TransportError::timeout, 0,
+                                  "the device held popcut off (XOFF) for " + duration_text(o.hold_timeout) +
+                                      " (hold_timeout_ms): is it paused, out of media or stuck?"};
         return false;
       }
       if (!channel_.take_replies(kSlice)) return false;
@@ -58,7 +59,8 @@ class XonXoffPacer final : public Pacer {
 // too little. The answer is credit for the next chunks: the device only drains meanwhile.
 class EscBPacer final : public Pacer {
  public:
-  explicit EscBPacer(const PacerParts& parts) : session_(parts.session), channel_(parts.channel), accounting_(parts.accounting) {}
+  explicit EscBPacer(const PacerParts& parts)
+      : session_(parts.session), channel_(parts.channel), accounting_(parts.accounting) {}
 
   bool pace(std::size_t& n, std::size_t chunk) override {
     if (credit_ >= n) return true;
@@ -83,7 +85,8 @@ class EscBPacer final : public Pacer {
       // was free when its buffer is smaller than the profile says (a 64-byte buffer holding
       // part of a long command never reports half of a 1024-byte profile's chunk).
       const std::size_t largest_free = accounting_.largest_free();
-      const std::size_t worth = std::max<std::size_t>(1, largest_free > 0 ? std::min(chunk, largest_free) / 2 : chunk / 2);
+      const std::size_t worth =
+          std::max<std::size_t>(1, largest_free > 0 ? std::min(chunk, largest_free) / 2 : chunk / 2);
       if (credit_ >= worth) {
         n = credit_;
         break;
@@ -91,8 +94,10 @@ class EscBPacer final : public Pacer {
       if (session_.at_boundary_and_cancelled()) return true;
       if (stall.stalled() > session_.options.hold_timeout) {
         session_.result.status = {TransportError::timeout, 0,
-                                  "the device's buffer stayed full for " + duration_text(session_.options.hold_timeout) +
-                                      " (hold_timeout_ms) without freeing a byte, by its answers to ESC.B: is it paused, out of media or stuck?"};
+                                  "the device's buffer stayed full for " +
+                                      duration_text(session_.options.hold_timeout) +
+                                      " (hold_timeout_ms) without freeing a byte, by its answers to ESC.B: is it "
+                                      "paused, out of media or stuck?"};
         return false;
       }
       const std::chrono::milliseconds wait = poll_backoff(polls);
@@ -115,7 +120,8 @@ class EscBPacer final : public Pacer {
 // Half: a device may free a command's bytes only when it ends it, not when it starts it.
 class TimePacer final : public Pacer {
  public:
-  explicit TimePacer(const PacerParts& parts) : session_(parts.session), channel_(parts.channel), tracker_(parts.tracker) {}
+  explicit TimePacer(const PacerParts& parts)
+      : session_(parts.session), channel_(parts.channel), tracker_(parts.tracker) {}
 
   bool pace(std::size_t& n, std::size_t) override {
     const SendOptions& o = session_.options;
@@ -143,14 +149,16 @@ class TimePacer final : public Pacer {
       // Answers that keep the model where it is show a device that does not move.
       if (session_.query != DrainQuery::none && t.now() - began > o.hold_timeout) {
         session_.result.status = {TransportError::timeout, 0,
-                                  "the device's answers to " + std::string(query_name(session_.query)) + " showed no progress for " +
-                                      duration_text(o.hold_timeout) + " (hold_timeout_ms): is it paused, out of media or stuck?"};
+                                  "the device's answers to " + std::string(query_name(session_.query)) +
+                                      " showed no progress for " + duration_text(o.hold_timeout) +
+                                      " (hold_timeout_ms): is it paused, out of media or stuck?"};
         return false;
       }
       // When the model reads far enough, at its (slowed) pace.
       const std::size_t target_bytes = sent + n - ahead_bytes;
       const double at_s = tracker_.time_past(target_bytes - 1);  // target_bytes > read_bytes >= 0
-      const auto wait = std::chrono::milliseconds(1 + static_cast<long>(std::max(0.0, at_s - tracker_.seconds()) * tracker_.slowdown() * 1000));
+      const auto wait = std::chrono::milliseconds(
+          1 + static_cast<long>(std::max(0.0, at_s - tracker_.seconds()) * tracker_.slowdown() * 1000));
       if (!channel_.take_replies(std::min(kSlice, wait))) return false;
     }
     return true;

@@ -27,11 +27,12 @@ SendSession::SendSession(Transport& line, const EncodedJob& sent_job, const Send
   result.last_stroke_sent = job.first_stroke - 1;
   result.last_stroke_written = job.first_stroke - 1;
   result.total_strokes = job.total_strokes;
-  result.received_counted_by = query != DrainQuery::none ? (line.writes_acknowledged() ? ReceivedCountedBy::transport
-                                                                                      : ReceivedCountedBy::status_answers)
-                               : time_paced()            ? ReceivedCountedBy::buffer_size
-                               : line.writes_acknowledged() ? ReceivedCountedBy::transport
-                                                            : ReceivedCountedBy::os_queue;
+  result.received_counted_by =
+      query != DrainQuery::none
+          ? (line.writes_acknowledged() ? ReceivedCountedBy::transport : ReceivedCountedBy::status_answers)
+      : time_paced()               ? ReceivedCountedBy::buffer_size
+      : line.writes_acknowledged() ? ReceivedCountedBy::transport
+                                   : ReceivedCountedBy::os_queue;
 }
 
 bool SendSession::at_boundary_and_cancelled() const {
@@ -42,9 +43,10 @@ bool SendSession::given_up_while_held() {
   if (!std::exchange(told_waiting_, true) && options.waiting_to_cancel) options.waiting_to_cancel();
   if (!options.give_up || !options.give_up->load()) return false;
   transport.discard_output();
-  result.status = {TransportError::timeout, 0,
-                   "gave up waiting for the device to take the rest of the cancel: it held the line (XOFF or CTS), so neither "
-                   "the abort sequence nor the knife-up reached it"};
+  result.status = {
+      TransportError::timeout, 0,
+      "gave up waiting for the device to take the rest of the cancel: it held the line (XOFF or CTS), so neither "
+      "the abort sequence nor the knife-up reached it"};
   return true;
 }
 

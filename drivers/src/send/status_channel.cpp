@@ -1,4 +1,5 @@
-// Status queries and their answers: pipelined pings, round trips, the reader of the device's replies, silence and overdue answers.
+// Status queries and their answers: pipelined pings, round trips, the reader of the device's replies, silence and
+// overdue answers.
 #include "send/status_channel.h"
 
 #include <algorithm>
@@ -17,13 +18,16 @@ namespace {
 constexpr std::uint8_t kXon = 0x11;
 constexpr std::uint8_t kXoff = 0x13;
 
-const char* query_bytes(DrainQuery q) { return q == DrainQuery::esc_b ? "\x1b.B" : q == DrainQuery::esc_e ? "\x1b.E" : "\x1b.O"; }
+const char* query_bytes(DrainQuery q) {
+  return q == DrainQuery::esc_b ? "\x1b.B" : q == DrainQuery::esc_e ? "\x1b.E" : "\x1b.O";
+}
 
 std::string printable(const std::string& s) {
   std::string out = "'";
   for (char c : s) {
     const auto u = static_cast<unsigned char>(c);
-    if (u >= 0x20 && u < 0x7f) out += c;
+    if (u >= 0x20 && u < 0x7f)
+      out += c;
     else {
       static const char kHex[] = "0123456789abcdef";
       out += std::string("\\x") + kHex[u >> 4] + kHex[u & 15];
@@ -34,7 +38,9 @@ std::string printable(const std::string& s) {
 
 }  // namespace
 
-const char* query_name(DrainQuery q) { return q == DrainQuery::esc_b ? "ESC.B" : q == DrainQuery::esc_e ? "ESC.E" : "ESC.O"; }
+const char* query_name(DrainQuery q) {
+  return q == DrainQuery::esc_b ? "ESC.B" : q == DrainQuery::esc_e ? "ESC.E" : "ESC.O";
+}
 
 StatusChannel::StatusChannel(SendSession& session, HeldLine& line, std::function<void(const Answer&)> heard)
     : session_(session),
@@ -44,7 +50,8 @@ StatusChannel::StatusChannel(SendSession& session, HeldLine& line, std::function
                                                        : std::max<std::size_t>(64, session.options.buffer_bytes / 4)) {}
 
 bool StatusChannel::send_query(DrainQuery q) {
-  const Held h = line_.write(query_bytes(q), [](std::size_t) {}, [](std::size_t done) { return done == 0; });
+  const Held h = line_.write(
+      query_bytes(q), [](std::size_t) {}, [](std::size_t done) { return done == 0; });
   query_skipped_ = h == Held::stopped;
   if (h != Held::written) return h == Held::stopped;
   pending_.push_back({session_.result.bytes_sent, q, session_.transport.now()});
@@ -54,8 +61,10 @@ bool StatusChannel::send_query(DrainQuery q) {
 
 bool StatusChannel::ping_if_due() {
   const SendResult& r = session_.result;
-  if (session_.query == DrainQuery::none || session_.flow == FlowControl::esc_b) return take_replies(std::chrono::milliseconds(0));
-  if (r.bytes_sent - last_ping_ >= status_every_ && session_.job.command_boundary_at_or_after(r.bytes_sent) == r.bytes_sent) {
+  if (session_.query == DrainQuery::none || session_.flow == FlowControl::esc_b)
+    return take_replies(std::chrono::milliseconds(0));
+  if (r.bytes_sent - last_ping_ >= status_every_ &&
+      session_.job.command_boundary_at_or_after(r.bytes_sent) == r.bytes_sent) {
     last_ping_ = r.bytes_sent;
     if (!send_query(session_.query)) return false;
   }
@@ -97,12 +106,14 @@ bool StatusChannel::take_replies(std::chrono::milliseconds wait) {
 
 bool StatusChannel::answer_line() {
   const std::string text = std::exchange(text_, std::string());
-  const bool number = !text.empty() && text.size() <= 12 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  const bool number = !text.empty() && text.size() <= 12 &&
+                      std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
   if (pending_.empty() || !number) {
-    session_.result.status = {TransportError::io, 0,
-                              "the device answered " + printable(text) +
-                                  (pending_.empty() ? " unasked" : std::string(" to ") + query_name(pending_.front().query)) +
-                                  ", not a status number: " + check_line_hint()};
+    session_.result.status = {
+        TransportError::io, 0,
+        "the device answered " + printable(text) +
+            (pending_.empty() ? " unasked" : std::string(" to ") + query_name(pending_.front().query)) +
+            ", not a status number: " + check_line_hint()};
     return false;
   }
   const Pending asked = pending_.front();
@@ -118,7 +129,8 @@ std::string StatusChannel::check_line_hint() const {
     return "check the cable and that the device is on and is the one the profile is for";
   }
   const int baud = session_.options.baud;
-  return "check the cable, the port and the baud rate" + (baud > 0 ? " (the profile says " + std::to_string(baud) + " baud)" : std::string());
+  return "check the cable, the port and the baud rate" +
+         (baud > 0 ? " (the profile says " + std::to_string(baud) + " baud)" : std::string());
 }
 
 bool StatusChannel::ask(DrainQuery q, const std::string& when) {
@@ -184,13 +196,13 @@ bool StatusChannel::no_answer(DrainQuery q, const std::string& when, std::chrono
                              (text_.empty() ? "" : " (it sent " + printable(text_) + ")");
   if (answers_ > 0) {
     session_.result.status = {TransportError::timeout, ETIMEDOUT,
-                              "the device stopped answering: no answer to " + std::string(query_name(q)) + " " + when + " within " +
-                                  waited + ", though it answered the " + std::to_string(answers_) +
+                              "the device stopped answering: no answer to " + std::string(query_name(q)) + " " + when +
+                                  " within " + waited + ", though it answered the " + std::to_string(answers_) +
                                   " queries before: it is paused, out of media or stuck, or it lost power"};
   } else {
     session_.result.status = {TransportError::timeout, ETIMEDOUT,
-                              "the device did not answer " + std::string(query_name(q)) + " " + when + " within " + waited + ": " +
-                                  check_line_hint()};
+                              "the device did not answer " + std::string(query_name(q)) + " " + when + " within " +
+                                  waited + ": " + check_line_hint()};
   }
   return false;
 }

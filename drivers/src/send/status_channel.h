@@ -1,4 +1,5 @@
-// The device's side of the line: status queries (ESC.B, ESC.O, ESC.E), their answers, XON/XOFF read by popcut, overdue answers.
+// The device's side of the line: status queries (ESC.B, ESC.O, ESC.E), their answers, XON/XOFF read by popcut, overdue
+// answers.
 #pragma once
 
 #include <chrono>
@@ -56,10 +57,12 @@ class StatusChannel {
   void aborting() { aborting_ = true; }
 
   long last_answer() const { return last_answer_; }
-  bool query_skipped() const { return query_skipped_; }  // the last query was not sent or not answered: a cancel came first
-  int answers() const { return answers_; }               // a device that answered once and goes silent has stopped
-  bool paused() const { return paused_; }                // XOFF read and no XON since
-  int xoffs_read() const { return xoffs_read_; }         // XOFFs popcut read itself (flow control not in the OS)
+  bool query_skipped() const {
+    return query_skipped_;
+  }                                               // the last query was not sent or not answered: a cancel came first
+  int answers() const { return answers_; }        // a device that answered once and goes silent has stopped
+  bool paused() const { return paused_; }         // XOFF read and no XON since
+  int xoffs_read() const { return xoffs_read_; }  // XOFFs popcut read itself (flow control not in the OS)
   bool nothing_pending() const { return pending_.empty(); }
   DrainQuery newest_pending() const { return pending_.back().query; }
 

@@ -5,7 +5,9 @@
 
 namespace popcut::drivers::send {
 
-std::chrono::milliseconds poll_backoff(int polls) { return std::chrono::milliseconds(std::min(200L, 20L << std::min(polls, 4))); }
+std::chrono::milliseconds poll_backoff(int polls) {
+  return std::chrono::milliseconds(std::min(200L, 20L << std::min(polls, 4)));
+}
 
 void StallClock::answered(long answer) {
   if (answer <= most_) return;

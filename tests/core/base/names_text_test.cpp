@@ -8,7 +8,8 @@ namespace popcut {
 namespace {
 
 enum class Colour { red, green, blue };
-constexpr auto kColourNames = enum_names<Colour>({{Colour::red, "red"}, {Colour::green, "green"}, {Colour::blue, "blue"}});
+constexpr auto kColourNames =
+    enum_names<Colour>({{Colour::red, "red"}, {Colour::green, "green"}, {Colour::blue, "blue"}});
 
 TEST(EnumNames, NameAndFindRoundTrip) {
   static_assert(kColourNames.name(Colour::green) == "green");

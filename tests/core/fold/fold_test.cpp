@@ -50,7 +50,8 @@ TEST(Fold, TriangulationCoversFacesExactly) {
       }
       double expected = signed_area_mm2(f.outer);
       for (const Ring& h : f.holes) expected += signed_area_mm2(h);
-      ASSERT_NEAR(area, expected, 1e-9 * std::max(1.0, expected)) << "trial " << trial << ": triangles cover the face minus its holes";
+      ASSERT_NEAR(area, expected, 1e-9 * std::max(1.0, expected))
+          << "trial " << trial << ": triangles cover the face minus its holes";
     }
   }
 }
@@ -68,7 +69,8 @@ void check_folding(const Pattern& p, const std::string& what) {
     }
     for (std::size_t i = 0; i < m.vertices.size(); ++i) {
       if (angle == 0) {
-        ASSERT_EQ(m.vertices[i], (Point3{m.pattern_points[i].x_mm, -m.pattern_points[i].v_mm, 0})) << what << ": flat sheet at 0°";
+        ASSERT_EQ(m.vertices[i], (Point3{m.pattern_points[i].x_mm, -m.pattern_points[i].v_mm, 0}))
+            << what << ": flat sheet at 0°";
       }
       if (angle == 180) {
         ASSERT_EQ(m.vertices[i].z_mm, 0) << what << ": closed card lies flat at 180°";
@@ -83,7 +85,9 @@ void check_folding(const Pattern& p, const std::string& what) {
         const double v = s.a.v_mm;
         if (to_card(up.kind, up.t_mm, {0, v}).z_mm != to_card(lo.kind, lo.t_mm, {0, v}).z_mm) continue;
         for (const Point2& e : {s.a, s.b}) {
-          ASSERT_NEAR(dist3(fold_point(to_card(up.kind, up.t_mm, e), angle), fold_point(to_card(lo.kind, lo.t_mm, e), angle)), 0, 1e-9)
+          ASSERT_NEAR(
+              dist3(fold_point(to_card(up.kind, up.t_mm, e), angle), fold_point(to_card(lo.kind, lo.t_mm, e), angle)),
+              0, 1e-9)
               << what << " at " << angle << "°: faces sharing a fold stay joined";
         }
       }
@@ -95,7 +99,8 @@ TEST(Fold, RandomVoxelCardsFoldRigidly) {
   std::mt19937_64 rng(8);
   testing::RandomModelSpec spec;
   spec.window_probability = 0.2;
-  for (int trial = 0; trial < 60; ++trial) check_folding(make_pattern(testing::random_model(rng, spec)), "trial " + std::to_string(trial));
+  for (int trial = 0; trial < 60; ++trial)
+    check_folding(make_pattern(testing::random_model(rng, spec)), "trial " + std::to_string(trial));
 }
 
 TEST(Fold, FaceModelExamplesFoldRigidly) {
@@ -110,7 +115,8 @@ TEST(Fold, FaceModelExamplesFoldRigidly) {
 // areas (6-8% when they were drawn at 180°).
 double rough_share(const std::string& png) {
   int w = 0, h = 0, channels = 0;
-  unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()), static_cast<int>(png.size()), &w, &h, &channels, 3);
+  unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
+                                            static_cast<int>(png.size()), &w, &h, &channels, 3);
   if (!px) return 1;
   int rough = 0;
   for (int y = 0; y < h; ++y) {
@@ -130,8 +136,10 @@ TEST(Render, ClosedCardPicturesKeepTheirLayersApart) {
     const Pattern p = make_pattern(load_model(path), path);
     const CardMesh closed = fold_card_for_picture(p, 180), standing = fold_card_for_picture(p, 90);
     const ViewBox box = view_box({closed, standing});
-    const double rough_closed = rough_share(render_png(closed, box, 400)), rough_standing = rough_share(render_png(standing, box, 400));
-    EXPECT_LT(rough_closed, 0.04) << name << ": the closed card changes colour only at its edges (no z-fighting speckle)";
+    const double rough_closed = rough_share(render_png(closed, box, 400)),
+                 rough_standing = rough_share(render_png(standing, box, 400));
+    EXPECT_LT(rough_closed, 0.04) << name
+                                  << ": the closed card changes colour only at its edges (no z-fighting speckle)";
     EXPECT_LT(rough_standing, 0.04) << name << ": so does the standing card";
     EXPECT_EQ(standing.vertices, fold_card(p, 90).vertices) << name << ": pictures fold open cards exactly";
   }

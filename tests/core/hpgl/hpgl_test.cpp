@@ -52,7 +52,8 @@ TEST(Hpgl, TheEncoderBehindTheSeamIsEncodeJob) {
     EXPECT_EQ(via.command_end, direct.command_end) << from;
     EXPECT_EQ(via.first_stroke, from);
   }
-  EXPECT_NE(encoder.encode(small_plan(), tools(), 1).bytes, encode_hpgl(small_plan(), area({}), tools())) << "bound to its dialect";
+  EXPECT_NE(encoder.encode(small_plan(), tools(), 1).bytes, encode_hpgl(small_plan(), area({}), tools()))
+      << "bound to its dialect";
   EXPECT_THROW(encoder.encode(small_plan(), tools(), 3), Error) << "past the last stroke";
   EXPECT_EQ(kCutterLanguageNames.name(CutterLanguage::hpgl), "hpgl");
 }
@@ -64,7 +65,9 @@ TEST(Hpgl, InlineRelativeGoldenDerivesDeltasFromRoundedAbsolutes) {
   d.force = ForceStyle::roland;
   d.newline = true;
   const std::string got = encode_hpgl(small_plan(), d, tools());
-  EXPECT_EQ(got, "IN;PR;\nSP2;\nVS10;\n!FS40;\nPA;\nPU200,200;\nPR;\nPD400,0;\nSP1;\nVS15;\n!FS120;\nPU-199,40;\nPD1,40,1,40;\nPU;SP0;")
+  EXPECT_EQ(got,
+            "IN;PR;\nSP2;\nVS10;\n!FS40;\nPA;\nPU200,200;\nPR;\nPD400,0;\nSP1;\nVS15;\n!FS120;\nPU-199,40;\nPD1,40,1,"
+            "40;\nPU;SP0;")
       << "inline relative, Roland force, newline padding";
 }
 
@@ -115,7 +118,8 @@ TEST(Hpgl, FlipAndSwapStayInsideTheArea) {
   EXPECT_EQ(corner[1], 800) << "plotter y runs along x (20 mm)";
   for (const auto& path : plan_in_plotter_units(p, d)) {
     for (const auto& q : path) {
-      EXPECT_TRUE(q[0] >= d.area_min_x_pu && q[0] <= d.area_max_x_pu && q[1] >= d.area_min_y_pu && q[1] <= d.area_max_y_pu)
+      EXPECT_TRUE(q[0] >= d.area_min_x_pu && q[0] <= d.area_max_x_pu && q[1] >= d.area_min_y_pu &&
+                  q[1] <= d.area_max_y_pu)
           << "point " << q[0] << "," << q[1] << " inside the usable area";
     }
   }

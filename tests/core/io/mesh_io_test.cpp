@@ -13,9 +13,10 @@ namespace popcut {
 namespace {
 
 CardMesh box_mesh(double angle) {
-  return fold_card(make_pattern(parse_voxel_model(
-                       R"({"format": "popcut.voxel.v1", "voxel_mm": 10, "heights": [[2, 2]], "sheet": {"side": 1}})", "b.json")),
-                   angle);
+  return fold_card(
+      make_pattern(parse_voxel_model(
+          R"({"format": "popcut.voxel.v1", "voxel_mm": 10, "heights": [[2, 2]], "sheet": {"side": 1}})", "b.json")),
+      angle);
 }
 
 TEST(MeshIo, ObjHasBothSides) {
@@ -53,7 +54,8 @@ TEST(MeshIo, GltfIsAValidDocument) {
   EXPECT_EQ(bytes, 2 * 2 * m.triangles.size() * 3 * 12) << "positions and normals, both sides";
   for (const auto& a : doc["accessors"]) {
     if (a.contains("min")) {
-      for (std::size_t k = 0; k < 3; ++k) EXPECT_LE(a["min"][k].get<double>(), a["max"][k].get<double>()) << "POSITION bounds";
+      for (std::size_t k = 0; k < 3; ++k)
+        EXPECT_LE(a["min"][k].get<double>(), a["max"][k].get<double>()) << "POSITION bounds";
     }
   }
   // Y is up: at 90° the tallest point is the back wall's top, 0 < y.

@@ -12,7 +12,8 @@ namespace {
 
 Pattern sample() {
   return make_pattern(parse_voxel_model(
-      R"({"format": "popcut.voxel.v1", "voxel_mm": 2.5, "heights": [[3, 3, 1], [4, 2], [2]], "windows": [[0, 1]]})", "s.json"));
+      R"({"format": "popcut.voxel.v1", "voxel_mm": 2.5, "heights": [[3, 3, 1], [4, 2], [2]], "windows": [[0, 1]]})",
+      "s.json"));
 }
 
 TEST(PatternJson, RoundTripIsExact) {
@@ -55,11 +56,15 @@ TEST(PatternJson, KindsAreReadByTheirFileNames) {
     text.replace(at, text.find('"', at) - at, kind);
     return text;
   };
-  EXPECT_EQ(pattern_error(with_kind("\"lines\"", "fold")), "lines[0].kind: expected \"cut\", \"mountain\" or \"valley\", got \"fold\"");
-  EXPECT_EQ(pattern_error(with_kind("\"faces\"", "v")), "faces[0].kind: expected \"V\" or \"H\", got \"v\"") << "case matters";
+  EXPECT_EQ(pattern_error(with_kind("\"lines\"", "fold")),
+            "lines[0].kind: expected \"cut\", \"mountain\" or \"valley\", got \"fold\"");
+  EXPECT_EQ(pattern_error(with_kind("\"faces\"", "v")), "faces[0].kind: expected \"V\" or \"H\", got \"v\"")
+      << "case matters";
   EXPECT_EQ(pattern_error(with_kind("\"folds\"", "cut")), "folds[0].kind: a fold is \"mountain\" or \"valley\"");
-  EXPECT_EQ(pattern_error(with_kind("\"folds\"", "crease")), "folds[0].kind: expected \"cut\", \"mountain\" or \"valley\", got \"crease\"");
-  for (const char* kind : {"cut", "mountain", "valley"}) EXPECT_EQ(pattern_error(with_kind("\"lines\"", kind)), "") << kind;
+  EXPECT_EQ(pattern_error(with_kind("\"folds\"", "crease")),
+            "folds[0].kind: expected \"cut\", \"mountain\" or \"valley\", got \"crease\"");
+  for (const char* kind : {"cut", "mountain", "valley"})
+    EXPECT_EQ(pattern_error(with_kind("\"lines\"", kind)), "") << kind;
   for (const char* kind : {"V", "H"}) EXPECT_EQ(pattern_error(with_kind("\"faces\"", kind)), "") << kind;
 }
 
@@ -72,7 +77,8 @@ TEST(PatternSvg, MillimetreUnitsAndOneGroupPerKind) {
   EXPECT_NE(svg.find(dims), std::string::npos) << "real millimetres and a matching viewBox: " << dims;
   EXPECT_NE(svg.find("id=\"cut\""), std::string::npos) << "cut group";
   EXPECT_NE(svg.find("stroke=\"#000000\""), std::string::npos) << "cut is solid black";
-  EXPECT_NE(svg.find("stroke=\"#d62728\" stroke-dasharray=\"2 0.5 0.4 0.5\""), std::string::npos) << "mountain red dash-dot";
+  EXPECT_NE(svg.find("stroke=\"#d62728\" stroke-dasharray=\"2 0.5 0.4 0.5\""), std::string::npos)
+      << "mountain red dash-dot";
   EXPECT_NE(svg.find("stroke=\"#1f5fd6\" stroke-dasharray=\"1.5 0.75\""), std::string::npos) << "valley blue dashed";
   EXPECT_NE(svg.find("id=\"outline\""), std::string::npos) << "sheet outline group";
   std::size_t count = 0;

@@ -56,7 +56,8 @@ TEST_P(BadVoxelInput, IsRejectedWithAPreciseMessage) {
   } catch (const Error& e) {
     EXPECT_EQ(e.source(), "bad.json") << c.name << ": the file is named: " << e.what();
     EXPECT_EQ(e.location(), c.location) << c.name << ": the field or position is named: " << e.what();
-    EXPECT_NE(e.message().find(c.fragment), std::string::npos) << c.name << ": message says what is wrong: " << e.what();
+    EXPECT_NE(e.message().find(c.fragment), std::string::npos)
+        << c.name << ": message says what is wrong: " << e.what();
   }
 }
 
@@ -65,8 +66,8 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, BadVoxelInput,
     ::testing::Values(
         BadCase{"empty", "", "line 1, column 1", "malformed JSON"},
-        BadCase{"truncated", "{\"format\": \"popcut.voxel.v1\",\n \"voxel_mm\": 1,\n \"heights\": [[1, 2", "line 3, column 19",
-                "malformed JSON"},
+        BadCase{"truncated", "{\"format\": \"popcut.voxel.v1\",\n \"voxel_mm\": 1,\n \"heights\": [[1, 2",
+                "line 3, column 19", "malformed JSON"},
         BadCase{"not an object", "[1, 2]", "document", "expected an object"},
         BadCase{"wrong format", R"({"format": "popcut.faces.v1", "voxel_mm": 1, "heights": [[1]]})", "format",
                 "expected \"popcut.voxel.v1\""},
@@ -80,25 +81,36 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"string height", "{" HEAD R"("heights": [["2"]]})", "heights[0][0]", "got a string"},
         BadCase{"huge height", "{" HEAD R"("heights": [[99999999999999999999]]})", "heights[0][0]", "4096"},
         BadCase{"staircase", "{" HEAD R"("heights": [[3, 3], [2, 4]]})", "heights[1][1]", "staircase"},
-        BadCase{"window outside", "{" HEAD R"("heights": [[3]], "windows": [[1, 0]]})", "windows[0]", "outside the grid"},
-        BadCase{"window not a pair", "{" HEAD R"("heights": [[3]], "windows": [[0]]})", "windows[0]", "expected [x, z]"},
-        BadCase{"window repeated", "{" HEAD R"("heights": [[3]], "windows": [[0, 1], [0, 1]]})", "windows[1]", "repeats"},
-        BadCase{"window above column", "{" HEAD R"("heights": [[3], [1]], "windows": [[1, 2]]})", "windows", "no front face"},
-        BadCase{"sheet too small", "{" HEAD R"("heights": [[3, 3]], "sheet": {"floor": 4}})", "sheet.floor", "at least 5 voxels"},
-        BadCase{"sheet unknown key", "{" HEAD R"("heights": [[3]], "sheet": {"top": 4}})", "sheet.top", "unknown field"},
+        BadCase{"window outside", "{" HEAD R"("heights": [[3]], "windows": [[1, 0]]})", "windows[0]",
+                "outside the grid"},
+        BadCase{"window not a pair", "{" HEAD R"("heights": [[3]], "windows": [[0]]})", "windows[0]",
+                "expected [x, z]"},
+        BadCase{"window repeated", "{" HEAD R"("heights": [[3]], "windows": [[0, 1], [0, 1]]})", "windows[1]",
+                "repeats"},
+        BadCase{"window above column", "{" HEAD R"("heights": [[3], [1]], "windows": [[1, 2]]})", "windows",
+                "no front face"},
+        BadCase{"sheet too small", "{" HEAD R"("heights": [[3, 3]], "sheet": {"floor": 4}})", "sheet.floor",
+                "at least 5 voxels"},
+        BadCase{"sheet unknown key", "{" HEAD R"("heights": [[3]], "sheet": {"top": 4}})", "sheet.top",
+                "unknown field"},
         BadCase{"sheet negative side", "{" HEAD R"("heights": [[3]], "sheet": {"side": -1}})", "sheet.side", "from 0"},
-        BadCase{"number overflow", R"({"format": "popcut.voxel.v1", "voxel_mm": 1e400, "heights": [[1]]})", "line 1, column 43", "overflow"},
-        BadCase{"voxel_mm zero", R"({"format": "popcut.voxel.v1", "voxel_mm": 0, "heights": [[1]]})", "voxel_mm", "from 0.01"},
-        BadCase{"voxel_mm string", R"({"format": "popcut.voxel.v1", "voxel_mm": "2", "heights": [[1]]})", "voxel_mm", "got a string"},
+        BadCase{"number overflow", R"({"format": "popcut.voxel.v1", "voxel_mm": 1e400, "heights": [[1]]})",
+                "line 1, column 43", "overflow"},
+        BadCase{"voxel_mm zero", R"({"format": "popcut.voxel.v1", "voxel_mm": 0, "heights": [[1]]})", "voxel_mm",
+                "from 0.01"},
+        BadCase{"voxel_mm string", R"({"format": "popcut.voxel.v1", "voxel_mm": "2", "heights": [[1]]})", "voxel_mm",
+                "got a string"},
         BadCase{"no columns", "{" HEAD R"("heights": []})", "heights", "at least one column"},
         BadCase{"heights and voxels", "{" HEAD R"("heights": [[1]], "voxels": [[0,0,0]]})", "heights", "exactly one"},
         BadCase{"voxel gap", "{" HEAD R"("voxels": [[0,0,0],[0,0,2]]})", "voxels", "empty under a filled voxel"},
         BadCase{"voxel repeated", "{" HEAD R"("voxels": [[0,0,0],[0,0,0]]})", "voxels[1]", "repeats voxels[0]"},
-        BadCase{"grid too small", "{" HEAD R"("heights": [[3]], "grid": {"width": 1, "depth": 1, "height": 2}})", "grid",
-                "needs at least"},
-        BadCase{"grid too wide", "{" HEAD R"("heights": [[0]], "grid": {"width": 5000, "depth": 1, "height": 1}})", "grid.width",
-                "4096"},
-        BadCase{"deep nesting", "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
+        BadCase{"grid too small", "{" HEAD R"("heights": [[3]], "grid": {"width": 1, "depth": 1, "height": 2}})",
+                "grid", "needs at least"},
+        BadCase{"grid too wide", "{" HEAD R"("heights": [[0]], "grid": {"width": 5000, "depth": 1, "height": 1}})",
+                "grid.width", "4096"},
+        BadCase{"deep nesting",
+                "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]"
+                "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
                 "", "nested deeper"},
         BadCase{"bad utf8", "{\"format\": \"popcut.voxel.v1\xff\"}", "line 1, column 28", "malformed JSON"}),
     [](const ::testing::TestParamInfo<BadCase>& param) {
@@ -170,18 +182,24 @@ TEST(VoxelJson, FuzzedInputNeverCrashes) {
 
 TEST(VoxelJson, DroppedTopsReadWriteAndAreChecked) {
   const VoxelModel m = parse_voxel_model(
-      R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3, 3], [2]], "dropped_tops": [[1, 2]]})", "tops.json");
+      R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3, 3], [2]], "dropped_tops": [[1, 2]]})",
+      "tops.json");
   EXPECT_TRUE(m.is_top_dropped(1, 2)) << "the top of slice 1 at z = 2 is dropped";
   EXPECT_EQ(parse_voxel_model(to_voxel_json(m), "rt"), m) << "round trip";
   try {
-    parse_voxel_model(R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3, 3], [2]], "dropped_tops": [[0, 2]]})", "t.json");
+    parse_voxel_model(
+        R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3, 3], [2]], "dropped_tops": [[0, 2]]})",
+        "t.json");
     ADD_FAILURE() << "slice 0 has no top at z = 2";
   } catch (const Error& e) {
     EXPECT_EQ(e.location(), "dropped_tops") << e.message();
     EXPECT_NE(e.message().find("no column exactly 2 high"), std::string::npos) << e.message();
   }
-  EXPECT_THROW(parse_voxel_model(R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3]], "dropped_tops": [[0, 0]]})", "t.json"),
-               Error) << "z starts at 1 (a top face sits on a column)";
+  EXPECT_THROW(
+      parse_voxel_model(R"({"format": "popcut.voxel.v1", "voxel_mm": 1, "heights": [[3]], "dropped_tops": [[0, 0]]})",
+                        "t.json"),
+      Error)
+      << "z starts at 1 (a top face sits on a column)";
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Tests of sizing an imported card in mm: --height-mm, --fit-mm (a box or a device's media), their conflicts and media warnings.
+// Tests of sizing an imported card in mm: --height-mm, --fit-mm (a box or a device's media), their conflicts and media
+// warnings.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -81,16 +82,21 @@ TEST(CardSize, FitMmOnADeviceHoldsTheFlatSheetInItsMedia) {
 
 TEST(CardSize, SizesAreExclusiveAndChecked) {
   EXPECT_EQ(error_of({{"width-mm", "100"}, {"height-mm", "50"}}),
-            "--height-mm: give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the card's size), not both --width-mm and --height-mm");
+            "--height-mm: give one of --width-mm, --voxel-mm, --height-mm and --fit-mm (each sets the card's size), "
+            "not both --width-mm and --height-mm");
   EXPECT_NE(error_of({{"voxel-mm", "1"}, {"fit-mm", "100x50"}}).find("--fit-mm: give one of"), std::string::npos);
-  EXPECT_NE(error_of({{"height-mm", "100"}, {"fit-mm", "100x50"}}).find("not both --height-mm and --fit-mm"), std::string::npos);
+  EXPECT_NE(error_of({{"height-mm", "100"}, {"fit-mm", "100x50"}}).find("not both --height-mm and --fit-mm"),
+            std::string::npos);
   EXPECT_EQ(error_of({{"height-mm", "0"}}), "--height-mm: the card's height must be a positive number of mm, not 0");
   EXPECT_EQ(error_of({{"height-mm", "tall"}}), "--height-mm: 'tall' is not a number");
-  EXPECT_EQ(error_of({{"fit-mm", "100x-5"}}), "--fit-mm: the box must be a positive number of mm each way, not 100 x -5");
+  EXPECT_EQ(error_of({{"fit-mm", "100x-5"}}),
+            "--fit-mm: the box must be a positive number of mm each way, not 100 x -5");
   EXPECT_EQ(error_of({{"fit-mm", "100x"}}, {{"sim", 599, 999}, {"roll", 500, 20000}}),
             "--fit-mm: '100x' is neither WxH in mm (e.g. 148x105, or 148×105) nor a device (sim, roll)");
   EXPECT_NE(error_of({{"fit-mm", "a4"}}).find("nor a device (none is configured)"), std::string::npos);
-  EXPECT_NE(error_of({{"resolution", "20"}, {"height-mm", "0.05"}}).find("--height-mm: a card 0.05 mm high needs voxels of"), std::string::npos)
+  EXPECT_NE(
+      error_of({{"resolution", "20"}, {"height-mm", "0.05"}}).find("--height-mm: a card 0.05 mm high needs voxels of"),
+      std::string::npos)
       << "a size the voxels cannot take names the option";
 }
 
@@ -98,7 +104,9 @@ TEST(CardSize, MediaWarningsNameTheDeviceAndBothSizes) {
   const Rect sheet{{0, -303}, {126, 303}};
   const std::vector<std::string> w = media_warnings(sheet, {{"flatbed", 600, 1000}, {"narrow", 50000, 584}});
   ASSERT_EQ(w.size(), 1u) << "only the device the sheet does not fit";
-  EXPECT_EQ(w[0], "the sheet (126 x 606 mm) does not fit narrow (at most 50000 x 584 mm): use --fit-mm narrow or a smaller --height-mm");
+  EXPECT_EQ(w[0],
+            "the sheet (126 x 606 mm) does not fit narrow (at most 50000 x 584 mm): use --fit-mm narrow or a smaller "
+            "--height-mm");
   EXPECT_TRUE(media_warnings(sheet, {{"flatbed", 600, 1000}}).empty());
 }
 
@@ -107,7 +115,8 @@ TEST(CardSize, CgalsTallMeshes) {
   const char* cgal = "/usr/share/doc/libcgal-dev/data.tar.gz";
   if (!std::filesystem::exists(cgal)) GTEST_SKIP() << "libcgal-demo is not installed (" << cgal << ")";
   const std::filesystem::path dir = std::filesystem::path(testing::write_temp("cgal-tall/.keep", "")).parent_path();
-  const std::string cmd = std::string("tar -xzf ") + cgal + " -C " + dir.string() + " data/meshes/man.off data/meshes/beam.off";
+  const std::string cmd =
+      std::string("tar -xzf ") + cgal + " -C " + dir.string() + " data/meshes/man.off data/meshes/beam.off";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   for (const char* name : {"man.off", "beam.off"}) {
     const std::string path = (dir / "data/meshes" / name).string();
@@ -119,8 +128,10 @@ TEST(CardSize, CgalsTallMeshes) {
     const Rect& s = sized.pattern.sheet;
     EXPECT_NEAR(s.max.v_mm, 120, 1e-3) << name << ": the card stands 120 mm high";
     EXPECT_LE(s.max.v_mm - s.min.v_mm, 240) << name << ": on a sheet at most twice that";
-    const MeshImport a4 = import_mesh_file(path, parse_import_options({{"fit-mm", "a4"}}, name, {{"a4", 210, 297}}), name);
-    EXPECT_TRUE(media_warnings(a4.pattern.sheet, {{"a4", 210, 297}}).empty()) << name << ": fitted to A4, nothing to warn of";
+    const MeshImport a4 =
+        import_mesh_file(path, parse_import_options({{"fit-mm", "a4"}}, name, {{"a4", 210, 297}}), name);
+    EXPECT_TRUE(media_warnings(a4.pattern.sheet, {{"a4", 210, 297}}).empty())
+        << name << ": fitted to A4, nothing to warn of";
   }
 }
 

@@ -56,10 +56,11 @@ int partly_dropped_faces(const VoxelModel& m) {
 
 TEST(MeshRead, EveryFormatGivesTheSameCard) {
   const TriangleSoup house = testing::house_mesh();
-  const std::vector<std::pair<std::string, std::string>> files = {
-      {"house.obj", testing::to_obj(house)},        {"house.off", testing::to_off(house)},
-      {"house.ply", testing::to_ply(house)},        {"house.stl", testing::to_stl_ascii(house)},
-      {"house-binary.STL", testing::to_stl_binary(house)}};
+  const std::vector<std::pair<std::string, std::string>> files = {{"house.obj", testing::to_obj(house)},
+                                                                  {"house.off", testing::to_off(house)},
+                                                                  {"house.ply", testing::to_ply(house)},
+                                                                  {"house.stl", testing::to_stl_ascii(house)},
+                                                                  {"house-binary.STL", testing::to_stl_binary(house)}};
   const VoxelModel reference = import_mesh(house, small(40), "house").model;
   for (const auto& [name, text] : files) {
     const std::string path = write_temp(name, text);
@@ -151,7 +152,8 @@ TEST(MeshImport, RandomMeshesAlwaysGiveACardThatPopsUp) {
     ImportOptions o;
     o.resolution = 8 + static_cast<int>(rng() % 40);
     o.up = axes[rng() % 6];
-    do o.front = axes[rng() % 6]; while (static_cast<int>(o.front) / 2 == static_cast<int>(o.up) / 2);
+    do o.front = axes[rng() % 6];
+    while (static_cast<int>(o.front) / 2 == static_cast<int>(o.up) / 2);
     o.keep_depth = 0.2 + 0.2 * static_cast<int>(rng() % 5);
     o.structuring_element = 1 + 2 * static_cast<int>(rng() % 3);
     o.thin_top_voxels = static_cast<int>(rng() % 3);
@@ -170,14 +172,16 @@ TEST(MeshImport, RandomMeshesAlwaysGiveACardThatPopsUp) {
 }
 
 TEST(DepthSampling, ZBufferAndRayCastingAgree) {
-  for (const TriangleSoup& mesh : {testing::house_mesh(), testing::arch_mesh(), testing::tower_mesh(), testing::city_mesh(4, 3)}) {
+  for (const TriangleSoup& mesh :
+       {testing::house_mesh(), testing::arch_mesh(), testing::tower_mesh(), testing::city_mesh(4, 3)}) {
     const TriangleSoup card = to_card_frame(mesh, Axis::pz, Axis::ny, "");
     const ImportGrid g = plan_grid(card, small(64), "");
     const std::vector<int> a = depth_cells(sample_depth_zbuffer(card, g), g);
     const std::vector<int> b = depth_cells(sample_depth_raycast(card, g), g);
     int differ = 0;
     for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
-    EXPECT_LE(differ * 500, static_cast<int>(a.size())) << differ << " of " << a.size() << " cells differ between the two samplers";
+    EXPECT_LE(differ * 500, static_cast<int>(a.size()))
+        << differ << " of " << a.size() << " cells differ between the two samplers";
   }
 }
 
@@ -188,7 +192,8 @@ std::vector<int> brute_open_close(std::vector<int> p, int depth, int side) {
   const auto image = [&](const std::vector<int>& q) {
     Image im(static_cast<std::size_t>(h), std::vector<char>(static_cast<std::size_t>(depth)));
     for (int z = 0; z < h; ++z)
-      for (int y = 0; y < depth; ++y) im[static_cast<std::size_t>(z)][static_cast<std::size_t>(y)] = y < q[static_cast<std::size_t>(z)];
+      for (int y = 0; y < depth; ++y)
+        im[static_cast<std::size_t>(z)][static_cast<std::size_t>(y)] = y < q[static_cast<std::size_t>(z)];
     return im;
   };
   const auto op = [&](const Image& in, bool erode) {
@@ -211,7 +216,8 @@ std::vector<int> brute_open_close(std::vector<int> p, int depth, int side) {
   for (int z = 0; z < h; ++z) {
     int n = 0;
     while (n < depth && im[static_cast<std::size_t>(z)][static_cast<std::size_t>(n)]) ++n;
-    for (int y = n; y < depth; ++y) EXPECT_FALSE(im[static_cast<std::size_t>(z)][static_cast<std::size_t>(y)]) << "the result is a profile";
+    for (int y = n; y < depth; ++y)
+      EXPECT_FALSE(im[static_cast<std::size_t>(z)][static_cast<std::size_t>(y)]) << "the result is a profile";
     p[static_cast<std::size_t>(z)] = n;
   }
   return p;
@@ -274,7 +280,8 @@ TEST(ThinTops, TallestOfARunStaysAsTheSupport) {
   EXPECT_EQ(r.dropped, 3) << "three thin tops go";
   EXPECT_EQ(r.kept, 1) << "one stays";
   EXPECT_FALSE(m.is_top_dropped(3, 8)) << "the tallest is the one kept";
-  EXPECT_TRUE(m.is_top_dropped(0, 5) && m.is_top_dropped(1, 6) && m.is_top_dropped(2, 7)) << "the lower three are dropped";
+  EXPECT_TRUE(m.is_top_dropped(0, 5) && m.is_top_dropped(1, 6) && m.is_top_dropped(2, 7))
+      << "the lower three are dropped";
   EXPECT_TRUE(pops_up(m)) << "and the card pops up";
   VoxelModel wide = VoxelModel::empty(4, 2, 8, 1.0);
   for (int x = 0; x < 4; ++x) wide.h_at(x, 0) = wide.h_at(x, 1) = 5 + x / 2;
@@ -347,53 +354,71 @@ TEST(MeshRead, ListCountsAreBoundedByTheFile) {
   const std::string ply_header =
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
       "element face 2\nproperty list uint int vertex_indices\nend_header\n";
-  const std::string vertices = bytes_of({0, float_bits(-1), 0, float_bits(1), 0, 0, 0, float_bits(-1), float_bits(1)}, false);
+  const std::string vertices =
+      bytes_of({0, float_bits(-1), 0, float_bits(1), 0, 0, 0, float_bits(-1), float_bits(1)}, false);
   const std::string face = bytes_of({3, 0, 1, 2}, false);
   // The well-formed file reads; each corruption below is one count.
-  EXPECT_EQ(read_mesh(write_temp("ok.ply", ply_header + vertices + face + face)).triangles.size(), 2u) << "the good binary PLY reads";
-  EXPECT_EQ(error_of([&] { read_mesh(write_temp("big.ply", ply_header + vertices + face + bytes_of({0xffffffffu, 0, 1, 2}, false))); }),
-            "face 2: list 'vertex_indices' says 4294967295 entries, but only 12 bytes (3 entries) are left in the file: the file is "
+  EXPECT_EQ(read_mesh(write_temp("ok.ply", ply_header + vertices + face + face)).triangles.size(), 2u)
+      << "the good binary PLY reads";
+  EXPECT_EQ(error_of([&] {
+              read_mesh(write_temp("big.ply", ply_header + vertices + face + bytes_of({0xffffffffu, 0, 1, 2}, false)));
+            }),
+            "face 2: list 'vertex_indices' says 4294967295 entries, but only 12 bytes (3 entries) are left in the "
+            "file: the file is "
             "truncated or corrupt")
       << "a uint count of 0xffffffff";
   std::string signed_header = ply_header;
   signed_header.replace(signed_header.find("list uint"), 9, "list int");
-  EXPECT_NE(error_of([&] { read_mesh(write_temp("neg.ply", signed_header + vertices + bytes_of({0x80000000u, 0, 1, 2}, false) + face)); })
-                .find("face 1: list 'vertex_indices' says -2147483648 entries"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of([&] {
+        read_mesh(write_temp("neg.ply", signed_header + vertices + bytes_of({0x80000000u, 0, 1, 2}, false) + face));
+      }).find("face 1: list 'vertex_indices' says -2147483648 entries"),
+      std::string::npos)
       << "a negative int count";
-  EXPECT_NE(error_of([&] { read_mesh(write_temp("cut.ply", ply_header + vertices + face + face.substr(0, 10))); }).find("face 2: "),
+  EXPECT_NE(error_of([&] {
+              read_mesh(write_temp("cut.ply", ply_header + vertices + face + face.substr(0, 10)));
+            }).find("face 2: "),
             std::string::npos)
       << "a face cut short";
   std::string big_endian = ply_header;
   big_endian.replace(big_endian.find("little"), 6, "big");
-  EXPECT_NE(error_of([&] { read_mesh(write_temp("be.ply", big_endian + std::string(36, '\0') + bytes_of({3, 0, 1, 2, 0x01000000u}, true))); })
-                .find("face 2: list 'vertex_indices' says 16777216 entries"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of([&] {
+        read_mesh(write_temp("be.ply", big_endian + std::string(36, '\0') + bytes_of({3, 0, 1, 2, 0x01000000u}, true)));
+      }).find("face 2: list 'vertex_indices' says 16777216 entries"),
+      std::string::npos)
       << "big-endian counts are read big-endian";
   const std::string ascii_ply =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
       "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 0 1\n";
   EXPECT_EQ(error_of([&] { read_mesh(write_temp("big-ascii.ply", ascii_ply + "4294967295 0 1 2\n")); }),
-            "face 1: list 'vertex_indices' says '4294967295' entries, but only 3 numbers are left in the file: expected a whole "
+            "face 1: list 'vertex_indices' says '4294967295' entries, but only 3 numbers are left in the file: "
+            "expected a whole "
             "number of entries that follow")
       << "a text PLY count";
   // OFF: CGAL sizes a face by its first number, whatever the line holds.
   const std::string off = "OFF\n# comment\n3 1 0\n\n0 0 0\n1 0 0  # x\n0 0 1\n";
   EXPECT_EQ(error_of([&] { read_mesh(write_temp("big.off", off + "1e18 0 1 2\n")); }),
-            "line 8 (face 1): says '1e18' corners, but the line has 3 more numbers: expected the corner count, then that many "
+            "line 8 (face 1): says '1e18' corners, but the line has 3 more numbers: expected the corner count, then "
+            "that many "
             "vertex indices")
       << "a text OFF face count";
-  EXPECT_NE(error_of([&] { read_mesh(write_temp("neg.off", off + "-1 0 1 2\n")); }).find("line 8 (face 1): says '-1' corners"),
+  EXPECT_NE(error_of([&] {
+              read_mesh(write_temp("neg.off", off + "-1 0 1 2\n"));
+            }).find("line 8 (face 1): says '-1' corners"),
             std::string::npos)
       << "a negative OFF face count";
   EXPECT_EQ(read_mesh(write_temp("ok.off", off + "3 0 1 2 255 0 0\n")).triangles.size(), 1u)
       << "comments, blank lines and a face colour are fine";
-  const std::string binary_off = "OFF BINARY\n" + bytes_of({3, 1, 0}, true) +
-                                 bytes_of({0, 0, 0, float_bits(1), 0, 0, 0, 0, float_bits(1)}, true);
+  const std::string binary_off =
+      "OFF BINARY\n" + bytes_of({3, 1, 0}, true) + bytes_of({0, 0, 0, float_bits(1), 0, 0, 0, 0, float_bits(1)}, true);
   EXPECT_EQ(read_mesh(write_temp("ok-bin.off", binary_off + bytes_of({3, 0, 1, 2, 0}, true))).points.size(), 3u)
       << "the good binary OFF reads";
-  EXPECT_EQ(error_of([&] { read_mesh(write_temp("big-bin.off", binary_off + bytes_of({0x7fffffffu, 0, 1, 2, 0}, true))); }),
-            "face 1: says 2147483647 corners, but only 4 numbers are left in the file: the file is truncated or corrupt")
+  EXPECT_EQ(
+      error_of([&] {
+        read_mesh(write_temp("big-bin.off", binary_off + bytes_of({0x7fffffffu, 0, 1, 2, 0}, true)));
+      }),
+      "face 1: says 2147483647 corners, but only 4 numbers are left in the file: the file is truncated or corrupt")
       << "a binary OFF face count";
   // Coordinates that are finite but whose extent overflows.
   EXPECT_NE(error_of([] {
@@ -406,34 +431,51 @@ TEST(MeshRead, ListCountsAreBoundedByTheFile) {
 
 TEST(MeshRead, BadFilesGiveClearErrors) {
   EXPECT_NE(error_of([] { read_mesh(write_temp("empty.obj", "")); }).find("empty"), std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("model.xyz", "v 0 0 0")); }).find("unknown mesh format '.xyz'"), std::string::npos);
+  EXPECT_NE(error_of([] { read_mesh(write_temp("model.xyz", "v 0 0 0")); }).find("unknown mesh format '.xyz'"),
+            std::string::npos);
   EXPECT_NE(error_of([] { read_mesh("/nonexistent/house.obj"); }).find("no such file"), std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("trunc.off", "OFF\n8 12 0\n0 0 0\n1 0 0\n")); }).find("8 vertices and 12 faces"),
+  EXPECT_NE(error_of([] {
+              read_mesh(write_temp("trunc.off", "OFF\n8 12 0\n0 0 0\n1 0 0\n"));
+            }).find("8 vertices and 12 faces"),
             std::string::npos);
   // Counts no file of that size could hold are refused before CGAL's reader reserves them (a
   // billion vertices from 34 bytes took all memory before).
-  EXPECT_NE(error_of([] { read_mesh(write_temp("huge.off", "OFF\n1000000000 1000000000 0\n0 0 0\n")); }).find("truncated or corrupt"),
+  EXPECT_NE(error_of([] {
+              read_mesh(write_temp("huge.off", "OFF\n1000000000 1000000000 0\n0 0 0\n"));
+            }).find("truncated or corrupt"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of([] {
+        read_mesh(write_temp("huge.ply",
+                             "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"));
+      }).find("declares 4000000000 vertices"),
+      std::string::npos);
+  EXPECT_NE(error_of([] {
+              read_mesh(write_temp("short.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n"));
+            }).find("not a readable OFF file"),
             std::string::npos);
   EXPECT_NE(error_of([] {
-              read_mesh(write_temp("huge.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
-                                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"));
-            }).find("declares 4000000000 vertices"),
+              read_mesh(write_temp("range.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 9\n"));
+            }).find("line 4: face refers to vertex 9, but the file has only 3 vertices"),
             std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("short.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n")); }).find("not a readable OFF file"),
-            std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("range.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 9\n")); }).find("line 4: face refers to vertex 9, but the file has only 3 vertices"),
-            std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")); }).find("zero area"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([] { read_mesh(write_temp("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")); }).find("zero area"),
+      std::string::npos);
   TriangleSoup nan_mesh = testing::house_mesh();
   nan_mesh.points[3][1] = std::nan("");
-  EXPECT_NE(error_of([&] { read_mesh(write_temp("nan.stl", testing::to_stl_binary(nan_mesh))); }).find("not a finite number"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { read_mesh(write_temp("nan.stl", testing::to_stl_binary(nan_mesh))); }).find("not a finite number"),
+      std::string::npos);
   // A binary STL cut short of its triangle count.
   const std::string stl = testing::to_stl_binary(testing::house_mesh());
-  EXPECT_NE(error_of([&] { read_mesh(write_temp("cut.stl", stl.substr(0, stl.size() - 30))); }).find("truncated"), std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n")); }).find("line 3: 'l'"), std::string::npos);
-  EXPECT_NE(error_of([] { read_mesh(write_temp("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 0 1\nf 1 2 3\n")); }).find("line 2: 'nan'"),
+  EXPECT_NE(error_of([&] { read_mesh(write_temp("cut.stl", stl.substr(0, stl.size() - 30))); }).find("truncated"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { read_mesh(write_temp("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n")); }).find("line 3: 'l'"),
+            std::string::npos);
+  EXPECT_NE(error_of([] {
+              read_mesh(write_temp("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 0 1\nf 1 2 3\n"));
+            }).find("line 2: 'nan'"),
             std::string::npos);
 }
 
@@ -457,8 +499,13 @@ TEST(MeshImport, BadOptionsAndDegenerateMeshesAreNamed) {
   EXPECT_NE(with([](ImportOptions& o) { o.resolution = 0; }).find("--resolution"), std::string::npos);
   EXPECT_NE(with([](ImportOptions& o) { o.keep_depth = 0; }).find("--keep-depth"), std::string::npos);
   EXPECT_NE(with([](ImportOptions& o) { o.structuring_element = 4; }).find("--smooth"), std::string::npos);
-  EXPECT_NE(with([](ImportOptions& o) { o.front = Axis::nz; }).find("--front: must be perpendicular"), std::string::npos);
-  EXPECT_NE(with([](ImportOptions& o) { o.width_mm = 100; o.voxel_mm = 2; }).find("not both"), std::string::npos);
+  EXPECT_NE(with([](ImportOptions& o) { o.front = Axis::nz; }).find("--front: must be perpendicular"),
+            std::string::npos);
+  EXPECT_NE(with([](ImportOptions& o) {
+              o.width_mm = 100;
+              o.voxel_mm = 2;
+            }).find("not both"),
+            std::string::npos);
   EXPECT_NE(with([](ImportOptions& o) { o.voxel_mm = 5000; }).find("--voxel-mm"), std::string::npos);
   EXPECT_NE(with([](ImportOptions& o) { o.resolution = 2000; }).find("--resolution"), std::string::npos)
       << "the sheet's cell limit is named before any work";
@@ -482,13 +529,15 @@ TEST(SilhouetteFaces, HouseRoofFollowsTheSlopeWithFewerLines) {
   const SilhouetteComparison& c = f.comparison;
   EXPECT_GT(c.outlines, 0) << "the roof edges are redrawn";
   EXPECT_GT(c.samples, 100) << "along many silhouette samples";
-  EXPECT_LT(c.face_mean_mm, c.voxel_mean_mm / 2) << "the polyline is at least twice as close to the silhouette as the steps";
+  EXPECT_LT(c.face_mean_mm, c.voxel_mean_mm / 2)
+      << "the polyline is at least twice as close to the silhouette as the steps";
   EXPECT_LT(c.face_lines, c.voxel_lines) << "and needs fewer lines";
   const Pattern p = make_pattern(AnyModel(f.model));
   EXPECT_TRUE(check_popup(p).pops_up()) << "the face model pops up";
   EXPECT_EQ(p.faces.size(), make_pattern(voxels.model).faces.size()) << "the same faces, other outlines";
   // Round trip through popcut.faces.v1.
-  EXPECT_EQ(make_pattern(parse_model(to_face_json(f.model), "rt")).faces.size(), p.faces.size()) << "the file reads back";
+  EXPECT_EQ(make_pattern(parse_model(to_face_json(f.model), "rt")).faces.size(), p.faces.size())
+      << "the file reads back";
 }
 
 TEST(SilhouetteFaces, ArchOpeningFollowsTheCurve) {
@@ -516,8 +565,10 @@ void faces_of_random_mesh(const TriangleSoup& s, const ImportOptions& o, int tri
     return;  // nothing left after smoothing: tested elsewhere
   }
   const SilhouetteFaces f = silhouette_faces(s, o, voxels, "random");
-  EXPECT_TRUE(check_popup(make_pattern(AnyModel(f.model))).pops_up()) << "trial " << trial << ", " << o.resolution << " across";
-  EXPECT_LE(f.comparison.face_mean_mm, f.comparison.voxel_mean_mm + 1e-9) << "trial " << trial << ": never further from the silhouette";
+  EXPECT_TRUE(check_popup(make_pattern(AnyModel(f.model))).pops_up())
+      << "trial " << trial << ", " << o.resolution << " across";
+  EXPECT_LE(f.comparison.face_mean_mm, f.comparison.voxel_mean_mm + 1e-9)
+      << "trial " << trial << ": never further from the silhouette";
   redrawn += f.comparison.outlines;
   fell_back += f.comparison.fell_back;
 }
@@ -528,7 +579,8 @@ TEST(SilhouetteFaces, RandomArchesAndOverhangsStayValid) {
   std::uniform_real_distribution<double> u(0, 1);
   int redrawn = 0, fell_back = 0;
   for (int trial = 0; trial < 20; ++trial) {
-    TriangleSoup s = testing::arch_mesh(30 + 30 * u(rng), 20 + 20 * u(rng), 8 + 20 * u(rng), 6 + static_cast<int>(rng() % 20));
+    TriangleSoup s =
+        testing::arch_mesh(30 + 30 * u(rng), 20 + 20 * u(rng), 8 + 20 * u(rng), 6 + static_cast<int>(rng() % 20));
     const double x0 = 40 * u(rng), z0 = 30 * u(rng);
     testing::add_box(s, x0, -10 * u(rng), z0, x0 + 5 + 20 * u(rng), 5 + 10 * u(rng), z0 + 3 + 10 * u(rng));
     ImportOptions o = small(16 + static_cast<int>(rng() % 50));
@@ -548,7 +600,9 @@ TEST(SilhouetteFaces, RandomSlantedMeshesStayValid) {
     for (int k = 0; k < 3; ++k) {
       // Gabled and lean-to blocks at random depths: slanted tops seen from the front.
       const double x0 = 30 * u(rng), w = 8 + 20 * u(rng), h = 5 + 20 * u(rng), y0 = 20 * u(rng);
-      testing::add_prism(s, {{x0, 0}, {x0 + w, 0}, {x0 + w, h * u(rng) + 1}, {x0 + w * u(rng), h + 6}, {x0, h * u(rng) + 1}}, y0, y0 + 10 + 20 * u(rng));
+      testing::add_prism(
+          s, {{x0, 0}, {x0 + w, 0}, {x0 + w, h * u(rng) + 1}, {x0 + w * u(rng), h + 6}, {x0, h * u(rng) + 1}}, y0,
+          y0 + 10 + 20 * u(rng));
     }
     ImportOptions o = small(16 + static_cast<int>(rng() % 40));
     o.thin_top_voxels = 1 + static_cast<int>(rng() % 3);
@@ -566,7 +620,8 @@ void import_tree(const std::filesystem::path& dir, int& cards, int& refused) {
     // the sanitizers and nothing the smaller ones do not test.
     if (!e.is_regular_file() || e.file_size() > (1u << 20)) continue;
     std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".obj" && ext != ".stl" && ext != ".off" && ext != ".ply") continue;
     try {
       const ImportResult r = import_mesh(read_mesh(e.path().string()), small(24), e.path().string());
@@ -590,7 +645,8 @@ TEST(MeshRead, InstalledTestModels) {
   const char* cgal = "/usr/share/doc/libcgal-dev/data.tar.gz";
   if (std::filesystem::exists(cgal)) {
     const std::filesystem::path dir = std::filesystem::path(write_temp("cgal-data/.keep", "")).parent_path();
-    const std::string cmd = std::string("tar -xzf ") + cgal + " -C " + dir.string() + " --wildcards 'data/meshes/*.off'";
+    const std::string cmd =
+        std::string("tar -xzf ") + cgal + " -C " + dir.string() + " --wildcards 'data/meshes/*.off'";
     if (std::system(cmd.c_str()) == 0) {
       ++trees;
       import_tree(dir, cards, refused);

@@ -1,4 +1,5 @@
-// The windows phase's work follows the card's faces, not its area: a thin tall plate (openscad's issue945f) imports in a bounded number of steps.
+// The windows phase's work follows the card's faces, not its area: a thin tall plate (openscad's issue945f) imports in
+// a bounded number of steps.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -24,7 +25,9 @@ void add_triangle(TriangleSoup& s, P a, P b, P c) {
 
 // A triangle in the (y, z) plane extruded from x0 to x1: its caps and three sides.
 void add_wedge(TriangleSoup& s, double x0, double x1, std::array<std::array<double, 2>, 3> yz) {
-  const auto at = [&](double x, int k) { return P{x, yz[static_cast<std::size_t>(k)][0], yz[static_cast<std::size_t>(k)][1]}; };
+  const auto at = [&](double x, int k) {
+    return P{x, yz[static_cast<std::size_t>(k)][0], yz[static_cast<std::size_t>(k)][1]};
+  };
   add_triangle(s, at(x0, 0), at(x0, 1), at(x0, 2));
   add_triangle(s, at(x1, 0), at(x1, 2), at(x1, 1));
   for (int k = 0; k < 3; ++k) {
@@ -60,10 +63,11 @@ Work windows_work(const TriangleSoup& mesh, int resolution) {
   w.full_checks = r.stats.window_full_checks;
   w.faces = static_cast<std::int64_t>(p.faces.size());
   w.columns = r.model.width + 2 * resolve_sheet(r.model, "plate").side;
-  std::printf("%d across: %lld decisions, %lld work (%.0f a decision), %lld faces, %lld columns, %lld full checks\n", resolution,
-              static_cast<long long>(w.decisions), static_cast<long long>(w.work),
-              static_cast<double>(w.work) / static_cast<double>(std::max<std::int64_t>(1, w.decisions)), static_cast<long long>(w.faces),
-              static_cast<long long>(w.columns), static_cast<long long>(w.full_checks));
+  std::printf("%d across: %lld decisions, %lld work (%.0f a decision), %lld faces, %lld columns, %lld full checks\n",
+              resolution, static_cast<long long>(w.decisions), static_cast<long long>(w.work),
+              static_cast<double>(w.work) / static_cast<double>(std::max<std::int64_t>(1, w.decisions)),
+              static_cast<long long>(w.faces), static_cast<long long>(w.columns),
+              static_cast<long long>(w.full_checks));
   return w;
 }
 
@@ -72,7 +76,8 @@ Work windows_work(const TriangleSoup& mesh, int resolution) {
 // (1,600 rows high at 80 across) on each of its ~47,680 decisions: minutes, not seconds.
 void expect_bounded(const Work& w) {
   ASSERT_GT(w.decisions, 1000) << "the plate gives many window candidates";
-  EXPECT_LE(w.work, w.decisions * 6 * (w.faces + w.columns)) << "work per decision follows the faces and slices, not the card's area";
+  EXPECT_LE(w.work, w.decisions * 6 * (w.faces + w.columns))
+      << "work per decision follows the faces and slices, not the card's area";
   EXPECT_EQ(w.full_checks, 0) << "no decision needs the full check";
 }
 

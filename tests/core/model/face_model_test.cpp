@@ -44,7 +44,8 @@ TEST(FaceModel, BoxFromTwoFaces) {
   const Pattern p = make_pattern(box_card());
   EXPECT_EQ(p.faces.size(), 4u) << "back board, floor, front VFace, top HFace";
   EXPECT_TRUE(has_line(p, LineKind::valley, {10, 30}, {50, 30})) << "top meets the back wall: valley";
-  EXPECT_TRUE(has_line(p, LineKind::mountain, {10, 10}, {50, 10})) << "top meets the front (t_h - t_v = 10 = v): mountain";
+  EXPECT_TRUE(has_line(p, LineKind::mountain, {10, 10}, {50, 10}))
+      << "top meets the front (t_h - t_v = 10 = v): mountain";
   EXPECT_TRUE(has_line(p, LineKind::valley, {10, -20}, {50, -20})) << "front meets the floor: valley";
   EXPECT_TRUE(has_line(p, LineKind::cut, {10, -20}, {10, 30})) << "left side: one maximal cut across three faces";
   EXPECT_TRUE(has_line(p, LineKind::valley, {0, 0}, {10, 0})) << "centre fold left of the box";
@@ -74,14 +75,12 @@ TEST(FaceModel, HoleInAVFaceBecomesAnHFace) {
   // at the hole's lowest z, with the same pattern polygon.
   m.apply(edit(EditOp::add_vhole, 20, {{25, 10}, {35, 10}, {35, 20}, {25, 20}}));
   const Pattern p = make_pattern(m);
-  const auto ledge = std::find_if(p.faces.begin(), p.faces.end(), [](const PatternFace& f) {
-    return f.kind == FaceKind::horizontal && f.t_mm == 10;
-  });
+  const auto ledge = std::find_if(p.faces.begin(), p.faces.end(),
+                                  [](const PatternFace& f) { return f.kind == FaceKind::horizontal && f.t_mm == 10; });
   ASSERT_NE(ledge, p.faces.end()) << "an HFace at z = 10 (the hole's lowest z)";
   EXPECT_EQ(bounds(ledge->outer), (Rect{{25, -10}, {35, 0}})) << "same pattern polygon as the hole";
-  const auto front = std::find_if(p.faces.begin(), p.faces.end(), [](const PatternFace& f) {
-    return f.kind == FaceKind::vertical && f.t_mm == 20;
-  });
+  const auto front = std::find_if(p.faces.begin(), p.faces.end(),
+                                  [](const PatternFace& f) { return f.kind == FaceKind::vertical && f.t_mm == 20; });
   ASSERT_NE(front, p.faces.end());
   EXPECT_EQ(front->holes.size(), 1u) << "the front face has the window as a hole";
   EXPECT_TRUE(has_line(p, LineKind::mountain, {25, -10}, {35, -10})) << "ledge folds into the sill";
@@ -93,9 +92,8 @@ TEST(FaceModel, HoleInAnHFaceBecomesAVFace) {
   // A skylight in the top (z = 30), y from 5 to 15: eq. 6 turns it into a VFace at y = 5.
   m.apply(edit(EditOp::add_hhole, 30, {{20, 5}, {30, 5}, {30, 15}, {20, 15}}));
   const Pattern p = make_pattern(m);
-  const auto wall = std::find_if(p.faces.begin(), p.faces.end(), [](const PatternFace& f) {
-    return f.kind == FaceKind::vertical && f.t_mm == 5;
-  });
+  const auto wall = std::find_if(p.faces.begin(), p.faces.end(),
+                                 [](const PatternFace& f) { return f.kind == FaceKind::vertical && f.t_mm == 5; });
   ASSERT_NE(wall, p.faces.end()) << "a VFace at y = 5 (the hole's nearest y)";
   EXPECT_EQ(bounds(wall->outer), (Rect{{20, 15}, {30, 25}})) << "pattern v = 30 - y for y in [5, 15]";
 }
@@ -115,7 +113,8 @@ TEST(FaceModel, TallWindowContinuesOnTheBackWall) {
       EXPECT_GE(c.z_mm, -1e-9) << "no paper below the floor";
     }
   }
-  const auto ledge = std::find_if(p.faces.begin(), p.faces.end(), [](const PatternFace& f) { return f.kind == FaceKind::horizontal && f.t_mm == 5; });
+  const auto ledge = std::find_if(p.faces.begin(), p.faces.end(),
+                                  [](const PatternFace& f) { return f.kind == FaceKind::horizontal && f.t_mm == 5; });
   ASSERT_NE(ledge, p.faces.end()) << "the ledge at z = 5";
   EXPECT_EQ(bounds(ledge->outer), (Rect{{25, -15}, {35, 5}})) << "20 mm deep, from the front to the back wall";
   EXPECT_TRUE(has_line(p, LineKind::valley, {25, 5}, {35, 5})) << "the ledge folds up onto the back wall";
@@ -126,11 +125,13 @@ TEST(FaceModel, SubtractionSplitsFacesIntoPieces) {
   // A wall from the floor to past the sheet top cuts the back board into a left and a right piece.
   m.apply(edit(EditOp::add_vface, 10, {{20, 0}, {40, 0}, {40, 60}, {20, 60}}));
   const auto faces = m.faces();
-  const auto boards = std::count_if(faces.begin(), faces.end(), [](const OAFace& f) { return f.kind == FaceKind::vertical && f.t_mm == 0; });
+  const auto boards = std::count_if(faces.begin(), faces.end(),
+                                    [](const OAFace& f) { return f.kind == FaceKind::vertical && f.t_mm == 0; });
   EXPECT_EQ(boards, 2) << "the back board is now two pieces";
   const Pattern p = make_pattern(m);
   const auto problems = testing::check_tiling(p, 10);
-  EXPECT_TRUE(problems.empty()) << "the pieces and the wall still tile the sheet: " << (problems.empty() ? "" : problems[0]);
+  EXPECT_TRUE(problems.empty()) << "the pieces and the wall still tile the sheet: "
+                                << (problems.empty() ? "" : problems[0]);
 }
 
 TEST(FaceModel, CoveredFacesDisappear) {
@@ -141,7 +142,8 @@ TEST(FaceModel, CoveredFacesDisappear) {
   m.apply(edit(EditOp::add_vface, 25, {{10, 0}, {40, 0}, {40, 20}, {10, 20}}));
   const auto faces = m.faces();
   EXPECT_EQ(faces.size(), 3u) << "the covered face is gone, not left empty";
-  EXPECT_TRUE(std::none_of(faces.begin(), faces.end(), [](const OAFace& f) { return f.t_mm == 20; })) << "no face at depth 20";
+  EXPECT_TRUE(std::none_of(faces.begin(), faces.end(), [](const OAFace& f) { return f.t_mm == 20; }))
+      << "no face at depth 20";
 }
 
 TEST(FaceModel, DecimalCoordinatesAreExact) {
@@ -176,7 +178,8 @@ TEST(FaceModel, BoardsComeFromTheGeometry) {
   const Pattern p = make_pattern(split);
   for (const FaceProblem& f : check_popup(p).not_standing) {
     const PatternFace& face = p.faces[static_cast<std::size_t>(f.face)];
-    EXPECT_FALSE(face.kind == FaceKind::vertical && face.t_mm == 0) << "a piece of the back board is never 'not standing'";
+    EXPECT_FALSE(face.kind == FaceKind::vertical && face.t_mm == 0)
+        << "a piece of the back board is never 'not standing'";
   }
 }
 
@@ -256,16 +259,28 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, BadFaceEdit,
     ::testing::Values(
         BadEdit{"bowtie", {EditOp::add_vface, 5, {{0, 0}, {10, 10}, {10, 0}, {0, 10}}}, "edits[2].outline", "crosses"},
-        BadEdit{"two points", {EditOp::add_vface, 5, {{0, 0}, {10, 10}, {0, 0}}}, "edits[2].outline", "3 distinct points"},
+        BadEdit{
+            "two points", {EditOp::add_vface, 5, {{0, 0}, {10, 10}, {0, 0}}}, "edits[2].outline", "3 distinct points"},
         BadEdit{"collinear", {EditOp::add_vface, 5, {{0, 0}, {5, 0}, {10, 0}}}, "edits[2].outline", ""},
-        BadEdit{"outside sheet", {EditOp::add_vface, 5, {{50, 0}, {70, 0}, {70, 10}, {50, 10}}}, "edits[2].outline", "leaves the sheet"},
+        BadEdit{"outside sheet",
+                {EditOp::add_vface, 5, {{50, 0}, {70, 0}, {70, 10}, {50, 10}}},
+                "edits[2].outline",
+                "leaves the sheet"},
         BadEdit{"nan", {EditOp::add_hface, 5, {{0, 0}, {kNaN, 0}, {10, 10}}}, "edits[2].outline", "finite"},
         BadEdit{"huge", {EditOp::add_hface, 5, {{0, 0}, {1e9, 0}, {10, 10}}}, "edits[2].outline", "100000"},
-        BadEdit{"below floor", {EditOp::add_vface, 5, {{0, -1}, {10, 0}, {10, 10}}}, "edits[2].outline[0]", "below the floor"},
+        BadEdit{"below floor",
+                {EditOp::add_vface, 5, {{0, -1}, {10, 0}, {10, 10}}},
+                "edits[2].outline[0]",
+                "below the floor"},
         BadEdit{"negative t", {EditOp::add_vface, -5, {{0, 0}, {10, 0}, {10, 10}}}, "edits[2].t", "from 0"},
-        BadEdit{"hole outside face", {EditOp::add_vhole, 20, {{5, 10}, {15, 10}, {15, 20}, {5, 20}}}, "edits[2].outline",
+        BadEdit{"hole outside face",
+                {EditOp::add_vhole, 20, {{5, 10}, {15, 10}, {15, 20}, {5, 20}}},
+                "edits[2].outline",
                 "not inside a VFace at depth"},
-        BadEdit{"hole in no face", {EditOp::add_hhole, 7, {{20, 5}, {30, 5}, {30, 15}}}, "edits[2].outline", "not inside an HFace"}),
+        BadEdit{"hole in no face",
+                {EditOp::add_hhole, 7, {{20, 5}, {30, 5}, {30, 15}}},
+                "edits[2].outline",
+                "not inside an HFace"}),
     [](const ::testing::TestParamInfo<BadEdit>& param) {
       std::string n = param.param.name;
       for (char& ch : n) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
@@ -273,7 +288,9 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(FaceModel, FacesThatDoNotTileAreRejected) {
-  const auto rect = [](double x0, double v0, double x1, double v1) { return Ring{{x0, v0}, {x1, v0}, {x1, v1}, {x0, v1}}; };
+  const auto rect = [](double x0, double v0, double x1, double v1) {
+    return Ring{{x0, v0}, {x1, v0}, {x1, v1}, {x0, v1}};
+  };
   const std::vector<OAFace> overlap = {{FaceKind::vertical, 0, {rect(0, 0, 10, 10), {}}},
                                        {FaceKind::horizontal, 0, {rect(0, -10, 10, 5), {}}}};
   try {

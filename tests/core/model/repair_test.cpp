@@ -41,7 +41,8 @@ TEST(Repair, WindowsKeptOnlyWhereTheCardPopsUp) {
   int added = 0;
   for (int trial = 0; trial < 150; ++trial) {
     VoxelFile f;
-    f.model = VoxelModel::empty(1 + static_cast<int>(rng() % 5), 1 + static_cast<int>(rng() % 4), 1 + static_cast<int>(rng() % 6), 1.0);
+    f.model = VoxelModel::empty(1 + static_cast<int>(rng() % 5), 1 + static_cast<int>(rng() % 4),
+                                1 + static_cast<int>(rng() % 6), 1.0);
     for (auto& h : f.model.heights) h = static_cast<int>(rng() % static_cast<unsigned>(f.model.height + 1));
     f.gap_rows.assign(f.model.windows.size(), 0);
     const RepairResult r = repair(f, {true});

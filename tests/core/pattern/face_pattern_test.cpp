@@ -154,7 +154,8 @@ TEST(FaceModel, RandomEditsFollowEquation5) {
       }
       if (near_edge) continue;
       const int at = testing::face_at(p, q);
-      ASSERT_GE(at, 0) << "model " << i << ": (" << q.x_mm << ", " << q.v_mm << ") is in " << (at == -1 ? "no face" : "two faces");
+      ASSERT_GE(at, 0) << "model " << i << ": (" << q.x_mm << ", " << q.v_mm << ") is in "
+                       << (at == -1 ? "no face" : "two faces");
       const PatternFace& f = p.faces[static_cast<std::size_t>(at)];
       ASSERT_EQ(f.kind, kind) << "model " << i << ": face kind at (" << q.x_mm << ", " << q.v_mm << ")";
       ASSERT_NEAR(f.t_mm, t, 1e-9) << "model " << i << ": face offset at (" << q.x_mm << ", " << q.v_mm << ")";

@@ -46,13 +46,14 @@ void compare_on_random_cards(std::uint64_t seed, const testing::RandomModelSpec&
       }
       const bool expected = full_check(toggled);
       ASSERT_EQ(window ? inc.pops_up_with_window(x, z, on) : inc.pops_up_with_top_dropped(x, z, on), expected)
-          << "seed " << seed << " card " << card << " step " << step << ": " << (window ? "window" : "dropped top") << " (" << x
-          << ", " << z << ") " << (on ? "on" : "off") << " judged differently from check_popup";
+          << "seed " << seed << " card " << card << " step " << step << ": " << (window ? "window" : "dropped top")
+          << " (" << x << ", " << z << ") " << (on ? "on" : "off") << " judged differently from check_popup";
       ++judged;
       (expected ? accepted : rejected) += 1;
       if (rng() % 2 == 0) {
         const VoxelModel before = inc.model();
-        ASSERT_EQ(window ? inc.try_window(x, z, on) : inc.try_drop_top(x, z, on), expected) << "trying agrees with the decision";
+        ASSERT_EQ(window ? inc.try_window(x, z, on) : inc.try_drop_top(x, z, on), expected)
+            << "trying agrees with the decision";
         ASSERT_TRUE(inc.model() == (expected ? toggled : before)) << "kept exactly when it stands";
         ASSERT_TRUE(full_check(inc.model())) << "seed " << seed << " card " << card << ": the kept model pops up";
       }
@@ -61,7 +62,8 @@ void compare_on_random_cards(std::uint64_t seed, const testing::RandomModelSpec&
     decisions += inc.stats().decisions;
   }
   std::printf("seed %llu: %d cards, %d decisions (%d stand, %d do not), %lld full checks\n",
-              static_cast<unsigned long long>(seed), cards_used, judged, accepted, rejected, static_cast<long long>(fallbacks));
+              static_cast<unsigned long long>(seed), cards_used, judged, accepted, rejected,
+              static_cast<long long>(fallbacks));
   EXPECT_GT(cards_used, cards / 4) << "enough random cards pop up to test on";
   EXPECT_GT(accepted, judged / 10) << "the random windows include many that stand";
   EXPECT_GT(rejected, judged / 10) << "and many that do not";
@@ -78,9 +80,13 @@ testing::RandomModelSpec spec_of(int width, int depth, int height, double window
   return spec;
 }
 
-TEST(IncrementalPopup, MatchesFullCheckOnSmallCards) { compare_on_random_cards(1, spec_of(6, 5, 7, 0.15, true), 400, 40); }
+TEST(IncrementalPopup, MatchesFullCheckOnSmallCards) {
+  compare_on_random_cards(1, spec_of(6, 5, 7, 0.15, true), 400, 40);
+}
 
-TEST(IncrementalPopup, MatchesFullCheckOnWiderCards) { compare_on_random_cards(2, spec_of(24, 10, 14, 0.05, false), 60, 150); }
+TEST(IncrementalPopup, MatchesFullCheckOnWiderCards) {
+  compare_on_random_cards(2, spec_of(24, 10, 14, 0.05, false), 60, 150);
+}
 
 TEST(IncrementalPopup, MatchesFullCheckOnRandomSheets) {
   // Random sheets include side = 0: with no bare board strip beside the model every strip may

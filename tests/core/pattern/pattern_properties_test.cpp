@@ -70,7 +70,8 @@ std::vector<std::string> check_voxel_faces(const VoxelModel& m, const CellGrid& 
   for (int x = 0; x < m.width; ++x) {
     for (int j = 0; j < m.depth; ++j) {
       for (int k = 0; k < m.h(x, j); ++k) {
-        const std::string where = "voxel (" + std::to_string(x) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
+        const std::string where =
+            "voxel (" + std::to_string(x) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
         if (k + 1 == m.h(x, j) && at(x, k - j) != CellGrid::pack(FaceKind::horizontal, k + 1)) {
           problems.push_back(where + ": top face is not an HFace at its height");
         }
@@ -79,7 +80,8 @@ std::vector<std::string> check_voxel_faces(const VoxelModel& m, const CellGrid& 
         if (m.is_window(x, k)) {
           int hp = k - 1;
           while (hp >= 0 && m.is_window(x, hp)) --hp;
-          expect = j - (k - hp) + 1 >= 0 ? CellGrid::pack(FaceKind::horizontal, hp + 1) : CellGrid::pack(FaceKind::vertical, 0);
+          expect = j - (k - hp) + 1 >= 0 ? CellGrid::pack(FaceKind::horizontal, hp + 1)
+                                         : CellGrid::pack(FaceKind::vertical, 0);
         }
         if (at(x, k - j - 1) != expect) problems.push_back(where + ": front face cell shows the wrong face");
       }

@@ -21,7 +21,10 @@ Pattern box_pattern() {
              rect_face(FaceKind::vertical, 2, 0, -2, 4, 1), rect_face(FaceKind::horizontal, 0, 0, -6, 4, -2)};
   p.back_face = 0;
   p.floor_face = 3;
-  p.folds = {{0, 1, LineKind::valley, 4}, {1, 2, LineKind::mountain, 4}, {2, 3, LineKind::valley, 4}, {0, 3, LineKind::valley, 2}};
+  p.folds = {{0, 1, LineKind::valley, 4},
+             {1, 2, LineKind::mountain, 4},
+             {2, 3, LineKind::valley, 4},
+             {0, 3, LineKind::valley, 2}};
   return p;
 }
 

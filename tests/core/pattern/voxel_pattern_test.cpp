@@ -26,7 +26,8 @@ bool has_line(const Pattern& p, LineKind kind, Point2 a, Point2 b) {
 }
 
 int count_kind(const Pattern& p, FaceKind kind, double t) {
-  return static_cast<int>(std::count_if(p.faces.begin(), p.faces.end(), [&](const PatternFace& f) { return f.kind == kind && f.t_mm == t; }));
+  return static_cast<int>(std::count_if(p.faces.begin(), p.faces.end(),
+                                        [&](const PatternFace& f) { return f.kind == kind && f.t_mm == t; }));
 }
 
 TEST(VoxelPattern, SimplestBox) {
@@ -51,7 +52,8 @@ TEST(VoxelPattern, WindowOpensTheFrontFaceAndAddsALedge) {
   const Pattern p = make_pattern(m);
   // The front VFace (depth 1) keeps the window cell as a hole; the cell becomes an HFace
   // at height 1 (h' = 0, the row below) lying at depth cell 0 (eq. in §2.3).
-  const auto front = std::find_if(p.faces.begin(), p.faces.end(), [](const PatternFace& f) { return f.kind == FaceKind::vertical && f.t_mm == 1; });
+  const auto front = std::find_if(p.faces.begin(), p.faces.end(),
+                                  [](const PatternFace& f) { return f.kind == FaceKind::vertical && f.t_mm == 1; });
   ASSERT_NE(front, p.faces.end()) << "the front face exists";
   EXPECT_EQ(front->holes.size(), 1u) << "the window is a hole in the front face";
   EXPECT_EQ(count_kind(p, FaceKind::horizontal, 1), 1) << "one ledge at height 1";

@@ -22,7 +22,9 @@ double point_segment(Point2 p, Point2 a, Point2 b) {
   return std::hypot(a.x_mm + t * dx - p.x_mm, a.v_mm + t * dv - p.v_mm);
 }
 
-double cross(Point2 a, Point2 b, Point2 c) { return (b.x_mm - a.x_mm) * (c.v_mm - a.v_mm) - (b.v_mm - a.v_mm) * (c.x_mm - a.x_mm); }
+double cross(Point2 a, Point2 b, Point2 c) {
+  return (b.x_mm - a.x_mm) * (c.v_mm - a.v_mm) - (b.v_mm - a.v_mm) * (c.x_mm - a.x_mm);
+}
 
 // Distance between two segments: 0 where they cross, else the nearest endpoint-to-segment.
 double segment_segment(Point2 a, Point2 b, Point2 c, Point2 d) {
@@ -52,8 +54,8 @@ int check_fold_pieces(const Pattern& p, double gap_mm, const std::string& what) 
     const LineKind fold = kind == PlanKind::valley ? LineKind::valley : LineKind::mountain;
     for (const Segment& s : kind_lines(p, kind, gap_mm)) {
       ++pieces;
-      EXPECT_GE(clearance(p, s.a, s.b), gap_mm - 1e-6) << what << ": piece " << s.a.x_mm << "," << s.a.v_mm << " - " << s.b.x_mm
-                                                       << "," << s.b.v_mm;
+      EXPECT_GE(clearance(p, s.a, s.b), gap_mm - 1e-6)
+          << what << ": piece " << s.a.x_mm << "," << s.a.v_mm << " - " << s.b.x_mm << "," << s.b.v_mm;
       for (Point2 end : {s.a, s.b}) {
         bool fold_end = false;
         for (const Segment& l : p.lines) {
@@ -104,7 +106,8 @@ TEST(FoldGap, PavilionsSlantedWallsKeepTheGap) {
   for (const Segment& s : kind_lines(p, PlanKind::valley, 0.5)) {
     if (std::abs(s.a.v_mm - 18) < 1e-9 && std::abs(s.b.v_mm - 18) < 1e-9 && std::min(s.a.x_mm, s.b.x_mm) < 30) {
       found = true;
-      EXPECT_NEAR(std::min(s.a.x_mm, s.b.x_mm), 25 + 0.5 / std::sin(std::atan2(15, 10)), 1e-6) << "0.601 mm in from the corner";
+      EXPECT_NEAR(std::min(s.a.x_mm, s.b.x_mm), 25 + 0.5 / std::sin(std::atan2(15, 10)), 1e-6)
+          << "0.601 mm in from the corner";
       EXPECT_GE(clearance(p, s.a, s.b), 0.5 - 1e-6);
     }
   }
@@ -126,7 +129,9 @@ TEST(FoldGap, RandomModelsKeepTheClearanceEverywhere) {
   testing::RandomModelSpec voxel;
   voxel.window_probability = 0.3;
   voxel.random_sheet = true;
-  for (int i = 0; i < 100; ++i) pieces += check_fold_pieces(make_pattern(testing::random_model(rng, voxel)), 0.5, "voxel model " + std::to_string(i));
+  for (int i = 0; i < 100; ++i)
+    pieces +=
+        check_fold_pieces(make_pattern(testing::random_model(rng, voxel)), 0.5, "voxel model " + std::to_string(i));
   EXPECT_GT(pieces, 1000) << "the models have folds to check";
 }
 

@@ -138,7 +138,9 @@ TEST(Chaining, StrokesRunStraightThroughJunctionsWithoutAVertexThere) {
   Pattern p;
   p.sheet = {{0, -20}, {40, 20}};
   // One straight cut in two pieces, and an L whose corner must stay.
-  p.lines = {{LineKind::cut, {10, 5}, {20, 5}}, {LineKind::cut, {20, 5}, {30, 5}}, {LineKind::cut, {10, -5}, {30, -5}},
+  p.lines = {{LineKind::cut, {10, 5}, {20, 5}},
+             {LineKind::cut, {20, 5}, {30, 5}},
+             {LineKind::cut, {10, -5}, {30, -5}},
              {LineKind::cut, {30, -5}, {30, -15}}};
   PlanOptions o;
   o.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
@@ -146,7 +148,8 @@ TEST(Chaining, StrokesRunStraightThroughJunctionsWithoutAVertexThere) {
   ASSERT_EQ(plan.strokes.size(), 2u) << "two strokes, the Euler bound";
   for (const Stroke& s : plan.strokes) {
     const bool straight = s.points.front().v_mm == 5;
-    EXPECT_EQ(s.points.size(), straight ? 2u : 3u) << (straight ? "the straight cut: no stop at (20, 5)" : "the L keeps its corner");
+    EXPECT_EQ(s.points.size(), straight ? 2u : 3u)
+        << (straight ? "the straight cut: no stop at (20, 5)" : "the L keeps its corner");
   }
   EXPECT_NEAR(plan.kinds[index_of(PlanKind::cut)].cut_mm, 50, 1e-9) << "all of it is still cut";
 }
@@ -154,7 +157,9 @@ TEST(Chaining, StrokesRunStraightThroughJunctionsWithoutAVertexThere) {
 TEST(FoldGap, FoldsStopShortOfCutsAndTheOutline) {
   Pattern p;
   p.sheet = {{0, -20}, {40, 20}};
-  p.lines = {{LineKind::cut, {10, 0}, {10, 10}}, {LineKind::valley, {10, 0}, {30, 0}}, {LineKind::mountain, {0, 5}, {5, 5}},
+  p.lines = {{LineKind::cut, {10, 0}, {10, 10}},
+             {LineKind::valley, {10, 0}, {30, 0}},
+             {LineKind::mountain, {0, 5}, {5, 5}},
              {LineKind::valley, {20, 10}, {20.8, 10}}};
   int dropped = 0;
   const auto valleys = kind_lines(p, PlanKind::valley, 0.5, &dropped);
@@ -194,7 +199,8 @@ TEST(Order, SameInputSamePlanEvenWhenTheWorkBudgetRunsOut) {
     PlanOptions o;
     o.optimise_work = work;
     const StrokePlan first = plan_strokes(p, o), second = plan_strokes(p, o);
-    EXPECT_EQ(first.strokes, second.strokes) << "budget " << work << ": planning twice gives the same strokes in the same order";
+    EXPECT_EQ(first.strokes, second.strokes)
+        << "budget " << work << ": planning twice gives the same strokes in the same order";
   }
   PlanOptions tight, full;
   tight.optimise_work = 3000;
@@ -222,7 +228,8 @@ double exhaustive_travel(std::vector<std::vector<Point2>> paths, Point2 start) {
 
 TEST(Order, FixesWhatGreedyGetsWrong) {
   // Strokes alternating either side of the start, twice as far each time: greedy zigzags.
-  const std::vector<std::vector<Point2>> paths = {{{1, 0}, {1, 0.5}}, {{-2, 0}, {-2, 0.5}}, {{4, 0}, {4, 0.5}}, {{-8, 0}, {-8, 0.5}}};
+  const std::vector<std::vector<Point2>> paths = {
+      {{1, 0}, {1, 0.5}}, {{-2, 0}, {-2, 0.5}}, {{4, 0}, {4, 0.5}}, {{-8, 0}, {-8, 0.5}}};
   const double greedy = travel_mm(order_paths(paths, {0, 0}, 0), {0, 0});
   const double opt = travel_mm(order_paths(paths, {0, 0}), {0, 0});
   EXPECT_NEAR(opt, exhaustive_travel(paths, {0, 0}), 1e-9) << "the search finds the best order and directions";
@@ -259,7 +266,9 @@ double exhaustive_knife_up(const Edges& edges, Point2 home, const std::function<
   const auto strokes = static_cast<std::size_t>(euler_bound(edges));
   // dp[mask][s][v]: least cost with `mask` cut, s strokes begun, knife (down after s >= 1) at v.
   std::vector<double> dp((full + 1) * (strokes + 1) * n, 1e300);
-  const auto at = [&](std::size_t mask, std::size_t s, std::size_t v) -> double& { return dp[(mask * (strokes + 1) + s) * n + v]; };
+  const auto at = [&](std::size_t mask, std::size_t s, std::size_t v) -> double& {
+    return dp[(mask * (strokes + 1) + s) * n + v];
+  };
   at(0, 0, n - 1) = 0;
   for (std::size_t mask = 0; mask <= full; ++mask) {
     for (std::size_t s = 0; s <= strokes; ++s) {
@@ -267,7 +276,8 @@ double exhaustive_knife_up(const Edges& edges, Point2 home, const std::function<
         const double c = at(mask, s, v);
         if (c >= 1e300) continue;
         if (s < strokes) {  // lift, move, lower at a vertex: the next stroke
-          for (std::size_t u = 0; u + 1 < n; ++u) at(mask, s + 1, u) = std::min(at(mask, s + 1, u), c + cost(dist(pos[v], pos[u])));
+          for (std::size_t u = 0; u + 1 < n; ++u)
+            at(mask, s + 1, u) = std::min(at(mask, s + 1, u), c + cost(dist(pos[v], pos[u])));
         }
         if (s == 0) continue;
         for (std::size_t k = 0; k < m; ++k) {  // cut on along an edge
@@ -288,9 +298,11 @@ const std::function<double(double)> kLength = [](double mm) { return mm; };
 
 TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   const Edges two = {{{0, 0}, {10, 0}}, {{0, 3}, {10, 3}}};
-  EXPECT_NEAR(knife_up_lower_bound({two}, {-4, 0}, kLength, 100).value, 7, 1e-6) << "4 mm to the first stroke, 3 mm to the second";
+  EXPECT_NEAR(knife_up_lower_bound({two}, {-4, 0}, kLength, 100).value, 7, 1e-6)
+      << "4 mm to the first stroke, 3 mm to the second";
   const Edges square = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
-  EXPECT_NEAR(knife_up_lower_bound({square}, {-5, 0}, kLength, 100).value, 5, 1e-6) << "one closed loop: only the way there";
+  EXPECT_NEAR(knife_up_lower_bound({square}, {-5, 0}, kLength, 100).value, 5, 1e-6)
+      << "one closed loop: only the way there";
   Edges squares;
   for (double x : {0.0, 20.0, 40.0}) {
     for (const auto& [a, b] : square) squares.push_back({{a.x_mm + x, a.v_mm}, {b.x_mm + x, b.v_mm}});
@@ -300,7 +312,8 @@ TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   EXPECT_NEAR(knife_up_lower_bound({square}, {5, -3}, kLength, 100).value, 3, 1e-6)
       << "a loop may start mid-side: the bound takes the nearest point of the loop, not of its corners";
   const Edges dashes = {{{0, 0}, {1, 0}}, {{2, 0}, {3, 0}}, {{4, 0}, {5, 0}}};
-  EXPECT_NEAR(knife_up_lower_bound({dashes}, {0, 0}, kLength, 100).value, 2, 1e-6) << "three dashes in a row: the two gaps";
+  EXPECT_NEAR(knife_up_lower_bound({dashes}, {0, 0}, kLength, 100).value, 2, 1e-6)
+      << "three dashes in a row: the two gaps";
   // Two crosses 100 mm apart: each is two strokes. Matching alone pairs each cross's ends among
   // themselves (3 √2, never leaving the first cross); the cuts force the 98 mm trip over.
   const auto cross_at = [](double x) {
@@ -316,8 +329,10 @@ TEST(TravelBound, EqualsTheOptimumWhereMatchingAndConnectivityDecideIt) {
   const Edges a = {{{0, 0}, {10, 0}}}, bk = {{{0, 50}, {10, 50}}}, c = {{{0, 100}, {10, 100}}};
   Edges ac = a;
   ac.push_back(c.front());
-  EXPECT_NEAR(knife_up_lower_bound({ac, bk}, {0, 0}, kLength, 1000).value, 150, 1e-6) << "A, C (100 mm), then B (50 mm)";
-  EXPECT_NEAR(knife_up_lower_bound({a, bk}, {0, 0}, kLength, 1000).value, 50, 1e-6) << "the second kind starts where the first ended";
+  EXPECT_NEAR(knife_up_lower_bound({ac, bk}, {0, 0}, kLength, 1000).value, 150, 1e-6)
+      << "A, C (100 mm), then B (50 mm)";
+  EXPECT_NEAR(knife_up_lower_bound({a, bk}, {0, 0}, kLength, 1000).value, 50, 1e-6)
+      << "the second kind starts where the first ended";
   EXPECT_EQ(knife_up_lower_bound({{}, {}}, {0, 0}, kLength, 0).value, 0) << "nothing to cut, nothing to travel";
   // Two loops whose sides cross without a shared vertex: a plan enters one at (10, 5), 1 mm from
   // home, and the other from that same point, so 1 mm in all; the bound must allow for it.
@@ -339,18 +354,22 @@ TEST(TravelBound, NeverAboveTheOptimumOnSmallGraphs) {
     }
   }
   const Kinematics k;
-  const std::function<double(double)> seconds = [&](double mm) { return move_time_s(mm, k.travel_speed_mm_s, k.accel_mm_s2); };
+  const std::function<double(double)> seconds = [&](double mm) {
+    return move_time_s(mm, k.travel_speed_mm_s, k.accel_mm_s2);
+  };
   std::mt19937_64 rng(21);
   int tight = 0;
   for (int n = 0; n < 60; ++n) {
     std::vector<std::pair<Point2, Point2>> pool = lattice;
     std::shuffle(pool.begin(), pool.end(), rng);
     pool.resize(4 + static_cast<std::size_t>(n % 6));
-    const Point2 home{std::uniform_real_distribution<double>(-5, 15)(rng), std::uniform_real_distribution<double>(-5, 15)(rng)};
+    const Point2 home{std::uniform_real_distribution<double>(-5, 15)(rng),
+                      std::uniform_real_distribution<double>(-5, 15)(rng)};
     for (const auto* cost : {&kLength, &seconds}) {
       const double opt = exhaustive_knife_up(pool, home, *cost);
       const KnifeUpBound b = knife_up_lower_bound({pool}, home, *cost, opt);
-      EXPECT_LE(b.value, opt + 1e-9) << "case " << n << (cost == &kLength ? " mm" : " s") << ": a bound, never above the best plan";
+      EXPECT_LE(b.value, opt + 1e-9) << "case " << n << (cost == &kLength ? " mm" : " s")
+                                     << ": a bound, never above the best plan";
       EXPECT_GE(b.value, b.matching - 1e-9) << "case " << n << ": connectivity only adds";
       tight += b.value >= opt - 1e-5;
     }
@@ -435,7 +454,8 @@ TEST(DragKnife, PlannedAxisStaysWithinTheOffsetOfTheLines) {
       }
     }
     const Rect e = b.extent();
-    EXPECT_LE(p.sheet.min.x_mm - e.min.x_mm, 0.3 + 1e-9) << "the outline's corners swing at most the offset past the sheet";
+    EXPECT_LE(p.sheet.min.x_mm - e.min.x_mm, 0.3 + 1e-9)
+        << "the outline's corners swing at most the offset past the sheet";
   }
 }
 
@@ -459,12 +479,14 @@ TEST(DragKnife, PrecutRunsAlongTheStrokesOwnFirstSegment) {
       const auto& next = a.strokes[i + 1].points;
       ASSERT_EQ(pre.size(), 2u) << "model " << n << ": a precut is one straight cut";
       EXPECT_EQ(pre.front(), next.front()) << "model " << n << " stroke " << i << ": it starts where the stroke starts";
-      EXPECT_LE(dist_to_segment(pre.back(), next[0], next[1]), 1e-9) << "model " << n << " stroke " << i << ": along its first segment";
+      EXPECT_LE(dist_to_segment(pre.back(), next[0], next[1]), 1e-9)
+          << "model " << n << " stroke " << i << ": along its first segment";
       EXPECT_NEAR(dist(pre.front(), pre.back()), std::min(1.0, dist(next[0], next[1])), 1e-9)
           << "model " << n << " stroke " << i << ": 1 mm, or the whole first segment when shorter";
       EXPECT_TRUE(b.strokes[i].precut) << "model " << n << " stroke " << i;
       for (Point2 q : b.strokes[i].points) {
-        EXPECT_LE(dist_to_segment(q, pre.front(), pre.back()), 0.3 + 1e-9) << "model " << n << " stroke " << i << ": axis within the offset";
+        EXPECT_LE(dist_to_segment(q, pre.front(), pre.back()), 0.3 + 1e-9)
+            << "model " << n << " stroke " << i << ": axis within the offset";
       }
     }
   }
@@ -518,19 +540,23 @@ TEST(PlanProperties, RandomModelsMeetTheBoundAndCoverEveryLineOnce) {
         for (std::size_t i = 1; i < q.size(); ++i) {
           std::vector<Point2> inside;
           for (Point2 v : vertex_points) {
-            if (dist_to_segment(v, q[i - 1], q[i]) < 1e-7 && dist(v, q[i - 1]) > 1e-7 && dist(v, q[i]) > 1e-7) inside.push_back(v);
+            if (dist_to_segment(v, q[i - 1], q[i]) < 1e-7 && dist(v, q[i - 1]) > 1e-7 && dist(v, q[i]) > 1e-7)
+              inside.push_back(v);
           }
-          std::sort(inside.begin(), inside.end(), [&](Point2 u, Point2 w) { return dist(u, q[i - 1]) < dist(w, q[i - 1]); });
+          std::sort(inside.begin(), inside.end(),
+                    [&](Point2 u, Point2 w) { return dist(u, q[i - 1]) < dist(w, q[i - 1]); });
           split.insert(split.end(), inside.begin(), inside.end());
           split.push_back(q[i]);
         }
         q = std::move(split);
       }
       const KindStats& k = plan.kinds[index_of(kind)];
-      EXPECT_EQ(k.strokes, euler_bound(want)) << "model " << n << " " << to_string(kind) << ": strokes at the Euler bound";
-      EXPECT_EQ(k.strokes, static_cast<int>(got.size())) << "model " << n << " " << to_string(kind) << ": stats count the strokes";
-      EXPECT_EQ(stroke_edge_counts(got), edge_counts(want)) << "model " << n << " " << to_string(kind)
-                                                            << ": every line piece cut once, nothing else";
+      EXPECT_EQ(k.strokes, euler_bound(want))
+          << "model " << n << " " << to_string(kind) << ": strokes at the Euler bound";
+      EXPECT_EQ(k.strokes, static_cast<int>(got.size()))
+          << "model " << n << " " << to_string(kind) << ": stats count the strokes";
+      EXPECT_EQ(stroke_edge_counts(got), edge_counts(want))
+          << "model " << n << " " << to_string(kind) << ": every line piece cut once, nothing else";
     }
     // Voxel patterns are axis-aligned: every fold end is at least the gap from every cut.
     if (n < 150) {
@@ -542,7 +568,8 @@ TEST(PlanProperties, RandomModelsMeetTheBoundAndCoverEveryLineOnce) {
               EXPECT_GE(dist_to_segment(q, c.a, c.b), 0.5 - 1e-9) << "model " << n << ": fold gap";
             }
           }
-          EXPECT_GE(std::min({q.x_mm - p.sheet.min.x_mm, p.sheet.max.x_mm - q.x_mm, q.v_mm - p.sheet.min.v_mm, p.sheet.max.v_mm - q.v_mm}),
+          EXPECT_GE(std::min({q.x_mm - p.sheet.min.x_mm, p.sheet.max.x_mm - q.x_mm, q.v_mm - p.sheet.min.v_mm,
+                              p.sheet.max.v_mm - q.v_mm}),
                     0.5 - 1e-9)
               << "model " << n << ": fold gap from the outline";
         }

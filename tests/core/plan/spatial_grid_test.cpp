@@ -43,9 +43,12 @@ PointSet random_points(std::mt19937_64& rng, int shape, std::size_t n) {
   const std::uint64_t span = 1 + rng() % 5;
   for (std::size_t i = 0; i < n; ++i) {
     Point2 p;
-    if (shape == 0) p = {static_cast<double>(rng() % span), static_cast<double>(rng() % span)};
-    else if (shape == 1) p = {u(rng), u(rng)};
-    else p = {static_cast<double>(rng() % 100000) / 10, 3.0};
+    if (shape == 0)
+      p = {static_cast<double>(rng() % span), static_cast<double>(rng() % span)};
+    else if (shape == 1)
+      p = {u(rng), u(rng)};
+    else
+      p = {static_cast<double>(rng() % 100000) / 10, 3.0};
     s.at.push_back(p);
     s.group.push_back(static_cast<int>(rng() % 4) - 1);
     s.erased.push_back(0);
@@ -72,8 +75,9 @@ TEST(SpatialGrid, NearestMatchesBruteForceIncludingTiesAndDuplicates) {
     for (int query = 0; query < 40; ++query) {
       // At a stored point, anywhere near the points, or far outside the grid's box.
       const Point2 q = query % 3 == 0 ? s.at[rng() % n]
-                       : query % 3 == 1 ? Point2{static_cast<double>(rng() % 200) - 50, static_cast<double>(rng() % 200) - 50}
-                                        : Point2{static_cast<double>(rng() % 4000) - 2000, -1000.0 + static_cast<double>(rng() % 3)};
+                       : query % 3 == 1
+                           ? Point2{static_cast<double>(rng() % 200) - 50, static_cast<double>(rng() % 200) - 50}
+                           : Point2{static_cast<double>(rng() % 4000) - 2000, -1000.0 + static_cast<double>(rng() % 3)};
       const std::size_t k = std::vector<std::size_t>{1, 2, 3, 8, 40}[rng() % 5];
       const int skip = query % 2 ? SpatialGrid::kNoGroup : static_cast<int>(rng() % 4) - 1;
       grid.nearest(q, k, skip, found);
@@ -135,7 +139,8 @@ TEST(SpatialGrid, BoxQueriesFindEveryOverlappingBoxOnce) {
           const auto& [a, b] = boxes[i];
           const bool holds = a.x_mm <= p.x_mm && p.x_mm <= b.x_mm && a.v_mm <= p.v_mm && p.v_mm <= b.v_mm;
           if (holds) {
-            ASSERT_NE(std::find(cell.begin(), cell.end(), static_cast<int>(i)), cell.end()) << "box " << i << " holds the point";
+            ASSERT_NE(std::find(cell.begin(), cell.end(), static_cast<int>(i)), cell.end())
+                << "box " << i << " holds the point";
           }
         }
       }

@@ -26,7 +26,7 @@ struct RepairResult {
 // Outcome of opening candidate windows one by one.
 struct WindowMarking {
   int added = 0;
-  int rejected = 0;     // candidates dropped because the card would not pop up with them
+  int rejected = 0;              // candidates dropped because the card would not pop up with them
   std::int64_t full_checks = 0;  // decisions the incremental check handed to check_popup
   std::int64_t work = 0;         // IncrementalPopupStats::segments_visited over all decisions
 };

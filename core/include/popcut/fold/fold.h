@@ -21,11 +21,11 @@ std::vector<std::array<Point2, 3>> triangulate(const PatternFace& face);
 // The card at a fold angle: each face triangulated in the pattern, mapped to 3D (eq. 2, 3),
 // then moved by eq. 7. Triangles run counter-clockwise seen from the sheet's printed side.
 struct CardMesh {
-  std::vector<Point3> vertices;                        // mm, card coordinates
-  std::vector<std::array<std::uint32_t, 3>> triangles; // indices into vertices
-  std::vector<Point2> pattern_points;                  // each vertex where it lies on the flat sheet
-  std::vector<int> triangle_face;                      // the pattern face of each triangle
-  std::vector<FaceKind> face_kind;                     // per pattern face
+  std::vector<Point3> vertices;                         // mm, card coordinates
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // indices into vertices
+  std::vector<Point2> pattern_points;                   // each vertex where it lies on the flat sheet
+  std::vector<int> triangle_face;                       // the pattern face of each triangle
+  std::vector<FaceKind> face_kind;                      // per pattern face
 };
 
 // The range of an opening angle, for every command option and API field that takes one: throws

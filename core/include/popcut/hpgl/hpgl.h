@@ -16,7 +16,7 @@ namespace popcut {
 
 enum class MoveStyle { separate, inline_xy };  // "PU;PAx,y;" versus "PUx,y;"
 enum class CoordMode { absolute, relative };
-enum class ForceStyle { none, fs, roland };    // "FSn;" or Roland's "!FSn;" (CAMM-GL)
+enum class ForceStyle { none, fs, roland };  // "FSn;" or Roland's "!FSn;" (CAMM-GL)
 // The names device profiles use.
 inline constexpr auto kMoveStyleNames =
     enum_names<MoveStyle>({{MoveStyle::separate, "separate"}, {MoveStyle::inline_xy, "inline"}});
@@ -33,10 +33,10 @@ struct HpglDialect : PlotterFrame {
   MoveStyle move_style = MoveStyle::separate;
   CoordMode coords = CoordMode::absolute;
   std::string terminator = ";";
-  bool newline = false;        // a newline after every command (some serial firmwares want lines)
-  bool velocity = true;        // VS supported
+  bool newline = false;  // a newline after every command (some serial firmwares want lines)
+  bool velocity = true;  // VS supported
   ForceStyle force = ForceStyle::fs;
-  double force_g_per_unit = 1; // the force command's unit, in grams (Graphtec levels are coarse)
+  double force_g_per_unit = 1;  // the force command's unit, in grams (Graphtec levels are coarse)
   int max_pairs_per_command = 64;
 };
 
@@ -56,7 +56,8 @@ class HpglEncoder final : public JobEncoder {
  public:
   explicit HpglEncoder(HpglDialect dialect) : dialect_(std::move(dialect)) {}
   CutterLanguage language() const override { return CutterLanguage::hpgl; }
-  EncodedJob encode(const StrokePlan& plan, const std::array<ToolSetting, 4>& tools, std::size_t from_stroke) const override {
+  EncodedJob encode(const StrokePlan& plan, const std::array<ToolSetting, 4>& tools,
+                    std::size_t from_stroke) const override {
     return encode_job(plan, dialect_, tools, from_stroke);
   }
 

@@ -59,7 +59,8 @@ class JobEncoder {
   // The job from stroke `from_stroke` on: set-up, per kind tool selection, strokes
   // from_stroke..total, finish. Throws popcut::Error when a point would leave the usable area,
   // and invalid_input ("resume") when from_stroke is 0 or past the last stroke.
-  virtual EncodedJob encode(const StrokePlan& plan, const std::array<ToolSetting, 4>& tools, std::size_t from_stroke) const = 0;
+  virtual EncodedJob encode(const StrokePlan& plan, const std::array<ToolSetting, 4>& tools,
+                            std::size_t from_stroke) const = 0;
 };
 
 }  // namespace popcut

@@ -13,8 +13,8 @@ namespace popcut {
 struct PlotterFrame {
   double units_per_mm_x = 40;  // calibratable: real devices differ by about 0.5 %
   double units_per_mm_y = 40;
-  bool swap_axes = false;      // plotter x runs along the pattern's v; alone a mirror, with one flip a quarter turn
-  bool flip_x = false;         // plotter x grows the other way (after any swap)
+  bool swap_axes = false;  // plotter x runs along the pattern's v; alone a mirror, with one flip a quarter turn
+  bool flip_x = false;     // plotter x grows the other way (after any swap)
   bool flip_y = false;
   std::int64_t area_min_x_pu = 0, area_min_y_pu = 0;  // usable area, in plotter units
   std::int64_t area_max_x_pu = 0, area_max_y_pu = 0;
@@ -33,13 +33,15 @@ struct Placement {
 Placement place_sheet(const Rect& sheet, const PlotterFrame& frame);
 
 // Absolute plotter coordinates of a pattern point, rounded once (every move derives from these).
-std::array<std::int64_t, 2> to_plotter(Point2 p, const Rect& sheet, const Placement& placement, const PlotterFrame& frame);
+std::array<std::int64_t, 2> to_plotter(Point2 p, const Rect& sheet, const Placement& placement,
+                                       const PlotterFrame& frame);
 
 using PlotterPath = std::vector<std::array<std::int64_t, 2>>;
 
 // One stroke's points in absolute plotter units, consecutive repeats merged. Throws popcut::Error
 // when a point would leave the usable area (never sent).
-PlotterPath stroke_in_plotter_units(const Stroke& stroke, const Rect& sheet, const Placement& placement, const PlotterFrame& frame);
+PlotterPath stroke_in_plotter_units(const Stroke& stroke, const Rect& sheet, const Placement& placement,
+                                    const PlotterFrame& frame);
 
 // Every stroke in absolute plotter units, consecutive repeats merged and strokes that round to a
 // single point dropped: exactly the knife-down paths an encoder sends (and a device should cut).

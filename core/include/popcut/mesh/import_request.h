@@ -1,4 +1,5 @@
-// popcut import's options as text (a command line's flags or a form's fields) and the whole import of a mesh file: one path for `popcut import`, `popcut submit MESH` and popcutd.
+// popcut import's options as text (a command line's flags or a form's fields) and the whole import of a mesh file: one
+// path for `popcut import`, `popcut submit MESH` and popcutd.
 #pragma once
 
 #include <array>
@@ -16,7 +17,8 @@ namespace popcut {
 
 // The option names: popcut import's flags without "--". no-windows and faces are switches.
 inline constexpr std::array<std::string_view, 13> kImportOptionNames = {
-    "up", "front", "resolution", "width-mm", "voxel-mm", "height-mm", "fit-mm", "keep-depth", "smooth", "no-windows", "thin-tops", "depth-method", "faces"};
+    "up",         "front",  "resolution", "width-mm",  "voxel-mm",     "height-mm", "fit-mm",
+    "keep-depth", "smooth", "no-windows", "thin-tops", "depth-method", "faces"};
 
 // A device's media as a sheet lies on it: the most a sheet may measure across (pattern x) and
 // along (pattern v), after the room its knife needs past the sheet's edge.
@@ -36,8 +38,8 @@ struct ImportRequest {
 // repeated name, an axis or method that is none, a number that is not one (whole numbers for
 // resolution, smooth and thin-tops), a box that is neither. Ranges are left to import_mesh,
 // which names them the same way.
-ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values, const std::string& source,
-                                   const std::vector<NamedMedia>& media = {});
+ImportRequest parse_import_options(const std::vector<std::pair<std::string, std::string>>& values,
+                                   const std::string& source, const std::vector<NamedMedia>& media = {});
 
 // One warning per device whose media the sheet does not fit, naming both sizes.
 std::vector<std::string> media_warnings(const Rect& sheet, const std::vector<NamedMedia>& media);

@@ -22,8 +22,8 @@ inline constexpr int kMaxStructuringElement = 15;
 struct TriangleSoup {
   std::vector<std::array<double, 3>> points;
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::int64_t polygons = 0;         // polygons in the file
-  std::int64_t degenerate = 0;       // triangles dropped for zero area (repeated or collinear corners)
+  std::int64_t polygons = 0;    // polygons in the file
+  std::int64_t degenerate = 0;  // triangles dropped for zero area (repeated or collinear corners)
 };
 
 // Reads OBJ, STL (ASCII or binary), OFF or PLY, chosen by the file's extension, with CGAL's
@@ -59,19 +59,19 @@ struct CardFit {
 };
 
 struct ImportOptions {
-  Axis up = Axis::pz;        // the mesh axis that becomes the card's height z
-  Axis front = Axis::ny;     // the mesh axis pointing at the viewer: the card's depth y
-  int resolution = 80;       // voxels across the card (x), as the paper's 80
-  std::optional<double> width_mm;  // card width of the model; or
-  std::optional<double> voxel_mm;  // the voxel edge; or
-  std::optional<double> height_mm; // the standing card's height (its back board, = the closed card's); or
-  std::optional<CardFit> fit;      // the largest card inside a box (one of the four; default width 120 mm)
-  double keep_depth = 0.5;   // fraction of the model's depth kept, from the front (paper: half)
-  int structuring_element = 3;  // side of the square for opening and closing; 1 turns it off
-  bool windows = true;       // filled rows become windows where the card still pops up
-  int thin_top_voxels = 0;   // drop top faces this narrow (in x) when the card stays valid; 0 = off
+  Axis up = Axis::pz;               // the mesh axis that becomes the card's height z
+  Axis front = Axis::ny;            // the mesh axis pointing at the viewer: the card's depth y
+  int resolution = 80;              // voxels across the card (x), as the paper's 80
+  std::optional<double> width_mm;   // card width of the model; or
+  std::optional<double> voxel_mm;   // the voxel edge; or
+  std::optional<double> height_mm;  // the standing card's height (its back board, = the closed card's); or
+  std::optional<CardFit> fit;       // the largest card inside a box (one of the four; default width 120 mm)
+  double keep_depth = 0.5;          // fraction of the model's depth kept, from the front (paper: half)
+  int structuring_element = 3;      // side of the square for opening and closing; 1 turns it off
+  bool windows = true;              // filled rows become windows where the card still pops up
+  int thin_top_voxels = 0;          // drop top faces this narrow (in x) when the card stays valid; 0 = off
   DepthMethod depth = DepthMethod::zbuffer;
-  std::string name;          // the model's label
+  std::string name;  // the model's label
   // A caller's budget of voxel cells (width x depth x height), checked on the planned grid before
   // any sampling: popcutd's [limits] model_cells. 0: only the per-axis kMaxVoxelAxis.
   std::int64_t max_cells = 0;
@@ -82,15 +82,17 @@ struct ImportOptions {
 struct DepthMap {
   int width = 0, height = 0;
   std::vector<double> front;  // width × height, index x * height + z; -infinity where no surface
-  double at(int x, int z) const { return front[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z)]; }
+  double at(int x, int z) const {
+    return front[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z)];
+  }
 };
 
 // Where the grid lies in card coordinates (mesh units), decided from the mesh and the options.
 struct ImportGrid {
   int width = 0, depth = 0, height = 0;  // voxels
-  double x0 = 0, z0 = 0;      // card x, z of the grid's corner
-  double step = 1;            // mesh units per voxel
-  double back_wall_y = 0;     // card y of the back wall; the kept slab ends at the mesh front
+  double x0 = 0, z0 = 0;                 // card x, z of the grid's corner
+  double step = 1;                       // mesh units per voxel
+  double back_wall_y = 0;                // card y of the back wall; the kept slab ends at the mesh front
   double voxel_mm = 1;
 };
 

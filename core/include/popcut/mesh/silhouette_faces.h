@@ -10,12 +10,12 @@ namespace popcut {
 
 // How the face model's outlines compare with the voxel card's, along the redrawn edges.
 struct SilhouetteComparison {
-  int outlines = 0;        // outlines (wall tops, undersides) redrawn along the silhouette
-  int steps_kept = 0;      // slice boundaries where a step had to stay (another face in the way)
-  int outlines_kept = 0;   // outlines left in voxel steps because redrawing them would break a face
-  bool fell_back = false;  // the redrawn model failed its check and the voxel outlines were kept
-  int voxel_lines = 0, face_lines = 0;  // lines of the two patterns
-  int samples = 0;         // silhouette samples the distances below average over
+  int outlines = 0;                            // outlines (wall tops, undersides) redrawn along the silhouette
+  int steps_kept = 0;                          // slice boundaries where a step had to stay (another face in the way)
+  int outlines_kept = 0;                       // outlines left in voxel steps because redrawing them would break a face
+  bool fell_back = false;                      // the redrawn model failed its check and the voxel outlines were kept
+  int voxel_lines = 0, face_lines = 0;         // lines of the two patterns
+  int samples = 0;                             // silhouette samples the distances below average over
   double voxel_mean_mm = 0, face_mean_mm = 0;  // mean distance from the silhouette
   double voxel_max_mm = 0, face_max_mm = 0;
 };

@@ -53,7 +53,7 @@ namespace detail {
 struct FaceModelState;  // exact (CGAL) faces; defined in core/src only
 struct ExactFace;
 struct FaceCache;
-}
+}  // namespace detail
 
 // The faces always partition the sheet (eq. 4): every edit subtracts its polygon from the
 // faces already there (eq. 5) with exact regularized Booleans. Coordinates are exact inside;
@@ -80,7 +80,7 @@ class FaceModel {
   bool undo();  // false when there is nothing to undo
   bool redo();
   const std::vector<FaceEdit>& edits() const { return edits_; }  // the edits that made this state
-  bool has_edit_history() const { return from_edits_; }           // false for a model read as faces
+  bool has_edit_history() const { return from_edits_; }          // false for a model read as faces
 
   Rect sheet() const;
   // The faces; the first call after an edit works them out (throws popcut::Error when the
@@ -101,11 +101,11 @@ class FaceModel {
   void restore(std::vector<std::shared_ptr<detail::FaceCache>>& stack);
 
   std::shared_ptr<const detail::FaceModelState> sheet_;  // the sheet's bounds; no faces
-  Drawn drawn_;                // bottom to top: each polygon covers those drawn before it (eq. 5)
-  std::size_t given_ = 0;      // leading polygons read as final faces: disjoint, nothing to subtract
+  Drawn drawn_;                        // bottom to top: each polygon covers those drawn before it (eq. 5)
+  std::size_t given_ = 0;              // leading polygons read as final faces: disjoint, nothing to subtract
   std::vector<std::size_t> edit_end_;  // drawn_.size() after each edit in edits_
   std::vector<FaceEdit> edits_, undone_;
-  std::vector<Drawn> redo_drawn_;      // the polygons of each undone edit, for redo
+  std::vector<Drawn> redo_drawn_;                     // the polygons of each undone edit, for redo
   mutable std::shared_ptr<detail::FaceCache> cache_;  // the faces of this state, once worked out
   std::vector<std::shared_ptr<detail::FaceCache>> undo_cache_, redo_cache_;  // of the states nearest in history
   bool from_edits_ = true;

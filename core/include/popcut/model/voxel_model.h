@@ -44,8 +44,8 @@ struct VoxelModel {
   double voxel_mm = 1.0;
   SheetSpec sheet;
   std::string name;
-  std::vector<int> heights;            // width × depth, index x * depth + y
-  std::vector<std::uint8_t> windows;   // width × height, index x * height + z
+  std::vector<int> heights;           // width × depth, index x * depth + y
+  std::vector<std::uint8_t> windows;  // width × height, index x * height + z
   // width × height (or empty: none), index x * height + z - 1: the top face at height z
   // (1 ≤ z ≤ height) of slice x is left out (§3.3); its paper lies on the face behind it
   // instead, as a window's does (see slice_faces).
@@ -54,11 +54,16 @@ struct VoxelModel {
   static VoxelModel empty(int width, int depth, int height, double voxel_mm);
 
   int h(int x, int y) const {
-    return (y < 0 || y >= depth) ? 0 : heights[static_cast<std::size_t>(x) * static_cast<std::size_t>(depth) + static_cast<std::size_t>(y)];
+    return (y < 0 || y >= depth)
+               ? 0
+               : heights[static_cast<std::size_t>(x) * static_cast<std::size_t>(depth) + static_cast<std::size_t>(y)];
   }
-  int& h_at(int x, int y) { return heights[static_cast<std::size_t>(x) * static_cast<std::size_t>(depth) + static_cast<std::size_t>(y)]; }
+  int& h_at(int x, int y) {
+    return heights[static_cast<std::size_t>(x) * static_cast<std::size_t>(depth) + static_cast<std::size_t>(y)];
+  }
   bool is_window(int x, int z) const {
-    return z >= 0 && z < height && windows[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z)] != 0;
+    return z >= 0 && z < height &&
+           windows[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z)] != 0;
   }
   void set_window(int x, int z, bool on) {
     windows[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z)] = on ? 1 : 0;
@@ -66,11 +71,13 @@ struct VoxelModel {
   int window_count() const;
   bool is_top_dropped(int x, int z) const {
     return !dropped_tops.empty() && z >= 1 && z <= height &&
-           dropped_tops[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z - 1)] != 0;
+           dropped_tops[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) +
+                        static_cast<std::size_t>(z - 1)] != 0;
   }
   void set_top_dropped(int x, int z, bool on) {
     dropped_tops.resize(windows.size(), 0);
-    dropped_tops[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z - 1)] = on ? 1 : 0;
+    dropped_tops[static_cast<std::size_t>(x) * static_cast<std::size_t>(height) + static_cast<std::size_t>(z - 1)] =
+        on ? 1 : 0;
   }
   // Does slice x have a top face at height z (a column exactly z high, z ≥ 1)?
   bool has_top(int x, int z) const;

@@ -12,9 +12,10 @@ namespace popcut {
 
 // Work done by an IncrementalPopup, for benchmarks and tests.
 struct IncrementalPopupStats {
-  std::int64_t decisions = 0;         // windows judged
-  std::int64_t segments_visited = 0;  // segments re-labelled plus regions and region folds walked, all decisions together
-  std::int64_t full_checks = 0;       // decisions that fell back to the full check_popup
+  std::int64_t decisions = 0;  // windows judged
+  std::int64_t segments_visited =
+      0;                         // segments re-labelled plus regions and region folds walked, all decisions together
+  std::int64_t full_checks = 0;  // decisions that fell back to the full check_popup
 };
 
 // The voxel paper's §3.2 c) flags a window and re-runs the pop-up check (§2.6) each time; over a
@@ -58,9 +59,9 @@ class IncrementalPopup {
   struct Segment {
     int lo = 0, hi = 0;  // rows [lo, hi) of the strip
     std::uint32_t face = 0;
-    int region = -1;          // committed region id (-1: a segment the decision in progress adds)
-    std::uint32_t seen = 0;   // epoch of the decision that flooded it
-    int next_region = -1;     // its region after the change, when flooded
+    int region = -1;         // committed region id (-1: a segment the decision in progress adds)
+    std::uint32_t seen = 0;  // epoch of the decision that flooded it
+    int next_region = -1;    // its region after the change, when flooded
   };
   using Column = std::vector<Segment>;
   struct Ref {
@@ -77,7 +78,10 @@ class IncrementalPopup {
   bool decide(int x);
   void rebuild();
   bool full_check() const;
-  Segment& at(Ref r) { return r.column == changed_ ? pending_[static_cast<std::size_t>(r.index)] : columns_[static_cast<std::size_t>(r.column)][static_cast<std::size_t>(r.index)]; }
+  Segment& at(Ref r) {
+    return r.column == changed_ ? pending_[static_cast<std::size_t>(r.index)]
+                                : columns_[static_cast<std::size_t>(r.column)][static_cast<std::size_t>(r.index)];
+  }
   const Column& column(int c) const { return c == changed_ ? pending_ : columns_[static_cast<std::size_t>(c)]; }
   bool fold_below(const Column& col, int index) const;
   template <typename Visit>
@@ -99,15 +103,15 @@ class IncrementalPopup {
 
   // The decision in progress: column `changed_` as it would be (the new view of the graph), the
   // segments flooded into new regions (ids regions_.size() + i), the regions that dissolve.
-  int changed_ = -1;   // the column that reads as pending_ (-1: the committed view everywhere)
-  int decided_ = -1;   // the column the decision in progress changes
+  int changed_ = -1;  // the column that reads as pending_ (-1: the committed view everywhere)
+  int decided_ = -1;  // the column the decision in progress changes
   Column pending_;
   std::vector<int> old_index_, new_index_;  // unchanged segments: their index in the other view
   std::vector<std::uint32_t> strip_;
   std::vector<Ref> flooded_, stack_, seeds_;
   std::vector<Region> fresh_;
   std::vector<int> dead_;
-  std::vector<std::uint32_t> dead_mark_;  // by committed id: the epoch that dissolved it
+  std::vector<std::uint32_t> dead_mark_;        // by committed id: the epoch that dissolved it
   std::vector<std::pair<int, int>> new_edges_;  // the new regions' folds: (upper, lower)
   std::vector<int> head_, link_, region_stack_, final_id_;
   bool pending_full_ = false;  // the decision in progress needs the full check

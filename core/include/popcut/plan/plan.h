@@ -19,8 +19,10 @@ namespace popcut {
 enum class PlanKind { valley, mountain, cut, outline };
 inline constexpr std::array<PlanKind, 4> kAllPlanKinds = {PlanKind::valley, PlanKind::mountain, PlanKind::cut,
                                                           PlanKind::outline};
-inline constexpr auto kPlanKindNames = enum_names<PlanKind>(
-    {{PlanKind::valley, "valley"}, {PlanKind::mountain, "mountain"}, {PlanKind::cut, "cut"}, {PlanKind::outline, "outline"}});
+inline constexpr auto kPlanKindNames = enum_names<PlanKind>({{PlanKind::valley, "valley"},
+                                                             {PlanKind::mountain, "mountain"},
+                                                             {PlanKind::cut, "cut"},
+                                                             {PlanKind::outline, "outline"}});
 const char* to_string(PlanKind kind);
 std::size_t index_of(PlanKind kind);
 
@@ -38,20 +40,20 @@ struct KindPlan {
 };
 
 struct PlanOptions {
-  double fold_gap_mm = 0.5;                 // no scored fold point is nearer than this to a cut line or the outline
-  std::optional<double> max_turn_deg;       // lift the knife where a stroke turns more sharply
+  double fold_gap_mm = 0.5;            // no scored fold point is nearer than this to a cut line or the outline
+  std::optional<double> max_turn_deg;  // lift the knife where a stroke turns more sharply
   std::vector<PlanKind> order = {PlanKind::valley, PlanKind::mountain, PlanKind::cut, PlanKind::outline};
-  std::array<KindPlan, 4> kinds{};          // indexed by index_of(PlanKind)
+  std::array<KindPlan, 4> kinds{};  // indexed by index_of(PlanKind)
   // Work for 2-opt and Or-opt per kind after the greedy order, in counted steps (move
   // evaluations and elements moved), not time: the same input always gives the same plan.
   // 0 = greedy only.
   std::uint64_t optimise_work = kDefaultOptimiseWork;
-  std::optional<Point2> home;               // where the knife starts; default the sheet's min corner
+  std::optional<Point2> home;  // where the knife starts; default the sheet's min corner
   // Drag knife: the blade tip trails the tool axis by this much; the axis path is offset ahead
   // along each segment with swivel arcs at the corners. 0: a tangential knife (or a pen).
   double blade_offset_mm = 0;
-  double swivel_step_deg = 15;              // chord step of the swivel arcs
-  double overcut_mm = 0;                    // closed loops: cut on past the start so they close cleanly
+  double swivel_step_deg = 15;  // chord step of the swivel arcs
+  double overcut_mm = 0;        // closed loops: cut on past the start so they close cleanly
   // Drag knife: before each stroke, cut its first precut_mm (along its own first segment, never
   // past it), lift and start the stroke there, so the blade already points the right way. 0: off.
   double precut_mm = 0;
@@ -67,12 +69,12 @@ struct Stroke {
 
 struct KindStats {
   int strokes = 0;
-  int pen_lifts = 0;       // strokes + precuts: every knife-down path ends with a lift
-  int precuts = 0;         // blade-turning cuts before strokes (not counted in strokes)
-  int pen_lift_bound = 0;  // Euler bound of the kind's line graph (before perforation)
-  double cut_mm = 0;       // knife-down length, all passes and precuts
-  double travel_mm = 0;    // knife-up length travelled to reach this kind's strokes
-  int folds_dropped = 0;   // folds with nothing left to score once the gap is kept from every cut
+  int pen_lifts = 0;                 // strokes + precuts: every knife-down path ends with a lift
+  int precuts = 0;                   // blade-turning cuts before strokes (not counted in strokes)
+  int pen_lift_bound = 0;            // Euler bound of the kind's line graph (before perforation)
+  double cut_mm = 0;                 // knife-down length, all passes and precuts
+  double travel_mm = 0;              // knife-up length travelled to reach this kind's strokes
+  int folds_dropped = 0;             // folds with nothing left to score once the gap is kept from every cut
   int strokes_below_resolution = 0;  // round to one plotter point: not sent, not counted above
 };
 

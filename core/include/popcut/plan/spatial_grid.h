@@ -18,7 +18,7 @@ class SpatialGrid {
  public:
   SpatialGrid(Rect box, std::size_t items);
 
-  void insert(int id, Point2 lo, Point2 hi);  // a box: every cell it overlaps
+  void insert(int id, Point2 lo, Point2 hi);                       // a box: every cell it overlaps
   void insert_segment(int id, Point2 a, Point2 b, double pad_mm);  // the box of ab, pad_mm wider each way
   // A point; nearest() skips the points of the query's `group` (a path's own ends).
   void insert(int id, Point2 at, int group = 0);

@@ -32,18 +32,21 @@ struct CutControl {
 
 // How a simulated cut went, worst first: each verdict holds only when none above it does.
 enum class SimVerdict {
-  not_complete,   // the job did not get through (failed or cancelled)
-  stalled,        // the simulator could not execute all it held (frozen: it stopped answering)
-  lost_bytes,     // bytes arrived with its buffer full and were lost
-  outside_area,   // a move left its usable area
-  not_as_planned, // its knife-down paths differ from the planned ones
-  command_errors, // it cut the planned paths, but read malformed commands on the way
-  exact,          // the simulator cut exactly the plan
+  not_complete,    // the job did not get through (failed or cancelled)
+  stalled,         // the simulator could not execute all it held (frozen: it stopped answering)
+  lost_bytes,      // bytes arrived with its buffer full and were lost
+  outside_area,    // a move left its usable area
+  not_as_planned,  // its knife-down paths differ from the planned ones
+  command_errors,  // it cut the planned paths, but read malformed commands on the way
+  exact,           // the simulator cut exactly the plan
 };
-inline constexpr auto kSimVerdictNames = enum_names<SimVerdict>(
-    {{SimVerdict::not_complete, "not_complete"}, {SimVerdict::stalled, "stalled"}, {SimVerdict::lost_bytes, "lost_bytes"},
-     {SimVerdict::outside_area, "outside_area"}, {SimVerdict::not_as_planned, "not_as_planned"},
-     {SimVerdict::command_errors, "command_errors"}, {SimVerdict::exact, "exact"}});
+inline constexpr auto kSimVerdictNames = enum_names<SimVerdict>({{SimVerdict::not_complete, "not_complete"},
+                                                                 {SimVerdict::stalled, "stalled"},
+                                                                 {SimVerdict::lost_bytes, "lost_bytes"},
+                                                                 {SimVerdict::outside_area, "outside_area"},
+                                                                 {SimVerdict::not_as_planned, "not_as_planned"},
+                                                                 {SimVerdict::command_errors, "command_errors"},
+                                                                 {SimVerdict::exact, "exact"}});
 const char* to_string(SimVerdict verdict);
 
 // What the simulated cutter made of a job, held against the paths it should have cut.
@@ -79,8 +82,8 @@ struct CutResult {
 class PacedTransport;
 
 struct CutSessionOptions {
-  SimFaults sim_faults;      // `sim` only
-  double sim_time_scale = 0; // `sim` only: > 0 keeps wall-clock time this many times its virtual time
+  SimFaults sim_faults;       // `sim` only
+  double sim_time_scale = 0;  // `sim` only: > 0 keeps wall-clock time this many times its virtual time
 };
 
 // A cut in steps, for a caller that acts between them (popcut cut writes its files before the

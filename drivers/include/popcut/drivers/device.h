@@ -23,10 +23,10 @@ enum class DeviceKind { sim, file, serial, usb };
 //   usb:VID:PID[:SERIAL]       a USB cutter spoken to directly over bulk endpoints
 struct DeviceAddress {
   DeviceKind kind = DeviceKind::sim;
-  std::string path;                        // file: and serial: by name
-  std::optional<std::uint16_t> vid, pid;   // serial: by ids, usb:
-  std::string serial_number;               // optional third part of VID:PID:SERIAL
-  std::string text;                        // the string as given
+  std::string path;                       // file: and serial: by name
+  std::optional<std::uint16_t> vid, pid;  // serial: by ids, usb:
+  std::string serial_number;              // optional third part of VID:PID:SERIAL
+  std::string text;                       // the string as given
 };
 
 // Parses a device string; bad_argument with what was expected when it is malformed.

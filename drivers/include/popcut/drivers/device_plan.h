@@ -12,9 +12,9 @@
 namespace popcut::drivers {
 
 struct DevicePlan {
-  StrokePlan plan;      // strokes below the plotter's resolution dropped: what is sent
-  TimeEstimate time;    // of `plan`, with the profile's kinematics and speeds
-  EncodedJob encoded;   // the whole job, from stroke 1
+  StrokePlan plan;     // strokes below the plotter's resolution dropped: what is sent
+  TimeEstimate time;   // of `plan`, with the profile's kinematics and speeds
+  EncodedJob encoded;  // the whole job, from stroke 1
 };
 
 // plan_strokes -> drop_below_resolution -> estimate_time -> encode_for_device (in the profile's

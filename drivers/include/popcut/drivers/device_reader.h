@@ -36,16 +36,16 @@ enum class DeviceOp {
 };
 
 struct DeviceCommand {
-  std::string name;            // as the language spells it: "PA", "!FS", or "ESC.B" for device control
+  std::string name;  // as the language spells it: "PA", "!FS", or "ESC.B" for device control
   DeviceOp op = DeviceOp::unknown;
-  bool device_control = false; // out of band: never enters the buffer
-  std::vector<double> params;  // numeric parameters in order (ESC.@ and friends: theirs too)
-  std::size_t offset = 0;      // byte offset of the command in the stream
-  std::size_t length = 0;      // bytes it took, terminator included
+  bool device_control = false;  // out of band: never enters the buffer
+  std::vector<double> params;   // numeric parameters in order (ESC.@ and friends: theirs too)
+  std::size_t offset = 0;       // byte offset of the command in the stream
+  std::size_t length = 0;       // bytes it took, terminator included
   // Bytes it held in a device's buffer: its length and the separators (newlines, spaces) read
   // since the command before, which a device stores and discards like any byte.
   std::size_t buffer_bytes = 0;
-  bool malformed = false;      // a parameter that is not a number
+  bool malformed = false;  // a parameter that is not a number
 };
 
 // An incremental reader of one device language: feed bytes as they arrive; commands come out once

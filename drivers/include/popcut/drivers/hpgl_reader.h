@@ -41,10 +41,10 @@ class HpglReader final : public DeviceReader {
  private:
   void parse(std::vector<HpglCommand>& out, bool final);
   std::string pending_;
-  std::size_t consumed_ = 0;  // stream offset of pending_[0]
-  std::size_t synthetic_ = 0; // leading bytes of pending_ we put back (a split command's name)
-  std::size_t separators_ = 0; // separators read since the last command (its buffer_bytes count them)
-  std::string esc_;           // a device-control sequence being received
+  std::size_t consumed_ = 0;    // stream offset of pending_[0]
+  std::size_t synthetic_ = 0;   // leading bytes of pending_ we put back (a split command's name)
+  std::size_t separators_ = 0;  // separators read since the last command (its buffer_bytes count them)
+  std::string esc_;             // a device-control sequence being received
 };
 
 std::vector<HpglCommand> parse_hpgl(std::string_view text);

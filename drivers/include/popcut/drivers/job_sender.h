@@ -28,13 +28,13 @@ struct SendProgress {
   // left the port, as long as all goes well (the result after a failure counts far less).
   std::size_t last_stroke_sent = 0;
   std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
-  std::size_t first_stroke = 1;      // where this transmission started (--resume-from)
+  std::size_t first_stroke = 1;         // where this transmission started (--resume-from)
   std::size_t total_strokes = 0;
 };
 
 struct SendOptions {
   FlowControl flow = FlowControl::none;
-  std::size_t buffer_bytes = 1024;  // the device's buffer: chunks stay well inside it
+  std::size_t buffer_bytes = 1024;          // the device's buffer: chunks stay well inside it
   std::chrono::milliseconds timeout{5000};  // for one write or one reply
   // How long the device may hold us off (XOFF, or a full buffer under ESC.B) while it cuts: a
   // full buffer can take minutes of motion to drain.
@@ -48,7 +48,7 @@ struct SendOptions {
   // After the drain, ask ESC.E: a device reporting an I/O error (15: framing, parity, overrun;
   // 16: input buffer overflow) lost bytes, so a job that seemed to get through did not.
   bool error_query = false;
-  int baud = 0;                         // named in the "did not answer" message of a serial line
+  int baud = 0;  // named in the "did not answer" message of a serial line
   // The device's pace by the motion model (motion_schedule in motion_model.h); empty where there is no device
   // to wait for (a plain file). Used where nothing
   // else tells how far the device has got: with no query, the sender waits until a full buffer's
@@ -81,18 +81,22 @@ struct SendOptions {
 // buffer_size (paced by time, device cannot be asked: a device that stopped lost what overran
 // its buffer, so only the first buffer_bytes are certain).
 enum class ReceivedCountedBy { transport, status_answers, os_queue, buffer_size };
-inline constexpr auto kReceivedCountedByNames = enum_names<ReceivedCountedBy>(
-    {{ReceivedCountedBy::transport, "transport"}, {ReceivedCountedBy::status_answers, "status_answers"},
-     {ReceivedCountedBy::os_queue, "os_queue"}, {ReceivedCountedBy::buffer_size, "buffer_size"}});
+inline constexpr auto kReceivedCountedByNames =
+    enum_names<ReceivedCountedBy>({{ReceivedCountedBy::transport, "transport"},
+                                   {ReceivedCountedBy::status_answers, "status_answers"},
+                                   {ReceivedCountedBy::os_queue, "os_queue"},
+                                   {ReceivedCountedBy::buffer_size, "buffer_size"}});
 const char* to_string(ReceivedCountedBy how);
 
 // How a job's end was confirmed: the device's ESC.B (whole buffer free) or ESC.O (buffer empty)
 // answer, the motion model's estimate, or none (a file: nothing to wait for). not_drained (a
 // cancel or failure) is written as an empty name.
 enum class DrainedBy { not_drained, esc_b, esc_o, estimate, none };
-inline constexpr auto kDrainedByNames =
-    enum_names<DrainedBy>({{DrainedBy::not_drained, ""}, {DrainedBy::esc_b, "esc_b"}, {DrainedBy::esc_o, "esc_o"},
-                           {DrainedBy::estimate, "estimate"}, {DrainedBy::none, "none"}});
+inline constexpr auto kDrainedByNames = enum_names<DrainedBy>({{DrainedBy::not_drained, ""},
+                                                               {DrainedBy::esc_b, "esc_b"},
+                                                               {DrainedBy::esc_o, "esc_o"},
+                                                               {DrainedBy::estimate, "estimate"},
+                                                               {DrainedBy::none, "none"}});
 const char* to_string(DrainedBy how);
 
 // Never over-claims: bytes written into a serial port may still sit in the OS queue, a UART FIFO
@@ -106,8 +110,8 @@ const char* to_string(DrainedBy how);
 // loses power never cuts what sits in its buffer. last_stroke_executed (E <= M <= N) is what it
 // is known to have cut, and the resume point after a reset or power cycle.
 struct SendResult {
-  std::size_t bytes_sent = 0;        // job bytes the transport accepted (abort and queries not counted)
-  std::size_t bytes_received = 0;    // job bytes the device can be shown to have received (<= bytes_sent)
+  std::size_t bytes_sent = 0;      // job bytes the transport accepted (abort and queries not counted)
+  std::size_t bytes_received = 0;  // job bytes the device can be shown to have received (<= bytes_sent)
   std::size_t first_stroke = 1;
   std::size_t last_stroke_sent = 0;     // last stroke the device certainly received (first_stroke - 1: none)
   std::size_t last_stroke_written = 0;  // last stroke whose commands all went into the transport
@@ -122,7 +126,7 @@ struct SendResult {
   // holds, by the model (0: not paced by time). A job sent to it meanwhile would overrun it.
   double busy_for_s = 0;
   bool cancelled = false;
-  bool abort_sent = false;           // the abort sequence and knife up reached the transport
+  bool abort_sent = false;  // the abort sequence and knife up reached the transport
   // The abort went out and the profile says the device drops its buffer on it (an ESC.B answer
   // after it showing job bytes still held says otherwise and clears this): last_stroke_sent is
   // then last_stroke_executed (first_stroke - 1 when unknown), since strokes it held uncut are

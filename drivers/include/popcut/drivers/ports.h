@@ -11,8 +11,8 @@
 namespace popcut::drivers {
 
 struct SerialPortInfo {
-  std::string path;         // /dev/ttyUSB0
-  std::string description;  // what the OS calls it
+  std::string path;                       // /dev/ttyUSB0
+  std::string description;                // what the OS calls it
   std::optional<std::uint16_t> vid, pid;  // USB adapters only
   std::string serial_number;
 };

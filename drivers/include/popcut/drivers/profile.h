@@ -16,20 +16,25 @@ namespace popcut::drivers {
 // How the host keeps the device's input buffer from overflowing. xon_xoff and esc_b are paced by
 // popcut itself; rts_cts and dtr_dsr by the serial port's hardware lines.
 enum class FlowControl { none, xon_xoff, rts_cts, esc_b, dtr_dsr };  // esc_b: ask ESC.B for free space
-inline constexpr auto kFlowControlNames =
-    enum_names<FlowControl>({{FlowControl::none, "none"}, {FlowControl::xon_xoff, "xon_xoff"}, {FlowControl::rts_cts, "rts_cts"},
-                             {FlowControl::esc_b, "esc_b"}, {FlowControl::dtr_dsr, "dtr_dsr"}});
+inline constexpr auto kFlowControlNames = enum_names<FlowControl>({{FlowControl::none, "none"},
+                                                                   {FlowControl::xon_xoff, "xon_xoff"},
+                                                                   {FlowControl::rts_cts, "rts_cts"},
+                                                                   {FlowControl::esc_b, "esc_b"},
+                                                                   {FlowControl::dtr_dsr, "dtr_dsr"}});
 const char* to_string(FlowControl flow);
 
 // How to ask a device whether it has executed everything (HP-GL device-control queries). esc_e
 // is not a drain query (a profile's drain_query cannot name it): the sender's I/O-error check.
 enum class DrainQuery { none, esc_b, esc_o, esc_e };  // esc_b: whole buffer free; esc_o: status bit 3
-inline constexpr auto kDrainQueryNames = enum_names<DrainQuery>(
-    {{DrainQuery::none, "none"}, {DrainQuery::esc_b, "esc_b"}, {DrainQuery::esc_o, "esc_o"}, {DrainQuery::esc_e, "esc_e"}});
+inline constexpr auto kDrainQueryNames = enum_names<DrainQuery>({{DrainQuery::none, "none"},
+                                                                 {DrainQuery::esc_b, "esc_b"},
+                                                                 {DrainQuery::esc_o, "esc_o"},
+                                                                 {DrainQuery::esc_e, "esc_e"}});
 const char* to_string(DrainQuery query);
 
 enum class Parity { none, odd, even };
-inline constexpr auto kParityNames = enum_names<Parity>({{Parity::none, "none"}, {Parity::odd, "odd"}, {Parity::even, "even"}});
+inline constexpr auto kParityNames =
+    enum_names<Parity>({{Parity::none, "none"}, {Parity::odd, "odd"}, {Parity::even, "even"}});
 
 struct TransportDefaults {
   std::string uri;  // [transport] default: e.g. "sim", "file:/dev/usb/lp0", "serial:/dev/ttyUSB0"
@@ -51,13 +56,13 @@ struct TransportDefaults {
   // USB ids ("vvvv:pppp", lower-case hex) of the devices this profile is for.
   std::vector<std::string> usb_ids;
   std::size_t usb_chunk_bytes = 4096;  // one bulk OUT transfer
-  std::size_t buffer_bytes = 1024;  // the device's input buffer
+  std::size_t buffer_bytes = 1024;     // the device's input buffer
   // Bytes a USB-serial adapter's transmit FIFO may hold unseen by the OS (a CP2102: 640, an
   // FT232R: 128): assumed not yet at the device where no answer confirms them. 4096 by default,
   // above every adapter checked, since a stroke counted received too early is skipped on resume.
   std::size_t adapter_fifo_bytes = 4096;
-  int timeout_ms = 5000;        // one write or one reply
-  int hold_timeout_ms = 120000; // the device holding the host off while it cuts
+  int timeout_ms = 5000;         // one write or one reply
+  int hold_timeout_ms = 120000;  // the device holding the host off while it cuts
   // Time pacing (flow_control "none" on a line that cannot hold popcut off): the device is
   // assumed to take up to this much longer than the plan's motion estimate.
   int pace_margin_percent = 25;

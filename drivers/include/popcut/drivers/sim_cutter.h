@@ -1,4 +1,5 @@
-// The simulated cutter: executes its profile's language on a virtual clock, records strokes, models its buffer and faults.
+// The simulated cutter: executes its profile's language on a virtual clock, records strokes, models its buffer and
+// faults.
 #pragma once
 
 #include <array>
@@ -29,7 +30,7 @@ struct SimStroke {
 struct SimFaults {
   std::optional<std::size_t> stop_answering_after_bytes;  // then: no execution, no replies
   std::optional<std::size_t> drop_after_bytes;            // then: the connection is gone
-  double slowdown = 1;                                     // motion takes this many times longer
+  double slowdown = 1;                                    // motion takes this many times longer
 };
 
 struct SimIssue {
@@ -41,7 +42,7 @@ struct SimIssue {
 struct SimReport {
   std::size_t bytes_received = 0;
   std::size_t commands = 0;
-  std::size_t overflow_bytes = 0;   // bytes that arrived with the buffer full (lost)
+  std::size_t overflow_bytes = 0;  // bytes that arrived with the buffer full (lost)
   std::size_t max_buffer_used = 0;
   std::size_t discarded_bytes = 0;  // dropped from the buffer by ESC.K (received, never cut)
   int xoff_sent = 0;
@@ -49,11 +50,11 @@ struct SimReport {
   int knife_downs = 0;
   double knife_down_mm = 0;
   double knife_up_mm = 0;
-  double motion_time_s = 0;         // time spent executing commands (kinematics, slowdown)
-  double clock_s = 0;               // virtual wall clock, including time spent waiting for bytes
-  bool outside_area = false;        // a move left the usable area
-  std::vector<SimIssue> unknown;    // commands it does not know: reported, not fatal
-  std::vector<SimIssue> errors;     // malformed parameters, odd coordinate counts
+  double motion_time_s = 0;       // time spent executing commands (kinematics, slowdown)
+  double clock_s = 0;             // virtual wall clock, including time spent waiting for bytes
+  bool outside_area = false;      // a move left the usable area
+  std::vector<SimIssue> unknown;  // commands it does not know: reported, not fatal
+  std::vector<SimIssue> errors;   // malformed parameters, odd coordinate counts
 };
 
 class SimCutter {

@@ -37,7 +37,8 @@ class TomlSection {
     if (!n) return fallback;
     if (!n->is_number()) fail(key, "expected a number");
     const double v = n->value<double>().value_or(0);
-    if (!std::isfinite(v) || v < lo || v > hi) fail(key, format_significant(v) + " is out of range " + format_significant(lo) + " to " + format_significant(hi));
+    if (!std::isfinite(v) || v < lo || v > hi)
+      fail(key, format_significant(v) + " is out of range " + format_significant(lo) + " to " + format_significant(hi));
     return v;
   }
   std::optional<double> optional_number(const std::string& key, double lo, double hi) {
@@ -49,7 +50,8 @@ class TomlSection {
     if (!n) return fallback;
     if (!n->is_integer()) fail(key, "expected a whole number");
     const std::int64_t v = n->value<std::int64_t>().value_or(0);
-    if (v < lo || v > hi) fail(key, std::to_string(v) + " is out of range " + std::to_string(lo) + " to " + std::to_string(hi));
+    if (v < lo || v > hi)
+      fail(key, std::to_string(v) + " is out of range " + std::to_string(lo) + " to " + std::to_string(hi));
     return static_cast<int>(v);
   }
   bool boolean(const std::string& key, bool fallback) {
@@ -113,7 +115,8 @@ inline toml::table parse_toml(const std::string& text, const std::string& source
     return toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
-    throw Error(ErrorCode::invalid_input, source, "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
+    throw Error(ErrorCode::invalid_input, source,
+                "line " + std::to_string(b.line) + ", column " + std::to_string(b.column),
                 std::string(e.description()));
   }
 }
