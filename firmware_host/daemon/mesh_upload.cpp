@@ -25,7 +25,9 @@ struct TempFile {
 const httplib::MultipartFormData& sort_parts(const httplib::Request& req, const std::vector<std::string>& fields,
                                              MeshUpload& u, std::vector<std::pair<std::string, std::string>>& options) {
   const httplib::MultipartFormData* mesh = nullptr;
-  for (const auto& [key, part] : req.files) {
+  for (const auto& file : req.files) {
+    const std::string& key = file.first;  // captured by a lambda below, which a structured binding cannot be in C++17
+    const httplib::MultipartFormData& part = file.second;
     if (key == "mesh") {
       if (mesh) fail(ApiError::bad_request, "more than one 'mesh' part", "mesh");
       mesh = &part;

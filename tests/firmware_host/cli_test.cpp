@@ -501,7 +501,7 @@ TEST_F(Cli, FaceModelWithAPieceCutFreeIsBadInput) {
 
 }  // namespace
 
-// ---- plan and cut (issue 5) ----
+// ---- plan and cut ----
 namespace {
 
 std::string profile(const std::string& name) { return std::string(POPCUT_SOURCE_DIR) + "/configs/devices/" + name; }

@@ -126,9 +126,9 @@ void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, 
 std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
   const int ss = 2;  // supersampling
   const double scale = width_px * ss / (box.max_x - box.min_x);
-  const int W = width_px * ss;
-  const int H = std::max(1, static_cast<int>(std::ceil((box.max_y - box.min_y) * scale)));
-  std::vector<double> zbuf(static_cast<std::size_t>(W) * static_cast<std::size_t>(H),
+  const int wide_px = width_px * ss;  // the supersampled image
+  const int high_px = std::max(1, static_cast<int>(std::ceil((box.max_y - box.min_y) * scale)));
+  std::vector<double> zbuf(static_cast<std::size_t>(wide_px) * static_cast<std::size_t>(high_px),
                            std::numeric_limits<double>::lowest());
   std::vector<unsigned char> rgb(zbuf.size() * 3, 255);
   for (const auto& t : m.triangles) {
@@ -141,9 +141,9 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
     if (std::abs(area) < 1e-12) continue;  // seen edge-on
     const Shade s = shade_of(m, t);
     const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
-    const int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+    const int x1 = std::min(wide_px - 1, static_cast<int>(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
     const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
-    const int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+    const int y1 = std::min(high_px - 1, static_cast<int>(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         const double px = x + 0.5, py = y + 0.5;
@@ -152,7 +152,8 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
         const double w2 = 1 - w0 - w1;
         if (w0 < 0 || w1 < 0 || w2 < 0) continue;
         const double z = w0 * p[0].depth + w1 * p[1].depth + w2 * p[2].depth;
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
+        const std::size_t i =
+            static_cast<std::size_t>(y) * static_cast<std::size_t>(wide_px) + static_cast<std::size_t>(x);
         if (z <= zbuf[i]) continue;
         zbuf[i] = z;
         rgb[3 * i] = s.r;
@@ -162,7 +163,7 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
     }
   }
   // Box-filter the supersampled image down to the requested size.
-  const int w = width_px, h = H / ss;
+  const int w = width_px, h = high_px / ss;
   std::vector<unsigned char> image(static_cast<std::size_t>(w) * static_cast<std::size_t>(std::max(h, 1)) * 3);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
@@ -170,7 +171,7 @@ std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
         int sum = 0;
         for (int dy = 0; dy < ss; ++dy)
           for (int dx = 0; dx < ss; ++dx)
-            sum += rgb[3 * (static_cast<std::size_t>(y * ss + dy) * static_cast<std::size_t>(W) +
+            sum += rgb[3 * (static_cast<std::size_t>(y * ss + dy) * static_cast<std::size_t>(wide_px) +
                             static_cast<std::size_t>(x * ss + dx)) +
                        static_cast<std::size_t>(c)];
         image[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) +

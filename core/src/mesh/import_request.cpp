@@ -67,7 +67,10 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
   ImportRequest r;
   ImportOptions& o = r.options;
   std::vector<std::string> seen;
-  for (const auto& [name, text] : values) {
+  for (const auto& entry : values) {
+    // Named references, not structured bindings: the lambdas below capture them (C++20 only for bindings).
+    const std::string& name = entry.first;
+    const std::string& text = entry.second;
     const std::string option = "--" + name;
     const auto bad = [&](const std::string& message) -> Error {
       return Error(ErrorCode::invalid_input, source, option, message);
