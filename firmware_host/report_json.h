@@ -2,10 +2,11 @@
 #pragma once
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 
 #include <nlohmann/json.hpp>
+
+#include "popcut/text.h"
 
 namespace popcut {
 
@@ -18,9 +19,7 @@ inline nlohmann::json rounded_numbers(nlohmann::json j) {
     const double v = j.get<double>();
     if (!std::isfinite(v) || v == 0) return j;
     if (std::abs(v) >= 1) return std::round(v * 1000) / 1000;
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", v);
-    return std::strtod(text, nullptr);
+    return std::strtod(format_significant(v, 6).c_str(), nullptr);
   }
   if (j.is_structured()) {
     for (auto& item : j) item = rounded_numbers(std::move(item));
