@@ -26,7 +26,7 @@ const httplib::MultipartFormData& sort_parts(const httplib::Request& req, const 
                                              MeshUpload& u, std::vector<std::pair<std::string, std::string>>& options) {
   const httplib::MultipartFormData* mesh = nullptr;
   for (const auto& file : req.files) {
-    const std::string& key = file.first;  // captured by a lambda below, which a structured binding cannot be in C++17
+    const std::string& key = file.first;  // a lambda below captures it: clang 14 (lint) cannot parse that for a binding
     const httplib::MultipartFormData& part = file.second;
     if (key == "mesh") {
       if (mesh) fail(ApiError::bad_request, "more than one 'mesh' part", "mesh");

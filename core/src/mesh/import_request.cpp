@@ -68,7 +68,7 @@ ImportRequest parse_import_options(const std::vector<std::pair<std::string, std:
   ImportOptions& o = r.options;
   std::vector<std::string> seen;
   for (const auto& entry : values) {
-    // Named references, not structured bindings: the lambdas below capture them (C++20 only for bindings).
+    // Named references, not structured bindings: the lambdas below capture them, which clang 14 (lint) cannot parse.
     const std::string& name = entry.first;
     const std::string& text = entry.second;
     const std::string option = "--" + name;
