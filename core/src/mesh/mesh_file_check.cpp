@@ -274,82 +274,88 @@ std::uint32_t read_be32(const std::string& bytes, std::size_t pos) {
   return u;
 }
 
-void check_off(const std::string& path, const std::string& bytes) {
-  // Header: the keyword ([ST][C][N][4][n]OFF, maybe followed by BINARY), then vertex, face and
-  // edge counts, on one line or several.
-  std::istringstream in(bytes);
-  std::string line;
-  std::vector<std::string> tokens;
+// What an OFF header says: the keyword ([ST][C][N][4][n]OFF, maybe followed by BINARY), then vertex,
+// face and edge counts, on one line or several. `checked` false: a layout left to CGAL.
+struct OffHeader {
+  bool checked = true;
   bool binary = false;
   std::string keyword;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
+  std::vector<std::string> counts;
+  int line_number = 0;  // the last header line read
+};
+
+OffHeader read_off_header(std::istringstream& in) {
+  OffHeader h;
+  for (std::string line; std::getline(in, line);) {
+    ++h.line_number;
     std::istringstream words(strip_comment(line));
     for (std::string w; words >> w;) {
-      if (keyword.empty()) {
-        keyword = w;
-        if (keyword.find("OFF") == std::string::npos) return;  // CGAL reports it
-        if (keyword.find('n') != std::string::npos) return;    // nOFF: a dimension first; left to CGAL (rare)
-      } else if (w == "BINARY" && tokens.empty()) {
-        binary = true;
-        break;  // binary counts follow the newline
+      if (h.keyword.empty()) {
+        h.keyword = w;
+        // Not OFF: CGAL reports it. nOFF (a dimension first, rare) is left to CGAL too.
+        if (w.find("OFF") == std::string::npos || w.find('n') != std::string::npos) h.checked = false;
+        if (!h.checked) return h;
+      } else if (w == "BINARY" && h.counts.empty()) {
+        h.binary = true;
+        return h;  // binary counts follow the newline
       } else {
-        tokens.push_back(w);
+        h.counts.push_back(w);
       }
     }
-    if (binary || tokens.size() >= 3) break;
+    if (h.counts.size() >= 3) return h;
   }
-  if (binary) {
-    // Only the plain layout (3 float coordinates a vertex) is walked; CGAL's big-endian int32
-    // face counts would be negative or huge otherwise.
-    if (keyword != "OFF") return;
-    const std::size_t size = bytes.size();
-    std::size_t at = static_cast<std::size_t>(in.tellg());
-    if (in.tellg() < 0 || size - at < 12) return;  // CGAL reports the short header
-    const std::uint32_t vertices = read_be32(bytes, at), faces = read_be32(bytes, at + 4);
-    at += 12;
-    if (std::uint64_t{vertices} * 12 > size - at) {
-      fail(path, "header",
-           "declares " + std::to_string(vertices) + " vertices, more than the file's " + std::to_string(size) +
-               " bytes can hold: the file is truncated or corrupt");
-    }
-    at += std::size_t{vertices} * 12;
-    for (std::uint32_t f = 0; f < faces; ++f) {
-      for (int part = 0; part < 2; ++part) {  // the corners, then the colour components
-        if (size - at < 4) fail(path, record_name("face", f), "the file ends inside this face: the file is truncated");
-        const auto n = static_cast<std::int32_t>(read_be32(bytes, at));
-        at += 4;
-        if (n < 0 || static_cast<std::uint64_t>(n) > (size - at) / 4) {
-          fail(path, record_name("face", f),
-               std::string(part == 0 ? "says " : "has ") + std::to_string(n) +
-                   (part == 0 ? " corners" : " colour components") + ", but only " + std::to_string((size - at) / 4) +
-                   " numbers are left in the file: the file is truncated or corrupt");
-        }
-        for (std::int32_t k = 0; part == 0 && k < n; ++k) {
-          const auto v = static_cast<std::int32_t>(read_be32(bytes, at + static_cast<std::size_t>(k) * 4));
-          if (v < 0 || static_cast<std::uint32_t>(v) >= vertices) {
-            bad_corner(path, record_name("face", f), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
-          }
-        }
-        at += static_cast<std::size_t>(n) * 4;
+  return h;
+}
+
+// Binary OFF from `at`: big-endian counts, 3 float coordinates a vertex, then each face's corner
+// count and corners, colour count and components.
+void walk_off_binary(const std::string& path, const std::string& bytes, std::size_t at) {
+  const std::size_t size = bytes.size();
+  if (size - at < 12) return;  // CGAL reports the short header
+  const std::uint32_t vertices = read_be32(bytes, at), faces = read_be32(bytes, at + 4);
+  at += 12;
+  if (std::uint64_t{vertices} * 12 > size - at) {
+    fail(path, "header",
+         "declares " + std::to_string(vertices) + " vertices, more than the file's " + std::to_string(size) +
+             " bytes can hold: the file is truncated or corrupt");
+  }
+  at += std::size_t{vertices} * 12;
+  for (std::uint32_t f = 0; f < faces; ++f) {
+    for (int part = 0; part < 2; ++part) {  // the corners, then the colour components
+      if (size - at < 4) fail(path, record_name("face", f), "the file ends inside this face: the file is truncated");
+      const auto n = static_cast<std::int32_t>(read_be32(bytes, at));
+      at += 4;
+      if (n < 0 || static_cast<std::uint64_t>(n) > (size - at) / 4) {
+        fail(path, record_name("face", f),
+             std::string(part == 0 ? "says " : "has ") + std::to_string(n) +
+                 (part == 0 ? " corners" : " colour components") + ", but only " + std::to_string((size - at) / 4) +
+                 " numbers are left in the file: the file is truncated or corrupt");
       }
+      for (std::int32_t k = 0; part == 0 && k < n; ++k) {
+        const auto v = static_cast<std::int32_t>(read_be32(bytes, at + static_cast<std::size_t>(k) * 4));
+        if (v < 0 || static_cast<std::uint32_t>(v) >= vertices) {
+          bad_corner(path, record_name("face", f), static_cast<std::uint64_t>(k), std::to_string(v), vertices);
+        }
+      }
+      at += static_cast<std::size_t>(n) * 4;
     }
-    return;
   }
-  if (tokens.size() < 3) return;
+}
+
+// Text OFF after the header: one vertex a line, then one face a line ("n i1 … in [colour]"); CGAL
+// reads a face's whole line and sizes the face by its first number, so that number may not exceed
+// the numbers on the line.
+void walk_off_text(const std::string& path, std::istringstream& in, const OffHeader& h) {
   std::uint64_t vertices = 0, faces = 0;
   try {
-    vertices = std::stoull(tokens[0]);
-    faces = std::stoull(tokens[1]);
+    vertices = std::stoull(h.counts[0]);
+    faces = std::stoull(h.counts[1]);
   } catch (const std::exception&) {
     return;  // CGAL reports it
   }
-  // Text: one vertex a line, then one face a line ("n i1 … in [colour]"); CGAL reads a face's
-  // whole line and sizes the face by its first number, so that number may not exceed the
-  // numbers on the line.
+  int line_number = h.line_number;
   std::uint64_t record = 0;
-  while (record < vertices + faces && std::getline(in, line)) {
+  for (std::string line; record < vertices + faces && std::getline(in, line);) {
     ++line_number;
     std::istringstream words(strip_comment(line));
     std::vector<std::string> numbers;
@@ -373,6 +379,20 @@ void check_off(const std::string& path, const std::string& bytes) {
                    "'" + numbers[k] + "'", vertices);
       }
     }
+  }
+}
+
+void check_off(const std::string& path, const std::string& bytes) {
+  std::istringstream in(bytes);
+  const OffHeader h = read_off_header(in);
+  if (!h.checked) return;
+  if (h.binary) {
+    // Only the plain layout (3 float coordinates a vertex) is walked; CGAL's big-endian int32
+    // face counts would be negative or huge otherwise.
+    if (h.keyword != "OFF" || in.tellg() < 0) return;
+    walk_off_binary(path, bytes, static_cast<std::size_t>(in.tellg()));
+  } else if (h.counts.size() >= 3) {
+    walk_off_text(path, in, h);
   }
 }
 
