@@ -143,7 +143,7 @@ std::vector<std::pair<Point2, Point2>> split_at_junctions(const std::vector<std:
   if (segs.empty()) return out;
   std::vector<Point2> ends;
   for (const auto& [a, b] : segs) ends.insert(ends.end(), {a, b});
-  SpatialGrid grid(bounds_of(ends), segs.size());
+  SpatialGrid grid(bounds(ends), segs.size());
   for (std::size_t i = 0; i < segs.size(); ++i)
     grid.insert_segment(static_cast<int>(i), segs[i].first, segs[i].second, kEps);
   std::vector<std::vector<double>> cuts_at(segs.size());

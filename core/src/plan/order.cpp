@@ -40,7 +40,7 @@ std::vector<std::vector<Point2>> greedy_order(std::vector<std::vector<Point2>> p
   for (const Entry& e : entries)
     pts.push_back(paths[static_cast<std::size_t>(e.path)][static_cast<std::size_t>(e.vertex)]);
   pts.push_back(start);
-  SpatialGrid grid(bounds_of(pts), entries.size());
+  SpatialGrid grid(bounds(pts), entries.size());
   for (std::size_t i = 0; i < entries.size(); ++i) grid.insert(static_cast<int>(i), pts[i]);
   std::vector<std::vector<Point2>> tour;
   std::vector<std::pair<double, int>> nearest;
@@ -65,6 +65,8 @@ std::vector<std::vector<Point2>> greedy_order(std::vector<std::vector<Point2>> p
 
 std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
                                              std::uint64_t work_budget) {
+  // An empty path has nothing to cut and no end to travel to.
+  std::erase_if(paths, [](const std::vector<Point2>& p) { return p.empty(); });
   if (paths.empty()) return paths;
   std::vector<std::vector<Point2>> tour = greedy_order(std::move(paths), start);
   if (work_budget == 0) return tour;

@@ -110,6 +110,12 @@ std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fo
   }
   const LineKind want =
       kind == PlanKind::cut ? LineKind::cut : (kind == PlanKind::valley ? LineKind::valley : LineKind::mountain);
+  if (want == LineKind::cut || fold_gap_mm <= 0) {
+    for (const Segment& l : pattern.lines) {
+      if (l.kind == want) out.push_back(l);
+    }
+    return out;
+  }
   // Cut lines and the outline's four edges in a grid, so each fold looks only at the cuts near it.
   std::vector<std::pair<Point2, Point2>> cuts;
   for (const Segment& l : pattern.lines) {
@@ -123,10 +129,6 @@ std::vector<Segment> kind_lines(const Pattern& pattern, PlanKind kind, double fo
   std::vector<std::pair<Point2, Point2>> near;
   for (const Segment& l : pattern.lines) {
     if (l.kind != want) continue;
-    if (want == LineKind::cut || fold_gap_mm <= 0) {
-      out.push_back(l);
-      continue;
-    }
     // Every cut whose box comes within the gap of the fold's box.
     const double reach = fold_gap_mm + kEps;
     grid.ids_in_box({std::min(l.a.x_mm, l.b.x_mm) - reach, std::min(l.a.v_mm, l.b.v_mm) - reach},

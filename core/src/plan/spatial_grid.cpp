@@ -14,19 +14,29 @@ using plan_detail::dist;
 SpatialGrid::SpatialGrid(Rect box, std::size_t items) {
   const double w = std::max(box.max.x_mm - box.min.x_mm, 1e-3), h = std::max(box.max.v_mm - box.min.v_mm, 1e-3);
   const double cells = std::max<double>(1, static_cast<double>(items));
-  cell_mm_ = std::max(std::sqrt(w * h / cells), 1e-3);
+  // Square cells about one item each, but never so small that the 4096-cell cap leaves part of the
+  // box outside the grid: points clamped into an edge cell would make every query scan them all.
+  cell_mm_ = std::max({std::sqrt(w * h / cells), w / 4096, h / 4096, 1e-3});
   origin_ = box.min;
   nx_ = std::min<long>(4096, static_cast<long>(w / cell_mm_) + 1);
   nv_ = std::min<long>(4096, static_cast<long>(h / cell_mm_) + 1);
   cells_.resize(static_cast<std::size_t>(nx_ * nv_));
 }
 
-long SpatialGrid::cx(double x) const {
-  return std::clamp(static_cast<long>((x - origin_.x_mm) / cell_mm_), 0L, nx_ - 1);
+namespace {
+
+// The cell index of an offset, clamped to [0, n - 1] before the cast: a NaN, an infinity or a far
+// point then lands in an edge cell instead of an undefined conversion.
+long cell_index(double offset_cells, long n) {
+  if (!(offset_cells > 0)) return 0;
+  if (offset_cells >= static_cast<double>(n - 1)) return n - 1;
+  return static_cast<long>(offset_cells);
 }
-long SpatialGrid::cv(double v) const {
-  return std::clamp(static_cast<long>((v - origin_.v_mm) / cell_mm_), 0L, nv_ - 1);
-}
+
+}  // namespace
+
+long SpatialGrid::cx(double x) const { return cell_index((x - origin_.x_mm) / cell_mm_, nx_); }
+long SpatialGrid::cv(double v) const { return cell_index((v - origin_.v_mm) / cell_mm_, nv_); }
 
 void SpatialGrid::insert(int id, Point2 lo, Point2 hi) {
   if (seen_.size() <= static_cast<std::size_t>(id)) seen_.resize(static_cast<std::size_t>(id) + 1, 0);
@@ -106,15 +116,6 @@ void SpatialGrid::nearest(Point2 at, std::size_t k, int skip_group, std::vector<
     if (found.size() >= k && (static_cast<double>(r) - 1) * cell_mm_ > found[k - 1].first) break;
     gather_ring(at, r, k, skip_group, found);
   }
-}
-
-Rect bounds_of(const std::vector<Point2>& points) {
-  Rect r{{1e300, 1e300}, {-1e300, -1e300}};
-  for (Point2 p : points) {
-    r.min = {std::min(r.min.x_mm, p.x_mm), std::min(r.min.v_mm, p.v_mm)};
-    r.max = {std::max(r.max.x_mm, p.x_mm), std::max(r.max.v_mm, p.v_mm)};
-  }
-  return r;
 }
 
 }  // namespace popcut

@@ -82,7 +82,7 @@ void TourSearch::build_anchors() {
 void TourSearch::build_neighbours() {
   std::vector<Point2> at;
   for (const Anchor& a : anchors_) at.push_back(a.at);
-  SpatialGrid grid(bounds_of(at), anchors_.size());
+  SpatialGrid grid(bounds(at), anchors_.size());
   for (std::size_t a = 0; a < anchors_.size(); ++a) grid.insert(static_cast<int>(a), at[a], anchors_[a].owner);
   near_.resize(anchors_.size());
   std::vector<std::pair<double, int>> found;

@@ -63,7 +63,7 @@ TEST(SpatialGrid, NearestMatchesBruteForceIncludingTiesAndDuplicates) {
     const int shape = trial % 3;
     const std::size_t n = shape == 2 && trial % 2 ? 8000 : 1 + rng() % 300;
     PointSet s = random_points(rng, shape, n);
-    SpatialGrid grid(bounds_of(s.at), n);
+    SpatialGrid grid(bounds(s.at), n);
     for (std::size_t i = 0; i < n; ++i) grid.insert(static_cast<int>(i), s.at[i], s.group[i]);
     for (std::size_t i = 0; i < n; ++i) {
       if (rng() % 4 == 0) {

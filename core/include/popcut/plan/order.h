@@ -14,7 +14,8 @@ inline constexpr std::uint64_t kDefaultOptimiseWork = 500'000;
 // Orders paths from `start` to cut knife-up travel: greedy nearest neighbour over a grid, then
 // 2-opt and Or-opt (with reversal) over near path ends until no move gains or `work_budget`
 // steps are spent; picks each open path's direction and each closed loop's start (a vertex, or a
-// point inside a segment, which then becomes the loop's first and last point). Deterministic.
+// point inside a segment, which then becomes the loop's first and last point). Deterministic. Empty
+// paths are dropped.
 std::vector<std::vector<Point2>> order_paths(std::vector<std::vector<Point2>> paths, Point2 start,
                                              std::uint64_t work_budget = kDefaultOptimiseWork);
 

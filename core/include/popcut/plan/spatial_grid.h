@@ -36,8 +36,6 @@ class SpatialGrid {
   void nearest(Point2 at, std::size_t k, int skip_group, std::vector<std::pair<double, int>>& found) const;
   static constexpr int kNoGroup = -2;  // a skip_group no point has: every point counts
 
-  double cell_mm() const { return cell_mm_; }
-
  private:
   struct Item {
     Point2 at;
@@ -56,8 +54,5 @@ class SpatialGrid {
   std::vector<Item> points_;  // by id: where each point item lies
   std::vector<char> seen_;    // by id: ids_in_box's marks, all clear between calls
 };
-
-// The smallest box holding every point (a box with min > max when there are none).
-Rect bounds_of(const std::vector<Point2>& points);
 
 }  // namespace popcut
