@@ -71,10 +71,13 @@ class TomlSection {
   // One of the table's names; returns its value. Messages list the names in table order.
   template <class E, std::size_t N>
   E choice(const std::string& key, E fallback, const EnumNames<E, N>& table) {
-    std::array<std::string_view, N> names{};
-    for (std::size_t i = 0; i < N; ++i) names[i] = table.entries[i].second;
-    const std::optional<std::size_t> i = choice_index(key, names);
-    return i ? table.entries[*i].first : fallback;
+    const toml::node* n = node(key);
+    if (!n) return fallback;
+    const std::string allowed = table.quoted_list(", ", '"');
+    if (!n->is_string()) fail(key, "expected one of " + allowed);
+    const std::string s = n->value<std::string>().value_or("");
+    if (const std::optional<E> value = table.find(s)) return *value;
+    fail(key, "\"" + s + "\" is not one of " + allowed);
   }
   const toml::array* array(const std::string& key) {
     const toml::node* n = node(key);
@@ -89,21 +92,6 @@ class TomlSection {
   }
 
  private:
-  // The index of the key's value among `names`, nullopt when the key is absent.
-  template <std::size_t N>
-  std::optional<std::size_t> choice_index(const std::string& key, const std::array<std::string_view, N>& names) {
-    const toml::node* n = node(key);
-    if (!n) return std::nullopt;
-    std::string allowed;
-    for (std::string_view a : names) allowed += std::string(allowed.empty() ? "" : ", ") + "\"" + std::string(a) + "\"";
-    if (!n->is_string()) fail(key, "expected one of " + allowed);
-    const std::string s = n->value<std::string>().value_or("");
-    for (std::size_t i = 0; i < N; ++i) {
-      if (s == names[i]) return i;
-    }
-    fail(key, "\"" + s + "\" is not one of " + allowed);
-  }
-
   const toml::table* table_;
   std::string name_, source_;
   std::set<std::string> seen_;
