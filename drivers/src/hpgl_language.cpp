@@ -30,7 +30,7 @@ constexpr const char* kSetupAllowed =
 std::string knife_problem(const std::vector<HpglCommand>& cmds, const std::string& plain) {
   bool lifted = false;
   for (const HpglCommand& cmd : cmds) {
-    if (cmd.name.rfind("ESC", 0) == 0) continue;
+    if (cmd.device_control) continue;
     const std::string what = plain.substr(cmd.offset, cmd.length);
     if (cmd.name == "PD") return "'" + what + "' lowers the knife (" + kSetupAllowed + ")";
     if (std::find(kSetupCommands.begin(), kSetupCommands.end(), cmd.name) == kSetupCommands.end()) {
@@ -70,7 +70,7 @@ std::string hpgl_text_problem(const std::string& text) {
     plain += text[i];
   }
   for (const HpglCommand& cmd : parse_hpgl(text)) {
-    if (cmd.name.rfind("ESC", 0) == 0) continue;
+    if (cmd.device_control) continue;
     const std::string what = plain.substr(cmd.offset, cmd.length);
     if (cmd.malformed) return "'" + what + "' is not a command with numeric parameters";
     const char last = cmd.offset + cmd.length > 0 ? plain[cmd.offset + cmd.length - 1] : '\0';
@@ -107,7 +107,7 @@ void check_abort(const TomlSection& t, const std::string& abort) {
     t.fail("abort", "must not lower the knife or draw, it is sent to stop a job: " + problem);
   }
   for (const HpglCommand& cmd : cmds) {
-    if (cmd.malformed && cmd.name.rfind("ESC", 0) != 0) {
+    if (cmd.malformed && !cmd.device_control) {
       t.fail("abort", "'" + plain.substr(cmd.offset, cmd.length) + "' is not a command with numeric parameters");
     }
   }
