@@ -32,9 +32,8 @@ struct CommandStates {
 };
 
 // A group of subcommands sharing one options struct, and the pair that adds and runs them.
+// Each subcommand's name and --help line are set by `add`, in the group's file cli/NAME.cpp.
 struct CommandGroup {
-  std::string_view name;  // the file it lives in, cli/NAME.cpp (cut: cli_cut.cpp)
-  std::string_view help;  // what its subcommands do; each one's --help line is set by `add`
   void (*add)(CLI::App& app, CommandStates& states);
   std::optional<int> (*run)(const CommandStates& states);  // nullopt: none of the group's subcommands was chosen
   std::string_view unlisted = "";                          // a subcommand the unknown-command message does not name
@@ -42,26 +41,20 @@ struct CommandGroup {
 
 // A row for the group whose options live in CommandStates::*member.
 template <auto member, auto add_group, auto run_group>
-constexpr CommandGroup group(std::string_view name, std::string_view help, std::string_view unlisted = "") {
-  return {name, help, [](CLI::App& app, CommandStates& s) { add_group(app, s.*member); },
+constexpr CommandGroup group(std::string_view unlisted = "") {
+  return {[](CLI::App& app, CommandStates& s) { add_group(app, s.*member); },
           [](const CommandStates& s) { return run_group(s.*member); }, unlisted};
 }
 
 // In the order popcut --help lists the subcommands.
 const CommandGroup kCommandGroups[] = {
-    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(
-        "pattern", "pattern, validate, repair: a model's pattern and its pop-up check"),
-    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(
-        "fold", "fold, render: the card folded to an angle, as a 3D model or a picture"),
-    group<&CommandStates::import, add_import_command, run_import_command>("import", "import: a mesh made into a card"),
-    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(
-        "cut", "plan, cut: strokes, HP-GL and sending a job to a cutter"),
-    group<&CommandStates::client, add_client_commands, run_client_commands>(
-        "client", "submit, jobs, cancel, resume: popcutd's client", "resume"),
-    group<&CommandStates::devices, add_devices_command, run_devices_command>("devices",
-                                                                             "devices: the cutters attached"),
-    group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>(
-        "sim_plotter", "sim-plotter: a simulated serial cutter"),
+    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(),       // pattern, validate, repair
+    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(),                // fold, render
+    group<&CommandStates::import, add_import_command, run_import_command>(),            // import
+    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(),                   // plan, cut
+    group<&CommandStates::client, add_client_commands, run_client_commands>("resume"),  // submit, jobs, cancel, resume
+    group<&CommandStates::devices, add_devices_command, run_devices_command>(),         // devices
+    group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>(),  // sim-plotter
 };
 
 // "pattern, validate, ... devices or sim-plotter": the subcommands each group added, in order.
