@@ -124,7 +124,9 @@ bool RenderSlots::try_take() {
 ApiContext::ApiContext(Daemon& daemon)
     : daemon_(daemon),
       previews_(daemon.config().limits.preview_cache_bytes),
-      render_slots_(daemon.config().http_threads) {}
+      render_slots_(daemon.config().http_threads) {
+  for (const DeviceConfig& dev : daemon.config().devices) media_.push_back(drivers::media_of(dev.profile, dev.name));
+}
 
 double ApiContext::uptime_s() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
@@ -154,12 +156,6 @@ Job ApiContext::visible_job(const httplib::Request& req, const Caller& caller) c
   // Another's job is "not found" for a kiosk token: ids of others' jobs are not disclosed.
   if (!j || (!caller.admin() && j->owner != caller.name)) fail(ApiError::not_found, "no job " + std::to_string(id));
   return *j;
-}
-
-std::vector<NamedMedia> ApiContext::media() const {
-  std::vector<NamedMedia> out;
-  for (const DeviceConfig& dev : daemon_.config().devices) out.push_back(drivers::media_of(dev.profile, dev.name));
-  return out;
 }
 
 std::string ApiContext::preview(const std::string& key, int angle, const std::function<Pattern()>& pattern) {

@@ -76,7 +76,7 @@ class ApiContext {
   // The job of the path's first group, if the caller may see it (else not_found).
   Job visible_job(const httplib::Request& req, const Caller& caller) const;
   // The media of every configured device, by the device's name: what --fit-mm may name.
-  std::vector<NamedMedia> media() const;
+  const std::vector<NamedMedia>& media() const { return media_; }
   // The PNG preview of `pattern()` folded to `angle`, from the cache under `key` when there.
   std::string preview(const std::string& key, int angle, const std::function<Pattern()>& pattern);
   // A number no other upload of this run has: temporary files' names.
@@ -84,6 +84,7 @@ class ApiContext {
 
  private:
   Daemon& daemon_;
+  std::vector<NamedMedia> media_;  // the configuration does not change while popcutd runs
   RequestCounters counters_;
   PreviewCache previews_;
   RenderSlots render_slots_;
