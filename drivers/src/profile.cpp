@@ -49,6 +49,7 @@ void read_device_section(TomlSection& dev, bool present, DeviceProfile& p) {
   p.name = dev.text("name", "");
   if (p.name.empty()) dev.fail("name", "must not be empty");
   p.language = dev.choice("language", CutterLanguage::hpgl, kCutterLanguageNames);
+  p.family = dev.choice("family", DeviceFamily::generic, kDeviceFamilyNames);
   PlotterFrame& d = p.dialect;
   d.units_per_mm_x = dev.number("units_per_mm", 40, 1, 1000);
   d.units_per_mm_y = d.units_per_mm_x;

@@ -1,6 +1,7 @@
 // HP-GL encoder: the plan's strokes in plotter units (plotter_frame.h), written in one device's dialect.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "popcut/error.h"
@@ -64,7 +65,7 @@ EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::a
   std::array<std::int64_t, 2> at{0, 0};
   int pen = -1;
   long speed = -1, force = -1;
-  std::size_t kind = 99;
+  std::optional<ToolSetting> setting;  // the one last sent, re-sent where a stroke's differs
 
   // Moves (pen up or down) through `pts`; relative deltas come from the rounded absolutes.
   const auto move = [&](bool down, const std::vector<std::array<std::int64_t, 2>>& abs_pts) {
@@ -114,10 +115,9 @@ EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::a
     if (pts.size() < 2) continue;
     // Strokes before from_stroke leave no trace: tool, position and mode state start afresh.
     if (++number < from_stroke) continue;
-    const std::size_t k = index_of(s.kind);
-    if (k != kind) {
-      kind = k;
-      const ToolSetting& t = tools[k];
+    const ToolSetting& t = tool_for_stroke(tools, s);
+    if (!setting || !(*setting == t)) {
+      setting = t;
       if (t.pen != pen) w.cmd("SP" + std::to_string(pen = t.pen));
       const long v = std::max(1L, std::lround(t.speed_cm_s));
       if (d.velocity && v != speed) w.cmd("VS" + std::to_string(speed = v));

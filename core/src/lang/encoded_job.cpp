@@ -16,4 +16,8 @@ std::size_t EncodedJob::command_boundary_at_or_after(std::size_t offset) const {
   return it == command_end.end() ? bytes.size() : *it;
 }
 
+const ToolSetting& tool_for_stroke(const std::array<ToolSetting, 4>& tools, const Stroke& stroke) {
+  return tools[index_of(stroke.kind)];
+}
+
 }  // namespace popcut

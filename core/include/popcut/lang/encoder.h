@@ -20,7 +20,13 @@ struct ToolSetting {
   int pen = 1;
   double force_g = 100;
   double speed_cm_s = 10;
+  friend bool operator==(const ToolSetting&, const ToolSetting&) = default;
 };
+
+// The tool setting a stroke is cut with: its kind's. Encoders ask this for every stroke and
+// re-send pen, force and speed where the answer changes, so settings finer than per kind (per
+// pass) need no encoder of their own.
+const ToolSetting& tool_for_stroke(const std::array<ToolSetting, 4>& tools, const Stroke& stroke);
 
 // Stroke numbers, the one numbering users see (progress, errors, --resume-from): stroke N is the
 // N-th path of plan_in_plotter_units(plan, frame), counted from 1 — the knife-down paths actually

@@ -68,9 +68,20 @@ struct TransportDefaults {
   int pace_margin_percent = 25;
 };
 
+// Which maker's force, speed and blade numbers a device takes: materials (configs/materials)
+// give their settings per family.
+enum class DeviceFamily { generic, silhouette, graphtec, roland, uscutter, secabo };
+inline constexpr auto kDeviceFamilyNames = enum_names<DeviceFamily>({{DeviceFamily::generic, "generic"},
+                                                                     {DeviceFamily::silhouette, "silhouette"},
+                                                                     {DeviceFamily::graphtec, "graphtec"},
+                                                                     {DeviceFamily::roland, "roland"},
+                                                                     {DeviceFamily::uscutter, "uscutter"},
+                                                                     {DeviceFamily::secabo, "secabo"}});
+
 struct DeviceProfile {
   std::string source;  // file it came from
   std::string name;
+  DeviceFamily family = DeviceFamily::generic;  // [device] family
   CutterLanguage language = CutterLanguage::hpgl;  // [device] language: the encoder and reader it picks
   // The frame ([device]: units, axes, usable area) every language uses, and [hpgl]'s syntax.
   HpglDialect dialect;
