@@ -1,0 +1,136 @@
+// Time pacing at the edge of its margin: no byte lost at exactly the margin's slowdown, job time by the virtual clock,
+// a slower device caught.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/motion_model.h"
+#include "popcut/drivers/sim_cutter.h"
+#include "popcut/io/model_io.h"
+#include "shipped_profiles.h"
+
+namespace popcut::drivers {
+namespace {
+
+StrokePlan townhouse_plan(const DeviceProfile& p) {
+  PlanOptions o = p.plan;
+  o.optimise_work = 1000;  // these tests are about pacing, not ordering
+  return plan_strokes(make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/townhouse.json")), o);
+}
+
+// A device that cannot be asked, with a 256-byte buffer (a quarter of a typical one), on a line
+// that cannot hold popcut off.
+DeviceProfile blind(DeviceProfile p) {
+  p.transport.flow = FlowControl::none;
+  p.transport.buffer_bytes = 256;
+  p.transport.drain_query = DrainQuery::none;
+  p.transport.error_query = false;
+  return p;
+}
+
+struct PacedJob {
+  SendResult sent;
+  SimReport report;
+  std::vector<SimStroke> strokes;
+  double model_end_s = 0;  // the motion schedule's end, first-travel allowance included
+};
+
+// `job` time-paced with `margin_percent` to a simulator `slowdown` times slower than the plan,
+// left by `earlier` where that ended. Everything on the simulator's virtual clock.
+PacedJob pace(const DeviceProfile& p, const EncodedJob& job, int margin_percent, double slowdown,
+              const std::string& earlier = "") {
+  auto cutter = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, slowdown});
+  cutter->preload(earlier);
+  cutter->run_to_end();
+  const double start_s = cutter->now_s();
+  SimTransport t(cutter);
+  EXPECT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  o.pace_margin_percent = margin_percent;
+  PacedJob r;
+  r.model_end_s = o.motion.back().start_s;
+  r.sent = send_job(t, job, o);
+  cutter->run_to_end();
+  r.report = cutter->report();
+  r.report.clock_s -= start_s;
+  r.strokes = cutter->strokes();
+  return r;
+}
+
+std::string far_corner(const HpglDialect& d) {
+  const std::int64_t far_y = std::min(d.area_max_y_pu, d.area_min_y_pu + 2 * (d.area_max_x_pu - d.area_min_x_pu));
+  return "IN;PU" + std::to_string(d.area_max_x_pu) + "," + std::to_string(far_y) + ";";
+}
+
+// The guarantee at its edge: a device exactly the margin slower than the plan, at the origin or
+// left at the far corner of its area, loses nothing and cuts the whole job, whatever the margin
+// (the shipped 25 %, the calibrated default 10 %, and 5 %).
+TEST(TimePacing, ADeviceExactlyTheMarginSlowerLosesNothing) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = blind(load_profile(file));
+    const StrokePlan plan = townhouse_plan(p);
+    const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+    const std::vector<PlotterPath> planned = plan_in_plotter_units(plan, p.dialect);
+    for (const int margin : {25, 10, 5}) {
+      for (const std::string& earlier : {std::string(), far_corner(p.dialect)}) {
+        const PacedJob r = pace(p, job, margin, 1 + margin / 100.0, earlier);
+        const std::string what = file + ", margin " + std::to_string(margin) + " %" + (earlier.empty() ? "" : ", far");
+        ASSERT_TRUE(r.sent.complete()) << what << ": " << r.sent.status.message;
+        EXPECT_EQ(r.report.overflow_bytes, 0u) << what;
+        EXPECT_LE(r.report.max_buffer_used, 256u) << what;
+        EXPECT_FALSE(first_difference(planned, r.strokes).has_value()) << what << ": the whole job cut";
+      }
+    }
+  }
+}
+
+// Job time on the virtual clock: a device as fast as the plan waits for bytes as the margin says,
+// over the motion schedule (which allows for a first travel across the area): the margin times
+// that, and no more (pacing granularity and the end of the job add under 1 %). A smaller margin
+// costs proportionally less.
+TEST(TimePacing, JobTimeIsTheMarginTimesTheSchedule) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = blind(load_profile(file));
+    const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+    double previous_s = 0;
+    for (const int margin : {5, 10, 25}) {
+      const PacedJob r = pace(p, job, margin, 1);
+      ASSERT_TRUE(r.sent.complete()) << file << ": " << r.sent.status.message;
+      const double paced_s = (1 + margin / 100.0) * r.model_end_s;
+      EXPECT_LT(r.report.clock_s, 1.01 * paced_s + 0.1) << file << ", margin " << margin;
+      EXPECT_GT(r.report.clock_s, 0.95 * paced_s)
+          << file << ", margin " << margin << ": done only when the slowed model is";
+      EXPECT_GT(r.report.clock_s, previous_s) << file << ": a larger margin takes longer";
+      previous_s = r.report.clock_s;
+      if (margin == 5) {
+        EXPECT_LT(r.report.clock_s, 1.25 * r.report.motion_time_s)
+            << file << ": a calibrated margin of 5 %: " << r.report.clock_s << " s for " << r.report.motion_time_s
+            << " s of motion";
+      }
+    }
+  }
+}
+
+// Beyond the margin nothing on the line can tell popcut the device is behind; one that answers
+// ESC.E reports the overflow after the job, and the job fails naming the margin to raise.
+TEST(TimePacing, ADeviceSlowerThanTheMarginIsCaughtByItsErrorAnswer) {
+  DeviceProfile p = blind(load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/sim.toml"));
+  p.transport.error_query = true;
+  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  const PacedJob r = pace(p, job, 10, 1.6);
+  ASSERT_GT(r.report.overflow_bytes, 0u) << "60 % slower than the plan overruns a 10 % margin";
+  EXPECT_FALSE(r.sent.complete());
+  EXPECT_EQ(r.sent.status.error, TransportError::io) << r.sent.status.message;
+  EXPECT_NE(r.sent.status.message.find("pace_margin_percent (10 %)"), std::string::npos) << r.sent.status.message;
+  const PacedJob within = pace(p, job, 10, 1.1);
+  EXPECT_TRUE(within.sent.complete()) << "at the margin the same device reports no error: "
+                                      << within.sent.status.message;
+}
+
+}  // namespace
+}  // namespace popcut::drivers
