@@ -3,18 +3,15 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <linux/usbdevice_fs.h>
-#include <sys/ioctl.h>
 #include <umockdev.h>
 
-#include <cerrno>
-#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "popcut/drivers/device.h"
@@ -22,180 +19,13 @@
 #include "popcut/drivers/ports.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/io/model_io.h"
-
-// GObject's type macros are C: their casts are not ours to restyle.
-#pragma GCC diagnostic ignored "-Wold-style-cast"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
+#include "usb_mock.h"
 
 namespace {
 
 using namespace popcut;
 using namespace popcut::drivers;
-
-// The far end: a SimCutter behind usbdevfs URBs, plus the faults a USB cutter shows.
-struct Device {
-  std::mutex mutex;
-  std::shared_ptr<SimCutter> cutter;
-  std::size_t unplug_after = static_cast<std::size_t>(-1);  // bytes; then every ioctl fails ENODEV
-  bool unplugged = false;
-  struct Urb {
-    UMockdevIoctlData* urb;
-    UMockdevIoctlData* buffer;
-  };
-  std::vector<Urb> done;     // completed, waiting to be reaped
-  std::vector<Urb> pending;  // IN transfers waiting for the device to say something
-  std::vector<Urb> discarded;
-  int claims = 0;
-  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-  // The cutter runs 100 times faster than the wall clock: a job's seconds of motion pass quickly.
-  void run_clock() {
-    const double t = 100 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (t > cutter->now_s()) cutter->advance(t);
-  }
-};
-Device* g_device = nullptr;
-
-}  // namespace
-
-extern "C" {
-struct CutterHandler {
-  UMockdevIoctlBase parent;
-};
-struct CutterHandlerClass {
-  UMockdevIoctlBaseClass parent_class;
-};
-G_DEFINE_TYPE(CutterHandler, cutter_handler, UMOCKDEV_TYPE_IOCTL_BASE)
-}
-
-namespace {
-
-void complete_in(Device& d, Device::Urb u) {
-  auto* urb = reinterpret_cast<usbdevfs_urb*>(u.urb->data);
-  const IoResult got = d.cutter->reply(u.buffer->data, static_cast<std::size_t>(u.buffer->data_len), 0);
-  urb->actual_length = static_cast<int>(got.bytes);  // a short (or zero-length) packet: what it had
-  urb->status = 0;
-  umockdev_ioctl_data_update(u.buffer, 0, u.buffer->data, u.buffer->data_len);
-  umockdev_ioctl_data_update(u.urb, 0, u.urb->data, u.urb->data_len);
-  d.done.push_back(u);
-}
-
-gboolean handle_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* client) {
-  Device& d = *g_device;
-  std::lock_guard<std::mutex> lock(d.mutex);
-  const gulong request = umockdev_ioctl_client_get_request(client);
-  UMockdevIoctlData* arg = umockdev_ioctl_client_get_arg(client);
-  const gsize size = (request >> _IOC_SIZESHIFT) & ((1 << _IOC_SIZEBITS) - 1);
-  GError* err = nullptr;
-  UMockdevIoctlData* data = size ? umockdev_ioctl_data_resolve(arg, 0, size, &err) : nullptr;
-  if (err) {
-    g_error_free(err);
-    return FALSE;
-  }
-  d.run_clock();
-  if (d.unplugged && request != USBDEVFS_REAPURBNDELAY && request != USBDEVFS_REAPURB) {
-    umockdev_ioctl_client_complete(client, -1, ENODEV);
-    return TRUE;
-  }
-  switch (request) {
-    case USBDEVFS_GET_CAPABILITIES: {
-      const guint32 caps = USBDEVFS_CAP_BULK_CONTINUATION | USBDEVFS_CAP_NO_PACKET_SIZE_LIM | USBDEVFS_CAP_ZERO_PACKET;
-      umockdev_ioctl_data_update(data, 0, const_cast<guint8*>(reinterpret_cast<const guint8*>(&caps)), 4);
-      umockdev_ioctl_client_complete(client, 0, 0);
-      return TRUE;
-    }
-    case USBDEVFS_CLAIMINTERFACE:
-    case USBDEVFS_DISCONNECT_CLAIM:  // libusb's auto-detach: take it from usblp and claim at once
-      ++d.claims;
-      umockdev_ioctl_client_complete(client, 0, 0);
-      return TRUE;
-    case USBDEVFS_RELEASEINTERFACE:
-    case USBDEVFS_CLEAR_HALT:
-    case USBDEVFS_RESET:
-    case USBDEVFS_RESETEP: umockdev_ioctl_client_complete(client, 0, 0); return TRUE;
-    case USBDEVFS_DISCARDURB:
-      for (std::size_t i = 0; i < d.pending.size(); ++i) {
-        if (d.pending[i].urb->client_addr == *reinterpret_cast<gulong*>(arg->data)) {
-          reinterpret_cast<usbdevfs_urb*>(d.pending[i].urb->data)->status = -ENOENT;
-          umockdev_ioctl_data_update(d.pending[i].urb, 0, d.pending[i].urb->data, d.pending[i].urb->data_len);
-          d.discarded.push_back(d.pending[i]);
-          d.pending.erase(d.pending.begin() + static_cast<std::ptrdiff_t>(i));
-          umockdev_ioctl_client_complete(client, 0, 0);
-          return TRUE;
-        }
-      }
-      umockdev_ioctl_client_complete(client, -1, EINVAL);
-      return TRUE;
-    case USBDEVFS_SUBMITURB: {
-      auto* urb = reinterpret_cast<usbdevfs_urb*>(data->data);
-      const gsize offset = offsetof(usbdevfs_urb, buffer);
-      UMockdevIoctlData* buffer =
-          umockdev_ioctl_data_resolve(data, offset, static_cast<gsize>(urb->buffer_length), &err);
-      if (err) {
-        g_error_free(err);
-        return FALSE;
-      }
-      g_object_ref(data);
-      Device::Urb u{data, buffer};
-      if (urb->type == USBDEVFS_URB_TYPE_CONTROL) {
-        // Endpoint 0 (string descriptors): this cutter stalls them, as devices without strings do.
-        urb->actual_length = 0;
-        urb->status = -EPIPE;
-        umockdev_ioctl_data_update(data, 0, data->data, data->data_len);
-        d.done.push_back(u);
-      } else if (urb->endpoint & 0x80) {
-        d.pending.push_back(u);
-      } else {
-        std::size_t n = static_cast<std::size_t>(urb->buffer_length);
-        const std::size_t before = d.cutter->report().bytes_received;
-        if (before + n >= d.unplug_after) n = d.unplug_after > before ? d.unplug_after - before : 0;
-        d.cutter->receive(buffer->data, n, 60);
-        urb->actual_length = static_cast<int>(n);
-        urb->status =
-            n == static_cast<std::size_t>(urb->buffer_length) ? 0 : -ESHUTDOWN;  // as the kernel reports an unplug
-        umockdev_ioctl_data_update(data, 0, data->data, data->data_len);
-        d.done.push_back(u);
-        if (d.cutter->report().bytes_received >= d.unplug_after) d.unplugged = true;
-      }
-      umockdev_ioctl_client_complete(client, 0, 0);
-      return TRUE;
-    }
-    case USBDEVFS_REAPURB:
-    case USBDEVFS_REAPURBNDELAY: {
-      if (!d.discarded.empty()) {
-        d.done.insert(d.done.begin(), d.discarded.begin(), d.discarded.end());
-        d.discarded.clear();
-      }
-      if (d.done.empty() && !d.pending.empty()) {
-        const Device::Urb u = d.pending.front();
-        d.pending.erase(d.pending.begin());
-        complete_in(d, u);
-      }
-      if (d.done.empty()) {
-        umockdev_ioctl_client_complete(client, -1, d.unplugged ? ENODEV : EAGAIN);
-        return TRUE;
-      }
-      const Device::Urb u = d.done.front();
-      d.done.erase(d.done.begin());
-      umockdev_ioctl_data_set_ptr(data, 0, u.urb);
-      umockdev_ioctl_client_complete(client, 0, 0);
-      return TRUE;
-    }
-    default: umockdev_ioctl_client_complete(client, -1, ENOTTY); return TRUE;
-  }
-}
-
-}  // namespace
-
-extern "C" {
-static void cutter_handler_class_init(CutterHandlerClass* klass) {
-  UMOCKDEV_IOCTL_BASE_CLASS(klass)->handle_ioctl = handle_ioctl;
-}
-static void cutter_handler_init(CutterHandler*) {}
-}
-
-namespace {
+using popcut::testing::UsbMockDevice;
 
 // A printer-class cutter: device descriptor, then one configuration with bulk OUT 0x01 and IN 0x82.
 const guint8 kDescriptors[] = {
@@ -227,18 +57,14 @@ class UsbMock : public ::testing::Test {
     profile_.transport.drain_query = DrainQuery::esc_b;
     profile_.transport.usb_chunk_bytes = 64;
     device_.cutter = std::make_shared<SimCutter>(profile_);
-    g_device = &device_;
-    handler_ = static_cast<UMockdevIoctlBase*>(g_object_new(cutter_handler_get_type(), nullptr));
-    GError* err = nullptr;
-    ASSERT_TRUE(umockdev_testbed_attach_ioctl(bed_, "/dev/bus/usb/001/002", handler_, &err))
-        << (err ? err->message : "");
+    std::string error;
+    ASSERT_TRUE(popcut::testing::attach_usb_mock(bed_, "/dev/bus/usb/001/002", device_, error)) << error;
+    attached_ = true;
   }
   void TearDown() override {
-    if (bed_) umockdev_testbed_detach_ioctl(bed_, "/dev/bus/usb/001/002", nullptr);
-    if (handler_) g_object_unref(handler_);
+    if (attached_) popcut::testing::detach_usb_mock(bed_, "/dev/bus/usb/001/002", device_);
     if (bed_) g_object_unref(bed_);
     g_free(sys_);
-    g_device = nullptr;
   }
 
   EncodedJob job() const {
@@ -251,9 +77,9 @@ class UsbMock : public ::testing::Test {
 
   UMockdevTestbed* bed_ = nullptr;
   gchar* sys_ = nullptr;
-  UMockdevIoctlBase* handler_ = nullptr;
+  bool attached_ = false;
   DeviceProfile profile_;
-  Device device_;
+  UsbMockDevice device_;
 };
 
 TEST_F(UsbMock, DevicesListsTheCutter) {
