@@ -154,34 +154,38 @@ void BM_BytesPerMm(benchmark::State& state) {
 
 // Time pacing (flow none) on the in-process simulator, whose virtual clock makes the figure exact:
 // how much longer the job takes than the device's own motion (it waits for bytes), and the most
-// the 256-byte buffer held, for a device as fast as the plan (range 1: 10) or 20 % slower (12),
-// that cannot be asked or answers ESC.O.
-// Timed: building the motion schedule the pacing follows.
+// the 256-byte buffer held, with the shipped margin (range 1: 25 %) or a calibrated device's
+// (10 %), for a device as fast as the plan (range 2: 0) or exactly the margin slower (1), that
+// cannot be asked or answers ESC.O (range 3). Timed: building the motion schedule the pacing follows.
 void BM_TimePaced(benchmark::State& state) {
   const std::vector<std::string> files = testing::shipped_profiles();
   drivers::DeviceProfile p = drivers::load_profile(files[static_cast<std::size_t>(state.range(0))]);
   p.transport.flow = drivers::FlowControl::none;
   p.transport.buffer_bytes = 256;
-  // Range 2: 1 to let the device answer ESC.O, which resynchronises the model.
-  p.transport.drain_query = state.range(2) ? drivers::DrainQuery::esc_o : drivers::DrainQuery::none;
+  p.transport.drain_query = state.range(3) ? drivers::DrainQuery::esc_o : drivers::DrainQuery::none;
   p.transport.error_query = false;
   const EncodedJob job = encode_job(plan_of("townhouse.json", p), p.dialect, p.tools);
   drivers::SendOptions o = drivers::send_options(p);
+  o.pace_margin_percent = static_cast<int>(state.range(1));
   for (auto _ : state) {
     o.motion = drivers::motion_schedule(job.bytes, p);
     benchmark::DoNotOptimize(o.motion);
   }
-  const double slowdown = static_cast<double>(state.range(1)) / 10;
+  const double slowdown = state.range(2) ? 1 + o.pace_margin_percent / 100.0 : 1.0;
   auto cutter = std::make_shared<drivers::SimCutter>(p, drivers::SimFaults{std::nullopt, std::nullopt, slowdown});
   drivers::SimTransport t(cutter);
   if (!t.open().ok()) throw std::runtime_error("sim transport did not open");
   const drivers::SendResult r = drivers::send_job(t, job, o);
   cutter->run_to_end();
   state.SetLabel(fs::path(files[static_cast<std::size_t>(state.range(0))]).stem().string());
+  state.counters["margin"] = static_cast<double>(o.pace_margin_percent);
   state.counters["slowdown"] = slowdown;
-  state.counters["esc_o"] = static_cast<double>(state.range(2));
+  state.counters["esc_o"] = static_cast<double>(state.range(3));
   state.counters["complete"] = r.complete() ? 1 : 0;
-  state.counters["job_over_motion"] = cutter->report().clock_s / cutter->report().motion_time_s;
+  const double motion_s = cutter->report().motion_time_s;
+  state.counters["job_over_motion"] = cutter->report().clock_s / motion_s;
+  // The schedule over the device's motion at the plan's pace: the first-travel allowance.
+  state.counters["schedule_over_motion"] = o.motion.back().start_s * slowdown / motion_s;
   state.counters["max_used"] = static_cast<double>(cutter->report().max_buffer_used);
   state.counters["overflow"] = static_cast<double>(cutter->report().overflow_bytes);
 }
@@ -198,8 +202,10 @@ BENCHMARK(BM_Stream)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TimePaced)
     ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1, 1),
-                   {10, 12},
+                   {25, 10},
+                   {0, 1},
                    {0, 1}})
+    ->MinTime(0.05)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BytesPerMm)
     ->DenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1)
@@ -226,17 +232,19 @@ int main(int argc, char** argv) {
                   r.counters.at("baud"), r.counters.at("buffer"), r.counters.at("bytes"),
                   100 * r.counters.at("line_fraction"));
     }
-    std::printf("\ntime pacing (flow none) on the simulator, townhouse, 256-byte buffer, pace_margin_percent 25\n");
-    std::printf("%-16s %-9s %-7s %-9s %-12s %-9s %-9s %-12s\n", "profile", "slowdown", "ESC.O", "complete",
-                "job/motion", "max used", "overflow", "schedule ms");
+    std::printf("\ntime pacing (flow none) on the simulator's virtual clock, townhouse, 256-byte buffer\n");
+    std::printf("%-16s %-7s %-9s %-7s %-9s %-12s %-13s %-9s %-9s %-12s\n", "profile", "margin", "slowdown", "ESC.O",
+                "complete", "job/motion", "sched/motion", "max used", "overflow", "schedule ms");
     const std::vector<std::string> names = popcut::testing::shipped_profiles();
     for (const auto& r : rep.rows()) {
       if (r.name.rfind("BM_TimePaced", 0) != 0) continue;
       const std::size_t i = static_cast<std::size_t>(std::stoi(r.name.substr(r.name.find('/') + 1)));
-      std::printf("%-16s %-9.1f %-7s %-9s %-12.3f %-9.0f %-9.0f %-12.2f\n", fs::path(names[i]).stem().c_str(),
-                  r.counters.at("slowdown"), r.counters.at("esc_o") != 0 ? "asked" : "-",
-                  r.counters.at("complete") != 0 ? "yes" : "NO", r.counters.at("job_over_motion"),
-                  r.counters.at("max_used"), r.counters.at("overflow"), r.ms);
+      std::printf("%-16s %-7s %-9.2f %-7s %-9s %-12.3f %-13.3f %-9.0f %-9.0f %-12.2f\n",
+                  fs::path(names[i]).stem().c_str(),
+                  (std::to_string(static_cast<int>(r.counters.at("margin"))) + " %").c_str(), r.counters.at("slowdown"),
+                  r.counters.at("esc_o") != 0 ? "asked" : "-", r.counters.at("complete") != 0 ? "yes" : "NO",
+                  r.counters.at("job_over_motion"), r.counters.at("schedule_over_motion"), r.counters.at("max_used"),
+                  r.counters.at("overflow"), r.ms);
     }
     std::printf("\nencoder: bytes per cut mm, townhouse, per profile\n%-16s %-8s %-8s %-8s\n", "profile", "bytes",
                 "cut mm", "B/mm");

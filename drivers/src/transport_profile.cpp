@@ -1,4 +1,5 @@
 // [transport] of a device profile: how popcut reaches the device and paces it; the language checks the abort string.
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
 #include <string>
@@ -58,6 +59,14 @@ void read_transport_section(TomlSection& t, const LanguageUnit& language, Transp
   out.timeout_ms = t.integer("timeout_ms", 5000, 10, 600000);
   out.hold_timeout_ms = t.integer("hold_timeout_ms", 120000, 10, 3600000);
   out.pace_margin_percent = t.integer("pace_margin_percent", 25, 0, 1000);
+  out.pace_margin_calibrated_percent =
+      t.integer("pace_margin_calibrated_percent", std::min(10, out.pace_margin_percent), 0, 1000);
+  // A measured pace is known at least as well as a guessed one.
+  if (out.pace_margin_calibrated_percent > out.pace_margin_percent) {
+    t.fail("pace_margin_calibrated_percent", "must not exceed pace_margin_percent (" +
+                                                 std::to_string(out.pace_margin_percent) +
+                                                 "): a measured pace is known at least as well as the profile's own");
+  }
   out.data_bits = t.integer("data_bits", 8, 5, 8);
   out.parity = t.choice("parity", Parity::none, kParityNames);
   out.stop_bits = t.integer("stop_bits", 1, 1, 2);

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "popcut/drivers/job_sender.h"
 #include "popcut/drivers/motion_model.h"
 #include "popcut/drivers/sim_cutter.h"
+#include "popcut/error.h"
 #include "popcut/io/model_io.h"
 #include "shipped_profiles.h"
 
@@ -130,6 +132,32 @@ TEST(TimePacing, ADeviceSlowerThanTheMarginIsCaughtByItsErrorAnswer) {
   const PacedJob within = pace(p, job, 10, 1.1);
   EXPECT_TRUE(within.sent.complete()) << "at the margin the same device reports no error: "
                                       << within.sent.status.message;
+}
+
+// The calibrated margin: 10 % by default, never above the profile's own margin.
+TEST(TimePacing, TheCalibratedMarginIsReadAndChecked) {
+  const std::string base = "[device]\nname = \"x\"\n[transport]\n";
+  EXPECT_EQ(parse_profile(base, "t.toml").transport.pace_margin_calibrated_percent, 10);
+  EXPECT_EQ(parse_profile(base + "pace_margin_percent = 5\n", "t.toml").transport.pace_margin_calibrated_percent, 5)
+      << "a profile's margin below the default is the calibrated one's too";
+  EXPECT_EQ(
+      parse_profile(base + "pace_margin_calibrated_percent = 3\n", "t.toml").transport.pace_margin_calibrated_percent,
+      3);
+  const std::pair<const char*, const char*> cases[] = {
+      {"pace_margin_calibrated_percent = 30", "must not exceed pace_margin_percent (25)"},
+      {"pace_margin_calibrated_percent = -1", "out of range"},
+      {"pace_margin_calibrated_percent = 2.5", "whole number"},
+  };
+  for (const auto& [line, expect] : cases) {
+    try {
+      parse_profile(base + line + "\n", "t.toml");
+      ADD_FAILURE() << line << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << line << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find("[transport] pace_margin_calibrated_percent"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -66,6 +66,9 @@ struct TransportDefaults {
   // Time pacing (flow_control "none" on a line that cannot hold popcut off): the device is
   // assumed to take up to this much longer than the plan's motion estimate.
   int pace_margin_percent = 25;
+  // The same for a device whose pace was measured ([kinematics] time_factor from a calibration):
+  // the model is then the device's own, and only how far other jobs stray from it is left.
+  int pace_margin_calibrated_percent = 10;
 };
 
 // Which maker's force, speed and blade numbers a device takes: materials (configs/materials)
@@ -81,7 +84,7 @@ inline constexpr auto kDeviceFamilyNames = enum_names<DeviceFamily>({{DeviceFami
 struct DeviceProfile {
   std::string source;  // file it came from
   std::string name;
-  DeviceFamily family = DeviceFamily::generic;  // [device] family
+  DeviceFamily family = DeviceFamily::generic;     // [device] family
   CutterLanguage language = CutterLanguage::hpgl;  // [device] language: the encoder and reader it picks
   // The frame ([device]: units, axes, usable area) every language uses, and [hpgl]'s syntax.
   HpglDialect dialect;
