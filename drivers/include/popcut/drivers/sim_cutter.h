@@ -31,6 +31,12 @@ struct SimFaults {
   std::optional<std::size_t> stop_answering_after_bytes;  // then: no execution, no replies
   std::optional<std::size_t> drop_after_bytes;            // then: the connection is gone
   double slowdown = 1;                                    // motion takes this many times longer
+  // The device's own stops, which its status answer reports (GP-GL ESC ENQ) and during which it
+  // executes nothing but goes on answering and buffering: no sheet loaded, from the start (0) or
+  // once this many bytes have arrived (the sheet or roll ran out); its pause key, once this many
+  // have.
+  std::optional<std::size_t> tray_empty_after_bytes = std::nullopt;
+  std::optional<std::size_t> pause_after_bytes = std::nullopt;
 };
 
 struct SimIssue {
