@@ -1,5 +1,4 @@
-// GP-GL's host side: ESC ENQ status (ready, moving, tray empty, paused), answers ended by ETX, the knife-up after an
-// abort.
+// GP-GL's host side: ESC ENQ status (ready, moving, tray empty, paused), answers ended by ETX.
 #include <algorithm>
 #include <cstdlib>
 #include <string>
@@ -40,8 +39,6 @@ class GpglHost final : public HostProtocol {
       default: return StatusMeaning::nothing;
     }
   }
-  // A relative move by nothing: the knife goes up where it is, whatever the job's coordinates.
-  std::string knife_up(const DeviceProfile&) const override { return std::string("O0,0") + kEtx; }
   // Device control is ESC and one byte (ESC ENQ, ESC EOT): it never enters the buffer.
   std::size_t buffered_bytes(std::string_view bytes) const override {
     std::size_t n = 0;

@@ -176,9 +176,6 @@ class HpglHost final : public HostProtocol {
     }
     return StatusMeaning::nothing;
   }
-  std::string knife_up(const DeviceProfile& p) const override {
-    return "PU" + p.dialect.terminator + (p.dialect.newline ? "\n" : "");
-  }
   std::size_t buffered_bytes(std::string_view bytes) const override {
     std::size_t n = 0;
     std::string esc;
@@ -203,13 +200,19 @@ class HpglHost final : public HostProtocol {
 };
 
 const HpglHost kHpglHost;
+const HostProtocol& hpgl_host() { return kHpglHost; }
 
 std::unique_ptr<JobEncoder> hpgl_encoder(const DeviceProfile& p) { return std::make_unique<HpglEncoder>(p.dialect); }
 std::unique_ptr<DeviceReader> hpgl_reader() { return std::make_unique<HpglReader>(); }
+double hpgl_speed_cm_s(const DeviceProfile&, double vs) { return vs; }
+std::string hpgl_knife_up(const DeviceProfile& p) {
+  return "PU" + p.dialect.terminator + (p.dialect.newline ? "\n" : "");
+}
 
 }  // namespace
 
-const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",      read_hpgl_section, check_abort,
-                                    hpgl_encoder,         hpgl_reader, &kHpglHost};
+const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",  read_hpgl_section, check_abort,     hpgl_encoder,
+                                    hpgl_reader,          nullptr, nullptr,           hpgl_speed_cm_s, hpgl_knife_up,
+                                    hpgl_host};
 
 }  // namespace popcut::drivers

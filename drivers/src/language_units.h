@@ -8,6 +8,7 @@
 namespace popcut::drivers {
 
 extern const LanguageUnit kHpglLanguage;  // hpgl_language.cpp
+extern const LanguageUnit kGpglLanguage;  // gpgl_language.cpp
 // GP-GL's host protocol (gpgl_host.cpp), for its unit's row.
 const HostProtocol& gpgl_host_protocol();
 

@@ -47,7 +47,7 @@ std::string queries_of(const LanguageUnit& language, bool idle_only = false) {
   std::string list;
   for (const DrainQuery q : {DrainQuery::esc_b, DrainQuery::esc_o, DrainQuery::esc_enq}) {
     if (idle_only && q == DrainQuery::esc_b) continue;
-    if (language.host->query_bytes(q).empty()) continue;
+    if (language.host().query_bytes(q).empty()) continue;
     list += (list.empty() ? "\"" : " or \"") + std::string(kDrainQueryNames.name(q)) + "\"";
   }
   return list;
@@ -56,7 +56,7 @@ std::string queries_of(const LanguageUnit& language, bool idle_only = false) {
 // The drain and error queries must be the language's, and the pacing must have the answers it
 // reads: ESC.B's free bytes, or idle/busy answers for status flow.
 void check_queries(const TomlSection& t, const LanguageUnit& language, const TransportDefaults& out) {
-  const HostProtocol& host = *language.host;
+  const HostProtocol& host = language.host();
   const std::string lang = "[device] language \"" + std::string(language.section) + "\"";
   if (out.drain_query != DrainQuery::none && host.query_bytes(out.drain_query).empty()) {
     t.fail("drain_query", "\"" + std::string(kDrainQueryNames.name(out.drain_query)) + "\" is not a query of " + lang +
@@ -101,7 +101,7 @@ void read_transport_section(TomlSection& t, const LanguageUnit& language, Transp
   out.parity = t.choice("parity", Parity::none, kParityNames);
   out.stop_bits = t.integer("stop_bits", 1, 1, 2);
   out.drain_query =
-      t.choice("drain_query", out.flow == FlowControl::esc_b ? DrainQuery::esc_b : language.host->default_query(),
+      t.choice("drain_query", out.flow == FlowControl::esc_b ? DrainQuery::esc_b : language.host().default_query(),
                kProfileDrainQueries);
   out.error_query = t.choice("error_query", DrainQuery::none, kProfileErrorQueries) == DrainQuery::esc_e;
   check_queries(t, language, out);

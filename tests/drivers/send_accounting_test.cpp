@@ -47,7 +47,7 @@ TEST(SendAccounting, AStrokeIsTouchedOnceItsKnifeWentDown) {
 }
 
 TEST(SendAccounting, OnlyHpglOfTheAbortEntersTheBuffer) {
-  const HostProtocol& hpgl = *language_unit(CutterLanguage::hpgl).host;
+  const HostProtocol& hpgl = language_unit(CutterLanguage::hpgl).host();
   EXPECT_EQ(hpgl.buffered_bytes("\x1b.KPU;"), 3u);
   EXPECT_EQ(hpgl.buffered_bytes("PU;"), 3u);
   EXPECT_EQ(hpgl.buffered_bytes("\x1b.K"), 0u);

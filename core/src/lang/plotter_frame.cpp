@@ -89,8 +89,13 @@ Placement place_sheet(const Rect& sheet, const PlotterFrame& f) {
                     format_fixed(static_cast<double>(avail_y) / f.units_per_mm_y, 1) + " mm)");
   }
   // The sheet sits in the corner the axes grow from: the usable area's min, or max when flipped.
-  p.origin_x_pu = f.flip_x ? f.area_max_x_pu : f.area_min_x_pu;
-  p.origin_y_pu = f.flip_y ? f.area_max_y_pu : f.area_min_y_pu;
+  // With sheet_at_origin a flipped axis counts down from the sheet's far edge at the min corner.
+  const auto origin = [&](bool flip, std::int64_t lo, std::int64_t hi, std::int64_t extent) {
+    if (!flip) return lo;
+    return f.sheet_at_origin ? lo + extent : hi;
+  };
+  p.origin_x_pu = origin(f.flip_x, f.area_min_x_pu, f.area_max_x_pu, p.width_pu);
+  p.origin_y_pu = origin(f.flip_y, f.area_min_y_pu, f.area_max_y_pu, p.height_pu);
   return p;
 }
 

@@ -28,8 +28,8 @@ enum class StatusMeaning { nothing, idle, busy, tray_empty, paused, line_garbled
 enum class ReplyByte { part, end, skip };
 
 // The sender's half of a language's conversation with a device (the simulator's half is its
-// DeviceReader): the bytes of each status query, how an answer is framed and what it means, the
-// knife-up after an abort, and which bytes of a string enter the device's buffer.
+// DeviceReader): the bytes of each status query, how an answer is framed and what it means, and
+// which bytes of a string enter the device's buffer.
 class HostProtocol {
  public:
   virtual ~HostProtocol() = default;
@@ -42,8 +42,6 @@ class HostProtocol {
   virtual std::optional<long> read_answer(std::string_view text) const = 0;
   // What answer `value` to `query` says (nothing: only its number, as ESC.B's free bytes).
   virtual StatusMeaning meaning(DrainQuery query, long value) const = 0;
-  // The knife-up sent after a cancel's abort sequence, in the profile's dialect.
-  virtual std::string knife_up(const DeviceProfile& profile) const = 0;
   // How many bytes of `bytes` enter the device's buffer: device-control sequences never do.
   virtual std::size_t buffered_bytes(std::string_view bytes) const = 0;
   // Said when a device never gave a status answer this language reads (`heard`: what it sent,
@@ -53,19 +51,29 @@ class HostProtocol {
   virtual DrainQuery default_query() const = 0;
 };
 
-// One language's part in the drivers; each language unit defines one (hpgl_language.cpp). The
-// CLI and the daemon never see it: they go through make_encoder / encode_for_device; the sender
-// sees only its host protocol.
+// One language's part in the drivers; each language unit defines one (hpgl_language.cpp,
+// gpgl_language.cpp). The CLI and the daemon never see it: they go through make_encoder /
+// encode_for_device; the sender sees only its knife-up and host protocol.
 struct LanguageUnit {
   CutterLanguage language;
-  std::string_view section;  // its profile section: [hpgl]
+  std::string_view section;  // its profile section: [hpgl], [gpgl]
   // Reads its section into the profile; [device] (the frame) has been read already.
   void (*read_section)(TomlSection& section, DeviceProfile& profile);
   // Refuses a [transport] abort string that could cut on after a cancel, failing at "abort".
   void (*check_abort)(const TomlSection& transport, const std::string& abort);
   std::unique_ptr<JobEncoder> (*make_encoder)(const DeviceProfile& profile);
   std::unique_ptr<DeviceReader> (*make_reader)();
-  const HostProtocol* host;  // the sender's side: status queries, answers, knife-up
+  // Plotter units per mm when the language's section fixes them (GP-GL's step), read before
+  // [device]'s frame; nullptr: [device] units_per_mm says.
+  double (*units_per_mm)(TomlSection& section);
+  // Checks across sections once the whole profile is read (nullptr: none), throwing like the
+  // section readers.
+  void (*check_profile)(const DeviceProfile& profile);
+  // The knife speed in cm/s a speed command's value sets (HP-GL's VS is cm/s; GP-GL's ! a level).
+  double (*speed_cm_s)(const DeviceProfile& profile, double value);
+  // The command that lifts the knife, sent after [transport] abort when a job is cancelled.
+  std::string (*knife_up)(const DeviceProfile& profile);
+  const HostProtocol& (*host)();  // the sender's side: status queries and their answers
 };
 
 // Every language popcut speaks, in kCutterLanguageNames order.
