@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -136,6 +137,71 @@ void read_hpgl_section(TomlSection& h, DeviceProfile& p) {
   d.max_pairs_per_command = h.integer("max_pairs_per_command", 64, 1, 4096);
 }
 
+// HP-GL's device-control status: ESC.B free bytes, ESC.O status word (bit 3: buffer empty),
+// ESC.E I/O error; each answered with a decimal number and CR (some devices add LF).
+class HpglHost final : public HostProtocol {
+ public:
+  std::string_view query_bytes(DrainQuery q) const override {
+    switch (q) {
+      case DrainQuery::esc_b: return "\x1b.B";
+      case DrainQuery::esc_o: return "\x1b.O";
+      case DrainQuery::esc_e: return "\x1b.E";
+      default: return "";
+    }
+  }
+  std::string_view query_name(DrainQuery q) const override {
+    switch (q) {
+      case DrainQuery::esc_b: return "ESC.B";
+      case DrainQuery::esc_o: return "ESC.O";
+      case DrainQuery::esc_e: return "ESC.E";
+      default: return "";
+    }
+  }
+  ReplyByte reply_byte(char c) const override {
+    return c == '\r' ? ReplyByte::end : c == '\n' ? ReplyByte::skip : ReplyByte::part;
+  }
+  std::optional<long> read_answer(std::string_view text) const override {
+    const bool number = !text.empty() && text.size() <= 12 &&
+                        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!number) return std::nullopt;
+    return std::strtol(std::string(text).c_str(), nullptr, 10);
+  }
+  StatusMeaning meaning(DrainQuery q, long value) const override {
+    if (q == DrainQuery::esc_o) return (value & 8) != 0 ? StatusMeaning::idle : StatusMeaning::busy;
+    // 10-14 are device-control complaints (a query or set-up it did not take): no HP-GL byte lost.
+    if (q == DrainQuery::esc_e) {
+      return value == 15   ? StatusMeaning::line_garbled
+             : value == 16 ? StatusMeaning::input_lost
+                           : StatusMeaning::nothing;
+    }
+    return StatusMeaning::nothing;
+  }
+  std::size_t buffered_bytes(std::string_view bytes) const override {
+    std::size_t n = 0;
+    std::string esc;
+    for (const char c : bytes) {
+      if (!esc.empty() || c == '\x1b') {
+        esc += c;
+        if (esc_complete(esc)) esc.clear();
+      } else {
+        ++n;
+      }
+    }
+    return n;
+  }
+  // GP-GL devices (Silhouette, Graphtec) end their answers with ETX; HP-GL's never hold one.
+  std::string mismatch_hint(std::string_view heard) const override {
+    if (heard.find('\x03') == std::string_view::npos) return "";
+    return "its answer ends in ETX (0x03), as a GP-GL device's (Silhouette, Graphtec) does: an HP-GL profile seems "
+           "to be talking to a device that speaks GP-GL; check [device] language and that the profile is the "
+           "device's";
+  }
+  DrainQuery default_query() const override { return DrainQuery::none; }
+};
+
+const HpglHost kHpglHost;
+const HostProtocol& hpgl_host() { return kHpglHost; }
+
 std::unique_ptr<JobEncoder> hpgl_encoder(const DeviceProfile& p) { return std::make_unique<HpglEncoder>(p.dialect); }
 std::unique_ptr<DeviceReader> hpgl_reader() { return std::make_unique<HpglReader>(); }
 double hpgl_speed_cm_s(const DeviceProfile&, double vs) { return vs; }
@@ -146,6 +212,7 @@ std::string hpgl_knife_up(const DeviceProfile& p) {
 }  // namespace
 
 const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",  read_hpgl_section, check_abort,     hpgl_encoder,
-                                    hpgl_reader,          nullptr, nullptr,           hpgl_speed_cm_s, hpgl_knife_up};
+                                    hpgl_reader,          nullptr, nullptr,           hpgl_speed_cm_s, hpgl_knife_up,
+                                    hpgl_host};
 
 }  // namespace popcut::drivers

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "popcut/drivers/language.h"
 #include "send/accounting.h"
 #include "send/held_line.h"
 #include "send/motion_tracker.h"
@@ -36,32 +37,71 @@ class Sender {
   }
 
   SendResult run() {
-    SendResult& r = session_.result;
-    if (!check_device_first()) return r.cancelled ? r : fail_tail();
-    if (!stream()) return fail_tail();
-    if (!r.cancelled) {
-      if (const TransportStatus st = session_.transport.drain(session_.options.timeout); !st.ok()) {
-        r.status = st;
-        return fail_tail();
-      }
-      wait_until_drained();
-      if (!r.status.ok()) return fail_tail();
-      if (!r.cancelled) {
-        if (!check_device_errors()) return fail_tail();  // lost bytes: nothing is known executed
-        accounting_.drained();  // the device said it has executed everything (or the estimate passed)
-        settle_counts();
-        return r;
-      }
-    }
-    send_abort();
-    return r;
+    run_phases();
+    if (session_.device_stop() != DeviceStop::none) stopped_by_device();
+    return session_.result;
   }
 
  private:
-  // An answer: what it tells the accounting, and time pacing's model where the device is.
+  void run_phases() {
+    SendResult& r = session_.result;
+    if (!check_device_first()) {
+      if (!r.cancelled) estimate_buffered();
+      return;
+    }
+    if (!stream()) return estimate_buffered();
+    if (!r.cancelled) {
+      if (const TransportStatus st = session_.transport.drain(session_.options.timeout); !st.ok()) {
+        r.status = st;
+        return estimate_buffered();
+      }
+      wait_until_drained();
+      if (!r.status.ok()) return estimate_buffered();
+      if (!r.cancelled) {
+        if (!check_device_errors()) return estimate_buffered();  // lost bytes: nothing is known executed
+        accounting_.drained();  // the device said it has executed everything (or the estimate passed)
+        settle_counts();
+        return;
+      }
+    }
+    send_abort();
+  }
+
+  // An answer: what it tells the accounting, and time pacing's model where the device is; a
+  // device that says it cannot go on ends the job (DeviceStop).
   void heard(const Answer& answer) {
     const Whereabouts where = accounting_.learn(answer);
     if (session_.time_paced()) tracker_.heard(where);
+    const StatusMeaning said = session_.host.meaning(answer.query, answer.value);
+    if (said == StatusMeaning::tray_empty) session_.device_stopped(DeviceStop::tray_empty);
+    if (said == StatusMeaning::paused) session_.device_stopped(DeviceStop::paused);
+  }
+
+  // The device stopped the job (its answer said so), which ended like a cancel: the result says
+  // why instead, as a failure a resume finishes.
+  void stopped_by_device() {
+    SendResult& r = session_.result;
+    const DeviceStop why = session_.device_stop();
+    r.device_stop = why;
+    r.cancelled = session_.user_cancelled();
+    if (!r.status.ok() && r.bytes_sent > 0) return;  // the abort failed: that message says more
+    const std::string said = session_.query_name(session_.query) + " answer";
+    const std::string what = why == DeviceStop::tray_empty
+                                 ? "no sheet loaded: the device reports its tray empty (" + said + ")"
+                                 : "the device is paused (" + said + "): its pause key or a menu holds it";
+    if (r.bytes_sent == 0) {
+      r.status = {TransportError::io, 0,
+                  what + ", before any byte of the job was sent: " +
+                      (why == DeviceStop::tray_empty ? "load a sheet (or the mat) and run the same command again"
+                                                     : "let it go on (or reset it) and run the same command again")};
+      return;
+    }
+    r.status = {TransportError::io, 0,
+                what + (why == DeviceStop::tray_empty ? " (the sheet or the roll ran out)" : "") + " after " +
+                    std::to_string(r.bytes_sent) + " of " + std::to_string(session_.job.bytes.size()) +
+                    " job bytes: popcut finished the command in flight, " +
+                    (r.abort_sent ? "sent the abort sequence and lifted the knife"
+                                  : "but could not send the abort sequence and the knife-up")};
   }
 
   void settle_counts() {
@@ -84,6 +124,7 @@ class Sender {
   // before the first byte: nothing went out, nothing to abort).
   bool check_device_first() {
     if (session_.query != DrainQuery::none && !channel_.ask(session_.query, "before sending")) return false;
+    if (session_.device_stop() != DeviceStop::none) return false;  // no sheet, or paused: nothing goes out
     // Reading ESC.E clears it: an error left from before this job must not fail it. A device
     // the profile says answers ESC.E and does not is found here, before any byte of the job.
     return !session_.options.error_query || !session_.transport.answers() ||
@@ -147,26 +188,29 @@ class Sender {
     const SendOptions& o = session_.options;
     if (!o.error_query || !session_.transport.answers()) return true;
     if (!channel_.ask(DrainQuery::esc_e, "after the job")) return false;
-    // 10-14 are device-control complaints (a query or set-up it did not take): no HP-GL byte lost.
     const long answer = channel_.last_answer();
-    if (channel_.query_skipped() || (answer != 15 && answer != 16)) return true;
+    const StatusMeaning said = session_.host.meaning(DrainQuery::esc_e, answer);
+    if (channel_.query_skipped() || (said != StatusMeaning::line_garbled && said != StatusMeaning::input_lost)) {
+      return true;
+    }
     const std::string code = std::to_string(answer);
     session_.result.device_io_error = static_cast<int>(answer);
-    const std::string meaning = answer != 16 ? "framing, parity or overrun errors on the line: bytes were garbled; "
-                                               "check the baud rate, data bits, parity and "
-                                               "stop bits of the profile against the device, and the cable"
-                                : session_.time_paced()
-                                    ? "its input buffer overflowed: bytes were lost, so the cut is wrong; popcut paced "
-                                      "the job by time (flow_control "
-                                      "\"none\"), and the device is slower than the profile's kinematics and tool "
-                                      "speeds allow, with pace_margin_percent (" +
-                                          std::to_string(o.pace_margin_percent) +
-                                          " %), or its buffer is smaller than buffer_bytes"
-                                    : "its input buffer overflowed: bytes were lost, so the cut is wrong; the device "
-                                      "does not do the flow control the "
-                                      "profile says (flow_control, buffer_bytes)";
+    const std::string meaning =
+        said == StatusMeaning::line_garbled ? "framing, parity or overrun errors on the line: bytes were garbled; "
+                                              "check the baud rate, data bits, parity and "
+                                              "stop bits of the profile against the device, and the cable"
+        : session_.time_paced()
+            ? "its input buffer overflowed: bytes were lost, so the cut is wrong; popcut paced "
+              "the job by time (flow_control "
+              "\"none\"), and the device is slower than the profile's kinematics and tool "
+              "speeds allow, with pace_margin_percent (" +
+                  std::to_string(o.pace_margin_percent) + " %), or its buffer is smaller than buffer_bytes"
+            : "its input buffer overflowed: bytes were lost, so the cut is wrong; the device "
+              "does not do the flow control the "
+              "profile says (flow_control, buffer_bytes)";
     session_.result.status = {TransportError::io, 0,
-                              "every byte went out, but the device reports I/O error " + code + " (ESC.E): " + meaning};
+                              "every byte went out, but the device reports I/O error " + code + " (" +
+                                  session_.query_name(DrainQuery::esc_e) + "): " + meaning};
     return false;
   }
 
@@ -234,7 +278,7 @@ class Sender {
       // its whole buffer). The profile's size can be wrong either way: 1024 free of 65536 is not
       // empty, and a 256-byte device never reports 1024 free.
       const long answer = channel_.last_answer();
-      if (query == DrainQuery::esc_o && (answer & 8) != 0) break;  // ESC.O bit 3: buffer empty
+      if (session_.host.meaning(query, answer) == StatusMeaning::idle) break;  // e.g. ESC.O bit 3: buffer empty
       if (query == DrainQuery::esc_b) {
         const auto free_now = static_cast<std::size_t>(std::max(0L, answer));
         if (free_now >= accounting_.device_buffer()) break;  // the whole buffer, by the profile or any answer
@@ -251,8 +295,9 @@ class Sender {
             TransportError::timeout, 0,
             "every byte reached the device, but its buffer is still not empty " + duration_text(waited) +
                 " after the last byte (" +
-                (query == DrainQuery::esc_b ? "no progress by its ESC.B answers for " + duration_text(stall.stalled())
-                                            : std::string("ESC.O says busy")) +
+                (query == DrainQuery::esc_b ? "no progress by its " + session_.query_name(query) + " answers for " +
+                                                  duration_text(stall.stalled())
+                                            : session_.query_name(query) + " says busy") +
                 "; the plan expected about " + duration_text(buffered_time) +
                 " for a full buffer, plus hold_timeout_ms): it answers, so it is paused or stuck; check it — if it "
                 "finishes, the "
@@ -264,7 +309,9 @@ class Sender {
       waited += step;
       stall.waited(step);
     }
-    r.drained_by = query == DrainQuery::esc_b ? DrainedBy::esc_b : DrainedBy::esc_o;
+    r.drained_by = query == DrainQuery::esc_b     ? DrainedBy::esc_b
+                   : query == DrainQuery::esc_enq ? DrainedBy::esc_enq
+                                                  : DrainedBy::esc_o;
   }
 
   // Cancel: the profile's abort sequence and knife up, then how much the device may still hold.
@@ -283,11 +330,6 @@ class Sender {
     if (!r.abort_sent) accounting_.set_discarding(false);
     estimate_buffered();
     r.buffer_discarded = accounting_.discarding();
-  }
-
-  SendResult fail_tail() {
-    estimate_buffered();
-    return session_.result;
   }
 
   // After a cancel or failure: final counts, how long a time-paced device may go on cutting, and
@@ -348,6 +390,7 @@ class Sender {
 
 const char* to_string(ReceivedCountedBy how) { return kReceivedCountedByNames.name(how).data(); }
 const char* to_string(DrainedBy how) { return kDrainedByNames.name(how).data(); }
+const char* to_string(DeviceStop why) { return kDeviceStopNames.name(why).data(); }
 
 SendOptions send_options(const DeviceProfile& profile) {
   SendOptions o;
@@ -359,6 +402,7 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.error_query = profile.transport.error_query;
   o.baud = profile.transport.baud;
   o.pace_margin_percent = profile.transport.pace_margin_percent;
+  o.language = profile.language;
   o.abort_bytes = profile.transport.abort + language_unit(profile.language).knife_up(profile);
   o.abort_discards_buffer = profile.transport.abort_discards_buffer;
   return o;

@@ -9,6 +9,8 @@ namespace popcut::drivers {
 
 extern const LanguageUnit kHpglLanguage;  // hpgl_language.cpp
 extern const LanguageUnit kGpglLanguage;  // gpgl_language.cpp
+// GP-GL's host protocol (gpgl_host.cpp), for its unit's row.
+const HostProtocol& gpgl_host_protocol();
 
 // [transport] (transport_profile.cpp); the language checks the abort string.
 void read_transport_section(TomlSection& section, const LanguageUnit& language, TransportDefaults& transport);

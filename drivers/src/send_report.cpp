@@ -179,6 +179,7 @@ json send_result_json(const SendResult& sent, std::size_t job_bytes) {
       {"holds", sent.holds},
       {"buffer_queries", sent.buffer_queries},
       {"device_io_error", sent.device_io_error == 0 ? json(nullptr) : json(sent.device_io_error)},
+      {"device_stop", sent.device_stop == DeviceStop::none ? json(nullptr) : json(to_string(sent.device_stop))},
       {"busy_for_s", sent.busy_for_s}};
 }
 

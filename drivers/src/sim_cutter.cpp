@@ -21,7 +21,20 @@ constexpr std::size_t kSlice = 16;
 }  // namespace
 
 SimCutter::SimCutter(const DeviceProfile& profile, SimFaults faults)
-    : profile_(profile), faults_(faults), reader_(make_reader(profile)) {}
+    : profile_(profile), faults_(faults), reader_(make_reader(profile)) {
+  apply_stop_faults();  // no sheet from the start
+}
+
+void SimCutter::apply_stop_faults() {
+  // Once each: a device whose sheet was loaded again, or that was let go on, stays so.
+  const auto due = [&](std::optional<std::size_t>& after) {
+    if (!after || report_.bytes_received < *after) return false;
+    after.reset();
+    return true;
+  };
+  if (due(faults_.tray_empty_after_bytes)) media_loaded_ = false;
+  if (due(faults_.pause_after_bytes)) paused_ = true;
+}
 
 bool SimCutter::holds_line() const {
   return profile_.transport.flow == FlowControl::rts_cts || profile_.transport.flow == FlowControl::dtr_dsr;
@@ -151,6 +164,7 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
     }
     r.bytes += n;
     report_.bytes_received += n;
+    apply_stop_faults();
     report_.max_buffer_used = std::max(report_.max_buffer_used, buffer_used());
     check_water_marks();
   }

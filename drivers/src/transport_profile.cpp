@@ -24,7 +24,8 @@ bool usb_id_text(const std::string& s) {
 constexpr auto kProfileDrainQueries =
     enum_names<DrainQuery>({{DrainQuery::none, kDrainQueryNames.name(DrainQuery::none)},
                             {DrainQuery::esc_b, kDrainQueryNames.name(DrainQuery::esc_b)},
-                            {DrainQuery::esc_o, kDrainQueryNames.name(DrainQuery::esc_o)}});
+                            {DrainQuery::esc_o, kDrainQueryNames.name(DrainQuery::esc_o)},
+                            {DrainQuery::esc_enq, kDrainQueryNames.name(DrainQuery::esc_enq)}});
 constexpr auto kProfileErrorQueries =
     enum_names<DrainQuery>({{DrainQuery::none, kDrainQueryNames.name(DrainQuery::none)},
                             {DrainQuery::esc_e, kDrainQueryNames.name(DrainQuery::esc_e)}});
@@ -38,6 +39,44 @@ void read_usb_ids(TomlSection& t, TransportDefaults& out) {
     std::string lower;
     for (char c : id) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     out.usb_ids.push_back(lower);
+  }
+}
+
+// The drain queries `language` has, as a profile names them: "\"esc_b\" or \"esc_o\""; with
+// `idle_only`, those whose answers say whether the device has executed everything.
+std::string queries_of(const LanguageUnit& language, bool idle_only = false) {
+  std::string list;
+  for (const DrainQuery q : {DrainQuery::esc_b, DrainQuery::esc_o, DrainQuery::esc_enq}) {
+    if (idle_only && q == DrainQuery::esc_b) continue;
+    if (language.host().query_bytes(q).empty()) continue;
+    list += (list.empty() ? "\"" : " or \"") + std::string(kDrainQueryNames.name(q)) + "\"";
+  }
+  return list;
+}
+
+// The drain and error queries must be the language's, and the pacing must have the answers it
+// reads: ESC.B's free bytes, or idle/busy answers for status flow.
+void check_queries(const TomlSection& t, const LanguageUnit& language, const TransportDefaults& out) {
+  const HostProtocol& host = language.host();
+  const std::string lang = "[device] language \"" + std::string(language.section) + "\"";
+  if (out.drain_query != DrainQuery::none && host.query_bytes(out.drain_query).empty()) {
+    t.fail("drain_query", "\"" + std::string(kDrainQueryNames.name(out.drain_query)) + "\" is not a query of " + lang +
+                              ", whose devices answer " + queries_of(language));
+  }
+  if (out.flow == FlowControl::esc_b && host.query_bytes(DrainQuery::esc_b).empty()) {
+    t.fail("flow_control", "\"esc_b\" asks ESC.B for free buffer space, which " + lang +
+                               " devices do not answer: use \"status\" (paced by the motion model and their " +
+                               queries_of(language) + " answers), or a hardware handshake");
+  }
+  if (out.flow == FlowControl::status && out.drain_query != DrainQuery::esc_o &&
+      out.drain_query != DrainQuery::esc_enq) {
+    t.fail("flow_control",
+           "\"status\" paces by the device's ready/busy answers: it needs drain_query " + queries_of(language, true) +
+               " (one that says whether the device has executed everything)" +
+               (out.drain_query == DrainQuery::esc_b ? ", not \"esc_b\" (use flow_control \"esc_b\")" : ""));
+  }
+  if (out.error_query && host.query_bytes(DrainQuery::esc_e).empty()) {
+    t.fail("error_query", "\"esc_e\" is not a query of " + lang + ": its devices report no I/O error");
   }
 }
 
@@ -70,9 +109,11 @@ void read_transport_section(TomlSection& t, const LanguageUnit& language, Transp
   out.data_bits = t.integer("data_bits", 8, 5, 8);
   out.parity = t.choice("parity", Parity::none, kParityNames);
   out.stop_bits = t.integer("stop_bits", 1, 1, 2);
-  out.drain_query = t.choice("drain_query", out.flow == FlowControl::esc_b ? DrainQuery::esc_b : DrainQuery::none,
-                             kProfileDrainQueries);
+  out.drain_query =
+      t.choice("drain_query", out.flow == FlowControl::esc_b ? DrainQuery::esc_b : language.host().default_query(),
+               kProfileDrainQueries);
   out.error_query = t.choice("error_query", DrainQuery::none, kProfileErrorQueries) == DrainQuery::esc_e;
+  check_queries(t, language, out);
   out.abort = t.text("abort", "", 64);
   language.check_abort(t, out.abort);
   // An abort is there to stop the device at once, which HP-style devices do by discarding their

@@ -166,6 +166,8 @@ drivers::CutSessionOptions session_options(const CutCommands& s) {
   if (s.stop_answering_after >= 0)
     o.sim_faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
   if (s.drop_after >= 0) o.sim_faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
+  if (s.tray_empty_after >= 0) o.sim_faults.tray_empty_after_bytes = static_cast<std::size_t>(s.tray_empty_after);
+  if (s.pause_after >= 0) o.sim_faults.pause_after_bytes = static_cast<std::size_t>(s.pause_after);
   o.sim_faults.slowdown = s.slowdown;
   return o;
 }
@@ -180,8 +182,8 @@ void check_device(const CutCommands& s, const drivers::CutSession& session, cons
     throw CliError(kCannotWrite, ErrorCode::io, "", "output", st.message);
   }
   const drivers::DeviceAddress& address = session.address();
-  if (address.kind != drivers::DeviceKind::sim &&
-      (s.stop_answering_after >= 0 || s.drop_after >= 0 || s.slowdown != 1)) {
+  if (address.kind != drivers::DeviceKind::sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 ||
+                                                   s.tray_empty_after >= 0 || s.pause_after >= 0 || s.slowdown != 1)) {
     throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
   }
   if (address.kind == drivers::DeviceKind::usb && !profile.transport.usb_ids.empty()) {
@@ -280,6 +282,16 @@ std::optional<int> stopped_exit(const drivers::SendResult& sent, const Job& j, c
     std::cerr << "popcut: cancelled on " << device << ": " << drivers::cancel_text(sent, j.profile.transport) << "; "
               << drivers::counts_text(sent) << drivers::resume_advice(sent) << "\n";
     return static_cast<int>(kCancelled);
+  }
+  if (sent.device_stop != drivers::DeviceStop::none) {
+    // The device said it cannot go on: its reason, what popcut did about it and where to resume.
+    std::cerr << "popcut: error: the device stopped the job (" << device << "): " << sent.status.message;
+    if (sent.bytes_sent > 0) {
+      std::cerr << "; the device may still cut " << drivers::still_buffered_text(sent) << " once it goes on; "
+                << drivers::counts_text(sent);
+    }
+    std::cerr << drivers::resume_advice(sent) << "\n";
+    return static_cast<int>(kCannotWrite);
   }
   if (!sent.status.ok() && sent.device_io_error != 0) {
     // Stroke numbers mean nothing here: the device cut something else than the job.
@@ -388,7 +400,8 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
       "Writes DIR/job.hpgl (the job this run sends, whole; report.json says how much went out), DIR/report.json and, "
       "on sim, DIR/cut.svg.\n"
       "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
-      "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer): the\n"
+      "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer, or one\n"
+      "that says it has no sheet loaded or is paused): the\n"
       "message names the last stroke the device is known to have executed (E), the last it certainly\n"
       "received (M) and the last written (N): --resume-from M+1 finishes the job if the device kept its\n"
       "buffer and goes on cutting (strokes M+1..N may then be cut twice), --resume-from E+1 if it was\n"
@@ -411,6 +424,12 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.cut->add_option("--sim-stop-after", s.stop_answering_after, "Fault: the simulator stops answering after N bytes")
       ->check(finite_range(0, 1e12));
   s.cut->add_option("--sim-drop-after", s.drop_after, "Fault: the simulator drops the connection after N bytes")
+      ->check(finite_range(0, 1e12));
+  s.cut
+      ->add_option("--sim-tray-empty-after", s.tray_empty_after,
+                   "Fault: the simulator has no sheet loaded from the start (0) or after N bytes (it ran out)")
+      ->check(finite_range(0, 1e12));
+  s.cut->add_option("--sim-pause-after", s.pause_after, "Fault: the simulator's pause key is pressed after N bytes")
       ->check(finite_range(0, 1e12));
   s.cut->add_option("--sim-slowdown", s.slowdown, "Fault: the simulator moves this many times slower")
       ->check(finite_range(1.0, 1000.0));

@@ -13,6 +13,7 @@ struct CutCommands {
   std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
   bool json_out = false, no_progress = false;
   long stop_answering_after = -1, drop_after = -1;
+  long tray_empty_after = -1, pause_after = -1;  // the simulator's own stops (-1: never)
   double slowdown = 1;
   long resume_from = 1;
 };

@@ -168,6 +168,8 @@ drivers::SimCutter make_cutter(const SimPlotterCommand& s) {
   faults.slowdown = s.slowdown;
   if (s.drop_after >= 0) faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
   if (s.stop_after >= 0) faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_after);
+  if (s.tray_empty_after >= 0) faults.tray_empty_after_bytes = static_cast<std::size_t>(s.tray_empty_after);
+  if (s.pause_after >= 0) faults.pause_after_bytes = static_cast<std::size_t>(s.pause_after);
   return drivers::SimCutter(profile, faults);
 }
 
@@ -427,6 +429,18 @@ void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app
       ->add_option("--stop-after", s.stop_after,
                    "After receiving N bytes, stop answering and cutting, as a paused or stuck device (default: never)")
+      ->type_name("N")
+      ->check(finite_range(0, 1e12));
+  s.app
+      ->add_option("--tray-empty-after", s.tray_empty_after,
+                   "No sheet loaded from the start (0) or after receiving N bytes (the sheet ran out): it cuts\n"
+                   "nothing more and says so in its status answer (GP-GL ESC ENQ: tray empty) (default: never)")
+      ->type_name("N")
+      ->check(finite_range(0, 1e12));
+  s.app
+      ->add_option("--pause-after", s.pause_after,
+                   "After receiving N bytes, its pause key: it cuts nothing more and says so in its status\n"
+                   "answer (GP-GL ESC ENQ: paused) (default: never)")
       ->type_name("N")
       ->check(finite_range(0, 1e12));
   s.app

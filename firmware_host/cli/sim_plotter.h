@@ -22,6 +22,7 @@ struct SimPlotterCommand {
   long buffer_bytes = 0;
   double slowdown = 1;
   long drop_after = -1, stop_after = -1;
+  long tray_empty_after = -1, pause_after = -1;  // its own stops, said in its status answer (-1: never)
 };
 
 void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& state);

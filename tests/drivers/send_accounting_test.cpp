@@ -47,9 +47,10 @@ TEST(SendAccounting, AStrokeIsTouchedOnceItsKnifeWentDown) {
 }
 
 TEST(SendAccounting, OnlyHpglOfTheAbortEntersTheBuffer) {
-  EXPECT_EQ(buffered_abort_bytes("\x1b.KPU;"), 3u);
-  EXPECT_EQ(buffered_abort_bytes("PU;"), 3u);
-  EXPECT_EQ(buffered_abort_bytes("\x1b.K"), 0u);
+  const HostProtocol& hpgl = language_unit(CutterLanguage::hpgl).host();
+  EXPECT_EQ(hpgl.buffered_bytes("\x1b.KPU;"), 3u);
+  EXPECT_EQ(hpgl.buffered_bytes("PU;"), 3u);
+  EXPECT_EQ(hpgl.buffered_bytes("\x1b.K"), 0u);
 }
 
 TEST(SendAccounting, AnswersTellWhatLeftTheBufferNeverMore) {

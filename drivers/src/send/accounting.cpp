@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <string>
 
-#include "popcut/drivers/hpgl_reader.h"
-
 namespace popcut::drivers::send {
 
 std::size_t stroke_executed_by(const EncodedJob& job, std::size_t bytes) {
@@ -26,20 +24,6 @@ std::size_t stroke_touched_by(const EncodedJob& job, std::size_t bytes) {
   return done < last && bytes > knife_down ? done + 1 : done;
 }
 
-std::size_t buffered_abort_bytes(std::string_view abort) {
-  std::size_t n = 0;
-  std::string esc;
-  for (const char c : abort) {
-    if (!esc.empty() || c == '\x1b') {
-      esc += c;
-      if (esc_complete(esc)) esc.clear();
-    } else {
-      ++n;
-    }
-  }
-  return n;
-}
-
 std::size_t SendAccounting::device_buffer() const { return std::max(session_.options.buffer_bytes, largest_free_); }
 
 Whereabouts SendAccounting::learn(const Answer& asked) {
@@ -53,9 +37,14 @@ Whereabouts SendAccounting::learn(const Answer& asked) {
     executed_ = std::max(executed_, left_buffer);
     return {Whereabouts::Kind::at, left_buffer};
   }
-  if (asked.query == DrainQuery::esc_o && (asked.value & 8) != 0) {
+  const StatusMeaning said = session_.host.meaning(asked.query, asked.value);
+  if (said == StatusMeaning::idle) {
     executed_ = std::max(executed_, asked.bytes_before);
     return {Whereabouts::Kind::at_least, asked.bytes_before};
+  }
+  // Status flow trusts the model only as far as the answers allow.
+  if (said == StatusMeaning::busy && session_.flow == FlowControl::status) {
+    return {Whereabouts::Kind::before, asked.bytes_before};
   }
   return {};
 }
@@ -115,7 +104,7 @@ void SendAccounting::measured_buffered(long free_answer) {
   std::size_t held = device_buffer() - std::min(device_buffer(), free_now);
   // Asked after the abort: the knife-up sent with it is in the buffer too, and is no part of
   // the job (a device that honoured ESC.K holds only that).
-  if (r.abort_sent) held -= std::min(held, buffered_abort_bytes(session_.options.abort_bytes));
+  if (r.abort_sent) held -= std::min(held, session_.host.buffered_bytes(session_.options.abort_bytes));
   r.buffered_bytes = std::min(r.bytes_sent, held);
   r.buffer_known = largest_free_ >= device_buffer();
 }

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstddef>
-#include <string_view>
 
 #include "send/motion_tracker.h"
 #include "send/session.h"
@@ -18,8 +17,6 @@ std::size_t stroke_executed_by(const EncodedJob& job, std::size_t bytes);
 // The last stroke the first `bytes` may cut: the last complete one, or the next one when its
 // knife went down (a cancel stops it at a command boundary).
 std::size_t stroke_touched_by(const EncodedJob& job, std::size_t bytes);
-// Bytes of the abort that enter the device's buffer: all but its device-control sequences.
-std::size_t buffered_abort_bytes(std::string_view abort);
 
 class SendAccounting {
  public:
@@ -29,8 +26,8 @@ class SendAccounting {
   // before the query, less what its buffer still holds (its size less the free space), have
   // left the buffer. Its size is the profile's or the largest free space it ever reported, if
   // larger (asked before the job, an idle device reports all of it): a profile that understates
-  // the buffer must not make popcut think more has been executed. ESC.O bit 3: everything
-  // written before it has been executed.
+  // the buffer must not make popcut think more has been executed. An answer its language reads
+  // as idle (ESC.O bit 3, GP-GL "ready"): everything written before it has been executed.
   Whereabouts learn(const Answer& answer);
 
   // The result's counts from what is known now: bytes and strokes received, written, executed.

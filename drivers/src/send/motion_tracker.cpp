@@ -42,6 +42,8 @@ void MotionTracker::heard(const Whereabouts& where) {
   // At least there: a device faster than the margin assumes is not held back by it.
   if (where.kind == Whereabouts::Kind::at) seconds_ = time_at(where.read_bytes);
   if (where.kind == Whereabouts::Kind::at_least) seconds_ = std::max(seconds_, time_at(where.read_bytes));
+  // Still busy with them: a device slower than the model says is not run past by it.
+  if (where.kind == Whereabouts::Kind::before) seconds_ = std::min(seconds_, time_at(where.read_bytes));
 }
 
 std::chrono::milliseconds MotionTracker::quiet_for() const {

@@ -11,9 +11,10 @@
 namespace popcut::drivers::send {
 
 // What a status answer says of where the device is: at the point where it has read `read_bytes`
-// (ESC.B: what it still holds), or at least there (ESC.O: buffer empty).
+// (ESC.B: what it still holds), at least there (ESC.O: buffer empty; ESC ENQ: ready), or not yet
+// done with them (ESC ENQ: moving, under status flow).
 struct Whereabouts {
-  enum class Kind { unknown, at, at_least };
+  enum class Kind { unknown, at, at_least, before };
   Kind kind = Kind::unknown;
   std::size_t read_bytes = 0;
 };

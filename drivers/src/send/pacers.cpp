@@ -93,11 +93,11 @@ class EscBPacer final : public Pacer {
       }
       if (session_.at_boundary_and_cancelled()) return true;
       if (stall.stalled() > session_.options.hold_timeout) {
-        session_.result.status = {TransportError::timeout, 0,
-                                  "the device's buffer stayed full for " +
-                                      duration_text(session_.options.hold_timeout) +
-                                      " (hold_timeout_ms) without freeing a byte, by its answers to ESC.B: is it "
-                                      "paused, out of media or stuck?"};
+        session_.result.status = {
+            TransportError::timeout, 0,
+            "the device's buffer stayed full for " + duration_text(session_.options.hold_timeout) +
+                " (hold_timeout_ms) without freeing a byte, by its answers to " +
+                session_.query_name(DrainQuery::esc_b) + ": is it paused, out of media or stuck?"};
         return false;
       }
       const std::chrono::milliseconds wait = poll_backoff(polls);
@@ -116,18 +116,35 @@ class EscBPacer final : public Pacer {
   std::size_t credit_ = 0;  // bytes the device last said it could take, less those sent since
 };
 
-// No handshake at all: keep at most half a buffer more than the modelled device has read.
-// Half: a device may free a command's bytes only when it ends it, not when it starts it.
+// The longest command of the job, in bytes.
+std::size_t longest_command(const EncodedJob& job) {
+  std::size_t longest = 0, start = 0;
+  for (const std::size_t end : job.command_end) {
+    longest = std::max(longest, end - std::min(end, start));
+    start = end;
+  }
+  return longest;
+}
+
+// Paced by the motion model. No handshake at all: keep at most half a buffer more than the
+// modelled device has read. Half: a device may free a command's bytes only when it ends it, not
+// when it starts it. Status flow, where answers correct the model: the whole buffer less the
+// longest command (held until it ends), never less than half, so that the device is kept fed.
 class TimePacer final : public Pacer {
  public:
   explicit TimePacer(const PacerParts& parts)
-      : session_(parts.session), channel_(parts.channel), tracker_(parts.tracker) {}
+      : session_(parts.session),
+        channel_(parts.channel),
+        tracker_(parts.tracker),
+        longest_(parts.session.flow == FlowControl::status ? longest_command(parts.session.job) : 0) {}
 
   bool pace(std::size_t& n, std::size_t) override {
     const SendOptions& o = session_.options;
     Transport& t = session_.transport;
     const std::size_t sent = session_.result.bytes_sent;
-    const std::size_t ahead_bytes = std::max<std::size_t>(1, o.buffer_bytes / 2);
+    const std::size_t ahead_bytes = std::max<std::size_t>(
+        1, session_.flow == FlowControl::status ? o.buffer_bytes - std::min(o.buffer_bytes / 2, longest_)
+                                                : o.buffer_bytes / 2);
     const auto began = t.now();
     for (;;) {
       const std::size_t read_bytes = advance_by_line(tracker_, t, sent);
@@ -149,7 +166,7 @@ class TimePacer final : public Pacer {
       // Answers that keep the model where it is show a device that does not move.
       if (session_.query != DrainQuery::none && t.now() - began > o.hold_timeout) {
         session_.result.status = {TransportError::timeout, 0,
-                                  "the device's answers to " + std::string(query_name(session_.query)) +
+                                  "the device's answers to " + session_.query_name(session_.query) +
                                       " showed no progress for " + duration_text(o.hold_timeout) +
                                       " (hold_timeout_ms): is it paused, out of media or stuck?"};
         return false;
@@ -168,6 +185,7 @@ class TimePacer final : public Pacer {
   SendSession& session_;
   StatusChannel& channel_;
   MotionTracker& tracker_;
+  std::size_t longest_;                                    // status flow: the job's longest command
   std::chrono::steady_clock::time_point asked_idle_at_{};  // last query while held back
 };
 

@@ -22,7 +22,8 @@ SendSession::SendSession(Transport& line, const EncodedJob& sent_job, const Send
       job(sent_job),
       options(send_options),
       flow(paced_flow(line, send_options)),
-      query(asked_query(line, send_options, flow)) {
+      query(asked_query(line, send_options, flow)),
+      host(language_unit(send_options.language).host()) {
   result.first_stroke = job.first_stroke;
   result.last_stroke_sent = job.first_stroke - 1;
   result.last_stroke_written = job.first_stroke - 1;

@@ -3,7 +3,10 @@
 
 #include <cstddef>
 
+#include <string>
+
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
 
 namespace popcut::drivers::send {
 
@@ -22,13 +25,28 @@ class SendSession {
   const SendOptions& options;
   const FlowControl flow;
   const DrainQuery query;
-  SendResult result;  // what has gone out and what is known so far; status set by the first failure
+  const HostProtocol& host;  // the language's side of the status conversation
+  SendResult result;         // what has gone out and what is known so far; status set by the first failure
 
-  bool cancel_requested() const { return options.cancel && options.cancel->load(); }
+  // "ESC.B": a query as the device's manual names it, for messages.
+  std::string query_name(DrainQuery q) const { return std::string(host.query_name(q)); }
+  // The user's cancel, or the device's stop (device_stopped): both end the job at the command in
+  // flight, with the abort and the knife-up.
+  bool cancel_requested() const { return stop_ != DeviceStop::none || user_cancelled(); }
+  bool user_cancelled() const { return options.cancel && options.cancel->load(); }
+  // A status answer said the device cannot go on (tray empty, paused); the first reason stands.
+  void device_stopped(DeviceStop why) {
+    if (stop_ == DeviceStop::none) stop_ = why;
+  }
+  DeviceStop device_stop() const { return stop_; }
   // A cancel while the device holds us off: stop waiting unless a command is half sent.
   bool at_boundary_and_cancelled() const;
-  // No handshake and a line that cannot hold popcut off: only the motion model tells the pace.
-  bool time_paced() const { return flow == FlowControl::none && !transport.backpressure() && !options.motion.empty(); }
+  // Paced by the motion model: no handshake on a line that cannot hold popcut off, where only the
+  // model tells the pace, or status flow, where the device's idle/busy answers correct it.
+  bool time_paced() const {
+    return (flow == FlowControl::status || (flow == FlowControl::none && !transport.backpressure())) &&
+           !options.motion.empty();
+  }
   // A cancel waiting on a device that holds the line: says so once (options.waiting_to_cancel),
   // and true with result.status set when the user has given up (options.give_up: a second
   // Ctrl-C). What the port still holds for the device is dropped, so that no stale byte reaches
@@ -37,6 +55,7 @@ class SendSession {
 
  private:
   bool told_waiting_ = false;  // options.waiting_to_cancel was called
+  DeviceStop stop_ = DeviceStop::none;
 };
 
 }  // namespace popcut::drivers::send

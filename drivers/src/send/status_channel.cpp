@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 #include <thread>
 #include <utility>
@@ -17,10 +16,6 @@ namespace {
 
 constexpr std::uint8_t kXon = 0x11;
 constexpr std::uint8_t kXoff = 0x13;
-
-const char* query_bytes(DrainQuery q) {
-  return q == DrainQuery::esc_b ? "\x1b.B" : q == DrainQuery::esc_e ? "\x1b.E" : "\x1b.O";
-}
 
 std::string printable(const std::string& s) {
   std::string out = "'";
@@ -38,10 +33,6 @@ std::string printable(const std::string& s) {
 
 }  // namespace
 
-const char* query_name(DrainQuery q) {
-  return q == DrainQuery::esc_b ? "ESC.B" : q == DrainQuery::esc_e ? "ESC.E" : "ESC.O";
-}
-
 StatusChannel::StatusChannel(SendSession& session, HeldLine& line, std::function<void(const Answer&)> heard)
     : session_(session),
       line_(line),
@@ -51,7 +42,7 @@ StatusChannel::StatusChannel(SendSession& session, HeldLine& line, std::function
 
 bool StatusChannel::send_query(DrainQuery q) {
   const Held h = line_.write(
-      query_bytes(q), [](std::size_t) {}, [](std::size_t done) { return done == 0; });
+      session_.host.query_bytes(q), [](std::size_t) {}, [](std::size_t done) { return done == 0; });
   query_skipped_ = h == Held::stopped;
   if (h != Held::written) return h == Held::stopped;
   pending_.push_back({session_.result.bytes_sent, q, session_.transport.now()});
@@ -91,10 +82,10 @@ bool StatusChannel::take_replies(std::chrono::milliseconds wait) {
       ++xoffs_read_;
     } else if (b == kXon) {
       paused_ = false;
-    } else if (b == '\r') {
-      if (!answer_line()) return false;
-    } else if (b != kXoff && b != '\n') {
-      text_.push_back(static_cast<char>(b));
+    } else if (b != kXoff) {
+      const ReplyByte kind = session_.host.reply_byte(static_cast<char>(b));
+      if (kind == ReplyByte::end && !answer_line()) return false;
+      if (kind == ReplyByte::part) text_.push_back(static_cast<char>(b));
     }
   }
   if (!got.status.ok() && got.status.error != TransportError::timeout) {
@@ -106,22 +97,26 @@ bool StatusChannel::take_replies(std::chrono::milliseconds wait) {
 
 bool StatusChannel::answer_line() {
   const std::string text = std::exchange(text_, std::string());
-  const bool number = !text.empty() && text.size() <= 12 &&
-                      std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  const std::optional<long> number = session_.host.read_answer(text);
   if (pending_.empty() || !number) {
     session_.result.status = {
         TransportError::io, 0,
         "the device answered " + printable(text) +
-            (pending_.empty() ? " unasked" : std::string(" to ") + query_name(pending_.front().query)) +
-            ", not a status number: " + check_line_hint()};
+            (pending_.empty() ? " unasked" : " to " + session_.query_name(pending_.front().query)) +
+            ", not a status number: " + (answers_ == 0 ? mismatch_or_line_hint(text) : check_line_hint())};
     return false;
   }
   const Pending asked = pending_.front();
   pending_.pop_front();
-  last_answer_ = std::strtol(text.c_str(), nullptr, 10);
+  last_answer_ = *number;
   ++answers_;
   heard_({asked.bytes_before, asked.query, last_answer_});
   return true;
+}
+
+std::string StatusChannel::mismatch_or_line_hint(const std::string& heard) const {
+  const std::string mismatch = session_.host.mismatch_hint(heard);
+  return mismatch.empty() ? check_line_hint() : mismatch;
 }
 
 std::string StatusChannel::check_line_hint() const {
@@ -196,13 +191,13 @@ bool StatusChannel::no_answer(DrainQuery q, const std::string& when, std::chrono
                              (text_.empty() ? "" : " (it sent " + printable(text_) + ")");
   if (answers_ > 0) {
     session_.result.status = {TransportError::timeout, ETIMEDOUT,
-                              "the device stopped answering: no answer to " + std::string(query_name(q)) + " " + when +
+                              "the device stopped answering: no answer to " + session_.query_name(q) + " " + when +
                                   " within " + waited + ", though it answered the " + std::to_string(answers_) +
                                   " queries before: it is paused, out of media or stuck, or it lost power"};
   } else {
     session_.result.status = {TransportError::timeout, ETIMEDOUT,
-                              "the device did not answer " + std::string(query_name(q)) + " " + when + " within " +
-                                  waited + ": " + check_line_hint()};
+                              "the device did not answer " + session_.query_name(q) + " " + when + " within " + waited +
+                                  ": " + mismatch_or_line_hint(text_)};
   }
   return false;
 }

@@ -1,5 +1,5 @@
-// The device's side of the line: status queries (ESC.B, ESC.O, ESC.E), their answers, XON/XOFF read by popcut, overdue
-// answers.
+// The device's side of the line: status queries in the device's language, their answers, XON/XOFF read by popcut,
+// overdue answers.
 #pragma once
 
 #include <chrono>
@@ -12,8 +12,6 @@
 #include "send/session.h"
 
 namespace popcut::drivers::send {
-
-const char* query_name(DrainQuery query);  // "ESC.B", "ESC.O", "ESC.E"
 
 // An answered query: the job bytes written before it (all of which have reached the device,
 // since answers come back in order), which query it was and the number the device answered.
@@ -76,6 +74,8 @@ class StatusChannel {
 
   bool answer_line();
   std::string check_line_hint() const;
+  // Before any answer: the language's word on a device of another language, else check_line_hint.
+  std::string mismatch_or_line_hint(const std::string& heard) const;
   bool no_answer(DrainQuery query, const std::string& when, std::chrono::milliseconds held);
 
   SendSession& session_;

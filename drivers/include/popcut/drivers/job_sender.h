@@ -33,6 +33,8 @@ struct SendProgress {
 };
 
 struct SendOptions {
+  // The device's language: its status queries and answers, and which bytes enter its buffer.
+  CutterLanguage language = CutterLanguage::hpgl;
   FlowControl flow = FlowControl::none;
   std::size_t buffer_bytes = 1024;          // the device's buffer: chunks stay well inside it
   std::chrono::milliseconds timeout{5000};  // for one write or one reply
@@ -57,7 +59,8 @@ struct SendOptions {
   std::vector<MotionMark> motion;
   // Time pacing assumes the device may take this much longer than the model says.
   int pace_margin_percent = 25;
-  // Sent on cancel, after the last complete command: the profile's abort sequence, then knife up.
+  // Sent on cancel, after the last complete command: the profile's abort sequence, then knife up
+  // (HP-GL's by default; send_options takes the profile language's).
   std::string abort_bytes = "PU;";
   // The abort makes the device drop its buffer (ESC.K): after it, what was received but not
   // executed is no longer received (see SendResult::buffer_discarded).
@@ -88,16 +91,24 @@ inline constexpr auto kReceivedCountedByNames =
                                    {ReceivedCountedBy::buffer_size, "buffer_size"}});
 const char* to_string(ReceivedCountedBy how);
 
-// How a job's end was confirmed: the device's ESC.B (whole buffer free) or ESC.O (buffer empty)
-// answer, the motion model's estimate, or none (a file: nothing to wait for). not_drained (a
-// cancel or failure) is written as an empty name.
-enum class DrainedBy { not_drained, esc_b, esc_o, estimate, none };
+// How a job's end was confirmed: the device's ESC.B (whole buffer free), ESC.O (buffer empty) or
+// ESC ENQ ("ready") answer, the motion model's estimate, or none (a file: nothing to wait for).
+// not_drained (a cancel or failure) is written as an empty name.
+enum class DrainedBy { not_drained, esc_b, esc_o, estimate, none, esc_enq };
 inline constexpr auto kDrainedByNames = enum_names<DrainedBy>({{DrainedBy::not_drained, ""},
                                                                {DrainedBy::esc_b, "esc_b"},
                                                                {DrainedBy::esc_o, "esc_o"},
                                                                {DrainedBy::estimate, "estimate"},
-                                                               {DrainedBy::none, "none"}});
+                                                               {DrainedBy::none, "none"},
+                                                               {DrainedBy::esc_enq, "esc_enq"}});
 const char* to_string(DrainedBy how);
+
+// Why the device itself ended a job, by its status answer: no sheet loaded (tray empty, also a
+// roll that ran out) or its pause key. none (written as an empty name): it did not.
+enum class DeviceStop { none, tray_empty, paused };
+inline constexpr auto kDeviceStopNames = enum_names<DeviceStop>(
+    {{DeviceStop::none, ""}, {DeviceStop::tray_empty, "tray_empty"}, {DeviceStop::paused, "paused"}});
+const char* to_string(DeviceStop why);
 
 // Never over-claims: bytes written into a serial port may still sit in the OS queue, a UART FIFO
 // or a pseudo-terminal when the line drops. bytes_received counts what the device took (USB
@@ -153,6 +164,10 @@ struct SendResult {
   // ESC.E's answer after the job, when nonzero (the status then says what it means): the device
   // lost or garbled bytes, so what it cut is not the job and no resume point can repair it.
   int device_io_error = 0;
+  // The device said it cannot go on (status answer): before any byte, nothing was sent; during
+  // the job, popcut finished the command in flight, sent the abort and the knife-up, and the
+  // counts say where to resume once the sheet is loaded or the device resumed.
+  DeviceStop device_stop = DeviceStop::none;
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
   bool complete() const { return status.ok() && !cancelled; }
 };

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -15,8 +16,44 @@ namespace popcut::drivers {
 
 class TomlSection;
 
-// One language's part in the drivers; each language unit defines one (hpgl_language.cpp, gpgl_language.cpp). The
-// sender, the CLI and the daemon never see it: they go through make_encoder / encode_for_device.
+// ---- The host's side of a language: what the sender says to a device besides the job. ----
+
+// What a status answer says of the device beyond its number, as its language reads it.
+// idle: it has executed everything it received before the query; busy: not yet; tray_empty: no
+// sheet is loaded (it cuts nothing); paused: its pause key or a menu holds it; line_garbled and
+// input_lost: an I/O error answer (framing or parity; a buffer overflow) says job bytes were lost.
+enum class StatusMeaning { nothing, idle, busy, tray_empty, paused, line_garbled, input_lost };
+
+// How a byte of the device's reply reads: part of an answer, the end of one, or filler.
+enum class ReplyByte { part, end, skip };
+
+// The sender's half of a language's conversation with a device (the simulator's half is its
+// DeviceReader): the bytes of each status query, how an answer is framed and what it means, and
+// which bytes of a string enter the device's buffer.
+class HostProtocol {
+ public:
+  virtual ~HostProtocol() = default;
+  // The bytes that ask `query`; empty when the language has no such query.
+  virtual std::string_view query_bytes(DrainQuery query) const = 0;
+  // As users know it from the device's manual: "ESC.B", "ESC ENQ".
+  virtual std::string_view query_name(DrainQuery query) const = 0;
+  virtual ReplyByte reply_byte(char byte) const = 0;
+  // The number an answer carries (its end byte and filler left out); nullopt when it is none.
+  virtual std::optional<long> read_answer(std::string_view text) const = 0;
+  // What answer `value` to `query` says (nothing: only its number, as ESC.B's free bytes).
+  virtual StatusMeaning meaning(DrainQuery query, long value) const = 0;
+  // How many bytes of `bytes` enter the device's buffer: device-control sequences never do.
+  virtual std::size_t buffered_bytes(std::string_view bytes) const = 0;
+  // Said when a device never gave a status answer this language reads (`heard`: what it sent,
+  // empty for silence): why it may be a device of another language, or "" when nothing points so.
+  virtual std::string mismatch_hint(std::string_view heard) const = 0;
+  // The drain query a profile of this language gets when it names none (none: do not ask).
+  virtual DrainQuery default_query() const = 0;
+};
+
+// One language's part in the drivers; each language unit defines one (hpgl_language.cpp,
+// gpgl_language.cpp). The CLI and the daemon never see it: they go through make_encoder /
+// encode_for_device; the sender sees only its knife-up and host protocol.
 struct LanguageUnit {
   CutterLanguage language;
   std::string_view section;  // its profile section: [hpgl], [gpgl]
@@ -36,6 +73,7 @@ struct LanguageUnit {
   double (*speed_cm_s)(const DeviceProfile& profile, double value);
   // The command that lifts the knife, sent after [transport] abort when a job is cancelled.
   std::string (*knife_up)(const DeviceProfile& profile);
+  const HostProtocol& (*host)();  // the sender's side: status queries and their answers
 };
 
 // Every language popcut speaks, in kCutterLanguageNames order.

@@ -14,23 +14,31 @@
 
 namespace popcut::drivers {
 
-// How the host keeps the device's input buffer from overflowing. xon_xoff and esc_b are paced by
-// popcut itself; rts_cts and dtr_dsr by the serial port's hardware lines.
-enum class FlowControl { none, xon_xoff, rts_cts, esc_b, dtr_dsr };  // esc_b: ask ESC.B for free space
+// How the host keeps the device's input buffer from overflowing. xon_xoff, esc_b and status are
+// paced by popcut itself; rts_cts and dtr_dsr by the serial port's hardware lines. esc_b: ask
+// ESC.B for free space; status: keep at most about buffer_bytes ahead of where the motion model
+// puts the device, on any line, with the drain query's idle/busy answers correcting the model
+// (GP-GL's ESC ENQ: those devices give no buffer figure).
+enum class FlowControl { none, xon_xoff, rts_cts, esc_b, dtr_dsr, status };
 inline constexpr auto kFlowControlNames = enum_names<FlowControl>({{FlowControl::none, "none"},
                                                                    {FlowControl::xon_xoff, "xon_xoff"},
                                                                    {FlowControl::rts_cts, "rts_cts"},
                                                                    {FlowControl::esc_b, "esc_b"},
-                                                                   {FlowControl::dtr_dsr, "dtr_dsr"}});
+                                                                   {FlowControl::dtr_dsr, "dtr_dsr"},
+                                                                   {FlowControl::status, "status"}});
 const char* to_string(FlowControl flow);
 
-// How to ask a device whether it has executed everything (HP-GL device-control queries). esc_e
-// is not a drain query (a profile's drain_query cannot name it): the sender's I/O-error check.
-enum class DrainQuery { none, esc_b, esc_o, esc_e };  // esc_b: whole buffer free; esc_o: status bit 3
+// The status questions popcut asks a device, named as profiles name them; the language's host
+// protocol (language.h) has their bytes and reads their answers. HP-GL: esc_b (free buffer
+// bytes; whole buffer free: drained), esc_o (status word, bit 3: buffer empty), esc_e (I/O error:
+// the sender's check, not a drain query a profile can name). GP-GL: esc_enq (ready, moving, tray
+// empty, paused).
+enum class DrainQuery { none, esc_b, esc_o, esc_e, esc_enq };
 inline constexpr auto kDrainQueryNames = enum_names<DrainQuery>({{DrainQuery::none, "none"},
                                                                  {DrainQuery::esc_b, "esc_b"},
                                                                  {DrainQuery::esc_o, "esc_o"},
-                                                                 {DrainQuery::esc_e, "esc_e"}});
+                                                                 {DrainQuery::esc_e, "esc_e"},
+                                                                 {DrainQuery::esc_enq, "esc_enq"}});
 const char* to_string(DrainQuery query);
 
 enum class Parity { none, odd, even };
@@ -44,7 +52,8 @@ struct TransportDefaults {
   Parity parity = Parity::none;
   int stop_bits = 1;
   FlowControl flow = FlowControl::none;
-  DrainQuery drain_query = DrainQuery::none;  // default: esc_b when flow is esc_b
+  // Default: esc_b when flow is esc_b, else the language's own (GP-GL: esc_enq; HP-GL: none).
+  DrainQuery drain_query = DrainQuery::none;
   // error_query = "esc_e": after the job, ask the device's I/O error (ESC.E); 15 (framing, parity,
   // overrun) or 16 (input buffer overflow) means bytes were lost and the cut is wrong.
   bool error_query = false;
@@ -64,8 +73,8 @@ struct TransportDefaults {
   std::size_t adapter_fifo_bytes = 4096;
   int timeout_ms = 5000;         // one write or one reply
   int hold_timeout_ms = 120000;  // the device holding the host off while it cuts
-  // Time pacing (flow_control "none" on a line that cannot hold popcut off): the device is
-  // assumed to take up to this much longer than the plan's motion estimate.
+  // Pacing by the motion model (flow_control "none" on a line that cannot hold popcut off, or
+  // "status"): the device is assumed to take up to this much longer than the plan's motion estimate.
   int pace_margin_percent = 25;
   // The same for a device whose pace was measured ([kinematics] time_factor from a calibration):
   // the model is then the device's own, and only how far other jobs stray from it is left.

@@ -32,6 +32,12 @@ struct SimFaults {
   std::optional<std::size_t> stop_answering_after_bytes;  // then: no execution, no replies
   std::optional<std::size_t> drop_after_bytes;            // then: the connection is gone
   double slowdown = 1;                                    // motion takes this many times longer
+  // The device's own stops, which its status answer reports (GP-GL ESC ENQ) and during which it
+  // executes nothing but goes on answering and buffering: no sheet loaded, from the start (0) or
+  // once this many bytes have arrived (the sheet or roll ran out); its pause key, once this many
+  // have.
+  std::optional<std::size_t> tray_empty_after_bytes = std::nullopt;
+  std::optional<std::size_t> pause_after_bytes = std::nullopt;
 };
 
 struct SimIssue {
@@ -118,6 +124,8 @@ class SimCutter {
   void check_water_marks();
   void queue_reply(const std::string& s);
   DeviceFacts facts() const;
+  // SimFaults' tray empty and pause, once their byte counts have arrived.
+  void apply_stop_faults();
   void drop_buffer();
   double speed_cm_s_of(double value) const;
   void set_tool_value(std::map<int, double>& per_tool, double& current, double value, const DeviceCommand& c);
