@@ -19,6 +19,7 @@
 #include "bench_table.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/hpgl/hpgl.h"
@@ -142,7 +143,7 @@ void BM_BytesPerMm(benchmark::State& state) {
   const StrokePlan plan = plan_of("townhouse.json", p);
   std::size_t bytes = 0;
   for (auto _ : state) {
-    const EncodedJob j = encode_job(plan, p.dialect, p.tools);
+    const EncodedJob j = drivers::encode_for_device(plan, p);
     bytes = j.bytes.size();
     benchmark::DoNotOptimize(j);
   }
@@ -164,7 +165,7 @@ void BM_TimePaced(benchmark::State& state) {
   p.transport.buffer_bytes = 256;
   p.transport.drain_query = state.range(3) ? drivers::DrainQuery::esc_o : drivers::DrainQuery::none;
   p.transport.error_query = false;
-  const EncodedJob job = encode_job(plan_of("townhouse.json", p), p.dialect, p.tools);
+  const EncodedJob job = drivers::encode_for_device(plan_of("townhouse.json", p), p);
   drivers::SendOptions o = drivers::send_options(p);
   o.pace_margin_percent = static_cast<int>(state.range(1));
   for (auto _ : state) {

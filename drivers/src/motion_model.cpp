@@ -12,7 +12,10 @@ namespace popcut::drivers {
 double longest_first_travel_mm(const HpglDialect& d) {
   const double x_mm = static_cast<double>(d.area_max_x_pu - d.area_min_x_pu) / d.units_per_mm_x;
   const double y_mm = static_cast<double>(d.area_max_y_pu - d.area_min_y_pu) / d.units_per_mm_y;
-  return std::hypot(x_mm, std::min(y_mm, 2 * x_mm));
+  // A roll runs along whichever axis is the longer: plotter y for HP-GL cutters, x for a GP-GL
+  // device with its axes swapped.
+  const double across_mm = std::min(x_mm, y_mm), along_mm = std::max(x_mm, y_mm);
+  return std::hypot(across_mm, std::min(along_mm, 2 * across_mm));
 }
 
 std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile) {

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/motion_model.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/error.h"
@@ -64,9 +66,30 @@ PacedJob pace(const DeviceProfile& p, const EncodedJob& job, int margin_percent,
   return r;
 }
 
+// The far corner of the usable area; on a roll feeder, of a piece twice as long as wide, along
+// whichever axis the roll runs (longest_first_travel_mm).
 std::string far_corner(const HpglDialect& d) {
-  const std::int64_t far_y = std::min(d.area_max_y_pu, d.area_min_y_pu + 2 * (d.area_max_x_pu - d.area_min_x_pu));
-  return "IN;PU" + std::to_string(d.area_max_x_pu) + "," + std::to_string(far_y) + ";";
+  const std::int64_t w = d.area_max_x_pu - d.area_min_x_pu, h = d.area_max_y_pu - d.area_min_y_pu;
+  const double w_mm = static_cast<double>(w) / d.units_per_mm_x, h_mm = static_cast<double>(h) / d.units_per_mm_y;
+  const std::int64_t x =
+      w_mm > 2 * h_mm ? d.area_min_x_pu + static_cast<std::int64_t>(2 * h_mm * d.units_per_mm_x) : d.area_max_x_pu;
+  const std::int64_t y =
+      h_mm > 2 * w_mm ? d.area_min_y_pu + static_cast<std::int64_t>(2 * w_mm * d.units_per_mm_y) : d.area_max_y_pu;
+  return std::to_string(x) + "," + std::to_string(y);
+}
+
+// Leaves a device at `xy` (plotter units): a knife-up move in the profile's language.
+std::string move_to(const DeviceProfile& p, const std::string& xy) {
+  return p.language == CutterLanguage::gpgl ? "\x1b\x04M" + xy + "\x03" : "IN;PU" + xy + ";";
+}
+
+// A roll feeder's first travel crosses a piece twice as long as wide, whichever plotter axis the
+// roll runs along: the Cameo 4's 3000 mm roll runs along plotter x (its axes are swapped).
+TEST(TimePacing, TheFirstTravelCrossesARollPieceAlongEitherAxis) {
+  const DeviceProfile cameo = load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/silhouette-cameo4.toml");
+  EXPECT_NEAR(longest_first_travel_mm(cameo.dialect), std::hypot(304.8, 609.6), 0.5);
+  const DeviceProfile graphtec = load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/graphtec-ce.toml");
+  EXPECT_NEAR(longest_first_travel_mm(graphtec.dialect), std::hypot(600, 1200), 0.5) << "a roll along plotter y";
 }
 
 // The guarantee at its edge: a device exactly the margin slower than the plan, at the origin or
@@ -76,10 +99,10 @@ TEST(TimePacing, ADeviceExactlyTheMarginSlowerLosesNothing) {
   for (const std::string& file : testing::shipped_profiles()) {
     const DeviceProfile p = blind(load_profile(file));
     const StrokePlan plan = townhouse_plan(p);
-    const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+    const EncodedJob job = encode_for_device(plan, p);
     const std::vector<PlotterPath> planned = plan_in_plotter_units(plan, p.dialect);
     for (const int margin : {25, 10, 5}) {
-      for (const std::string& earlier : {std::string(), far_corner(p.dialect)}) {
+      for (const std::string& earlier : {std::string(), move_to(p, far_corner(p.dialect))}) {
         const PacedJob r = pace(p, job, margin, 1 + margin / 100.0, earlier);
         const std::string what = file + ", margin " + std::to_string(margin) + " %" + (earlier.empty() ? "" : ", far");
         ASSERT_TRUE(r.sent.complete()) << what << ": " << r.sent.status.message;
@@ -98,7 +121,7 @@ TEST(TimePacing, ADeviceExactlyTheMarginSlowerLosesNothing) {
 TEST(TimePacing, JobTimeIsTheMarginTimesTheSchedule) {
   for (const std::string& file : testing::shipped_profiles()) {
     const DeviceProfile p = blind(load_profile(file));
-    const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+    const EncodedJob job = encode_for_device(townhouse_plan(p), p);
     double previous_s = 0;
     for (const int margin : {5, 10, 25}) {
       const PacedJob r = pace(p, job, margin, 1);
@@ -123,7 +146,7 @@ TEST(TimePacing, JobTimeIsTheMarginTimesTheSchedule) {
 TEST(TimePacing, ADeviceSlowerThanTheMarginIsCaughtByItsErrorAnswer) {
   DeviceProfile p = blind(load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/sim.toml"));
   p.transport.error_query = true;
-  const EncodedJob job = encode_job(townhouse_plan(p), p.dialect, p.tools);
+  const EncodedJob job = encode_for_device(townhouse_plan(p), p);
   const PacedJob r = pace(p, job, 10, 1.6);
   ASSERT_GT(r.report.overflow_bytes, 0u) << "60 % slower than the plan overruns a 10 % margin";
   EXPECT_FALSE(r.sent.complete());

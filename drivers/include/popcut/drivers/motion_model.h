@@ -22,8 +22,8 @@ struct MotionMark {
 // read pair by pair. Where the device starts is unknown: everything after the first command is
 // later by a travel of longest_first_travel_mm.
 std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
-// The usable area's diagonal; on a roll feeder (more than twice as long as wide) that of a piece
-// twice as long as wide.
+// The usable area's diagonal; on a roll feeder (more than twice as long as wide, along either
+// plotter axis) that of a piece twice as long as wide.
 double longest_first_travel_mm(const HpglDialect& dialect);
 
 }  // namespace popcut::drivers
