@@ -1,0 +1,163 @@
+// A Silhouette Cameo 4 over USB: GP-GL through the unmodified libusb backend, against a umockdev description and a
+// simulated cutter.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "popcut/drivers/device.h"
+#include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
+#include "popcut/drivers/ports.h"
+#include "popcut/drivers/sim_cutter.h"
+#include "popcut/io/model_io.h"
+#include "usb_mock.h"
+
+namespace {
+
+using namespace popcut;
+using namespace popcut::drivers;
+using popcut::testing::UsbMockDevice;
+
+const std::string kSource = POPCUT_SOURCE_DIR;
+const char* const kNode = "/dev/bus/usb/001/003";  // the description's N: line
+const char* const kDevice = "usb:0b4d:1137:S4A012345";
+
+class SilhouetteUsb : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* preload = std::getenv("LD_PRELOAD");
+    ASSERT_TRUE(preload && std::strstr(preload, "umockdev-preload")) << "run under umockdev-wrapper (CTest does)";
+    profile_ = load_profile(kSource + "/configs/devices/silhouette-cameo4.toml");
+    device_.strings = popcut::testing::usb_strings("Silhouette", "CAMEO 4", "S4A012345");
+    std::string error;
+    ASSERT_TRUE(bed_.add(kSource + "/tests/data/umockdev/silhouette-cameo4.umockdev", kNode, device_, error)) << error;
+  }
+  // The cutter at the far end, with `faults`. A USB device NAKs bulk OUT while its buffer is full:
+  // to the simulator, a line it holds.
+  void plug_in(SimFaults faults = {}) {
+    DeviceProfile far = profile_;
+    far.transport.flow = FlowControl::rts_cts;
+    std::lock_guard<std::mutex> lock(device_.mutex);
+    device_.cutter = std::make_shared<SimCutter>(far, faults);
+  }
+  StrokePlan townhouse() const {
+    PlanOptions o = profile_.plan;
+    o.optimise_work = 1000;  // these tests are about the transport, not ordering
+    return plan_strokes(make_pattern(load_model(kSource + "/examples/voxel/townhouse.json")), o);
+  }
+  SendResult send(const EncodedJob& job) {
+    MadeTransport t = make_transport(kDevice, profile_);
+    EXPECT_TRUE(t.status.ok()) << t.status.message;
+    const TransportStatus open = t.transport->open();
+    EXPECT_TRUE(open.ok()) << open.message;
+    if (!open.ok()) return {};
+    SendOptions o = send_options(profile_);
+    o.motion = motion_schedule(job.bytes, profile_);
+    const SendResult r = send_job(*t.transport, job, o);
+    t.transport->close();
+    return r;
+  }
+  std::vector<SimStroke> cut() {
+    std::lock_guard<std::mutex> lock(device_.mutex);
+    device_.cutter->run_to_end();
+    return device_.cutter->strokes();
+  }
+
+  popcut::testing::UsbTestbed bed_;
+  UsbMockDevice device_;
+  DeviceProfile profile_;
+};
+
+TEST_F(SilhouetteUsb, LibusbEnumeratesTheDescription) {
+  plug_in();
+  std::vector<UsbDeviceInfo> usb;
+  ASSERT_TRUE(list_usb_devices(usb).ok());
+  ASSERT_EQ(usb.size(), 1u) << "the Cameo (its root hub has no descriptors)";
+  EXPECT_EQ(usb_id_string(usb[0].vid, usb[0].pid), "0b4d:1137") << "the Cameo 4 profile's first usb_ids";
+  EXPECT_TRUE(usb[0].has_bulk_out);
+  EXPECT_EQ(usb[0].serial_number, "S4A012345") << "from its string descriptor, over endpoint 0";
+  EXPECT_EQ(usb[0].product, "CAMEO 4");
+}
+
+// The whole townhouse in GP-GL over bulk OUT, ESC ENQ answered over bulk IN; the simulator cut
+// exactly the plan.
+TEST_F(SilhouetteUsb, TownhouseCutsThePlan) {
+  plug_in();
+  const StrokePlan plan = townhouse();
+  const EncodedJob job = encode_for_device(plan, profile_);
+  const SendResult r = send(job);
+  ASSERT_TRUE(r.complete()) << r.status.message;
+  EXPECT_EQ(r.drained_by, DrainedBy::esc_enq) << "done when the device answered ready";
+  EXPECT_GT(r.status_queries, 0) << "ESC ENQ asked and answered over bulk IN";
+  EXPECT_EQ(device_.claims, 1) << "interface 0 claimed once";
+  const std::vector<SimStroke> strokes = cut();
+  EXPECT_FALSE(first_difference(plan_in_plotter_units(plan, profile_.dialect), strokes).has_value())
+      << "the simulator cut the plan, stroke for stroke";
+  std::lock_guard<std::mutex> lock(device_.mutex);
+  const SimReport& rep = device_.cutter->report();
+  EXPECT_EQ(rep.overflow_bytes, 0u);
+  EXPECT_TRUE(rep.unknown.empty()) << "every byte was GP-GL the device knows";
+  EXPECT_EQ(rep.bytes_received, job.bytes.size() + 2 * static_cast<std::size_t>(r.status_queries))
+      << "the job and the ESC ENQ queries (2 bytes each), nothing else";
+}
+
+// A device with no sheet loaded says so before a byte of the job goes out; nothing is cut.
+TEST_F(SilhouetteUsb, AnEmptyTrayBeforeTheJobEndsItCleanly) {
+  SimFaults f;
+  f.tray_empty_after_bytes = 0;
+  plug_in(f);
+  const SendResult r = send(encode_for_device(townhouse(), profile_));
+  EXPECT_FALSE(r.complete());
+  EXPECT_EQ(r.device_stop, DeviceStop::tray_empty) << r.status.message;
+  EXPECT_EQ(r.last_stroke_written, 0u) << "nothing of the job was sent";
+  EXPECT_TRUE(cut().empty());
+}
+
+// Paused mid-job (its pause key): popcut stops sending, finishes the command in flight, and the
+// counts say where to resume.
+TEST_F(SilhouetteUsb, APauseMidJobEndsItWithAResumePoint) {
+  const StrokePlan plan = townhouse();
+  const EncodedJob job = encode_for_device(plan, profile_);
+  SimFaults f;
+  f.pause_after_bytes = job.stroke_end[20];
+  plug_in(f);
+  const SendResult r = send(job);
+  EXPECT_FALSE(r.complete());
+  EXPECT_EQ(r.device_stop, DeviceStop::paused) << r.status.message;
+  EXPECT_LT(r.last_stroke_written, job.stroke_end.size()) << "it stopped sending";
+  EXPECT_GE(r.last_stroke_sent, 1u);
+  EXPECT_LE(r.last_stroke_sent, r.last_stroke_written);
+}
+
+// Unplugged mid-job: disconnected, with the last stroke certainly received; plugged in again, the
+// resume from there completes the card with no stroke missing.
+TEST_F(SilhouetteUsb, UnplugMidJobIsResumable) {
+  plug_in();
+  const StrokePlan plan = townhouse();
+  const EncodedJob job = encode_for_device(plan, profile_);
+  device_.unplug_after = job.stroke_end[30] + 5;
+  const SendResult r = send(job);
+  ASSERT_EQ(r.status.error, TransportError::disconnected) << r.status.message;
+  ASSERT_GE(r.last_stroke_sent, 31u) << "stroke 31 ended 5 bytes before the unplug";
+  // The cutter kept its buffer and cut it; the cable goes back in once it has stopped (GP-GL's
+  // init, ESC EOT, makes the device drop whatever it still holds).
+  EXPECT_EQ(cut().size(), r.last_stroke_sent) << "it cut every stroke it certainly received";
+  {
+    std::lock_guard<std::mutex> lock(device_.mutex);
+    device_.unplugged = false;
+    device_.unplug_after = static_cast<std::size_t>(-1);
+  }
+  const SendResult resumed = send(encode_for_device(plan, profile_, r.last_stroke_sent + 1));
+  ASSERT_TRUE(resumed.complete()) << resumed.status.message;
+  const std::vector<SimStroke> strokes = cut();
+  const std::vector<PlotterPath> planned = plan_in_plotter_units(plan, profile_.dialect);
+  ASSERT_EQ(strokes.size(), planned.size()) << "every stroke once: none skipped, none twice";
+  EXPECT_FALSE(first_difference(planned, strokes).has_value());
+}
+
+}  // namespace
