@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -26,6 +27,9 @@
 #include "popcut/io/model_io.h"
 #include "popcut/plan/plan.h"
 #include "shipped_profiles.h"
+#if POPCUT_BENCH_USB
+#include "usb_mock.h"
+#endif
 
 namespace {
 
@@ -42,7 +46,8 @@ StrokePlan plan_of(const std::string& model, const drivers::DeviceProfile& p) {
 // `popcut sim-plotter` in its own process; its port from the first line of its output.
 class Plotter {
  public:
-  Plotter(int baud, long buffer, const std::string& profile) {
+  Plotter(int baud, long buffer, const std::string& profile, const std::string& slowdown = "0.0001",
+          const std::string& report = "") {
     out_ = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + ".port");
     pid_ = ::fork();
     if (pid_ == 0) {
@@ -51,8 +56,13 @@ class Plotter {
       const int null = ::open("/dev/null", O_WRONLY);
       ::dup2(null, 2);
       const std::string b = std::to_string(baud), buf = std::to_string(buffer);
-      ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--profile", profile.c_str(), "--baud", b.c_str(), "--buffer",
-              buf.c_str(), "--slowdown", "0.0001", static_cast<char*>(nullptr));
+      if (report.empty()) {
+        ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--profile", profile.c_str(), "--baud", b.c_str(), "--buffer",
+                buf.c_str(), "--slowdown", slowdown.c_str(), static_cast<char*>(nullptr));
+      } else {
+        ::execl(POPCUT_CLI, POPCUT_CLI, "sim-plotter", "--profile", profile.c_str(), "--baud", b.c_str(), "--buffer",
+                buf.c_str(), "--slowdown", slowdown.c_str(), "--report", report.c_str(), static_cast<char*>(nullptr));
+      }
       ::_exit(127);
     }
     for (int i = 0; i < 500 && port_.empty(); ++i) {
@@ -191,6 +201,110 @@ void BM_TimePaced(benchmark::State& state) {
   state.counters["overflow"] = static_cast<double>(cutter->report().overflow_bytes);
 }
 
+// A GP-GL profile's copy whose flow is "status" (paced by the motion model, corrected by ESC ENQ
+// answers), as a Cameo on a serial line would be; both ends read it.
+std::string status_flow_profile(const std::string& shipped) {
+  std::ifstream in(shipped);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string t = text.str();
+  const std::string from = "flow_control = \"none\"";
+  const std::size_t at = t.find(from);
+  if (at == std::string::npos) throw std::runtime_error("transport_bench: " + shipped + " has no " + from);
+  t.replace(at, from.size(), "flow_control = \"status\"");
+  const fs::path out = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + "-status.toml");
+  std::ofstream(out) << t;
+  return out.string();
+}
+
+void gpgl_counters(benchmark::State& state, const drivers::SendResult& r, const EncodedJob& job, const StrokePlan& plan,
+                   double clock_s, double motion_s) {
+  if (!r.complete()) state.SkipWithError(r.status.message.c_str());
+  state.counters["job_over_motion"] = clock_s / motion_s;
+  state.counters["motion_s"] = motion_s;
+  state.counters["status_queries"] = r.status_queries;
+  state.counters["bytes_per_cut_mm"] = static_cast<double>(job.bytes.size()) / plan.total().cut_mm;
+}
+
+#if POPCUT_BENCH_USB
+// The Cameo 4 profile over USB: the unmodified libusb backend against the umockdev description
+// and a simulated cutter running 10 times faster than the wall clock (run under umockdev's
+// preload, which main() arranges). Job time in the device's time, from the first byte to popcut's
+// "done", over its motion time.
+void BM_GpglUsb(benchmark::State& state) {
+  const drivers::DeviceProfile p = drivers::load_profile(kSource + "/configs/devices/silhouette-cameo4.toml");
+  const StrokePlan plan = plan_of("townhouse.json", p);
+  const EncodedJob job = drivers::encode_for_device(plan, p);
+  for (auto _ : state) {
+    testing::UsbTestbed bed;
+    testing::UsbMockDevice device;
+    device.time_scale = 10;
+    drivers::DeviceProfile far = p;
+    far.transport.flow = drivers::FlowControl::rts_cts;  // NAKs while its buffer is full
+    device.cutter = std::make_shared<drivers::SimCutter>(far);
+    std::string error;
+    if (!bed.add(kSource + "/tests/data/umockdev/silhouette-cameo4.umockdev", "/dev/bus/usb/001/003", device, error)) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    drivers::MadeTransport t = drivers::make_transport("usb:0b4d:1137", p);
+    if (!t.status.ok() || !t.transport->open().ok()) {
+      state.SkipWithError("cannot open the mocked Cameo");
+      return;
+    }
+    drivers::SendOptions o = drivers::send_options(p);
+    o.motion = drivers::motion_schedule(job.bytes, p);
+    const auto start = std::chrono::steady_clock::now();
+    const drivers::SendResult r = drivers::send_job(*t.transport, job, o);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(s);
+    t.transport->close();
+    std::lock_guard<std::mutex> lock(device.mutex);
+    gpgl_counters(state, r, job, plan, s * device.time_scale, device.cutter->report().motion_time_s);
+  }
+}
+
+#endif
+
+// The Cameo 4 profile with status flow over a pseudo-terminal to popcut sim-plotter, in real time
+// (box: a few seconds of motion). Job time by the wall clock over the plotter's motion time.
+void BM_GpglPty(benchmark::State& state) {
+  const std::string profile = status_flow_profile(kSource + "/configs/devices/silhouette-cameo4.toml");
+  const drivers::DeviceProfile p = drivers::load_profile(profile);
+  const StrokePlan plan = plan_of("box.json", p);
+  const EncodedJob job = drivers::encode_for_device(plan, p);
+  const fs::path report = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + "-plotter.json");
+  for (auto _ : state) {
+    drivers::SendResult r;
+    double s = 0;
+    {
+      Plotter plotter(p.transport.baud, static_cast<long>(p.transport.buffer_bytes), profile, "1", report.string());
+      drivers::MadeTransport t = drivers::make_transport("serial:" + plotter.port(), p);
+      if (!t.status.ok() || !t.transport->open().ok()) {
+        state.SkipWithError("cannot open the sim-plotter's port");
+        return;
+      }
+      drivers::SendOptions o = drivers::send_options(p);
+      o.motion = drivers::motion_schedule(job.bytes, p);
+      const auto start = std::chrono::steady_clock::now();
+      r = drivers::send_job(*t.transport, job, o);
+      s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      state.SetIterationTime(s);
+      t.transport->close();
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the plotter writes its report on hang-up
+    }
+    std::ifstream in(report);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string t = text.str();
+    const std::size_t at = t.find("\"motion_time_s\":");
+    const double motion_s = at == std::string::npos ? 0 : std::stod(t.substr(at + 16));
+    gpgl_counters(state, r, job, plan, s, motion_s);
+  }
+  fs::remove(profile);
+  fs::remove(report);
+}
+
 BENCHMARK(BM_Stream)
     ->Args({9600, 1024, 0})
     ->Args({115200, 1024, 0})
@@ -208,6 +322,10 @@ BENCHMARK(BM_TimePaced)
                    {0, 1}})
     ->MinTime(0.05)
     ->Unit(benchmark::kMillisecond);
+#if POPCUT_BENCH_USB
+BENCHMARK(BM_GpglUsb)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+#endif
+BENCHMARK(BM_GpglPty)->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BytesPerMm)
     ->DenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1)
     ->Unit(benchmark::kMicrosecond);
@@ -217,9 +335,12 @@ BENCHMARK(BM_BytesPerMm)
 int main(int argc, char** argv) {
   // The serial transport is libserialport, which opens a pty only under the test shim: run
   // again with it preloaded (as the pty tests run popcut).
+  // The USB rows run libusb unmodified against umockdev's testbed, which needs its preload too
+  // (harmless to the pty rows: it redirects nothing while no testbed exists).
   const char* preload = std::getenv("LD_PRELOAD");
-  if (!preload || std::string(preload).find(POPCUT_PTY_PRELOAD) == std::string::npos) {
-    ::setenv("LD_PRELOAD", POPCUT_PTY_PRELOAD, 1);
+  const std::string wanted = std::string(POPCUT_PTY_PRELOAD) + (POPCUT_BENCH_USB ? ":libumockdev-preload.so.0" : "");
+  if (!preload || std::string(preload).find(wanted) == std::string::npos) {
+    ::setenv("LD_PRELOAD", wanted.c_str(), 1);
     ::execv("/proc/self/exe", argv);
     std::perror("transport_bench: cannot re-run itself with the pty shim");
     return 1;
@@ -246,6 +367,16 @@ int main(int argc, char** argv) {
                   r.counters.at("esc_o") != 0 ? "asked" : "-", r.counters.at("complete") != 0 ? "yes" : "NO",
                   r.counters.at("job_over_motion"), r.counters.at("schedule_over_motion"), r.counters.at("max_used"),
                   r.counters.at("overflow"), r.ms);
+    }
+    std::printf(
+        "\nGP-GL (silhouette-cameo4) next to HP-GL's streaming above: job time over the device's motion time\n");
+    std::printf("%-34s %-10s %-12s %-10s %-9s\n", "transport", "motion s", "job/motion", "ESC ENQ", "B/mm");
+    for (const auto& r : rep.rows()) {
+      const bool usb = r.name.rfind("BM_GpglUsb", 0) == 0;
+      if (!usb && r.name.rfind("BM_GpglPty", 0) != 0) continue;
+      std::printf("%-34s %-10.2f %-12.3f %-10.0f %-9.2f\n",
+                  usb ? "USB (umockdev), townhouse, none" : "pty (sim-plotter), box, status", r.counters.at("motion_s"),
+                  r.counters.at("job_over_motion"), r.counters.at("status_queries"), r.counters.at("bytes_per_cut_mm"));
     }
     std::printf("\nencoder: bytes per cut mm, townhouse, per profile\n%-16s %-8s %-8s %-8s\n", "profile", "bytes",
                 "cut mm", "B/mm");
