@@ -401,7 +401,8 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.drain_query = profile.transport.drain_query;
   o.error_query = profile.transport.error_query;
   o.baud = profile.transport.baud;
-  o.pace_margin_percent = profile.transport.pace_margin_percent;
+  o.pace_margin_percent = profile.transport.pace_measured ? profile.transport.pace_margin_calibrated_percent
+                                                          : profile.transport.pace_margin_percent;
   o.language = profile.language;
   o.abort_bytes = profile.transport.abort + language_unit(profile.language).knife_up(profile);
   o.abort_discards_buffer = profile.transport.abort_discards_buffer;

@@ -171,6 +171,10 @@ TEST(TimePacing, TheCalibratedMarginIsReadAndChecked) {
       {"pace_margin_calibrated_percent = -1", "out of range"},
       {"pace_margin_calibrated_percent = 2.5", "whole number"},
   };
+  DeviceProfile p = parse_profile(base + "pace_margin_percent = 30\npace_margin_calibrated_percent = 7\n", "t.toml");
+  EXPECT_EQ(send_options(p).pace_margin_percent, 30) << "a guessed pace: the profile's margin";
+  p.transport.pace_measured = true;
+  EXPECT_EQ(send_options(p).pace_margin_percent, 7) << "a measured pace: the calibrated margin";
   for (const auto& [line, expect] : cases) {
     try {
       parse_profile(base + line + "\n", "t.toml");

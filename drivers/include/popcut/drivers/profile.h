@@ -79,6 +79,9 @@ struct TransportDefaults {
   // The same for a device whose pace was measured ([kinematics] time_factor from a calibration):
   // the model is then the device's own, and only how far other jobs stray from it is left.
   int pace_margin_calibrated_percent = 10;
+  // The device's pace was measured (its [kinematics] time_factor comes from a calibration): time
+  // pacing then uses pace_margin_calibrated_percent. Set by whatever merges the calibration in.
+  bool pace_measured = false;
 };
 
 // Which maker's force, speed and blade numbers a device takes: materials (configs/materials)
