@@ -167,13 +167,16 @@ void BM_BytesPerMm(benchmark::State& state) {
 // how much longer the job takes than the device's own motion (it waits for bytes), and the most
 // the 256-byte buffer held, with the shipped margin (range 1: 25 %) or a calibrated device's
 // (10 %), for a device as fast as the plan (range 2: 0) or exactly the margin slower (1), that
-// cannot be asked or answers ESC.O (range 3). Timed: building the motion schedule the pacing follows.
+// cannot be asked or answers ESC.O (ESC ENQ in GP-GL) (range 3). Timed: building the motion schedule the pacing follows.
 void BM_TimePaced(benchmark::State& state) {
   const std::vector<std::string> files = testing::shipped_profiles();
   drivers::DeviceProfile p = drivers::load_profile(files[static_cast<std::size_t>(state.range(0))]);
   p.transport.flow = drivers::FlowControl::none;
   p.transport.buffer_bytes = 256;
-  p.transport.drain_query = state.range(3) ? drivers::DrainQuery::esc_o : drivers::DrainQuery::none;
+  // Asked: the language's own status query (GP-GL: ESC ENQ), else ESC.O.
+  const drivers::DrainQuery own = drivers::language_unit(p.language).host().default_query();
+  const drivers::DrainQuery asked = own == drivers::DrainQuery::none ? drivers::DrainQuery::esc_o : own;
+  p.transport.drain_query = state.range(3) ? asked : drivers::DrainQuery::none;
   p.transport.error_query = false;
   const EncodedJob job = drivers::encode_for_device(plan_of("townhouse.json", p), p);
   drivers::SendOptions o = drivers::send_options(p);
