@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -220,6 +223,33 @@ TEST(GpglProfile, ShippedProfilesEncodeWithTheirDialect) {
     EXPECT_EQ(encoder->encode(plan, p.tools, 1).bytes, encode_gpgl_job(plan, d, p.tools).bytes) << file;
     EXPECT_EQ(p.transport.abort.find('D'), std::string::npos) << file;
   }
+}
+
+// configs/udev lets the user reach every cutter a shipped profile names, and each USB id names one
+// profile, so `popcut devices` lists an attached cutter under one device name.
+TEST(GpglProfile, UdevRulesCoverEveryShippedUsbIdOnce) {
+  std::ifstream in(std::string(POPCUT_SOURCE_DIR) + "/configs/udev/60-popcut-cutters.rules");
+  std::stringstream rules;
+  rules << in.rdbuf();
+  std::map<std::string, std::string> owner;
+  int silhouettes = 0;
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = load_profile(file);
+    silhouettes += p.family == DeviceFamily::silhouette;
+    for (const std::string& id : p.transport.usb_ids) {
+      const std::string rule =
+          "ATTRS{idVendor}==\"" + id.substr(0, 4) + "\", ATTRS{idProduct}==\"" + id.substr(5) + "\"";
+      EXPECT_NE(rules.str().find("SUBSYSTEM==\"usb\", " + rule), std::string::npos)
+          << file << ": no udev rule for " << id;
+      const auto [it, fresh] = owner.emplace(id, p.name);
+      EXPECT_TRUE(fresh) << id << " is in two profiles: " << it->second << " and " << p.name;
+    }
+  }
+  EXPECT_EQ(silhouettes, 4);
+  EXPECT_EQ(owner["0b4d:1137"], "Silhouette Cameo 4");
+  EXPECT_EQ(owner["0b4d:112f"], "Silhouette Cameo 3");
+  EXPECT_EQ(owner["0b4d:113a"], "Silhouette Portrait 3");
+  EXPECT_EQ(owner["0b4d:112c"], "Silhouette Curio");
 }
 
 }  // namespace
