@@ -187,8 +187,8 @@ std::unique_ptr<DeviceReader> gpgl_reader() { return std::make_unique<GpglReader
 
 }  // namespace
 
-const LanguageUnit kGpglLanguage = {CutterLanguage::gpgl, "gpgl",       read_gpgl_section, check_abort,
-                                    gpgl_encoder,         gpgl_reader,  gpgl_units_per_mm, check_gpgl_profile,
-                                    gpgl_speed_cm_s,      gpgl_knife_up,      gpgl_host_protocol};
+const LanguageUnit kGpglLanguage = {CutterLanguage::gpgl, "gpgl",        read_gpgl_section, check_abort,
+                                    gpgl_encoder,         gpgl_reader,   gpgl_units_per_mm, check_gpgl_profile,
+                                    gpgl_speed_cm_s,      gpgl_knife_up, gpgl_host_protocol};
 
 }  // namespace popcut::drivers
