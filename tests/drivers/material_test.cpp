@@ -4,14 +4,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
-#include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/material.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/error.h"
-#include "popcut/io/pattern_io.h"
-#include "popcut/model/voxel.h"
-#include "popcut/pattern/pattern.h"
 
 namespace popcut::drivers {
 namespace {
@@ -81,10 +78,10 @@ TEST(Materials, BadMaterialsNameFileSectionAndKey) {
        "[generic.cut] pass_speed_cm_s", "has 2 values for 1 passes"},
       {kHeader + family("generic", "{ force_g = 100, pass_force_g = 5, speed_cm_s = 10 }"),
        "[generic.cut] pass_force_g", "expected an array"},
-      {kHeader + "[generic]\ncut = { force_g = 100, speed_cm_s = 10 }\n", "[generic] outline", "every line kind"},
+      {kHeader + "[generic]\ncut = { force_g = 100, speed_cm_s = 10 }\n", "[generic] valley", "every line kind"},
       {kHeader + family("generic") + "edge = { force_g = 1, speed_cm_s = 1 }\n", "[generic] edge", "unknown key"},
-      {kHeader + "[generic]\ncut = 5\n", "[generic] cut", "expected a table"},
-      {kHeader + "generic = 5\n", "[generic]", "expected a table"},
+      {kHeader + family("generic", "5"), "[generic] cut", "expected a table"},
+      {"generic = 5\n" + kHeader, "[generic]", "expected a table"},
       {kHeader + "[generic]\ncut = { force_g = 100, speed_cm_s = 10 }\noutline = { force_g = 100, speed_cm_s = 10 }\n"
                  "valley = { force_g = 30, speed_cm_s = 10 }\nmountain = { mode = \"score\", force_g = 30, speed_cm_s "
                  "= 10 }\n",

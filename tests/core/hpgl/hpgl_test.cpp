@@ -47,9 +47,9 @@ TEST(Hpgl, EachPassIsCutWithItsOwnForceAndSpeed) {
   std::array<ToolSetting, 4> t{};
   t[index_of(PlanKind::cut)] = {1, 120, 15, {60, 140}, {10, 5}};
   EXPECT_EQ(encode_hpgl(p, area({}), t),
-            "IN;SP1;VS10;FS60;PU;PA200,200;PD;PA600,200;VS5;FS140;PD;PA200,200;"
-            "VS10;FS60;PU;PA200,280;PD;PA600,280;VS5;FS140;PD;PA200,280;PU;SP0;")
-      << "light first pass, full second, for every stroke";
+            "IN;SP1;VS10;FS60;PU;PA200,200;PD;PA600,200;VS5;FS140;PU;PA600,200;PD;PA200,200;"
+            "VS10;FS60;PU;PA200,280;PD;PA600,280;VS5;FS140;PU;PA600,280;PD;PA200,280;PU;SP0;")
+      << "light first pass, full second, for every stroke; the knife lifts to take the new force";
   t[index_of(PlanKind::cut)] = {1, 120, 15, {60, 140}, {}};
   const std::string force_only = encode_hpgl(p, area({}), t);
   EXPECT_EQ(force_only.find("VS", force_only.find("VS15") + 1), std::string::npos)
