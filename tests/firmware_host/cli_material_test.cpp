@@ -1,4 +1,5 @@
-// popcut plan and cut with --material: the material's forces reach the bytes and the simulator, per pass; bad names exit 2.
+// popcut plan and cut with --material: the material's forces reach the bytes and the simulator, per pass; bad names
+// exit 2.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -36,8 +37,8 @@ std::vector<std::pair<int, int>> svg_pen_forces(const std::string& svg) {
 TEST_F(CliMaterial, PlanTakesTheMaterialsPerPassForces) {
   const auto plain = run("plan " + kBox + " --profile " + kSim + " -o " + (dir_ / "a.hpgl").string() + " --json");
   ASSERT_EQ(plain.code, 0) << plain.err;
-  const auto m = run("plan " + kBox + " --profile " + kSim + " --material card-220 -o " + (dir_ / "b.hpgl").string() +
-                     " --json");
+  const auto m =
+      run("plan " + kBox + " --profile " + kSim + " --material card-220 -o " + (dir_ / "b.hpgl").string() + " --json");
   ASSERT_EQ(m.code, 0) << m.err;
   const json a = json::parse(plain.out), b = json::parse(m.out);
   EXPECT_TRUE(a["material"].is_null());
@@ -55,8 +56,8 @@ TEST_F(CliMaterial, PlanTakesTheMaterialsPerPassForces) {
 }
 
 TEST_F(CliMaterial, TheSimulatorCutsEachPassWithItsForce) {
-  const auto r = run("cut " + kBox + " --device sim --material card-300 --no-progress --json --out " +
-                     (dir_ / "out").string());
+  const auto r =
+      run("cut " + kBox + " --device sim --material card-300 --no-progress --json --out " + (dir_ / "out").string());
   ASSERT_EQ(r.code, 0) << r.err;
   const json report = json::parse(r.out);
   EXPECT_TRUE(report["sim"]["strokes_match_plan"].get<bool>()) << "each pass is a numbered stroke of the plan";
