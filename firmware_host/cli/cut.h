@@ -11,6 +11,7 @@ struct CutCommands {
   CLI::App* plan = nullptr;
   CLI::App* cut = nullptr;
   std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
+  std::string material;  // configs/materials/NAME.toml; empty: the profile's own forces and speeds
   bool json_out = false, no_progress = false;
   long stop_answering_after = -1, drop_after = -1;
   long tray_empty_after = -1, pause_after = -1;  // the simulator's own stops (-1: never)

@@ -19,6 +19,7 @@ namespace popcut::daemon {
 struct NewJob {
   std::string owner, name, target_device, target_profile;
   std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
+  std::string material{};  // configs/materials stem; empty: the profile's own forces
 };
 
 // giving_up: Daemon::cancel only, a repeated cancel of a cut whose stop waits for a device that

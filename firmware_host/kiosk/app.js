@@ -152,6 +152,14 @@ async function loadChoices() {
     f.value = d.name;  // fit-mm takes a cutter's name: the card as large as its media allow
     $('fit-choices').appendChild(f);
   }
+  // The stock decides force, speed and passes; without a choice the cutter's profile does.
+  const mat = await api('GET', '/api/v1/materials');
+  for (const m of mat.materials) {
+    const o = document.createElement('option');
+    o.value = m.name;
+    o.textContent = m.description;
+    $('material').appendChild(o);
+  }
 }
 
 function jobItem(j) {
@@ -172,6 +180,7 @@ function jobItem(j) {
   li.querySelector('.state').textContent = j.state;
   li.dataset.state = j.state;
   let where = j.cut_on ? 'on ' + j.cut_on : (j.device ? 'for ' + j.device : 'any ' + j.profile);
+  if (j.material) where += ' · ' + j.material;
   if (j.place_in_line !== null) where += ' · ' + (j.place_in_line === 0 ? 'next' : j.place_in_line + ' ahead');
   if (j.eta_s !== null) where += ' · about ' + Math.ceil(j.eta_s) + ' s';
   if (j.state === 'cutting' || j.state === 'done') where += ' · ' + j.strokes_sent + '/' + j.strokes_total + ' strokes';
@@ -225,7 +234,9 @@ $('queue').addEventListener('click', async () => {
   showError('queue-error', null);
   $('queue').disabled = true;
   try {
-    const body = JSON.stringify({ device: $('device').value, name: $('name').value, model: JSON.parse(model) });
+    const job = { device: $('device').value, name: $('name').value, model: JSON.parse(model) };
+    if ($('material').value) job.material = $('material').value;
+    const body = JSON.stringify(job);
     jobItem(await api('POST', '/api/v1/jobs', body));
   } catch (e) {
     showError('queue-error', e);

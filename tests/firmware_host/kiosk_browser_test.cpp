@@ -175,3 +175,39 @@ TEST(Kiosk, UploadsAMeshImportsItAndSeesItCut) {
 }
 
 }  // namespace
+
+// The material chosen on the page reaches the job: stored with it, cut with its forces.
+TEST(Kiosk, TheMaterialChoiceReachesTheJob) {
+  TempDir dir("popcut-kiosk-material");
+  PopcutdProcess d(POPCUTD, kSrc + "/configs/popcutd.toml", (dir.path() / "data").string());
+  Browser b((dir.path() / "chromium").string());
+  b.session("POST", "/url",
+            {{"url", "http://127.0.0.1:" + std::to_string(d.port()) + "/?token=kiosk-change-me-0123456789"}});
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelectorAll('#material option').length").get<int>() == 8; }, 60))
+      << "the page offers the seven shipped materials and the cutter's own settings";
+  EXPECT_EQ(b.run("return document.querySelector('#material').value").get<std::string>(), "")
+      << "the cutter's own settings by default";
+  ASSERT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelectorAll('#example option').length").get<int>() > 3; }, 60));
+  b.click("#example option[value='voxel-castle']");
+  ASSERT_TRUE(wait_until([&] { return !b.run("return document.getElementById('queue').disabled").get<bool>(); }, 60));
+  b.click("#material option[value='card-220']");
+  b.click("#queue");
+  ASSERT_TRUE(
+      wait_until([&] { return b.run("return document.querySelectorAll('#jobs .job').length").get<int>() == 1; }, 60));
+  const int id = std::stoi(b.run("return document.querySelector('#jobs .job').dataset.id").get<std::string>());
+  httplib::Client c = d.client("admin-change-me-0123456789");
+  json job;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        job = popcut::testing::get_json(c, "/api/v1/jobs/" + std::to_string(id)).body;
+        return job["state"] == "done" || job["state"] == "failed";
+      },
+      300));
+  EXPECT_EQ(job["state"], "done") << job.dump();
+  EXPECT_EQ(job["material"], "card-220") << "the job holds the material the page chose";
+  EXPECT_NE(b.run("return document.querySelector('#jobs .job .where').textContent").get<std::string>().find("card-220"),
+            std::string::npos)
+      << "and the page says so";
+}
