@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "cli/cut_device.h"
+
 namespace popcut::cli {
 
 struct CutCommands {
@@ -12,8 +14,7 @@ struct CutCommands {
   CLI::App* cut = nullptr;
   std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
   bool json_out = false, no_progress = false;
-  long stop_answering_after = -1, drop_after = -1;
-  double slowdown = 1;
+  SimFaultArgs faults;
   long resume_from = 1;
 };
 
