@@ -18,10 +18,26 @@ double longest_first_travel_mm(const HpglDialect& d) {
   return std::hypot(across_mm, std::min(along_mm, 2 * across_mm));
 }
 
-std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile) {
+namespace {
+
+// The model's device: the profile's own, with a line that loses nothing (this is about time, not the buffer).
+DeviceProfile model_device(const DeviceProfile& profile) {
   DeviceProfile p = profile;
-  p.transport.flow = FlowControl::rts_cts;  // nothing lost: this is about time, not the buffer
-  SimCutter device(p);
+  p.transport.flow = FlowControl::rts_cts;
+  return p;
+}
+
+}  // namespace
+
+double modelled_motion_s(std::string_view job, const DeviceProfile& profile) {
+  SimCutter device(model_device(profile));
+  device.preload(job);
+  device.run_to_end();
+  return device.now_s();
+}
+
+std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile) {
+  SimCutter device(model_device(profile));
   device.preload(job);
   std::vector<MotionMark> marks;
   // Each step starts the next command (and any that take no time after it).
@@ -45,8 +61,10 @@ std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfil
   const double across_mm = longest_first_travel_mm(profile.dialect);
   const double first_travel_s =
       move_time_s(across_mm, profile.kinematics.travel_speed_mm_s, profile.kinematics.accel_mm_s2);
+  // A calibrated device's measured pace: its real time over the model's (1 uncalibrated).
+  const double factor = profile.calibration.time_factor;
   for (MotionMark& m : marks) {
-    if (m.start_s > 0) m.start_s += first_travel_s;
+    if (m.start_s > 0) m.start_s = (m.start_s + first_travel_s) * factor;
   }
   return marks;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <string_view>
@@ -11,10 +12,12 @@
 #include <vector>
 
 #include "language_units.h"
+#include "popcut/drivers/calibration.h"
 #include "popcut/drivers/language.h"
 #include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
+#include "popcut/lang/device_check.h"
 #include "popcut/text.h"
 #include "tool_keys.h"
 
@@ -63,9 +66,15 @@ void read_device_frame(TomlSection& dev, double language_units, const LanguageUn
   }
   d.units_per_mm_x = language_units > 0 ? language_units : dev.number("units_per_mm", 40, 1, 1000);
   d.units_per_mm_y = d.units_per_mm_x;
-  // Calibration: real devices differ per axis by up to a few per cent.
-  d.units_per_mm_x *= dev.number("scale_x", 1, 0.9, 1.1);
-  d.units_per_mm_y *= dev.number("scale_y", 1, 0.9, 1.1);
+  // Calibration: real devices differ per axis by up to a few per cent, and their axes may be a
+  // fraction of a degree off square (an overlay written by popcut calibrate sets all three).
+  DeviceCalibration& cal = p.calibration;
+  cal.scale_x = dev.number("scale_x", 1, kMinCalibrationRatio, kMaxCalibrationRatio);
+  cal.scale_y = dev.number("scale_y", 1, kMinCalibrationRatio, kMaxCalibrationRatio);
+  cal.skew_deg = dev.number("skew_deg", 0, -kMaxSkewDeg, kMaxSkewDeg);
+  d.units_per_mm_x *= cal.scale_x;
+  d.units_per_mm_y *= cal.scale_y;
+  d.skew_deg = cal.skew_deg;
   d.swap_axes = dev.boolean("swap_axes", false);
   d.flip_x = dev.boolean("flip_x", false);
   d.flip_y = dev.boolean("flip_y", false);
@@ -85,11 +94,15 @@ void read_device_frame(TomlSection& dev, double language_units, const LanguageUn
   d.area_max_y_pu = static_cast<std::int64_t>(std::floor(max_y * d.units_per_mm_y));
 }
 
-void read_kinematics_section(TomlSection& k, Kinematics& out) {
+void read_kinematics_section(TomlSection& k, DeviceProfile& p) {
+  Kinematics& out = p.kinematics;
   out.travel_speed_mm_s = k.number("travel_speed_cm_s", 30, 0.1, 500) * 10;
   out.accel_mm_s2 = k.number("accel_mm_s2", 2000, 1, 100000);
   out.knife_up_s = k.number("knife_up_s", 0.03, 0, 10);
   out.knife_down_s = k.number("knife_down_s", 0.03, 0, 10);
+  // The device's real pace over the model's, as calibrate measures it; the sender's motion model
+  // (motion_schedule) scales by it, the simulator's own clock does not.
+  p.calibration.time_factor = k.number("time_factor", 1, kMinTimeFactor, kMaxTimeFactor);
 }
 
 // [plan]: the planner's options for this device (the per-kind modes come from [tool.*]).
@@ -180,8 +193,10 @@ std::array<double, 4> DeviceProfile::cut_speed_mm_s() const {
   return s;
 }
 
-DeviceProfile parse_profile(const std::string& text, const std::string& source) {
-  const toml::table root = parse_toml(text, source);
+namespace {
+
+// The profile's document, read section by section by their owners.
+DeviceProfile read_profile(const toml::table& root, const std::string& source) {
   check_sections(root, source);
   const auto section = [&](std::string_view name_view) {
     const std::string name(name_view);
@@ -213,7 +228,7 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   read_transport_section(transport, language, p.transport);
   transport.reject_unknown();
   TomlSection kinematics = section("kinematics");
-  read_kinematics_section(kinematics, p.kinematics);
+  read_kinematics_section(kinematics, p);
   kinematics.reject_unknown();
   TomlSection plan = section("plan");
   read_plan_section(plan, p.plan);
@@ -223,6 +238,30 @@ DeviceProfile parse_profile(const std::string& text, const std::string& source) 
   return p;
 }
 
-DeviceProfile load_profile(const std::string& path) { return parse_profile(read_text_file(path, 1 << 20), path); }
+}  // namespace
+
+DeviceProfile parse_profile(const std::string& text, const std::string& source) {
+  return read_profile(parse_toml(text, source), source);
+}
+
+DeviceProfile load_profile_with_overlay(const std::string& path, const std::string& overlay_path) {
+  toml::table root = parse_toml(read_text_file(path, 1 << 20), path);
+  CalibrationOverlay overlay;
+  if (!overlay_path.empty()) {
+    overlay = parse_calibration_overlay(read_text_file(overlay_path, 1 << 16), overlay_path);
+    merge_calibration_overlay(root, overlay);
+  }
+  DeviceProfile p = read_profile(root, path);
+  p.calibration.overlay = overlay_path;
+  p.calibration.measured_at = overlay.measured_at;
+  return p;
+}
+
+DeviceProfile load_profile(const std::string& path) {
+  const std::string overlay = calibration_overlay_path(path);
+  std::error_code ec;
+  const bool present = !overlay.empty() && std::filesystem::exists(overlay, ec);
+  return load_profile_with_overlay(path, present ? overlay : "");
+}
 
 }  // namespace popcut::drivers

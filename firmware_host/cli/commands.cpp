@@ -15,7 +15,9 @@
 #include "cli/import.h"
 #include "cli/pattern.h"
 #include "cli/sim_plotter.h"
+#include "cli/calibrate.h"
 #include "cli/cut.h"
+#include "cli/test_cut.h"
 
 namespace popcut::cli {
 namespace {
@@ -26,6 +28,8 @@ struct CommandStates {
   FoldCommands fold;
   ImportCommand import;
   CutCommands cut;
+  TestCutCommand test_cut;
+  CalibrateCommand calibrate;
   ClientCommands client;
   DevicesCommand devices;
   SimPlotterCommand sim_plotter;
@@ -52,6 +56,8 @@ const CommandGroup kCommandGroups[] = {
     group<&CommandStates::fold, add_fold_commands, run_fold_commands>(),                // fold, render
     group<&CommandStates::import, add_import_command, run_import_command>(),            // import
     group<&CommandStates::cut, add_cut_commands, run_cut_commands>(),                   // plan, cut
+    group<&CommandStates::test_cut, add_test_cut_command, run_test_cut_command>(),      // test-cut
+    group<&CommandStates::calibrate, add_calibrate_command, run_calibrate_command>(),   // calibrate
     group<&CommandStates::client, add_client_commands, run_client_commands>("resume"),  // submit, jobs, cancel, resume
     group<&CommandStates::devices, add_devices_command, run_devices_command>(),         // devices
     group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>(),  // sim-plotter

@@ -12,8 +12,10 @@
 
 #include "cli/checks.h"
 #include "cli/common.h"
+#include "cli/cut_device.h"
 #include "cli/sim_plotter.h"
 #include "config_dir.h"
+#include "popcut/drivers/calibration.h"
 #include "popcut/drivers/cut_session.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/device_plan.h"
@@ -54,21 +56,6 @@ struct Job {
   EncodedJob encoded;  // what is sent: the whole job, or from --resume-from on
 };
 
-// The profile with --material's settings for its family, when one is given.
-DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material) {
-  DeviceProfile profile = drivers::load_profile(profile_path);
-  if (material.empty()) return profile;
-  drivers::Material m;
-  try {
-    m = drivers::find_material(find_config_dir("materials"), material);
-  } catch (const Error& e) {
-    if (e.location() != "material") throw;  // the file itself is wrong: its own message
-    throw Error(e.code(), "", "--material", e.message());
-  }
-  drivers::apply_material(profile, m);
-  return profile;
-}
-
 Job make_job(const CutCommands& s, const std::string& profile_path, std::size_t from_stroke = 1) {
   const std::string& model_path = s.model_path;
   Job j;
@@ -104,6 +91,7 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
             {"folds_dropped", t.folds_dropped},
             {"strokes_below_resolution", t.strokes_below_resolution},
             {"hpgl_bytes", j.hpgl.size()},
+            {"calibration", drivers::calibration_json(j.profile.calibration)},
             {"kinds", json::object()}};
   for (PlanKind k : kAllPlanKinds) {
     json kj = kind_json(j.plan.kinds[index_of(k)], j.time.kind_s[index_of(k)]);
@@ -139,127 +127,6 @@ int run_plan(const CutCommands& s) {
   });
 }
 
-// The device and profile a cut uses: --device, else the profile's [transport] default; the sim
-// profile and `sim` stand in when neither is given.
-struct Target {
-  std::string device, profile_path, note;
-};
-
-Target cut_target(const CutCommands& s) {
-  if (s.cut->count("--device") > 0 && s.device.empty()) {
-    throw Error(ErrorCode::invalid_input, "", "--device",
-                "is empty: expected sim, file:PATH, serial:/dev/PORT, serial:VID:PID or usb:VID:PID");
-  }
-  Target t{s.device, s.profile_path, ""};
-  // A malformed device string is named first: no profile makes it right.
-  if (!t.device.empty()) {
-    drivers::DeviceAddress address;
-    const drivers::TransportStatus parsed = drivers::parse_device(t.device, address);
-    if (!parsed.ok()) throw Error(ErrorCode::invalid_input, "", "--device", parsed.message);
-  }
-  if (t.profile_path.empty()) {
-    if (!t.device.empty() && t.device != "sim") {
-      throw Error(ErrorCode::invalid_input, "", "--profile",
-                  "--device " + t.device + " needs --profile (configs/devices/*.toml)");
-    }
-    t.profile_path = find_config_file("devices/sim.toml");
-    t.device = "sim";
-  }
-  return t;
-}
-
-// No --device and no --profile's sim: the profile's [transport] default, said so on stderr.
-void use_profile_device(Target& t, const DeviceProfile& profile) {
-  if (!t.device.empty()) return;
-  t.device = profile.transport.uri;
-  if (t.device.empty()) {
-    throw Error(ErrorCode::invalid_input, t.profile_path, "[transport] default",
-                "the profile names no device: give --device (sim, file:PATH, serial:..., usb:...)");
-  }
-  t.note = "using the profile's device " + t.device + " ([transport] default in " + t.profile_path + ")";
-}
-
-drivers::CutSessionOptions session_options(const CutCommands& s) {
-  drivers::CutSessionOptions o;
-  if (s.stop_answering_after >= 0)
-    o.sim_faults.stop_answering_after_bytes = static_cast<std::size_t>(s.stop_answering_after);
-  if (s.drop_after >= 0) o.sim_faults.drop_after_bytes = static_cast<std::size_t>(s.drop_after);
-  if (s.tray_empty_after >= 0) o.sim_faults.tray_empty_after_bytes = static_cast<std::size_t>(s.tray_empty_after);
-  if (s.pause_after >= 0) o.sim_faults.pause_after_bytes = static_cast<std::size_t>(s.pause_after);
-  o.sim_faults.slowdown = s.slowdown;
-  return o;
-}
-
-// The device string made a transport, the --sim-* faults are for the simulator, and a USB
-// device is the one the profile is for.
-void check_device(const CutCommands& s, const drivers::CutSession& session, const DeviceProfile& profile,
-                  const Target& target) {
-  if (const drivers::TransportStatus& st = session.made(); !st.ok()) {
-    if (st.error == drivers::TransportError::bad_argument)
-      throw Error(ErrorCode::invalid_input, "", "--device", st.message);
-    throw CliError(kCannotWrite, ErrorCode::io, "", "output", st.message);
-  }
-  const drivers::DeviceAddress& address = session.address();
-  if (address.kind != drivers::DeviceKind::sim && (s.stop_answering_after >= 0 || s.drop_after >= 0 ||
-                                                   s.tray_empty_after >= 0 || s.pause_after >= 0 || s.slowdown != 1)) {
-    throw Error(ErrorCode::invalid_input, "", "--sim-*", "fault injection applies to --device sim only");
-  }
-  if (address.kind == drivers::DeviceKind::usb && !profile.transport.usb_ids.empty()) {
-    const std::string id = drivers::usb_id_string(*address.vid, *address.pid);
-    const auto& ids = profile.transport.usb_ids;
-    if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
-      std::string list;
-      for (const std::string& k : ids) list += (list.empty() ? "" : ", ") + k;
-      throw Error(ErrorCode::invalid_input, target.profile_path, "[transport] usb_ids",
-                  "the profile is for USB " + list + " (" + profile.name + "), not " + id +
-                      ": pick the profile of that device");
-    }
-  }
-}
-
-// Creates --out and writes the job this run sends into it; returns the directory.
-std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded) {
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec)
-    throw CliError(kCannotWrite, ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
-  const std::filesystem::path dir(out_dir);
-  write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << encoded.bytes; });
-  return dir;
-}
-
-void open_device(drivers::CutSession& session) {
-  if (const drivers::TransportStatus st = session.open(); !st.ok()) {
-    // The class (docs/transports.md, "Error classes") leads the message, for people and scripts.
-    const std::string message = std::string(drivers::to_string(st.error)) + ": " + st.message;
-    if (st.error == drivers::TransportError::bad_argument) {
-      throw Error(ErrorCode::invalid_input, session.describe(), "--device", message);
-    }
-    throw CliError(kCannotWrite, ErrorCode::io, session.describe(), "device", message);
-  }
-}
-
-// popcut.cut.v1's `sim` object: what the simulated cutter did, held against the plan.
-json sim_json(const drivers::SimCutter& cutter, const drivers::SimCheck& check, std::size_t first_stroke) {
-  const drivers::SimReport& r = cutter.report();
-  return {{"strokes", cutter.strokes().size()},
-          {"knife_downs", r.knife_downs},
-          {"cut_mm", r.knife_down_mm},
-          {"travel_mm", r.knife_up_mm},
-          {"motion_time_s", r.motion_time_s},
-          {"clock_s", r.clock_s},
-          {"bytes_received", r.bytes_received},
-          {"commands", r.commands},
-          {"max_buffer_used", r.max_buffer_used},
-          {"overflow_bytes", r.overflow_bytes},
-          {"xoff_sent", r.xoff_sent},
-          {"outside_area", r.outside_area},
-          {"unknown_commands", sim_issues_json(r.unknown)},
-          {"errors", sim_issues_json(r.errors)},
-          {"strokes_match_plan", !check.first_mismatch},
-          {"first_mismatch", check.first_mismatch ? json(*check.first_mismatch + first_stroke) : json(nullptr)}};
-}
-
 // Knife-down length of the strokes this run sends (all of them unless --resume-from).
 double run_cut_mm(const Job& j) {
   double mm = 0;
@@ -290,67 +157,6 @@ json cut_report(const CutCommands& s, const Target& target, const Job& j, const 
   return report;
 }
 
-// A job that did not get through, or was cancelled: the message and exit code; nullopt when it got through.
-std::optional<int> stopped_exit(const drivers::SendResult& sent, const Job& j, const std::string& device) {
-  if (sent.cancelled && sent.bytes_sent == 0) {
-    std::cerr << "popcut: cancelled on " << device << " before any byte of the job was sent: nothing was cut\n";
-    return static_cast<int>(kCancelled);
-  }
-  if (sent.cancelled) {
-    std::cerr << "popcut: cancelled on " << device << ": " << drivers::cancel_text(sent, j.profile.transport) << "; "
-              << drivers::counts_text(sent) << drivers::resume_advice(sent) << "\n";
-    return static_cast<int>(kCancelled);
-  }
-  if (sent.device_stop != drivers::DeviceStop::none) {
-    // The device said it cannot go on: its reason, what popcut did about it and where to resume.
-    std::cerr << "popcut: error: the device stopped the job (" << device << "): " << sent.status.message;
-    if (sent.bytes_sent > 0) std::cerr << "; " << drivers::counts_text(sent);
-    std::cerr << drivers::resume_advice(sent) << "\n";
-    return static_cast<int>(kCannotWrite);
-  }
-  if (!sent.status.ok() && sent.device_io_error != 0) {
-    // Stroke numbers mean nothing here: the device cut something else than the job.
-    std::cerr << "popcut: error: the job did not reach the cutter intact (" << device << "): " << sent.status.message
-              << drivers::resume_advice(sent) << "\n";
-    return static_cast<int>(kCannotWrite);
-  }
-  if (!sent.status.ok()) {
-    std::cerr << "popcut: error: the job did not reach the cutter (" << device << "): " << sent.status.message << "; "
-              << sent.bytes_sent << " of " << j.encoded.bytes.size() << " job bytes written; "
-              << drivers::counts_text(sent) << drivers::resume_advice(sent) << "\n";
-    return static_cast<int>(kCannotWrite);
-  }
-  return std::nullopt;
-}
-
-// A complete job on the simulator that did not cut the plan: the message and exit code.
-// popcut cut accepts command_errors (the strokes are the plan's; report.json lists the errors),
-// where popcutd's sim_match asks for `exact`.
-std::optional<int> sim_exit(const CutCommands& s, const Job& j, const drivers::SimCheck& check,
-                            const std::filesystem::path& dir) {
-  const drivers::SimVerdict verdict = check.verdict();
-  if (verdict == drivers::SimVerdict::exact || verdict == drivers::SimVerdict::command_errors) return std::nullopt;
-  const drivers::TransportDefaults& tp = j.profile.transport;
-  const bool by_model = tp.flow == drivers::FlowControl::none || tp.flow == drivers::FlowControl::status;
-  if (check.overflow_bytes > 0 && by_model && s.slowdown > 1 + tp.pace_margin_percent / 100.0) {
-    // The fault the simulator was asked for (--sim-slowdown past what pacing by the motion model
-    // allows for), not popcut's: what a real device would have done, told as such. Any other
-    // mismatch is a bug (below): the simulator follows every other pacing exactly.
-    std::cerr << "popcut: error: the simulated cutter lost " << check.overflow_bytes
-              << " bytes to a full buffer, so it did not cut the job: popcut paced it by "
-              << (tp.flow == drivers::FlowControl::status ? "the motion model and its status answers (flow_control "
-                                                            "\"status\")"
-                                                          : "time (flow_control \"none\")")
-              << ", and --sim-slowdown " << format_decimal(s.slowdown, 3)
-              << " is slower than the profile allows for with pace_margin_percent (" << tp.pace_margin_percent
-              << " %) (see " << (dir / "report.json").string() << ")\n";
-    return static_cast<int>(kCannotWrite);
-  }
-  std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see "
-            << (dir / "report.json").string() << ")\n";
-  return static_cast<int>(kInternal);
-}
-
 void print_cut_summary(const Job& j, const drivers::CutSession& session, const drivers::SendResult& sent,
                        const std::filesystem::path& dir) {
   const drivers::SimCutter* cutter = session.simulator();
@@ -370,12 +176,12 @@ void print_cut_summary(const Job& j, const drivers::CutSession& session, const d
 
 int run_cut(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
-    Target target = cut_target(s);
+    Target target = cut_target(s.device, s.cut->count("--device") > 0, s.profile_path);
     if (s.resume_from < 1) throw Error(ErrorCode::invalid_input, "", "--resume-from", "strokes are numbered from 1");
     const Job j = make_job(s, target.profile_path, static_cast<std::size_t>(s.resume_from));
     use_profile_device(target, j.profile);
-    drivers::CutSession session(target.device, j.profile, session_options(s));
-    check_device(s, session, j.profile, target);
+    drivers::CutSession session(target.device, j.profile, session_options(s.faults));
+    check_device(s.faults, session, j.profile, target);
     if (!target.note.empty() && !s.json_out) std::cerr << "popcut: " << target.note << "\n";
     const std::filesystem::path dir = write_job_file(s.out_dir, j.encoded);
     open_device(session);
@@ -393,9 +199,12 @@ int run_cut(const CutCommands& s) {
     write_cli_output((dir / "report.json").string(),
                      [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) print_json_line(report);
-    if (const std::optional<int> code = stopped_exit(sent, j, session.describe())) return *code;
+    if (const std::optional<int> code = stopped_exit(sent, j.profile, j.encoded.bytes.size(), session.describe()))
+      return *code;
     if (check) {
-      if (const std::optional<int> code = sim_exit(s, j, *check, dir)) return *code;
+      if (const std::optional<int> code =
+              sim_exit(s.faults.slowdown, j.profile, *check, (dir / "report.json").string()))
+        return *code;
     }
     if (!s.json_out) print_cut_summary(j, session, sent, dir);
     return static_cast<int>(kOk);
@@ -403,10 +212,6 @@ int run_cut(const CutCommands& s) {
 }
 
 }  // namespace
-
-const char* const kMaterialHelp =
-    "Material (configs/materials/NAME.toml, e.g. card-220): its forces, speeds and passes for the profile's\n"
-    "device family replace the profile's own";
 
 void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan = app.add_subcommand("plan", "Plan the knife's strokes for a device and write the HP-GL job (and a report).");
@@ -445,18 +250,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.cut->add_option("--out", s.out_dir, "Directory for job.hpgl, cut.svg and report.json")->required();
   s.cut->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
   s.cut->add_flag("--no-progress", s.no_progress, "No progress bar, even on a terminal");
-  s.cut->add_option("--sim-stop-after", s.stop_answering_after, "Fault: the simulator stops answering after N bytes")
-      ->check(finite_range(0, 1e12));
-  s.cut->add_option("--sim-drop-after", s.drop_after, "Fault: the simulator drops the connection after N bytes")
-      ->check(finite_range(0, 1e12));
-  s.cut
-      ->add_option("--sim-tray-empty-after", s.tray_empty_after,
-                   "Fault: the simulator has no sheet loaded from the start (0) or after N bytes (it ran out)")
-      ->check(finite_range(0, 1e12));
-  s.cut->add_option("--sim-pause-after", s.pause_after, "Fault: the simulator's pause key is pressed after N bytes")
-      ->check(finite_range(0, 1e12));
-  s.cut->add_option("--sim-slowdown", s.slowdown, "Fault: the simulator moves this many times slower")
-      ->check(finite_range(1.0, 1000.0));
+  add_sim_fault_options(*s.cut, s.faults);
 }
 
 std::optional<int> run_cut_commands(const CutCommands& s) {

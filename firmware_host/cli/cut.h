@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "cli/cut_device.h"
+
 namespace popcut::cli {
 
 struct CutCommands {
@@ -13,9 +15,7 @@ struct CutCommands {
   std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
   std::string material;  // configs/materials/NAME.toml; empty: the profile's own forces and speeds
   bool json_out = false, no_progress = false;
-  long stop_answering_after = -1, drop_after = -1;
-  long tray_empty_after = -1, pause_after = -1;  // the simulator's own stops (-1: never)
-  double slowdown = 1;
+  SimFaultArgs faults;
   long resume_from = 1;
 };
 

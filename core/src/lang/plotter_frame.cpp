@@ -1,6 +1,7 @@
 // Plotter frame: rounds every pattern point once to absolute plotter units in the device's usable area.
 #include "popcut/lang/plotter_frame.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -15,6 +16,24 @@ std::array<double, 2> along_axes(Point2 p, const Rect& sheet, const PlotterFrame
   const double dx = p.x_mm - sheet.min.x_mm, dv = p.v_mm - sheet.min.v_mm;
   if (f.swap_axes) return {dv, dx};
   return {dx, dv};
+}
+
+// What the skew correction does to a point `a` mm along the plotter's x and `b` along its y, both
+// counted from the sheet's corner in the direction the axes grow from it: the device's y axis
+// leans toward its +x, so the point is commanded back by b·tan along +x (toward the origin corner
+// or away from it, as the flips make those directions agree or not), and b stretched by 1/cos so
+// the lean leaves the height right. Identity (bit for bit) without skew.
+std::array<double, 2> deskewed(std::array<double, 2> ab, const PlotterFrame& f) {
+  if (f.skew_deg == 0) return ab;
+  const double rad = f.skew_deg * std::acos(-1.0) / 180;
+  const double toward = f.flip_x == f.flip_y ? 1 : -1;
+  return {ab[0] - toward * ab[1] * std::tan(rad), ab[1] / std::cos(rad)};
+}
+
+// The sheet's extent along the plotter's x once deskewed: its top edge shifts by height·tan.
+std::array<double, 2> deskewed_x_range(const std::array<double, 2>& size, const PlotterFrame& f) {
+  const double top_shift = deskewed({0, size[1]}, f)[0];
+  return {std::min(0.0, top_shift), std::max(size[0], size[0] + top_shift)};
 }
 
 }  // namespace
@@ -76,9 +95,11 @@ StrokePlan drop_below_resolution(const StrokePlan& plan, const PlotterFrame& f) 
 
 Placement place_sheet(const Rect& sheet, const PlotterFrame& f) {
   const std::array<double, 2> size = along_axes(sheet.max, sheet, f);
+  const std::array<double, 2> x_range = deskewed_x_range(size, f);
   Placement p;
-  p.width_pu = std::llround(size[0] * f.units_per_mm_x);
-  p.height_pu = std::llround(size[1] * f.units_per_mm_y);
+  // As to_plotter rounds the extreme points, so the fit check is exact.
+  p.width_pu = std::llround(x_range[1] * f.units_per_mm_x) - std::llround(x_range[0] * f.units_per_mm_x);
+  p.height_pu = std::llround(deskewed({0, size[1]}, f)[1] * f.units_per_mm_y);
   const std::int64_t avail_x = f.area_max_x_pu - f.area_min_x_pu, avail_y = f.area_max_y_pu - f.area_min_y_pu;
   if (p.width_pu > avail_x || p.height_pu > avail_y) {
     throw Error(ErrorCode::invalid_input, "", "usable area",
@@ -90,17 +111,20 @@ Placement place_sheet(const Rect& sheet, const PlotterFrame& f) {
   }
   // The sheet sits in the corner the axes grow from: the usable area's min, or max when flipped.
   // With sheet_at_origin a flipped axis counts down from the sheet's far edge at the min corner.
-  const auto origin = [&](bool flip, std::int64_t lo, std::int64_t hi, std::int64_t extent) {
-    if (!flip) return lo;
-    return f.sheet_at_origin ? lo + extent : hi;
+  // A skewed top edge that shifts toward the origin corner (lean, along x only) moves the whole
+  // sheet in by as much.
+  const auto origin = [&](bool flip, std::int64_t lo, std::int64_t hi, std::int64_t extent, std::int64_t lean) {
+    if (!flip) return lo - lean;
+    return (f.sheet_at_origin ? lo + extent : hi) + lean;
   };
-  p.origin_x_pu = origin(f.flip_x, f.area_min_x_pu, f.area_max_x_pu, p.width_pu);
-  p.origin_y_pu = origin(f.flip_y, f.area_min_y_pu, f.area_max_y_pu, p.height_pu);
+  const std::int64_t lean_pu = std::llround(x_range[0] * f.units_per_mm_x);
+  p.origin_x_pu = origin(f.flip_x, f.area_min_x_pu, f.area_max_x_pu, p.width_pu, lean_pu);
+  p.origin_y_pu = origin(f.flip_y, f.area_min_y_pu, f.area_max_y_pu, p.height_pu, 0);
   return p;
 }
 
 std::array<std::int64_t, 2> to_plotter(Point2 pt, const Rect& sheet, const Placement& p, const PlotterFrame& f) {
-  const std::array<double, 2> a = along_axes(pt, sheet, f);
+  const std::array<double, 2> a = deskewed(along_axes(pt, sheet, f), f);
   const std::int64_t x = std::llround(a[0] * f.units_per_mm_x), y = std::llround(a[1] * f.units_per_mm_y);
   return {f.flip_x ? p.origin_x_pu - x : p.origin_x_pu + x, f.flip_y ? p.origin_y_pu - y : p.origin_y_pu + y};
 }

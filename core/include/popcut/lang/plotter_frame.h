@@ -13,6 +13,9 @@ namespace popcut {
 struct PlotterFrame {
   double units_per_mm_x = 40;  // calibratable: real devices differ by about 0.5 %
   double units_per_mm_y = 40;
+  // Calibration: the device's y axis leans this far toward its +x (the angle between its axes is
+  // 90° minus this), so every point is sheared back along x by y·tan and y stretched by 1/cos.
+  double skew_deg = 0;
   bool swap_axes = false;  // plotter x runs along the pattern's v; alone a mirror, with one flip a quarter turn
   bool flip_x = false;     // plotter x grows the other way (after any swap)
   bool flip_y = false;

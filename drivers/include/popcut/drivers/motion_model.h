@@ -20,8 +20,12 @@ struct MotionMark {
 // ends, job size}. By the simulated cutter's model (the profile's kinematics, the job's VS), the
 // one the plan's time estimate uses, with the whole job there from the start and a long PA/PD
 // read pair by pair. Where the device starts is unknown: everything after the first command is
-// later by a travel of longest_first_travel_mm.
+// later by a travel of longest_first_travel_mm. A calibrated profile's [kinematics] time_factor
+// (real / modelled, as popcut calibrate measures it) scales every mark.
 std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
+// The job's motion time by the same model from the origin, unscaled and without the first-travel
+// allowance: what calibrate holds a device's measured time against.
+double modelled_motion_s(std::string_view job, const DeviceProfile& profile);
 // The usable area's diagonal; on a roll feeder (more than twice as long as wide, along either
 // plotter axis) that of a piece twice as long as wide.
 double longest_first_travel_mm(const HpglDialect& dialect);

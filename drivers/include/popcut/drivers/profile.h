@@ -94,6 +94,15 @@ inline constexpr auto kDeviceFamilyNames = enum_names<DeviceFamily>({{DeviceFami
                                                                      {DeviceFamily::uscutter, "uscutter"},
                                                                      {DeviceFamily::secabo, "secabo"}});
 
+// A device's calibration in effect: the profile's [device] scale_x, scale_y, skew_deg and
+// [kinematics] time_factor, or its overlay's where load_profile merged one (calibration.h).
+struct DeviceCalibration {
+  double scale_x = 1, scale_y = 1, skew_deg = 0;  // as applied to the frame (dialect)
+  double time_factor = 1;                         // the device's real job time over the motion model's
+  std::string overlay;                            // the overlay merged; empty: the profile's own values
+  std::string measured_at;                        // the overlay's [calibration] measured_at
+};
+
 struct DeviceProfile {
   std::string source;  // file it came from
   std::string name;
@@ -107,6 +116,7 @@ struct DeviceProfile {
   PlanOptions plan;                    // fold gap, turn limit, kind order, per-kind modes
   Kinematics kinematics;
   TransportDefaults transport;
+  DeviceCalibration calibration;
   // Knife-down speed per kind in mm/s, as estimate_time_s wants it.
   std::array<double, 4> cut_speed_mm_s() const;
 };
@@ -114,6 +124,10 @@ struct DeviceProfile {
 // Reads a profile; unknown sections or keys, wrong types and out-of-range values throw
 // popcut::Error(invalid_input) naming the file, "[section] key" and the allowed range.
 DeviceProfile parse_profile(const std::string& text, const std::string& source);
+// Reads the profile file with its calibration overlay merged when one exists where
+// calibration_overlay_path says (calibration.h); a malformed overlay is an error naming it.
 DeviceProfile load_profile(const std::string& path);
+// The same with the overlay at `overlay_path` (it must exist), or with none when it is empty.
+DeviceProfile load_profile_with_overlay(const std::string& path, const std::string& overlay_path);
 
 }  // namespace popcut::drivers
