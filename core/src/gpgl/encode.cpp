@@ -133,27 +133,19 @@ EncodedJob encode_gpgl_job(const StrokePlan& plan, const GpglDialect& d, const s
   const std::size_t per_cmd = static_cast<std::size_t>(std::max(1, d.max_pairs_per_command));
   EncodedJob job;
   job.first_stroke = from_stroke;
-  std::size_t number = 0;  // of the stroke at hand, as users count them
-  for (const Stroke& s : plan.strokes) {
-    // The same rounding as plan_in_plotter_units: a stroke that rounds to one point is not sent.
-    const PlotterPath pts = stroke_in_plotter_units(s, frame, placement, d);
-    if (pts.size() < 2) continue;
-    if (++number < from_stroke) continue;
-    const ToolSetting& t = tool_for_stroke(tools, s);
-    if (!setting || !(*setting == t)) {
-      setting = t;
-      tool.select(w, t);
-    }
-    w.cmd("M" + pairs(pts, 0, 1));
-    job.stroke_cut_start.push_back(w.size());  // the knife goes down with the next command
-    for (std::size_t i = 1; i < pts.size(); i += per_cmd) w.cmd("D" + pairs(pts, i, std::min(pts.size(), i + per_cmd)));
-    job.stroke_end.push_back(w.size());
-  }
-  if (from_stroke < 1 || from_stroke > std::max<std::size_t>(number, 1)) {
-    throw Error(ErrorCode::invalid_input, "", "resume",
-                "cannot start from stroke " + std::to_string(from_stroke) + ": the job has " + std::to_string(number) +
-                    " strokes, numbered from 1");
-  }
+  const std::size_t number =
+      for_each_stroke_from(plan, frame, placement, d, from_stroke, [&](const Stroke& s, const PlotterPath& pts) {
+        const ToolSetting& t = tool_for_stroke(tools, s);
+        if (!setting || !(*setting == t)) {
+          setting = t;
+          tool.select(w, t);
+        }
+        w.cmd("M" + pairs(pts, 0, 1));
+        job.stroke_cut_start.push_back(w.size());  // the knife goes down with the next command
+        for (std::size_t i = 1; i < pts.size(); i += per_cmd)
+          w.cmd("D" + pairs(pts, i, std::min(pts.size(), i + per_cmd)));
+        job.stroke_end.push_back(w.size());
+      });
   write_finish(w, d);
   job.total_strokes = number;
   job.bytes = w.take();

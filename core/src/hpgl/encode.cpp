@@ -108,33 +108,23 @@ EncodedJob encode_job(const StrokePlan& plan, const HpglDialect& d, const std::a
 
   EncodedJob job;
   job.first_stroke = from_stroke;
-  std::size_t number = 0;  // of the stroke at hand, as users count them
-  for (const Stroke& s : plan.strokes) {
-    // The same rounding as plan_in_plotter_units: a stroke that rounds to one point is not sent.
-    const PlotterPath pts = stroke_in_plotter_units(s, frame, placement, d);
-    if (pts.size() < 2) continue;
-    // Strokes before from_stroke leave no trace: tool, position and mode state start afresh.
-    if (++number < from_stroke) continue;
-    const ToolSetting& t = tool_for_stroke(tools, s);
-    if (!setting || !(*setting == t)) {
-      setting = t;
-      if (t.pen != pen) w.cmd("SP" + std::to_string(pen = t.pen));
-      const long v = std::max(1L, std::lround(t.speed_cm_s));
-      if (d.velocity && v != speed) w.cmd("VS" + std::to_string(speed = v));
-      const long f = std::max(1L, std::lround(t.force_g / d.force_g_per_unit));
-      if (d.force != ForceStyle::none && f != force)
-        w.cmd((d.force == ForceStyle::roland ? "!FS" : "FS") + std::to_string(force = f));
-    }
-    move(false, {pts.front()});
-    job.stroke_cut_start.push_back(w.size());  // the knife goes down with the next command
-    move(true, PlotterPath(pts.begin() + 1, pts.end()));
-    job.stroke_end.push_back(w.size());
-  }
-  if (from_stroke < 1 || from_stroke > std::max<std::size_t>(number, 1)) {
-    throw Error(ErrorCode::invalid_input, "", "resume",
-                "cannot start from stroke " + std::to_string(from_stroke) + ": the job has " + std::to_string(number) +
-                    " strokes, numbered from 1");
-  }
+  const std::size_t number =
+      for_each_stroke_from(plan, frame, placement, d, from_stroke, [&](const Stroke& s, const PlotterPath& pts) {
+        const ToolSetting& t = tool_for_stroke(tools, s);
+        if (!setting || !(*setting == t)) {
+          setting = t;
+          if (t.pen != pen) w.cmd("SP" + std::to_string(pen = t.pen));
+          const long v = std::max(1L, std::lround(t.speed_cm_s));
+          if (d.velocity && v != speed) w.cmd("VS" + std::to_string(speed = v));
+          const long f = std::max(1L, std::lround(t.force_g / d.force_g_per_unit));
+          if (d.force != ForceStyle::none && f != force)
+            w.cmd((d.force == ForceStyle::roland ? "!FS" : "FS") + std::to_string(force = f));
+        }
+        move(false, {pts.front()});
+        job.stroke_cut_start.push_back(w.size());  // the knife goes down with the next command
+        move(true, PlotterPath(pts.begin() + 1, pts.end()));
+        job.stroke_end.push_back(w.size());
+      });
   w.raw(d.finish);
   job.total_strokes = number;
   job.bytes = w.take();

@@ -66,6 +66,25 @@ std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const Plo
   return out;
 }
 
+std::size_t for_each_stroke_from(const StrokePlan& plan, const Rect& sheet, const Placement& placement,
+                                 const PlotterFrame& f, std::size_t from_stroke,
+                                 const std::function<void(const Stroke&, const PlotterPath&)>& visit) {
+  std::size_t number = 0;  // of the stroke at hand, as users count them
+  for (const Stroke& s : plan.strokes) {
+    const PlotterPath pts = stroke_in_plotter_units(s, sheet, placement, f);
+    if (pts.size() < 2) continue;
+    // Strokes before from_stroke leave no trace: tool, position and mode state start afresh.
+    if (++number < from_stroke) continue;
+    visit(s, pts);
+  }
+  if (from_stroke < 1 || from_stroke > std::max<std::size_t>(number, 1)) {
+    throw Error(ErrorCode::invalid_input, "", "resume",
+                "cannot start from stroke " + std::to_string(from_stroke) + ": the job has " + std::to_string(number) +
+                    " strokes, numbered from 1");
+  }
+  return number;
+}
+
 StrokePlan drop_below_resolution(const StrokePlan& plan, const PlotterFrame& f) {
   const Rect frame = plan.extent();
   const Placement placement = place_sheet(frame, f);

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "popcut/plan/plan.h"
@@ -53,6 +55,14 @@ PlotterPath stroke_in_plotter_units(const Stroke& stroke, const Rect& sheet, con
 // single point dropped: exactly the knife-down paths an encoder sends (and a device should cut).
 // Throws popcut::Error when a point would leave the usable area (never sent).
 std::vector<PlotterPath> plan_in_plotter_units(const StrokePlan& plan, const PlotterFrame& frame);
+
+// What every encoder walks: calls `visit` for strokes from_stroke.. in the numbering of
+// plan_in_plotter_units (same rounding, strokes of one point skipped), with each stroke's points,
+// and returns how many strokes the whole plan has. Throws like plan_in_plotter_units, and
+// popcut::Error (invalid_input, "resume") when from_stroke is 0 or past the last stroke.
+std::size_t for_each_stroke_from(const StrokePlan& plan, const Rect& sheet, const Placement& placement,
+                                 const PlotterFrame& frame, std::size_t from_stroke,
+                                 const std::function<void(const Stroke&, const PlotterPath&)>& visit);
 
 // The plan as the device will get it: strokes that round to a single plotter point (encoders
 // never send them) are removed and counted in strokes_below_resolution; strokes, pen_lifts,
