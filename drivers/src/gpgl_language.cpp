@@ -33,7 +33,9 @@ double gpgl_units_per_mm(TomlSection& g) { return 1 / step_of(g); }
 std::string control_byte_problem(const std::string& text, bool allow_control) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     const auto c = static_cast<unsigned char>(text[i]);
-    const bool allowed = allow_control && (c == 0x1b || c == 0x03 || c == 0x04 || c == '\r' || c == '\n');
+    // The byte after an ESC is the sequence's; the command check judges it.
+    const bool after_esc = i > 0 && text[i - 1] == '\x1b';
+    const bool allowed = allow_control && (c == 0x1b || c == 0x03 || after_esc || c == '\r' || c == '\n');
     if ((c < 0x20 || c >= 0x7f) && !allowed) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "0x%02x", c);
@@ -78,7 +80,7 @@ std::string setup_problem(const std::string& text) {
 // query may be in it (its answer would be read as the device's state).
 void check_abort(const TomlSection& t, const std::string& abort) {
   if (const std::string p = control_byte_problem(abort, true); !p.empty()) {
-    t.fail("abort", p + " (allowed: ESC EOT, ETX, CR, LF and printable ASCII)");
+    t.fail("abort", p + " (allowed: ESC sequences, ETX, CR, LF and printable ASCII)");
   }
   for (const DeviceCommand& c : parse_gpgl(abort)) {
     if (c.device_control) {
@@ -185,8 +187,8 @@ std::unique_ptr<DeviceReader> gpgl_reader() { return std::make_unique<GpglReader
 
 }  // namespace
 
-const LanguageUnit kGpglLanguage = {CutterLanguage::gpgl, "gpgl",       read_gpgl_section, check_abort,
-                                    gpgl_encoder,         gpgl_reader,  gpgl_units_per_mm, check_gpgl_profile,
-                                    gpgl_speed_cm_s,      gpgl_knife_up,      gpgl_host_protocol};
+const LanguageUnit kGpglLanguage = {CutterLanguage::gpgl, "gpgl",        read_gpgl_section, check_abort,
+                                    gpgl_encoder,         gpgl_reader,   gpgl_units_per_mm, check_gpgl_profile,
+                                    gpgl_speed_cm_s,      gpgl_knife_up, gpgl_host_protocol};
 
 }  // namespace popcut::drivers

@@ -29,8 +29,8 @@ void parse_params(std::string_view text, DeviceCommand& cmd) {
   for (char c : text) {
     if (!is_blank(c)) compact += c;
   }
+  if (!compact.empty() && compact.back() == ',') compact.pop_back();
   if (compact.empty()) return;
-  if (compact.back() == ',') compact.pop_back();
   std::size_t i = 0;
   while (i <= compact.size()) {
     const std::size_t j = std::min(compact.find(',', i), compact.size());

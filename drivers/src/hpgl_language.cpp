@@ -211,8 +211,8 @@ std::string hpgl_knife_up(const DeviceProfile& p) {
 
 }  // namespace
 
-const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",  read_hpgl_section, check_abort,     hpgl_encoder,
-                                    hpgl_reader,          nullptr, nullptr,           hpgl_speed_cm_s, hpgl_knife_up,
-                                    hpgl_host};
+const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",        read_hpgl_section, check_abort,
+                                    hpgl_encoder,         hpgl_reader,   nullptr,           nullptr,
+                                    hpgl_speed_cm_s,      hpgl_knife_up, hpgl_host};
 
 }  // namespace popcut::drivers

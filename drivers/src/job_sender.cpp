@@ -92,16 +92,15 @@ class Sender {
     if (r.bytes_sent == 0) {
       r.status = {TransportError::io, 0,
                   what + ", before any byte of the job was sent: " +
-                      (why == DeviceStop::tray_empty ? "load a sheet (or the mat) and run the same command again"
-                                                     : "let it go on (or reset it) and run the same command again")};
+                      (why == DeviceStop::tray_empty ? "load a sheet (or the mat)" : "let it go on, or reset it")};
       return;
     }
     r.status = {TransportError::io, 0,
-                what + (why == DeviceStop::tray_empty ? " (the sheet or the roll ran out)" : "") + " after " +
+                what + (why == DeviceStop::tray_empty ? " (the sheet or the roll ran out)" : "") + "; after " +
                     std::to_string(r.bytes_sent) + " of " + std::to_string(session_.job.bytes.size()) +
-                    " job bytes: popcut finished the command in flight, " +
-                    (r.abort_sent ? "sent the abort sequence and lifted the knife"
-                                  : "but could not send the abort sequence and the knife-up")};
+                    " job bytes popcut finished the command in flight and " +
+                    (r.abort_sent ? "sent the knife-up (after the profile's abort sequence, if any)"
+                                  : "could not send the abort sequence and the knife-up")};
   }
 
   void settle_counts() {

@@ -254,11 +254,11 @@ void SimCutter::answer(const DeviceCommand& c) {
       break;
     case DeviceOp::abort: drop_buffer(); break;  // drop what is buffered, a command in progress too
     case DeviceOp::initialize:
-      // GP-GL's ESC EOT: the device starts afresh, the knife up and no tool selected.
+      // GP-GL's ESC EOT: the device starts afresh, the knife up, its first (or only) holder in use.
       drop_buffer();
       if (pen_down_) end_stroke();
       pen_down_ = false;
-      pen_ = 0;
+      pen_ = 1;
       break;
     case DeviceOp::handshake_setup: break;  // the sim's pacing comes from the profile, so only counted
     default: report_.unknown.push_back({c.offset, c.name, "unknown device-control sequence"}); return;

@@ -59,14 +59,14 @@ std::string queries_of(const LanguageUnit& language, bool idle_only = false) {
 void check_queries(const TomlSection& t, const LanguageUnit& language, const TransportDefaults& out) {
   const HostProtocol& host = language.host();
   const std::string lang = "[device] language \"" + std::string(language.section) + "\"";
-  if (out.drain_query != DrainQuery::none && host.query_bytes(out.drain_query).empty()) {
-    t.fail("drain_query", "\"" + std::string(kDrainQueryNames.name(out.drain_query)) + "\" is not a query of " + lang +
-                              ", whose devices answer " + queries_of(language));
-  }
   if (out.flow == FlowControl::esc_b && host.query_bytes(DrainQuery::esc_b).empty()) {
     t.fail("flow_control", "\"esc_b\" asks ESC.B for free buffer space, which " + lang +
                                " devices do not answer: use \"status\" (paced by the motion model and their " +
                                queries_of(language) + " answers), or a hardware handshake");
+  }
+  if (out.drain_query != DrainQuery::none && host.query_bytes(out.drain_query).empty()) {
+    t.fail("drain_query", "\"" + std::string(kDrainQueryNames.name(out.drain_query)) + "\" is not a query of " + lang +
+                              ", whose devices answer " + queries_of(language));
   }
   if (out.flow == FlowControl::status && out.drain_query != DrainQuery::esc_o &&
       out.drain_query != DrainQuery::esc_enq) {

@@ -286,10 +286,7 @@ std::optional<int> stopped_exit(const drivers::SendResult& sent, const Job& j, c
   if (sent.device_stop != drivers::DeviceStop::none) {
     // The device said it cannot go on: its reason, what popcut did about it and where to resume.
     std::cerr << "popcut: error: the device stopped the job (" << device << "): " << sent.status.message;
-    if (sent.bytes_sent > 0) {
-      std::cerr << "; the device may still cut " << drivers::still_buffered_text(sent) << " once it goes on; "
-                << drivers::counts_text(sent);
-    }
+    if (sent.bytes_sent > 0) std::cerr << "; " << drivers::counts_text(sent);
     std::cerr << drivers::resume_advice(sent) << "\n";
     return static_cast<int>(kCannotWrite);
   }
@@ -316,16 +313,19 @@ std::optional<int> sim_exit(const CutCommands& s, const Job& j, const drivers::S
   const drivers::SimVerdict verdict = check.verdict();
   if (verdict == drivers::SimVerdict::exact || verdict == drivers::SimVerdict::command_errors) return std::nullopt;
   const drivers::TransportDefaults& tp = j.profile.transport;
-  if (check.overflow_bytes > 0 && tp.flow == drivers::FlowControl::none &&
-      s.slowdown > 1 + tp.pace_margin_percent / 100.0) {
-    // The fault the simulator was asked for (--sim-slowdown past what time pacing allows for),
-    // not popcut's: what a real device would have done, told as such. Any other mismatch is a
-    // bug (below): the simulator follows every other pacing exactly.
+  const bool by_model = tp.flow == drivers::FlowControl::none || tp.flow == drivers::FlowControl::status;
+  if (check.overflow_bytes > 0 && by_model && s.slowdown > 1 + tp.pace_margin_percent / 100.0) {
+    // The fault the simulator was asked for (--sim-slowdown past what pacing by the motion model
+    // allows for), not popcut's: what a real device would have done, told as such. Any other
+    // mismatch is a bug (below): the simulator follows every other pacing exactly.
     std::cerr << "popcut: error: the simulated cutter lost " << check.overflow_bytes
-              << " bytes to a full buffer, so it did not cut the job: popcut paced it by time (flow_control \"none\"), "
-                 "and --sim-slowdown "
-              << format_decimal(s.slowdown, 3) << " is slower than the profile allows for with pace_margin_percent ("
-              << tp.pace_margin_percent << " %) (see " << (dir / "report.json").string() << ")\n";
+              << " bytes to a full buffer, so it did not cut the job: popcut paced it by "
+              << (tp.flow == drivers::FlowControl::status ? "the motion model and its status answers (flow_control "
+                                                            "\"status\")"
+                                                          : "time (flow_control \"none\")")
+              << ", and --sim-slowdown " << format_decimal(s.slowdown, 3)
+              << " is slower than the profile allows for with pace_margin_percent (" << tp.pace_margin_percent
+              << " %) (see " << (dir / "report.json").string() << ")\n";
     return static_cast<int>(kCannotWrite);
   }
   std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see "

@@ -19,9 +19,14 @@ namespace {
 
 using nlohmann::json;
 
+// A shipped profile naming a USB id: its file and the device's name ([device] name).
+struct KnownProfile {
+  std::string path, name;
+};
+
 // USB id -> profiles listing it in [transport] usb_ids.
-std::map<std::string, std::vector<std::string>> known_ids() {
-  std::map<std::string, std::vector<std::string>> ids;
+std::map<std::string, std::vector<KnownProfile>> known_ids() {
+  std::map<std::string, std::vector<KnownProfile>> ids;
   std::string dir;
   try {
     dir = find_config_dir("devices");
@@ -33,7 +38,7 @@ std::map<std::string, std::vector<std::string>> known_ids() {
     if (e.path().extension() != ".toml") continue;
     try {
       const drivers::DeviceProfile p = drivers::load_profile(e.path().string());
-      for (const std::string& id : p.transport.usb_ids) ids[id].push_back(e.path().string());
+      for (const std::string& id : p.transport.usb_ids) ids[id].push_back({e.path().string(), p.name});
     } catch (const std::exception&) {
       // A broken profile is reported when it is used, not here.
     }
@@ -61,6 +66,11 @@ int run_devices(const DevicesCommand& s) {
       const std::string id = drivers::usb_id_string(u.vid, u.pid);
       const auto it = ids.find(id);
       if (it == ids.end() && !s.all_usb) continue;
+      json paths = json::array(), names = json::array();
+      for (const KnownProfile& k : it == ids.end() ? std::vector<KnownProfile>{} : it->second) {
+        paths.push_back(k.path);
+        names.push_back(k.name);
+      }
       ju.push_back({{"device", "usb:" + id + (u.serial_number.empty() ? "" : ":" + u.serial_number)},
                     {"usb_id", id},
                     {"bus", u.bus},
@@ -68,7 +78,8 @@ int run_devices(const DevicesCommand& s) {
                     {"product", u.product},
                     {"serial_number", u.serial_number},
                     {"bulk_out", u.has_bulk_out},
-                    {"profiles", it == ids.end() ? json::array() : json(it->second)}});
+                    {"profiles", paths},
+                    {"names", names}});
     }
     if (s.json_out) {
       json r = {{"format", "popcut.devices.v1"}, {"serial", jp}, {"usb", ju}};
@@ -91,7 +102,11 @@ int run_devices(const DevicesCommand& s) {
     for (const auto& j : ju) {
       std::cout << "  " << j["device"].get<std::string>() << "  bus " << j["bus"] << " address " << j["address"] << "  "
                 << j["product"].get<std::string>();
-      for (const auto& p : j["profiles"]) std::cout << "  profile " << p.get<std::string>();
+      // By the device's name first: "Silhouette Cameo 4 (profile .../silhouette-cameo4.toml)".
+      for (std::size_t i = 0; i < j["profiles"].size(); ++i) {
+        std::cout << "  " << j["names"][i].get<std::string>() << " (profile " << j["profiles"][i].get<std::string>()
+                  << ")";
+      }
       std::cout << "\n";
     }
     return static_cast<int>(kOk);

@@ -9,6 +9,7 @@
 
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/error.h"
 #include "popcut/io/model_io.h"
@@ -82,9 +83,11 @@ TEST(EncodedJob, ResumeSendsExactlyTheMissingStrokesKnifeUp) {
     const auto planned = plan_in_plotter_units(plan, p.dialect);
     ASSERT_GT(planned.size(), 10u) << file;
     for (std::size_t from : {std::size_t{2}, planned.size() / 2, planned.size()}) {
-      const EncodedJob job = encode_job(plan, p.dialect, p.tools, from);
+      const EncodedJob job = encode_for_device(plan, p, from);  // in the profile's language
       EXPECT_EQ(job.first_stroke, from) << file;
-      EXPECT_EQ(job.bytes.rfind(p.dialect.init, 0), 0u) << file << " from " << from << ": re-sends init";
+      const EncodedJob whole = encode_for_device(plan, p);
+      EXPECT_EQ(job.bytes.compare(0, whole.command_end[0], whole.bytes, 0, whole.command_end[0]), 0)
+          << file << " from " << from << ": re-sends init";
       const SimRun r = run_on_sim(p, job, send_options(p));
       ASSERT_TRUE(r.sent.complete()) << file << " from " << from << ": " << r.sent.status.message;
       EXPECT_EQ(r.sent.last_stroke_sent, planned.size()) << file << " from " << from;
@@ -99,8 +102,8 @@ TEST(EncodedJob, ResumeSendsExactlyTheMissingStrokesKnifeUp) {
             << file << " from " << from << ": tool setup re-sent before the first stroke";
       }
     }
-    EXPECT_THROW(encode_job(plan, p.dialect, p.tools, 0), Error) << file << ": strokes are numbered from 1";
-    EXPECT_THROW(encode_job(plan, p.dialect, p.tools, planned.size() + 1), Error) << file << ": past the last stroke";
+    EXPECT_THROW(encode_for_device(plan, p, 0), Error) << file << ": strokes are numbered from 1";
+    EXPECT_THROW(encode_for_device(plan, p, planned.size() + 1), Error) << file << ": past the last stroke";
   }
 }
 
@@ -1004,7 +1007,7 @@ TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
   for (const std::string& file : testing::shipped_profiles()) {
     const DeviceProfile p = cannot_be_asked(load_profile(file));
     const StrokePlan plan = townhouse_plan(p);
-    const EncodedJob job = encode_job(plan, p.dialect, p.tools);
+    const EncodedJob job = encode_for_device(plan, p);
     const PacedRun r = run_paced(p, job, 1.2, 25);
     ASSERT_TRUE(r.sent.complete()) << file << ": " << r.sent.status.message;
     EXPECT_EQ(r.sent.drained_by, DrainedBy::estimate) << file;
@@ -1020,7 +1023,9 @@ TEST(SendJob, TimePacingKeepsADeviceWithNoHandshakeWithinItsBuffer) {
                                                      p.kinematics.accel_mm_s2);
     EXPECT_LT(r.report.clock_s, 1.1 * r.report.motion_time_s + first_travel_s)
         << file << ": clock " << r.report.clock_s << " s for " << r.report.motion_time_s << " s of motion";
-    const PacedRun tight = run_paced(p, job, 1.2, 0);
+    // GP-GL sends a straight line as one short D, so its townhouse is too sparse for a device
+    // 20 % slow to run 256 bytes behind: half as slow again shows the same loss.
+    const PacedRun tight = run_paced(p, job, p.language == CutterLanguage::gpgl ? 1.5 : 1.2, 0);
     EXPECT_GT(tight.report.overflow_bytes, 0u) << file << ": paced at the plan's pace, a slower device overflows";
   }
 }

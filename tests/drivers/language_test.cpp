@@ -43,17 +43,19 @@ TEST(CutterLanguage, DefaultsToHpglAndNamesItExplicitly) {
     EXPECT_EQ(&language_unit(unit->language), unit);
   }
   EXPECT_EQ(language_unit(CutterLanguage::hpgl).section, "hpgl");
+  EXPECT_EQ(language_unit(CutterLanguage::gpgl).section, "gpgl");
+  EXPECT_EQ(parse_profile(kBase + "language = \"gpgl\"\n", "a.toml").language, CutterLanguage::gpgl);
 }
 
 TEST(CutterLanguage, AnUnknownLanguageIsRefusedAtItsKey) {
-  const Error unknown = refusal(kBase + "language = \"gpgl\"\n");
+  const Error unknown = refusal(kBase + "language = \"camm\"\n");
   EXPECT_EQ(unknown.code(), ErrorCode::invalid_input);
   EXPECT_EQ(unknown.source(), "lang.toml");
   EXPECT_EQ(unknown.location(), "[device] language");
-  EXPECT_EQ(unknown.message(), "\"gpgl\" is not one of \"hpgl\"");
+  EXPECT_EQ(unknown.message(), "\"camm\" is not one of \"hpgl\", \"gpgl\"");
   const Error typed = refusal(kBase + "language = 3\n");
   EXPECT_EQ(typed.location(), "[device] language");
-  EXPECT_EQ(typed.message(), "expected one of \"hpgl\"");
+  EXPECT_EQ(typed.message(), "expected one of \"hpgl\", \"gpgl\"");
 }
 
 // The encoder the profile picks writes exactly what encode_job writes, from stroke 1 and later.
@@ -61,6 +63,7 @@ TEST(CutterLanguage, TheProfilesEncoderIsTheHpglEncoder) {
   const Pattern pattern = make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json"));
   for (const std::string& file : testing::shipped_profiles()) {
     const DeviceProfile p = load_profile(file);
+    if (p.language != CutterLanguage::hpgl) continue;  // gpgl_encoder_test.cpp
     const StrokePlan plan = plan_strokes(pattern, p.plan);
     const auto encoder = make_encoder(p);
     ASSERT_NE(encoder, nullptr) << file;
@@ -158,7 +161,8 @@ TEST(TomlChoice, ProfileChoicesNameTheirAllowedValues) {
        "\"esc_b\" is not one of \"none\", \"esc_e\""},
       {"[tool.cut]\nmode = \"burn\"\n", "[tool.cut] mode",
        "\"burn\" is not one of \"cut\", \"score\", \"perforate\", \"skip\""},
-      {"[motors]\n", "[motors]", "unknown section (expected device, hpgl, transport, kinematics, plan, tool.KIND)"},
+      {"[motors]\n", "[motors]",
+       "unknown section (expected device, hpgl, gpgl, transport, kinematics, plan, tool.KIND)"},
       {"[tool.edge]\n", "[tool.edge]", "unknown line kind (expected valley, mountain, cut, outline)"},
       {"[plan]\norder = [\"fold\"]\n", "[plan] order", "\"fold\" is not a line kind (valley, mountain, cut, outline)"},
       {"[plan]\norder = [\"cut\"]\n", "[plan] order", "must list each of valley, mountain, cut, outline once"},

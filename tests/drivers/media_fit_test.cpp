@@ -2,6 +2,8 @@
 // its area.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 
 #include "popcut/drivers/device_plan.h"
@@ -24,7 +26,9 @@ TEST(MediaFit, EveryShippedProfileCutsACardFittedToItsMedia) {
     const HpglDialect& d = profile.dialect;
     const double area_x = static_cast<double>(d.area_max_x_pu - d.area_min_x_pu) / d.units_per_mm_x;
     const double area_y = static_cast<double>(d.area_max_y_pu - d.area_min_y_pu) / d.units_per_mm_y;
-    EXPECT_NEAR(d.swap_axes ? m.height_mm : m.width_mm, area_x, 2 * profile.plan.blade_offset_mm + 0.1)
+    // The media stay a plotter unit inside the area (0.1 mm on a coarse GP-GL step).
+    const double unit_mm = std::max(0.1, 1 / d.units_per_mm_x) + 1e-9;
+    EXPECT_NEAR(d.swap_axes ? m.height_mm : m.width_mm, area_x, 2 * profile.plan.blade_offset_mm + unit_mm)
         << path << ": the sheet's x runs along the plotter's x unless the axes are swapped";
     EXPECT_LE(d.swap_axes ? m.width_mm : m.height_mm, area_y) << path;
     ImportOptions o;

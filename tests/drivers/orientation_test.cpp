@@ -1,5 +1,5 @@
-// Every shipped profile cuts the card as it reads from its printed side: decoded HP-GL, mapped through each device's
-// own axes, is the pattern turned, never mirrored.
+// Every shipped profile cuts the card as it reads from its printed side: decoded HP-GL or GP-GL, mapped through each
+// device's own axes, is the pattern turned, never mirrored.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "popcut/drivers/gpgl_reader.h"
 #include "popcut/drivers/hpgl_reader.h"
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/hpgl/hpgl.h"
 #include "popcut/io/model_io.h"
@@ -48,9 +50,23 @@ constexpr DeviceAxes kHpFrame{{1, 0}, {0, 1}, "away"};
 
 // One entry per shipped profile (the test fails for a profile missing here): profiles.md,
 // "Orientation", names the reference each follows.
+// GP-GL on a Silhouette (Graphtec.py writes "M y,x", SilhouetteTest reverses x and y for the
+// Curio): the first coordinate runs along the feed or tray, from the sheet's top edge toward you,
+// the second with the head, left to right.
+constexpr DeviceAxes kSilhouetteFrame{{0, -1}, {1, 0}, "away"};
+
 const std::map<std::string, DeviceAxes> kDevices = {
-    {"generic-hpgl", kHpFrame}, {"sim", kHpFrame},         {"roland-gx24", kHpFrame},
-    {"graphtec-ce", kHpFrame},  {"uscutter-mh", kHpFrame}, {"secabo", kHpFrame},
+    {"generic-hpgl", kHpFrame},
+    {"sim", kHpFrame},
+    {"roland-gx24", kHpFrame},
+    {"graphtec-ce", kHpFrame},
+    {"graphtec-ce6000", kHpFrame},
+    {"uscutter-mh", kHpFrame},
+    {"secabo", kHpFrame},
+    {"silhouette-cameo3", kSilhouetteFrame},
+    {"silhouette-cameo4", kSilhouetteFrame},
+    {"silhouette-portrait3", kSilhouetteFrame},
+    {"silhouette-curio", kSilhouetteFrame},
 };
 
 // Knife-down segments of a job in the device's frame, in mm, read by a plain HP-GL interpreter
@@ -70,6 +86,25 @@ std::vector<std::array<std::array<double, 2>, 2>> knife_down_mm(const std::strin
     for (std::size_t i = 0; i + 1 < c.params.size(); i += 2) {
       const double nx = absolute ? c.params[i] : x + c.params[i], ny = absolute ? c.params[i + 1] : y + c.params[i + 1];
       if (down)
+        out.push_back({{{x / d.units_per_mm_x, y / d.units_per_mm_y}, {nx / d.units_per_mm_x, ny / d.units_per_mm_y}}});
+      x = nx, y = ny;
+    }
+  }
+  return out;
+}
+
+// The same for GP-GL, read by the device-side reader: M moves with the knife up, D with it down,
+// both absolute; O and E relative.
+std::vector<std::array<std::array<double, 2>, 2>> gpgl_knife_down_mm(const std::string& job, const PlotterFrame& d) {
+  std::vector<std::array<std::array<double, 2>, 2>> out;
+  double x = 0, y = 0;
+  for (const DeviceCommand& c : parse_gpgl(job)) {
+    const bool rel = c.name == "O" || c.name == "E";
+    if (c.name != "M" && c.name != "D" && !rel) continue;
+    EXPECT_EQ(c.params.size() % 2, 0u) << c.name << " with an odd number of coordinates";
+    for (std::size_t i = 0; i + 1 < c.params.size(); i += 2) {
+      const double nx = rel ? x + c.params[i] : c.params[i], ny = rel ? y + c.params[i + 1] : c.params[i + 1];
+      if (c.name == "D" || c.name == "E")
         out.push_back({{{x / d.units_per_mm_x, y / d.units_per_mm_y}, {nx / d.units_per_mm_x, ny / d.units_per_mm_y}}});
       x = nx, y = ny;
     }
@@ -180,8 +215,9 @@ struct Verdict {
 
 Verdict judge(const Pattern& pattern, const DeviceProfile& prof, const DeviceAxes& axes) {
   std::vector<Seg> cut;
-  for (const auto& s :
-       knife_down_mm(encode_hpgl(plan_strokes(pattern, prof.plan), prof.dialect, prof.tools), prof.dialect)) {
+  const std::string job = encode_for_device(plan_strokes(pattern, prof.plan), prof).bytes;
+  for (const auto& s : prof.language == CutterLanguage::gpgl ? gpgl_knife_down_mm(job, prof.dialect)
+                                                             : knife_down_mm(job, prof.dialect)) {
     cut.push_back({to_view(axes, s[0][0], s[0][1]), to_view(axes, s[1][0], s[1][1])});
   }
   Verdict v;

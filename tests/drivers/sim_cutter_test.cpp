@@ -9,6 +9,7 @@
 
 #include "popcut/drivers/hpgl_reader.h"
 #include "popcut/drivers/job_sender.h"
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/voxel_pattern.h"
@@ -260,7 +261,7 @@ TEST(SimCutter, RecoversThePlannedStrokesForEveryProfile) {
     const DeviceProfile prof = load_profile(file);
     for (std::size_t n = 0; n < patterns.size(); ++n) {
       const StrokePlan plan = plan_strokes(patterns[n], prof.plan);
-      const std::string job = encode_hpgl(plan, prof.dialect, prof.tools);
+      const EncodedJob job = encode_for_device(plan, prof);  // in the profile's language
       auto cutter = std::make_shared<SimCutter>(prof);
       SimTransport t(cutter);
       ASSERT_TRUE(t.open().ok());

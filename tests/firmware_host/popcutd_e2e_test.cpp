@@ -1049,6 +1049,26 @@ TEST_F(SerialPopcutd, AfterSigtermTheDefaultResumeCutsTheStrokesTheCutterDiscard
 // The device's profile says XON/XOFF; the plotter never says XOFF (it is set up for ESC.B), so
 // its buffer overflows while every write succeeds. Its ESC.E answer fails the job for good: what
 // it cut is not the job, and a resume would only cut the rest of a spoiled sheet.
+// A GP-GL cutter with no sheet loaded says so to ESC ENQ before the job: popcutd sends nothing
+// and keeps the job, with the device's reason, to resume once the sheet is in.
+TEST_F(SerialPopcutd, AGpglCutterWithNoSheetLoadedLeavesTheJobWithTheReason) {
+  profile_ = dir_.write("cameo.toml", read_file(kSrc + "/configs/devices/silhouette-cameo4.toml"));
+  edit_profile("[transport]\n", "[transport]\nbaud = 115200\ntimeout_ms = 3000\nhold_timeout_ms = 8000\n");
+  auto plot = plotter("empty", {"--profile", profile_, "--tray-empty-after", "0"});
+  const auto d = start_on(*plot);
+  httplib::Client c = d->client(kKiosk);
+  const std::int64_t id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "empty"));
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); }, 60)) << "the cut ends; log:\n" << d->log();
+  const json j = job(c, id);
+  EXPECT_EQ(d->stop(SIGTERM), 0);
+  ASSERT_EQ(plot->wait(), 0) << plot->log();
+  EXPECT_EQ(j["state"], "interrupted") << "kept, to resume once a sheet is loaded: " << j.dump();
+  EXPECT_EQ(j["error"]["code"], "device_error") << j.dump();
+  EXPECT_NE(j["error"]["message"].get<std::string>().find("no sheet loaded"), std::string::npos) << j.dump();
+  EXPECT_EQ(j["strokes_sent"], 0) << j.dump();
+  EXPECT_EQ(plot->report()["bytes_received"], 2) << "ESC ENQ and nothing else";
+}
+
 TEST_F(SerialPopcutd, ACutterThatLostBytesFailsTheJobInsteadOfOfferingAResume) {
   std::string p = read_file(profile_);
   const std::size_t at = p.find("flow_control = \"xon_xoff\"");

@@ -764,4 +764,80 @@ TEST_F(SerialPty, AUsbProfileRefusesAnotherDevice) {
       << slurp(dir_ / "o.stderr");
 }
 
+// The shipped Cameo 4 as a serial GP-GL device at the simulator's line rate, paced by status;
+// returns its path (the host's and, with --profile, the plotter's).
+std::string gpgl_profile(const fs::path& dir) {
+  std::string p = slurp(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/silhouette-cameo4.toml");
+  const auto swap = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = p.find(from);
+    EXPECT_NE(at, std::string::npos) << "silhouette-cameo4.toml has " << from;
+    if (at != std::string::npos) p.replace(at, from.size(), to);
+  };
+  swap("[transport]\n", "[transport]\nbaud = 115200\ntimeout_ms = 3000\nhold_timeout_ms = 8000\n");
+  const std::string path = (dir / "cameo.toml").string();
+  std::ofstream(path) << p;
+  return path;
+}
+
+// GP-GL over a pseudo-terminal: ESC ENQ before, between chunks and at the end, the device kept a
+// buffer ahead of the model, and the plotter cuts exactly the job.
+TEST_F(SerialPty, GpglStatusFlowCutsTheWholeJob) {
+  profile_ = gpgl_profile(dir_);
+  std::string port;
+  auto plot = plotter("g", {"--profile", profile_, "--buffer", "1024", "--slowdown", "0.1"}, port);
+  const Cut r = cut("townhouse.json", "serial:" + port);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "g.err");
+  const json pr = plotter_report("g");
+  EXPECT_EQ(pr["overflow_bytes"], 0);
+  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_EQ(r.report["sent"]["drained_by"], "esc_enq");
+  EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
+}
+
+TEST_F(SerialPty, AGpglPlotterWithNoSheetLoadedRefusesTheJob) {
+  profile_ = gpgl_profile(dir_);
+  std::string port;
+  auto plot = plotter("e", {"--profile", profile_, "--tray-empty-after", "0"}, port);
+  const Cut r = cut("box.json", "serial:" + port);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("no sheet loaded"), std::string::npos) << r.err;
+  EXPECT_EQ(r.report["sent"]["bytes"], 0);
+  ASSERT_EQ(plot->wait(), 0);
+  EXPECT_EQ(plotter_report("e")["bytes_received"], 2) << "ESC ENQ and nothing else";
+}
+
+// A profile of one language on a device of the other is caught before the first stroke: an
+// HP-GL plotter ignores ESC ENQ, and the message says what that likely means; a GP-GL plotter
+// ignores ESC.O, which reads as a wrong line (silence does not tell the language).
+TEST_F(SerialPty, AProfileOfTheOtherLanguageIsCaughtBeforeTheFirstStroke) {
+  const std::string hpgl = profile_;
+  profile_ = gpgl_profile(dir_);
+  {
+    std::string port;
+    auto plot = plotter("h", {}, port);  // sim.toml: an HP-GL plotter
+    const Cut r = cut("box.json", "serial:" + port, "", "gpgl-on-hpgl");
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("a GP-GL profile seems to be talking to a device that does not speak GP-GL"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.report["sent"]["bytes"], 0);
+    ASSERT_EQ(plot->wait(), 0);
+    EXPECT_EQ(plotter_report("h")["knife_downs"], 0);
+  }
+  {
+    std::string port;
+    auto plot = plotter("gp", {"--profile", profile_}, port);
+    const std::string gpgl = profile_;
+    profile_ = hpgl;
+    const Cut r = cut("box.json", "serial:" + port, "", "hpgl-on-gpgl");
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("the device did not answer ESC.O before sending"), std::string::npos) << r.err;
+    EXPECT_EQ(r.report["sent"]["bytes"], 0);
+    ASSERT_EQ(plot->wait(), 0);
+    EXPECT_EQ(plotter_report("gp")["knife_downs"], 0);
+    profile_ = gpgl;
+  }
+}
+
 }  // namespace
