@@ -167,7 +167,8 @@ void BM_BytesPerMm(benchmark::State& state) {
 // how much longer the job takes than the device's own motion (it waits for bytes), and the most
 // the 256-byte buffer held, with the shipped margin (range 1: 25 %) or a calibrated device's
 // (10 %), for a device as fast as the plan (range 2: 0) or exactly the margin slower (1), that
-// cannot be asked or answers ESC.O (ESC ENQ in GP-GL) (range 3). Timed: building the motion schedule the pacing follows.
+// cannot be asked or answers its language's status query (range 3: ESC.O, ESC ENQ in GP-GL).
+// Timed: building the motion schedule the pacing follows.
 void BM_TimePaced(benchmark::State& state) {
   const std::vector<std::string> files = testing::shipped_profiles();
   drivers::DeviceProfile p = drivers::load_profile(files[static_cast<std::size_t>(state.range(0))]);
