@@ -47,16 +47,6 @@ Spot parse_at(const std::string& text, double default_mm) {
   return s;
 }
 
-// Materials give a device family's force, speed and passes (configs/materials); until that loader
-// is built in, a material cannot be applied, and saying so beats cutting with the profile's values.
-void apply_material(const std::string& name, DeviceProfile& /*profile*/) {
-  if (name.empty()) return;
-  throw Error(ErrorCode::invalid_input, "", "--material",
-              "'" + name +
-                  "': this popcut has no materials (configs/materials) to take settings from; the test "
-                  "cuts with the profile's [tool.*] values when --material is left out");
-}
-
 // The fold tool the triangle is scored with (valley, else mountain); cut as the square is when the
 // profile skips both.
 PlanKind triangle_kind(const DeviceProfile& p) {
@@ -181,8 +171,7 @@ json test_json(const TestCutCommand& c, const DeviceProfile& p, const Placed& at
 int run_test_cut(const TestCutCommand& c) {
   return run_guarded(c.json_out, [&] {
     Target target = cut_target(c.device, c.app->count("--device") > 0, c.profile_path);
-    DeviceProfile p = drivers::load_profile(target.profile_path);
-    apply_material(c.material, p);
+    DeviceProfile p = load_cli_profile(target.profile_path, c.material);
     use_profile_device(target, p);
     const TestCutShape shape = test_cut_shape(c.square_mm);
     const Placed at = place_test(parse_at(c.at, 10), shape, p, c.at);
@@ -228,7 +217,7 @@ void add_test_cut_command(CLI::App& app, TestCutCommand& c) {
       "does not fit names the area), 3 the job did not get through, 130 cancelled.");
   c.app->add_option("--profile", c.profile_path, "Device profile (default: configs/devices/sim.toml on --device sim)");
   c.app->add_option("--device", c.device, "As for cut: sim, file:PATH, serial:..., usb:...; default: the profile's");
-  c.app->add_option("--material", c.material, "Material whose settings to cut with (configs/materials; refused until materials are built in)");
+  c.app->add_option("--material", c.material, kMaterialHelp);
   c.app->add_option("--at", c.at,
                     "X,Y: where the test's corner nearest the origin goes, in mm from the usable area's origin corner "
                     "along the plotter's axes (default 10,10)");
