@@ -13,7 +13,9 @@ DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile,
     // Figures and the time estimate count only what is sent: strokes that round to one plotter
     // point are not.
     d.plan = drop_below_resolution(d.plan, profile.dialect);
-    d.time = estimate_time(d.plan, profile.kinematics, profile.cut_speed_mm_s());
+    // Each stroke at its own speed: a kind's passes may differ.
+    d.time = estimate_time(d.plan, profile.kinematics,
+                           [&](const Stroke& s) { return tool_for_stroke(profile.tools, s).speed_cm_s * 10; });
     d.encoded = encode_for_device(d.plan, profile);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;

@@ -19,6 +19,7 @@
 #include "popcut/io/files.h"
 #include "popcut/lang/device_check.h"
 #include "popcut/text.h"
+#include "tool_keys.h"
 
 namespace popcut::drivers {
 namespace {
@@ -147,9 +148,9 @@ void read_tool_sections(const toml::table& root, const std::string& source, Devi
     // Folds default to scoring at reduced force; cuts and the outline cut through.
     kp.mode = s.choice("mode", fold ? ToolMode::score : ToolMode::cut, kToolModeNames);
     tool.pen = s.integer("pen", 1, 1, 8);  // SP0 puts the tool away: a line kind cut with it is not cut
-    tool.force_g = s.number("force_g", fold ? 40 : 120, 1, 2000);
-    tool.speed_cm_s = s.number("speed_cm_s", 10, 0.1, 200);
-    kp.passes = s.integer("passes", 1, 1, 10);
+    tool.force_g = s.number("force_g", fold ? 40 : 120, kMinForceG, kMaxForceG);
+    tool.speed_cm_s = s.number("speed_cm_s", 10, kMinSpeedCmS, kMaxSpeedCmS);
+    read_passes(s, tool, kp);
     kp.perforate_on_mm = s.number("perforate_on_mm", 1, 0.1, 100);
     kp.perforate_off_mm = s.number("perforate_off_mm", 1, 0.1, 100);
     if (n) s.reject_unknown();

@@ -177,6 +177,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.device.empty()) items.push_back({"device", s.device, "", ""});
     if (!s.profile.empty()) items.push_back({"profile", s.profile, "", ""});
     if (!s.name.empty()) items.push_back({"name", s.name, "", ""});
+    if (!s.material.empty()) items.push_back({"material", s.material, "", ""});
     for (const auto& [option, value] : s.import_values) items.push_back({option, value, "", ""});
     job = c.post_form("/api/v1/jobs", items, job_shape_problem);
   } else {
@@ -197,6 +198,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.device.empty()) body["device"] = s.device;
     if (!s.profile.empty()) body["profile"] = s.profile;
     if (!s.name.empty()) body["name"] = s.name;
+    if (!s.material.empty()) body["material"] = s.material;
     job = c.request("POST", "/api/v1/jobs", job_shape_problem, body.dump());
   }
   // Only the submission's answer has them; a job fetched again while waiting does not.
@@ -241,6 +243,8 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
       ->required();
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
+  s.submit->add_option("--material", s.material,
+                       "Material (popcutd's configs/materials/NAME.toml, e.g. card-220) for the device's family");
   s.submit->add_option("--name", s.name, "A label for the job (default: the model's name, or the mesh's file name)")
       ->check(CLI::Validator(
           [](std::string& t) {

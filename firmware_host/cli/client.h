@@ -14,7 +14,7 @@ struct ClientCommands {
   CLI::App* jobs = nullptr;
   CLI::App* cancel = nullptr;
   CLI::App* resume = nullptr;
-  std::string server, token, model_path, device, profile, name;
+  std::string server, token, model_path, device, profile, name, material;
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;

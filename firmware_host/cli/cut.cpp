@@ -55,9 +55,10 @@ struct Job {
   EncodedJob encoded;  // what is sent: the whole job, or from --resume-from on
 };
 
-Job make_job(const std::string& model_path, const std::string& profile_path, std::size_t from_stroke = 1) {
+Job make_job(const CutCommands& s, const std::string& profile_path, std::size_t from_stroke = 1) {
+  const std::string& model_path = s.model_path;
   Job j;
-  j.profile = drivers::load_profile(profile_path);
+  j.profile = load_cli_profile(profile_path, s.material);
   drivers::DevicePlan d = drivers::plan_for_device(load_cli_pattern(model_path), j.profile, profile_path);
   j.plan = std::move(d.plan);
   j.time = d.time;
@@ -73,12 +74,13 @@ Job make_job(const std::string& model_path, const std::string& profile_path, std
   return j;
 }
 
-json plan_json(const Job& j, const std::string& model, const std::string& profile_path) {
+json plan_json(const Job& j, const std::string& model, const std::string& profile_path, const std::string& material) {
   const KindStats t = j.plan.total();
   json r = {{"format", "popcut.plan.v1"},
             {"source", model},
             {"profile", profile_path},
             {"device", j.profile.name},
+            {"material", material.empty() ? json(nullptr) : json(material)},
             {"strokes", t.strokes},
             {"pen_lifts", t.pen_lifts},
             {"pen_lift_bound", t.pen_lift_bound},
@@ -106,9 +108,9 @@ int run_plan(const CutCommands& s) {
       throw Error(ErrorCode::invalid_input, "", "--json",
                   "the job goes to standard output: write the report to a file instead");
     }
-    const Job j = make_job(s.model_path, s.profile_path);
+    const Job j = make_job(s, s.profile_path);
     write_cli_output(s.out_path, [&](std::ostream& o) { o << j.hpgl; });
-    const json report = plan_json(j, s.model_path, s.profile_path);
+    const json report = plan_json(j, s.model_path, s.profile_path, s.material);
     if (!s.report_path.empty())
       write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
     if (s.json_out) {
@@ -134,7 +136,7 @@ double run_cut_mm(const Job& j) {
 
 json cut_report(const CutCommands& s, const Target& target, const Job& j, const drivers::CutSession& session,
                 const drivers::SendResult& sent, const std::optional<drivers::SimCheck>& check) {
-  json report = plan_json(j, s.model_path, target.profile_path);
+  json report = plan_json(j, s.model_path, target.profile_path, s.material);
   report["format"] = "popcut.cut.v1";
   report["transport"] = session.describe();
   report["sent"] = drivers::send_result_json(sent, j.encoded.bytes.size());
@@ -175,7 +177,7 @@ int run_cut(const CutCommands& s) {
   return run_guarded(s.json_out, [&] {
     Target target = cut_target(s.device, s.cut->count("--device") > 0, s.profile_path);
     if (s.resume_from < 1) throw Error(ErrorCode::invalid_input, "", "--resume-from", "strokes are numbered from 1");
-    const Job j = make_job(s.model_path, target.profile_path, static_cast<std::size_t>(s.resume_from));
+    const Job j = make_job(s, target.profile_path, static_cast<std::size_t>(s.resume_from));
     use_profile_device(target, j.profile);
     drivers::CutSession session(target.device, j.profile, session_options(s.faults));
     check_device(s.faults, session, j.profile, target);
@@ -210,11 +212,16 @@ int run_cut(const CutCommands& s) {
 
 }  // namespace
 
+const char* const kMaterialHelp =
+    "Material (configs/materials/NAME.toml, e.g. card-220): its forces, speeds and passes for the profile's\n"
+    "device family replace the profile's own";
+
 void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan = app.add_subcommand("plan", "Plan the knife's strokes for a device and write the HP-GL job (and a report).");
   s.plan->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
   s.plan->add_option("--profile", s.profile_path, "Device profile, e.g. configs/devices/generic-hpgl.toml")->required();
   s.plan->add_option("-o,--output", s.out_path, "Where to write the HP-GL job, or - for standard output")->required();
+  s.plan->add_option("--material", s.material, kMaterialHelp);
   s.plan->add_option("--report", s.report_path, "Also write the plan's figures as JSON (popcut.plan.v1)");
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
 
@@ -238,6 +245,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
       "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"
       "usb:VID:PID[:SERIAL]; default: the profile's [transport] default, or sim without --profile");
   s.cut->add_option("--profile", s.profile_path, "Device profile (default: configs/devices/sim.toml on --device sim)");
+  s.cut->add_option("--material", s.material, kMaterialHelp);
   s.cut->add_option(
       "--resume-from", s.resume_from,
       "Send strokes N.. only (numbered from 1 as progress and errors count them), starting with the knife up");

@@ -13,6 +13,7 @@ struct CutCommands {
   CLI::App* plan = nullptr;
   CLI::App* cut = nullptr;
   std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
+  std::string material;  // configs/materials/NAME.toml; empty: the profile's own forces and speeds
   bool json_out = false, no_progress = false;
   SimFaultArgs faults;
   long resume_from = 1;

@@ -10,6 +10,7 @@
 #include "cli/cut_send.h"
 #include "cli/sim_plotter.h"
 #include "config_dir.h"
+#include "popcut/drivers/material.h"
 #include "popcut/drivers/device.h"
 #include "popcut/drivers/send_report.h"
 #include "popcut/error.h"
@@ -19,6 +20,22 @@ namespace popcut::cli {
 
 using drivers::DeviceProfile;
 using nlohmann::json;
+
+DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material,
+                               std::string* material_source) {
+  DeviceProfile profile = drivers::load_profile(profile_path);
+  if (material.empty()) return profile;
+  drivers::Material m;
+  try {
+    m = drivers::find_material(find_config_dir("materials"), material);
+  } catch (const Error& e) {
+    if (e.location() != "material") throw;  // the file itself is wrong: its own message
+    throw Error(e.code(), "", "--material", e.message());
+  }
+  drivers::apply_material(profile, m);
+  if (material_source) *material_source = m.source;
+  return profile;
+}
 
 void add_sim_fault_options(CLI::App& cmd, SimFaultArgs& f) {
   cmd.add_option("--sim-stop-after", f.stop_answering_after, "Fault: the simulator stops answering after N bytes")

@@ -15,6 +15,11 @@
 
 namespace popcut::cli {
 
+// The profile (with its calibration overlay) and --material's settings for its family, when one
+// is given; `material_source` receives the material's file.
+drivers::DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material,
+                                        std::string* material_source = nullptr);
+
 // --sim-stop-after, --sim-drop-after, --sim-slowdown: faults for `--device sim` only.
 struct SimFaultArgs {
   long stop_answering_after = -1, drop_after = -1;

@@ -1,4 +1,4 @@
-// Device routes: the devices and what each cuts, an admin's pause and resume.
+// Device routes: the devices and what each cuts, the materials jobs may name, an admin's pause and resume.
 #include "api_handlers.h"
 
 namespace popcut::daemon {
@@ -29,6 +29,18 @@ void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
                     {"job", shown ? json(s.job) : json(nullptr)}});
   }
   send_json(res, {{"devices", list}});
+}
+
+void list_materials(ApiContext& api, const Caller&, const Req&, Res& res) {
+  json list = json::array();
+  for (const drivers::Material& m : api.daemon().config().materials) {
+    json families = json::array();
+    for (const auto& [family, name] : drivers::kDeviceFamilyNames.entries) {
+      if (m.families[static_cast<std::size_t>(family)]) families.push_back(std::string(name));
+    }
+    list.push_back({{"name", m.name}, {"description", m.description}, {"families", families}});
+  }
+  send_json(res, {{"materials", list}});
 }
 
 void pause_device(ApiContext& api, const Caller&, const Req& req, Res& res) { set_paused(api, req, res, true); }

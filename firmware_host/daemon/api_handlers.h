@@ -20,6 +20,7 @@ void get_kiosk_style(ApiContext& api, const Caller& caller, const Req& req, Res&
 
 // api_devices.cpp
 void list_devices(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void list_materials(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void pause_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void resume_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 

@@ -46,6 +46,7 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
             {"owner", j.owner},
             {"device", optional_text(j.target_device)},
             {"profile", j.target_profile},
+            {"material", optional_text(j.material)},
             {"cut_on", optional_text(j.device)},
             {"bound_to", optional_text(j.bound_device())},
             {"state", to_string(j.state)},
@@ -112,6 +113,25 @@ void set_target(Daemon& d, NewJob& nj, const std::string& device, const std::str
   }
 }
 
+// The job's material: one popcutd knows, with values for the family of the device it plans for.
+void set_material(Daemon& d, NewJob& nj, const std::string& material) {
+  nj.material = material;
+  if (material.empty()) return;
+  const drivers::Material* m = d.material(material);
+  if (!m)
+    fail(ApiError::no_material, "unknown material \"" + material + "\" (known: " + d.material_list() + ")", "material");
+  const DeviceConfig* dev = d.planning_device(nj.target_device, nj.target_profile);
+  if (!dev) fail(ApiError::no_device, "no device for this job", "device");
+  const drivers::DeviceFamily family = dev->profile.family;
+  if (!m->families[static_cast<std::size_t>(family)]) {
+    fail(ApiError::no_material,
+         "material \"" + material + "\" has no values for the " +
+             std::string(drivers::kDeviceFamilyNames.name(family)) + " family of " + dev->profile.name +
+             "; it has values for " + m->family_list(),
+         "material");
+  }
+}
+
 // The checks planning would make, made before the job is accepted: a model that is not a card,
 // is over [limits], or whose sheet does not fit the device is refused now (4xx), not failed later.
 // Returns the devices whose media the sheet is too big for (the job may still go to another).
@@ -121,7 +141,7 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
   const DeviceConfig* dev = d.planning_device(nj.target_device, nj.target_profile);
   if (!dev) fail(ApiError::no_device, "no device for this job", "device");
   try {
-    drivers::plan_for_device(p, dev->profile, dev->profile_path);
+    drivers::plan_for_device(p, d.job_profile(*dev, nj.material), dev->profile_path);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;
     fail(ApiError::bad_model,
@@ -135,22 +155,23 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
 // A mesh with popcut import's options: imported now, so its errors answer this request; the
 // job then holds the imported model like any other. Returns the model's source for messages.
 std::string job_from_upload(ApiContext& api, const Req& req, NewJob& nj) {
-  MeshUpload u = import_upload(api, req, {"name", "device", "profile"});
+  MeshUpload u = import_upload(api, req, {"name", "device", "profile", "material"});
   // Unnamed, the job is named after the file (house.obj: "house").
   if (u.fields.count("name") && u.fields["name"].empty())
     fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its file", "name");
   nj.name = u.fields.count("name") ? u.fields["name"] : fs::path(u.filename).stem().string();
   set_target(api.daemon(), nj, u.fields["device"], u.fields["profile"]);
+  set_material(api.daemon(), nj, u.fields["material"]);
   nj.model_json = std::move(u.imported.model_json);
   return u.filename;
 }
 
-// {"name", "device" | "profile", "model"}.
+// {"name", "device" | "profile", "material", "model"}.
 void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
   const json body = parse_body(req);
   if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object");
   for (const auto& [k, v] : body.items()) {
-    if (k != "name" && k != "device" && k != "profile" && k != "model")
+    if (k != "name" && k != "device" && k != "profile" && k != "material" && k != "model")
       fail(ApiError::bad_request, "unknown field '" + k + "'", k);
   }
   if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
@@ -167,6 +188,7 @@ void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
     nj.name = label.empty() ? "card" : label;
   }
   set_target(api.daemon(), nj, string_field(body, "device", false), string_field(body, "profile", false));
+  set_material(api.daemon(), nj, string_field(body, "material", false));
   nj.model_json = body["model"].dump();
 }
 

@@ -57,6 +57,19 @@ std::string directory(TomlSection& s, const std::string& key, const std::string&
   return dir.empty() ? fallback : resolve(dir, source);
 }
 
+// [server] materials_dir and every material in it; the default directory may be missing.
+void read_materials(TomlSection& s, const std::string& source, DaemonConfig& c) {
+  const bool given = s.node("materials_dir") != nullptr;
+  c.materials_dir = directory(s, "materials_dir", resolve("materials", source), source);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(c.materials_dir, ec)) {
+    if (given) s.fail("materials_dir", "\"" + c.materials_dir + "\" is not a directory");
+    return;
+  }
+  for (const std::string& name : drivers::material_names(c.materials_dir))
+    c.materials.push_back(drivers::find_material(c.materials_dir, name));
+}
+
 // [server]
 void read_server(TomlSection s, const std::string& source, DaemonConfig& c) {
   c.listen = s.text("listen", "127.0.0.1", 64);
@@ -72,6 +85,7 @@ void read_server(TomlSection s, const std::string& source, DaemonConfig& c) {
   c.header_timeout_s = s.integer("header_timeout_s", 5, 1, 300);
   c.listen_backlog = s.integer("listen_backlog", 1024, 16, 65535);
   c.planners = s.integer("planners", 1, 1, 64);
+  read_materials(s, source, c);
   s.reject_unknown();
 }
 

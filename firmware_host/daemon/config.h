@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "popcut/drivers/material.h"
 #include "popcut/drivers/profile.h"
 #include "popcut/names.h"
 
@@ -56,6 +57,10 @@ struct DaemonConfig {
   int header_timeout_s = 5;      // a request's line and headers must arrive within this
   int listen_backlog = 1024;     // new connections the kernel holds until they are taken up (capped by somaxconn)
   int planners = 1;
+  // Materials jobs may name ([server] materials_dir, default materials/ beside this file; none
+  // when that default is missing). Loaded and checked at start-up like the profiles.
+  std::string materials_dir;
+  std::vector<drivers::Material> materials;
   std::vector<DeviceConfig> devices;
   std::vector<TokenConfig> tokens;
   Limits limits;

@@ -13,7 +13,9 @@ std::string plan_to_json(const StrokePlan& plan) {
   for (const Stroke& s : plan.strokes) {
     json pts = json::array();
     for (Point2 p : s.points) pts.push_back({p.x_mm, p.v_mm});
-    strokes.push_back({{"kind", to_string(s.kind)}, {"points", pts}});
+    json stroke = {{"kind", to_string(s.kind)}, {"points", pts}};
+    if (s.pass != 0) stroke["pass"] = s.pass;  // per-pass settings pick the force by it
+    strokes.push_back(std::move(stroke));
   }
   return json{{"format", "popcut.strokes.v1"},
               {"sheet", {plan.sheet.min.x_mm, plan.sheet.min.v_mm, plan.sheet.max.x_mm, plan.sheet.max.v_mm}},
@@ -39,6 +41,7 @@ StrokePlan plan_from_json(const std::string& text, const std::string& source) {
       if (k == kAllPlanKinds.size())
         throw Error(ErrorCode::invalid_input, source, "strokes.kind", "unknown kind " + kind);
       st.kind = kAllPlanKinds[k];
+      st.pass = s.value("pass", 0);
       for (const auto& pt : s.at("points")) st.points.push_back({pt.at(0).get<double>(), pt.at(1).get<double>()});
       p.strokes.push_back(std::move(st));
     }

@@ -215,6 +215,31 @@ void Daemon::plan_loop() {
   }
 }
 
+const drivers::Material* Daemon::material(const std::string& name) const {
+  for (const drivers::Material& m : config_.materials) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+std::string Daemon::material_list() const {
+  std::string out;
+  for (const drivers::Material& m : config_.materials) out += (out.empty() ? "" : ", ") + m.name;
+  return out.empty() ? "none" : out;
+}
+
+drivers::DeviceProfile Daemon::job_profile(const DeviceConfig& device, const std::string& material_name) const {
+  drivers::DeviceProfile profile = device.profile;
+  if (material_name.empty()) return profile;
+  const drivers::Material* m = material(material_name);
+  if (!m) {
+    throw Error(ErrorCode::invalid_input, "job", "material",
+                "unknown material \"" + material_name + "\" (known: " + material_list() + ")");
+  }
+  drivers::apply_material(profile, *m);
+  return profile;
+}
+
 const DeviceConfig* Daemon::planning_device(const std::string& target_device, const std::string& target_profile) const {
   for (const DeviceConfig& d : config_.devices) {
     if (target_device.empty() ? profile_key(d) == target_profile : d.name == target_device) return &d;
@@ -230,7 +255,8 @@ void Daemon::plan_one(const Job& job) {
     if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
     // As `popcut cut` plans it; a sheet that does not fit the device is refused now, not at the cutter.
-    const drivers::DevicePlan planned = drivers::plan_for_device(pattern, dev->profile, dev->profile_path);
+    const drivers::DevicePlan planned =
+        drivers::plan_for_device(pattern, job_profile(*dev, job.material), dev->profile_path);
     const StrokePlan& plan = planned.plan;
     const std::filesystem::path dir = job_dir(job.id);
     std::filesystem::create_directories(dir);
@@ -304,7 +330,7 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       store_.finish(job.id, JobState::done, "", "", true);
       return;
     }
-    const EncodedJob cut = drivers::encode_for_device(plan, dev.profile, done_before + 1);
+    const EncodedJob cut = drivers::encode_for_device(plan, job_profile(dev, job.material), done_before + 1);
     log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.

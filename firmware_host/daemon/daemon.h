@@ -66,6 +66,13 @@ class Daemon {
 
   std::string job_dir(std::int64_t id) const;
 
+  // The material of that name ([server] materials_dir), or null; the known names for messages.
+  const drivers::Material* material(const std::string& name) const;
+  std::string material_list() const;
+  // The device's profile with the job's material applied (none: the profile as it is). Planning
+  // and every cut or resume of the job use it, so a resume cuts with the same forces.
+  drivers::DeviceProfile job_profile(const DeviceConfig& device, const std::string& material) const;
+
   // SIGTERM: stop planning, stop every cut safely (it becomes `interrupted`, resumable), join.
   void shutdown();
   JobStore::Recovered recovered() const { return recovered_; }

@@ -23,6 +23,7 @@ std::vector<Route> api_routes() {
       {Method::get, "/api/v1/examples", Access::token, takes_none(), list_examples},
       {Method::get, R"(/api/v1/examples/([^/]+))", Access::token, takes_none(), get_example},
       {Method::get, "/api/v1/devices", Access::token, takes_none(), list_devices},
+      {Method::get, "/api/v1/materials", Access::token, takes_none(), list_materials},
       {Method::post, R"(/api/v1/devices/([^/]+)/pause)", Access::admin, takes_none(), pause_device, "pausing a device"},
       {Method::post, R"(/api/v1/devices/([^/]+)/resume)", Access::admin, takes_none(), resume_device,
        "resuming a device"},

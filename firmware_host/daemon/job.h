@@ -49,6 +49,7 @@ enum class ApiError {
   conflict,            // 409: the job is not in a state that allows this (e.g. resume a done job)
   queue_full,          // 503: [limits] queue_length unfinished jobs already
   no_device,           // 422: no device of that name, or none with that profile
+  no_material,         // 422: no material of that name, or none with values for the device's family
   length_required,     // 411: a POST without Content-Length (or chunked encoding)
   method_not_allowed,  // 405: the path exists, not with this method (Allow lists those it has)
   busy,                // 503: every preview-rendering slot is in use; retry shortly
@@ -70,6 +71,7 @@ inline constexpr auto kApiErrorNames = enum_names<ApiError>({
     {ApiError::conflict, "conflict"},
     {ApiError::queue_full, "queue_full"},
     {ApiError::no_device, "no_device"},
+    {ApiError::no_material, "no_material"},
     {ApiError::length_required, "length_required"},
     {ApiError::method_not_allowed, "method_not_allowed"},
     {ApiError::busy, "busy"},
@@ -121,6 +123,7 @@ struct Job {
   std::string name;            // the user's label
   std::string target_device;   // empty: any device with target_profile
   std::string target_profile;  // the profile's device name (DeviceProfile::name)
+  std::string material;        // configs/materials stem its forces come from; empty: the profile's
   std::string device;          // the device that cut (or is cutting) it
   JobState state = JobState::queued;
   std::string error_code, error_message;

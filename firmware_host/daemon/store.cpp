@@ -71,7 +71,7 @@ class Stmt {
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point";
+    "resume_point, material";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -94,6 +94,7 @@ Job read_job(const Stmt& s) {
   j.sim_match = s.integer(16) != 0;
   j.strokes_executed = s.nullable_integer(17);
   j.resume_point = parse_resume_point(s.text(18));  // NULL (never resumed) reads as "": nullopt
+  j.material = s.text(19);
   return j;
 }
 
@@ -145,6 +146,8 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
     // From before resume_point: old jobs resumed only after the strokes received, but whether
     // one was resumed at all is not recorded, so NULL (shown as never resumed).
     if (!has_column("jobs", "resume_point")) exec("ALTER TABLE jobs ADD COLUMN resume_point TEXT");
+    // From before materials: every old job used its profile's own forces.
+    if (!has_column("jobs", "material")) exec("ALTER TABLE jobs ADD COLUMN material TEXT NOT NULL DEFAULT ''");
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -214,14 +217,15 @@ std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length)
       exec("ROLLBACK");
       return std::nullopt;
     }
-    Stmt ins(
-        db_,
-        "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at) VALUES (?,?,?,?,'queued',?)");
+    Stmt ins(db_,
+             "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at, material) "
+             "VALUES (?,?,?,?,'queued',?,?)");
     ins.bind(1, nj.owner)
         .bind(2, nj.name)
         .bind(3, nj.target_device)
         .bind(4, nj.target_profile)
         .bind(5, unix_now_s())
+        .bind(6, nj.material)
         .step();
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();

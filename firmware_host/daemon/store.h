@@ -18,6 +18,7 @@ namespace popcut::daemon {
 
 struct NewJob {
   std::string owner, name, target_device, target_profile;
+  std::string material;    // empty: the profile's own forces
   std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
 };
 

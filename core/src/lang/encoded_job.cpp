@@ -16,8 +16,14 @@ std::size_t EncodedJob::command_boundary_at_or_after(std::size_t offset) const {
   return it == command_end.end() ? bytes.size() : *it;
 }
 
-const ToolSetting& tool_for_stroke(const std::array<ToolSetting, 4>& tools, const Stroke& stroke) {
-  return tools[index_of(stroke.kind)];
+ToolSetting tool_for_stroke(const std::array<ToolSetting, 4>& tools, const Stroke& stroke) {
+  const ToolSetting& kind = tools[index_of(stroke.kind)];
+  const auto pass_value = [&](const std::vector<double>& per_pass, double fallback) {
+    const auto pass = static_cast<std::size_t>(std::max(0, stroke.pass));
+    return pass < per_pass.size() ? per_pass[pass] : fallback;
+  };
+  return {
+      kind.pen, pass_value(kind.pass_force_g, kind.force_g), pass_value(kind.pass_speed_cm_s, kind.speed_cm_s), {}, {}};
 }
 
 }  // namespace popcut

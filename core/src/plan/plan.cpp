@@ -40,29 +40,43 @@ std::vector<std::vector<Point2>> kind_paths(const Pattern& pattern, PlanKind kin
   return dashes;
 }
 
-// The ordered paths' strokes, each after its precut if any; returns where the blade tip stops.
+// One pass's stroke (`tip`: the blade tip's path) after its precut if any.
+void append_stroke(const std::vector<Point2>& tip, PlanKind kind, int pass, const PlanOptions& options,
+                   StrokePlan& plan) {
+  KindStats& stats = plan.kinds[index_of(kind)];
+  if (const std::vector<Point2> pre = precut_path(tip, options.precut_mm); !pre.empty()) {
+    // Turn the blade: cut the stroke's own first millimetres, lift, and start again there.
+    Stroke ps{kind, blade_offset_path(pre, options.blade_offset_mm, options.swivel_step_deg), true, pass};
+    stats.cut_mm += path_length_mm(ps.points);
+    stats.travel_mm += path_length_mm(pre);  // back to the stroke's start, knife up
+    ++stats.precuts;
+    ++stats.pen_lifts;
+    plan.strokes.push_back(std::move(ps));
+  }
+  Stroke s{kind, blade_offset_path(tip, options.blade_offset_mm, options.swivel_step_deg), false, pass};
+  stats.cut_mm += path_length_mm(s.points);
+  ++stats.strokes;
+  ++stats.pen_lifts;
+  plan.strokes.push_back(std::move(s));
+}
+
+// The ordered paths' strokes, one per path, or one per pass with separate passes; returns where
+// the blade tip stops.
 Point2 append_strokes(const std::vector<std::vector<Point2>>& paths, PlanKind kind, const PlanOptions& options,
                       Point2 at, StrokePlan& plan) {
-  KindStats& stats = plan.kinds[index_of(kind)];
+  const KindPlan& kp = options.kinds[index_of(kind)];
   for (const auto& p : paths) {
     // Overcut closes a loop; the blade offset applies to every pass, turns included.
-    const std::vector<Point2> tip =
-        with_passes(with_overcut(p, options.overcut_mm), options.kinds[index_of(kind)].passes);
-    at = tip.back();  // the next kind is ordered from where the blade tip stands
-    if (const std::vector<Point2> pre = precut_path(tip, options.precut_mm); !pre.empty()) {
-      // Turn the blade: cut the stroke's own first millimetres, lift, and start again there.
-      Stroke ps{kind, blade_offset_path(pre, options.blade_offset_mm, options.swivel_step_deg), true};
-      stats.cut_mm += path_length_mm(ps.points);
-      stats.travel_mm += path_length_mm(pre);  // back to the stroke's start, knife up
-      ++stats.precuts;
-      ++stats.pen_lifts;
-      plan.strokes.push_back(std::move(ps));
+    const std::vector<Point2> closed = with_overcut(p, options.overcut_mm);
+    if (!kp.separate_passes) {
+      const std::vector<Point2> tip = with_passes(closed, kp.passes);
+      append_stroke(tip, kind, 0, options, plan);
+      at = tip.back();  // the next kind is ordered from where the blade tip stands
+      continue;
     }
-    Stroke s{kind, blade_offset_path(tip, options.blade_offset_mm, options.swivel_step_deg)};
-    stats.cut_mm += path_length_mm(s.points);
-    ++stats.strokes;
-    ++stats.pen_lifts;
-    plan.strokes.push_back(std::move(s));
+    const std::vector<std::vector<Point2>> passes = separate_passes(closed, kp.passes);
+    for (std::size_t i = 0; i < passes.size(); ++i) append_stroke(passes[i], kind, static_cast<int>(i), options, plan);
+    at = passes.back().back();
   }
   return at;
 }

@@ -85,6 +85,12 @@ std::vector<Point2> with_passes(const std::vector<Point2>& path, int passes) {
   return out;
 }
 
+std::vector<std::vector<Point2>> separate_passes(const std::vector<Point2>& path, int passes) {
+  std::vector<std::vector<Point2>> out;
+  for (int p = 0; p < passes; ++p) out.push_back(p == 0 ? path : plan_detail::reversed(out.back()));
+  return out;
+}
+
 std::vector<Point2> precut_path(const std::vector<Point2>& tip_path, double precut_mm) {
   if (precut_mm <= 0 || tip_path.size() < 2) return {};
   const Point2 a = tip_path[0], b = tip_path[1];

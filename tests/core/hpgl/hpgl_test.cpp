@@ -36,6 +36,30 @@ TEST(Hpgl, SeparateAbsoluteGolden) {
       << "generic dialect, byte for byte";
 }
 
+// Per-pass settings: the encoder re-sends force and speed where a pass's differ, nothing else.
+TEST(Hpgl, EachPassIsCutWithItsOwnForceAndSpeed) {
+  StrokePlan p;
+  p.sheet = {{-10, -5}, {10, 5}};
+  p.strokes = {{PlanKind::cut, {{-5, 0}, {5, 0}}, false, 0},
+               {PlanKind::cut, {{5, 0}, {-5, 0}}, false, 1},
+               {PlanKind::cut, {{-5, 2}, {5, 2}}, false, 0},
+               {PlanKind::cut, {{5, 2}, {-5, 2}}, false, 1}};
+  std::array<ToolSetting, 4> t{};
+  t[index_of(PlanKind::cut)] = {1, 120, 15, {60, 140}, {10, 5}};
+  EXPECT_EQ(encode_hpgl(p, area({}), t),
+            "IN;SP1;VS10;FS60;PU;PA200,200;PD;PA600,200;VS5;FS140;PU;PA600,200;PD;PA200,200;"
+            "VS10;FS60;PU;PA200,280;PD;PA600,280;VS5;FS140;PU;PA600,280;PD;PA200,280;PU;SP0;")
+      << "light first pass, full second, for every stroke; the knife lifts to take the new force";
+  t[index_of(PlanKind::cut)] = {1, 120, 15, {60, 140}, {}};
+  const std::string force_only = encode_hpgl(p, area({}), t);
+  EXPECT_EQ(force_only.find("VS", force_only.find("VS15") + 1), std::string::npos)
+      << "the speed is sent once: " << force_only;
+  // tool_for_stroke: a pass past the lists' end takes the kind's own values.
+  const Stroke third{PlanKind::cut, {}, false, 2};
+  EXPECT_EQ(tool_for_stroke(t, third), (ToolSetting{1, 120, 15}));
+  EXPECT_EQ(tool_for_stroke(t, p.strokes[1]), (ToolSetting{1, 140, 15}));
+}
+
 // The cutter-language seam: HP-GL behind JobEncoder writes encode_job's bytes and offsets.
 TEST(Hpgl, TheEncoderBehindTheSeamIsEncodeJob) {
   HpglDialect d = area({});

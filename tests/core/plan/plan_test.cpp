@@ -134,6 +134,57 @@ TEST(Passes, GoBackAndForthWithoutLifting) {
   EXPECT_EQ(plan.strokes[0].points.size(), 4u) << "there, back, there";
 }
 
+TEST(Passes, SeparatePassesAreStrokesOfTheirOwnNumberedByPass) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  p.lines = {{LineKind::cut, {10, 5}, {30, 5}}, {LineKind::cut, {10, -5}, {30, -5}}};
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::cut)].passes = 3;
+  o.kinds[index_of(PlanKind::cut)].separate_passes = true;
+  o.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 6u) << "two lines, three passes each";
+  EXPECT_EQ(plan.kinds[index_of(PlanKind::cut)].strokes, 6);
+  EXPECT_EQ(plan.kinds[index_of(PlanKind::cut)].pen_lifts, 6) << "the knife lifts between passes";
+  EXPECT_NEAR(plan.kinds[index_of(PlanKind::cut)].cut_mm, 120.0, 1e-9);
+  for (std::size_t i = 0; i < plan.strokes.size(); ++i) {
+    const Stroke& s = plan.strokes[i];
+    EXPECT_EQ(s.pass, static_cast<int>(i % 3)) << "stroke " << i;
+    ASSERT_EQ(s.points.size(), 2u);
+    if (i % 3 > 0) {
+      const Stroke& before = plan.strokes[i - 1];
+      EXPECT_EQ(s.points.front(), before.points.back()) << "each pass starts where the one before ended";
+      EXPECT_EQ(s.points.back(), before.points.front()) << "and runs the other way";
+    }
+  }
+  // The same passes as one stroke each without separate passes: the same knife path.
+  o.kinds[index_of(PlanKind::cut)].separate_passes = false;
+  const StrokePlan joined = plan_strokes(p, o);
+  ASSERT_EQ(joined.strokes.size(), 2u);
+  EXPECT_EQ(joined.strokes[0].points.front(), plan.strokes[0].points.front());
+  EXPECT_EQ(joined.strokes[0].points.back(), plan.strokes[2].points.back());
+  EXPECT_EQ(joined.strokes[0].pass, 0);
+}
+
+TEST(Passes, APrecutGoesBeforeEveryPassWithItsPass) {
+  Pattern p;
+  p.sheet = {{0, -20}, {40, 20}};
+  p.lines = {{LineKind::cut, {10, 5}, {30, 5}}};
+  PlanOptions o;
+  o.kinds[index_of(PlanKind::cut)].passes = 2;
+  o.kinds[index_of(PlanKind::cut)].separate_passes = true;
+  o.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
+  o.blade_offset_mm = 0.25;
+  o.precut_mm = 1;
+  const StrokePlan plan = plan_strokes(p, o);
+  ASSERT_EQ(plan.strokes.size(), 4u) << "precut, pass 1, precut, pass 2";
+  EXPECT_TRUE(plan.strokes[0].precut);
+  EXPECT_EQ(plan.strokes[2].pass, 1);
+  EXPECT_TRUE(plan.strokes[2].precut);
+  EXPECT_EQ(plan.strokes[3].pass, 1);
+  EXPECT_EQ(plan.kinds[index_of(PlanKind::cut)].precuts, 2);
+}
+
 TEST(Chaining, StrokesRunStraightThroughJunctionsWithoutAVertexThere) {
   Pattern p;
   p.sheet = {{0, -20}, {40, 20}};

@@ -15,18 +15,21 @@ namespace popcut {
 enum class CutterLanguage { hpgl };
 inline constexpr auto kCutterLanguageNames = enum_names<CutterLanguage>({{CutterLanguage::hpgl, "hpgl"}});
 
-// The tool one line kind uses: pen (tool slot), force and speed.
+// The tool one line kind uses: pen (tool slot), force and speed, and optionally its own force
+// and speed for each pass (strokes planned with KindPlan::separate_passes carry Stroke::pass).
 struct ToolSetting {
   int pen = 1;
   double force_g = 100;
   double speed_cm_s = 10;
+  std::vector<double> pass_force_g{};     // [pass]; empty, or a pass past its end: force_g
+  std::vector<double> pass_speed_cm_s{};  // [pass]; empty, or a pass past its end: speed_cm_s
   friend bool operator==(const ToolSetting&, const ToolSetting&) = default;
 };
 
-// The tool setting a stroke is cut with: its kind's. Encoders ask this for every stroke and
-// re-send pen, force and speed where the answer changes, so settings finer than per kind (per
-// pass) need no encoder of their own.
-const ToolSetting& tool_for_stroke(const std::array<ToolSetting, 4>& tools, const Stroke& stroke);
+// The tool setting a stroke is cut with: its kind's, with its pass's force and speed, and no
+// per-pass lists. Encoders ask this for every stroke and re-send pen, force and speed where the
+// answer changes, so per-pass settings need no encoder of their own.
+ToolSetting tool_for_stroke(const std::array<ToolSetting, 4>& tools, const Stroke& stroke);
 
 // Stroke numbers, the one numbering users see (progress, errors, --resume-from): stroke N is the
 // N-th path of plan_in_plotter_units(plan, frame), counted from 1 — the knife-down paths actually

@@ -37,6 +37,10 @@ struct KindPlan {
   int passes = 1;                 // more than one: back and forth along the stroke, knife down
   double perforate_on_mm = 1.0;   // perforate: cut this long...
   double perforate_off_mm = 1.0;  // ...then leave this much uncut; dashes start and end uncut
+  // Each pass a stroke of its own (Stroke::pass), alternating direction, so each pass can be
+  // cut with its own force and speed (a light first pass, a full second one); the knife lifts
+  // between passes. Off: one stroke carries every pass.
+  bool separate_passes = false;
 };
 
 struct PlanOptions {
@@ -64,6 +68,7 @@ struct Stroke {
   PlanKind kind = PlanKind::cut;
   std::vector<Point2> points;
   bool precut = false;  // a blade-turning cut along the next stroke's start (PlanOptions::precut_mm)
+  int pass = 0;         // which of its kind's passes, from 0 (KindPlan::separate_passes; else 0)
   friend bool operator==(const Stroke&, const Stroke&) = default;
 };
 

@@ -2,10 +2,12 @@
 #pragma once
 
 #include <array>
+#include <functional>
 
 namespace popcut {
 
 struct StrokePlan;
+struct Stroke;
 
 // Motion-time model of a plotter.
 struct Kinematics {
@@ -21,5 +23,8 @@ struct TimeEstimate {
 };
 // cut_speed_mm_s per kind (indexed by index_of); every stroke also pays knife down and up.
 TimeEstimate estimate_time(const StrokePlan& plan, const Kinematics& k, const std::array<double, 4>& cut_speed_mm_s);
+// The same with each stroke's own knife-down speed (per-pass speeds differ within a kind).
+TimeEstimate estimate_time(const StrokePlan& plan, const Kinematics& k,
+                           const std::function<double(const Stroke&)>& cut_speed_mm_s);
 
 }  // namespace popcut

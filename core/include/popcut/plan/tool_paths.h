@@ -19,6 +19,9 @@ std::vector<std::vector<Point2>> perforate(const std::vector<Point2>& path, doub
 std::vector<Point2> without_straight_vertices(const std::vector<Point2>& path);
 // `passes` times along the path, turning back at each end, knife down throughout.
 std::vector<Point2> with_passes(const std::vector<Point2>& path, int passes);
+// The same passes as paths of their own (each to be cut as a stroke): the path, then reversed,
+// and so on, so each starts where the one before ended.
+std::vector<std::vector<Point2>> separate_passes(const std::vector<Point2>& path, int passes);
 
 // The tool axis path that makes a drag knife's tip follow `tip_path` (see PlanOptions).
 std::vector<Point2> blade_offset_path(const std::vector<Point2>& tip_path, double offset_mm, double swivel_step_deg);
