@@ -138,10 +138,14 @@ void read_hpgl_section(TomlSection& h, DeviceProfile& p) {
 
 std::unique_ptr<JobEncoder> hpgl_encoder(const DeviceProfile& p) { return std::make_unique<HpglEncoder>(p.dialect); }
 std::unique_ptr<DeviceReader> hpgl_reader() { return std::make_unique<HpglReader>(); }
+double hpgl_speed_cm_s(const DeviceProfile&, double vs) { return vs; }
+std::string hpgl_knife_up(const DeviceProfile& p) {
+  return "PU" + p.dialect.terminator + (p.dialect.newline ? "\n" : "");
+}
 
 }  // namespace
 
-const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",       read_hpgl_section,
-                                    check_abort,          hpgl_encoder, hpgl_reader};
+const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",  read_hpgl_section, check_abort,     hpgl_encoder,
+                                    hpgl_reader,          nullptr, nullptr,           hpgl_speed_cm_s, hpgl_knife_up};
 
 }  // namespace popcut::drivers

@@ -217,6 +217,21 @@ void HpglReader::parse(std::vector<HpglCommand>& out, bool final) {
   pending_.erase(0, i);
 }
 
+std::string HpglReader::answer(const HpglCommand& c, const DeviceFacts& f) const {
+  switch (c.op) {
+    case DeviceOp::query_free_buffer: return std::to_string(f.free_buffer_bytes) + "\r";
+    case DeviceOp::query_idle: return std::string(f.idle ? "8" : "0") + "\r";
+    case DeviceOp::query_io_error: return std::to_string(f.io_error) + "\r";
+    case DeviceOp::query_identity: return "popcut-sim,0\r";
+    case DeviceOp::report_identity: return "popcut-sim\r";
+    case DeviceOp::report_status: return std::string(f.errors ? "48" : "16") + "\r";
+    case DeviceOp::report_position:
+      return std::to_string(f.position[0]) + "," + std::to_string(f.position[1]) + "," + (f.knife_down ? "1" : "0") +
+             "\r";
+    default: return "";
+  }
+}
+
 std::vector<HpglCommand> parse_hpgl(std::string_view text) {
   HpglReader r;
   std::vector<HpglCommand> out;

@@ -1,6 +1,8 @@
 // Job streaming: chunks on command boundaries through the pacer, with status pings, cancel, drain and abort.
 #include "popcut/drivers/job_sender.h"
 
+#include "popcut/drivers/language.h"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -357,8 +359,7 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.error_query = profile.transport.error_query;
   o.baud = profile.transport.baud;
   o.pace_margin_percent = profile.transport.pace_margin_percent;
-  const HpglDialect& d = profile.dialect;
-  o.abort_bytes = profile.transport.abort + "PU" + d.terminator + (d.newline ? "\n" : "");
+  o.abort_bytes = profile.transport.abort + language_unit(profile.language).knife_up(profile);
   o.abort_discards_buffer = profile.transport.abort_discards_buffer;
   return o;
 }

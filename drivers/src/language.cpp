@@ -10,7 +10,7 @@ namespace popcut::drivers {
 namespace {
 
 // One row per value of CutterLanguage, in kCutterLanguageNames order.
-const std::array<const LanguageUnit*, 1> kUnits = {&kHpglLanguage};
+const std::array<const LanguageUnit*, 2> kUnits = {&kHpglLanguage, &kGpglLanguage};
 
 }  // namespace
 

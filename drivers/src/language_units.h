@@ -8,6 +8,7 @@
 namespace popcut::drivers {
 
 extern const LanguageUnit kHpglLanguage;  // hpgl_language.cpp
+extern const LanguageUnit kGpglLanguage;  // gpgl_language.cpp
 
 // [transport] (transport_profile.cpp); the language checks the abort string.
 void read_transport_section(TomlSection& section, const LanguageUnit& language, TransportDefaults& transport);

@@ -47,15 +47,24 @@ void check_turn_not_mirror(TomlSection& dev, const PlotterFrame& d) {
   }
 }
 
-// [device]: the name, the language and the frame every language shares.
-void read_device_section(TomlSection& dev, bool present, DeviceProfile& p) {
+// [device]: the name and the language.
+void read_device_identity(TomlSection& dev, bool present, DeviceProfile& p) {
   if (!present) dev.fail("name", "missing: every profile names its device");
   p.name = dev.text("name", "");
   if (p.name.empty()) dev.fail("name", "must not be empty");
   p.language = dev.choice("language", CutterLanguage::hpgl, kCutterLanguageNames);
   p.family = dev.choice("family", DeviceFamily::generic, kDeviceFamilyNames);
+}
+
+// [device]: the frame every language shares. `language_units` are the units per mm the
+// language's own section fixes (GP-GL's step), or 0 when it does not.
+void read_device_frame(TomlSection& dev, double language_units, const LanguageUnit& language, DeviceProfile& p) {
   PlotterFrame& d = p.dialect;
-  d.units_per_mm_x = dev.number("units_per_mm", 40, 1, 1000);
+  if (language_units > 0 && dev.node("units_per_mm")) {
+    dev.fail("units_per_mm", "a " + std::string(kCutterLanguageNames.name(p.language)) + " device's unit is set in [" +
+                                 std::string(language.section) + "] (step_mm); calibrate with scale_x/scale_y");
+  }
+  d.units_per_mm_x = language_units > 0 ? language_units : dev.number("units_per_mm", 40, 1, 1000);
   d.units_per_mm_y = d.units_per_mm_x;
   // Calibration: real devices differ per axis by up to a few per cent, and their axes may be a
   // fraction of a degree off square (an overlay written by popcut calibrate sets all three).
@@ -69,6 +78,7 @@ void read_device_section(TomlSection& dev, bool present, DeviceProfile& p) {
   d.swap_axes = dev.boolean("swap_axes", false);
   d.flip_x = dev.boolean("flip_x", false);
   d.flip_y = dev.boolean("flip_y", false);
+  d.sheet_at_origin = dev.boolean("sheet_at_origin", false);
   check_turn_not_mirror(dev, d);
   d.allow_negative = dev.boolean("negative_coords", false);
   const double lo = d.allow_negative ? -10000 : 0;
@@ -197,11 +207,21 @@ DeviceProfile read_profile(const toml::table& root, const std::string& source) {
   DeviceProfile p;
   p.source = source;
   TomlSection dev = section("device");
-  read_device_section(dev, root.get("device") != nullptr, p);
-  dev.reject_unknown();
-  // The language's own section, read by its unit.
+  read_device_identity(dev, root.get("device") != nullptr, p);
+  // The language's own section, read by its unit; it may fix the frame's units.
   const LanguageUnit& language = language_unit(p.language);
   TomlSection lang = section(language.section);
+  const double units = language.units_per_mm ? language.units_per_mm(lang) : 0;
+  for (const LanguageUnit* other : language_units()) {
+    if (other != &language && root.get(std::string(other->section))) {
+      throw Error(ErrorCode::invalid_input, source, "[" + std::string(other->section) + "]",
+                  "is for " + std::string(kCutterLanguageNames.name(other->language)) +
+                      " devices, and [device] language is \"" + std::string(kCutterLanguageNames.name(p.language)) +
+                      "\"");
+    }
+  }
+  read_device_frame(dev, units, language, p);
+  dev.reject_unknown();
   language.read_section(lang, p);
   lang.reject_unknown();
   TomlSection transport = section("transport");
@@ -214,6 +234,7 @@ DeviceProfile read_profile(const toml::table& root, const std::string& source) {
   read_plan_section(plan, p.plan);
   plan.reject_unknown();
   read_tool_sections(root, source, p);
+  if (language.check_profile) language.check_profile(p);
   return p;
 }
 

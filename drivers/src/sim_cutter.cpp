@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <ostream>
 #include <utility>
 
@@ -27,7 +28,7 @@ bool SimCutter::holds_line() const {
 }
 
 std::optional<double> SimCutter::next_start_s() const {
-  if (queue_.empty() || frozen()) return std::nullopt;
+  if (queue_.empty() || frozen() || halted()) return std::nullopt;
   return std::max(busy_until_s_, now_s_);
 }
 
@@ -63,7 +64,7 @@ void SimCutter::check_water_marks() {
 }
 
 void SimCutter::advance_to(double t_s) {
-  if (!frozen()) {
+  if (!frozen() && !halted()) {
     double cursor = now_s_;
     while (!queue_.empty() && std::max(busy_until_s_, cursor) <= t_s) {
       const double start = std::max(busy_until_s_, cursor);
@@ -122,7 +123,7 @@ IoResult SimCutter::receive(const std::uint8_t* data, std::size_t size, double m
     if (held) {
       // The line is held while the buffer is full: wait for the executor to make room.
       while (buffer_used() >= cap) {
-        if (frozen() || queue_.empty() || std::max(busy_until_s_, now_s_) > give_up) {
+        if (frozen() || halted() || queue_.empty() || std::max(busy_until_s_, now_s_) > give_up) {
           r.status = {TransportError::timeout, 0, "sim: device buffer full; nothing executed within the timeout"};
           advance_to(give_up);
           return r;
@@ -171,7 +172,7 @@ IoResult SimCutter::reply(std::uint8_t* data, std::size_t size, double max_wait_
     return r;
   }
   while (replies_.empty() && now_s_ < until) {
-    const double next = (!queue_.empty() && !frozen()) ? std::max(busy_until_s_, now_s_) : until;
+    const double next = (!queue_.empty() && !frozen() && !halted()) ? std::max(busy_until_s_, now_s_) : until;
     advance_to(std::min(next, until));
     if (next >= until) break;
   }
@@ -187,7 +188,7 @@ IoResult SimCutter::reply(std::uint8_t* data, std::size_t size, double max_wait_
 }
 
 bool SimCutter::run_to_end(bool input_whole) {
-  if (frozen()) return false;
+  if (frozen() || halted()) return false;
   std::vector<DeviceCommand> tail;
   reader_->finish(tail);  // only what lacked its terminator at the end of the input
   if (!input_whole) {
@@ -202,26 +203,48 @@ bool SimCutter::run_to_end(bool input_whole) {
   return true;
 }
 
+DeviceFacts SimCutter::facts() const {
+  DeviceFacts f;
+  const std::size_t cap = profile_.transport.buffer_bytes;
+  f.free_buffer_bytes = cap - std::min(cap, buffer_used());
+  f.idle = queue_.empty() && busy_until_s_ <= now_s_;
+  f.media_loaded = media_loaded_;
+  f.paused = paused_;
+  f.io_error = io_error_;
+  f.errors = !report_.errors.empty();
+  f.position = pos_;
+  f.knife_down = pen_down_;
+  const PlotterFrame& d = profile_.dialect;
+  f.area_min = {d.area_min_x_pu, d.area_min_y_pu};
+  f.area_max = {d.area_max_x_pu, d.area_max_y_pu};
+  return f;
+}
+
+void SimCutter::drop_buffer() {
+  report_.discarded_bytes += buffer_used();
+  for (const DeviceCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
+  queue_.clear();
+  reader_->discard_pending();
+}
+
 void SimCutter::answer(const DeviceCommand& c) {
   if (frozen()) return;
   switch (c.op) {
     case DeviceOp::query_free_buffer:
-      queue_reply(
-          std::to_string(profile_.transport.buffer_bytes - std::min(profile_.transport.buffer_bytes, buffer_used())) +
-          "\r");
-      break;
     case DeviceOp::query_idle:
-      queue_reply(std::string(queue_.empty() && busy_until_s_ <= now_s_ ? "8" : "0") + "\r");
-      break;
+    case DeviceOp::query_identity:
+    case DeviceOp::query_state: queue_reply(reader_->answer(c, facts())); break;
     case DeviceOp::query_io_error:
-      queue_reply(std::to_string(std::exchange(io_error_, 0)) + "\r");
-      break;  // read clears it, as on HP
-    case DeviceOp::query_identity: queue_reply("popcut-sim,0\r"); break;
-    case DeviceOp::abort:  // drop what is buffered, a command in progress too
-      report_.discarded_bytes += buffer_used();
-      for (const DeviceCommand& q : queue_) queued_bytes_ -= q.buffer_bytes;
-      queue_.clear();
-      reader_->discard_pending();
+      queue_reply(reader_->answer(c, facts()));
+      io_error_ = 0;  // read clears it, as on HP
+      break;
+    case DeviceOp::abort: drop_buffer(); break;  // drop what is buffered, a command in progress too
+    case DeviceOp::initialize:
+      // GP-GL's ESC EOT: the device starts afresh, the knife up and no tool selected.
+      drop_buffer();
+      if (pen_down_) end_stroke();
+      pen_down_ = false;
+      pen_ = 0;
       break;
     case DeviceOp::handshake_setup: break;  // the sim's pacing comes from the profile, so only counted
     default: report_.unknown.push_back({c.offset, c.name, "unknown device-control sequence"}); return;
@@ -289,27 +312,59 @@ void SimCutter::execute(const DeviceCommand& c) {
     case DeviceOp::select_tool:
       knife(false);
       pen_ = static_cast<int>(param(0, 0));
+      // A holder's own force and speed (GP-GL's FXn,t and !n,t) apply once it is selected.
+      if (const auto f = tool_force_.find(pen_); f != tool_force_.end()) force_ = f->second;
+      if (const auto v = tool_speed_.find(pen_); v != tool_speed_.end()) speed_cm_s_ = v->second;
       break;
-    case DeviceOp::speed: speed_cm_s_ = param(0, 0); break;
-    case DeviceOp::force: force_ = param(0, 0); break;
+    case DeviceOp::home:
+      knife(false);
+      move_to({0, 0});
+      break;
+    case DeviceOp::speed: set_tool_value(tool_speed_, speed_cm_s_, speed_cm_s_of(param(0, 0)), c); break;
+    case DeviceOp::force: set_tool_value(tool_force_, force_, param(0, 0), c); break;
     case DeviceOp::no_effect: break;  // e.g. Roland's tool/sheet type: changes no geometry the sim models
     case DeviceOp::knife_up:
     case DeviceOp::knife_down:
       knife(c.op == DeviceOp::knife_down);
       moves();
       break;
+    case DeviceOp::knife_up_relative:
+    case DeviceOp::knife_down_relative: {
+      knife(c.op == DeviceOp::knife_down_relative);
+      const bool was = std::exchange(relative_, true);
+      moves();
+      relative_ = was;
+      break;
+    }
     case DeviceOp::absolute:
     case DeviceOp::relative:
       relative_ = c.op == DeviceOp::relative;
       moves();
       break;
-    case DeviceOp::report_identity: queue_reply("popcut-sim\r"); break;
-    case DeviceOp::report_status: queue_reply(std::string(report_.errors.empty() ? "16" : "48") + "\r"); break;
+    case DeviceOp::report_identity:
+    case DeviceOp::report_status:
     case DeviceOp::report_position:
-      queue_reply(std::to_string(pos_[0]) + "," + std::to_string(pos_[1]) + "," + (pen_down_ ? "1" : "0") + "\r");
-      break;
+    case DeviceOp::report_version:
+    case DeviceOp::report_calibration:
+    case DeviceOp::report_lower_left:
+    case DeviceOp::report_upper_right: queue_reply(reader_->answer(c, facts())); break;
     default: report_.unknown.push_back({c.offset, n, "unknown command"}); break;
   }
+}
+
+double SimCutter::speed_cm_s_of(double value) const {
+  return language_unit(profile_.language).speed_cm_s(profile_, value);
+}
+
+void SimCutter::set_tool_value(std::map<int, double>& per_tool, double& current, double value, const DeviceCommand& c) {
+  // A second parameter names the holder (GP-GL's FXn,t and !n,t); the value applies now only
+  // when that holder is the one selected (or none is yet).
+  if (c.params.size() >= 2) {
+    const int holder = static_cast<int>(c.params[1]);
+    per_tool[holder] = value;
+    if (holder != pen_ && pen_ != 0) return;
+  }
+  current = value;
 }
 
 void SimCutter::write_svg(std::ostream& out) const {

@@ -110,10 +110,15 @@ Placement place_sheet(const Rect& sheet, const PlotterFrame& f) {
                     format_fixed(static_cast<double>(avail_y) / f.units_per_mm_y, 1) + " mm)");
   }
   // The sheet sits in the corner the axes grow from: the usable area's min, or max when flipped.
+  // With sheet_at_origin a flipped axis counts down from the sheet's far edge at the min corner.
   // A skewed top edge that shifts toward the origin corner moves the whole sheet in by as much.
+  const auto origin = [&](bool flip, std::int64_t lo, std::int64_t hi, std::int64_t extent, std::int64_t lean) {
+    if (!flip) return lo - lean;
+    return (f.sheet_at_origin ? lo + extent : hi) + lean;
+  };
   const std::int64_t lean_pu = std::llround(x_range[0] * f.units_per_mm_x);
-  p.origin_x_pu = f.flip_x ? f.area_max_x_pu + lean_pu : f.area_min_x_pu - lean_pu;
-  p.origin_y_pu = f.flip_y ? f.area_max_y_pu : f.area_min_y_pu;
+  p.origin_x_pu = origin(f.flip_x, f.area_min_x_pu, f.area_max_x_pu, p.width_pu, lean_pu);
+  p.origin_y_pu = origin(f.flip_y, f.area_min_y_pu, f.area_max_y_pu, p.height_pu, 0);
   return p;
 }
 

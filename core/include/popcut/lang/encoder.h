@@ -12,8 +12,9 @@
 namespace popcut {
 
 // The languages popcut writes jobs in; a device profile names one ([device] language).
-enum class CutterLanguage { hpgl };
-inline constexpr auto kCutterLanguageNames = enum_names<CutterLanguage>({{CutterLanguage::hpgl, "hpgl"}});
+enum class CutterLanguage { hpgl, gpgl };
+inline constexpr auto kCutterLanguageNames =
+    enum_names<CutterLanguage>({{CutterLanguage::hpgl, "hpgl"}, {CutterLanguage::gpgl, "gpgl"}});
 
 // The tool one line kind uses: pen (tool slot), force and speed, and optionally its own force
 // and speed for each pass (strokes planned with KindPlan::separate_passes carry Stroke::pass).

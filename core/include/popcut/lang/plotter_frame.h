@@ -19,6 +19,9 @@ struct PlotterFrame {
   bool swap_axes = false;  // plotter x runs along the pattern's v; alone a mirror, with one flip a quarter turn
   bool flip_x = false;     // plotter x grows the other way (after any swap)
   bool flip_y = false;
+  // The sheet sits at the usable area's min corner on a flipped axis too (its far edge there),
+  // instead of against the max edge: devices whose origin is the sheet's corner (GP-GL).
+  bool sheet_at_origin = false;
   std::int64_t area_min_x_pu = 0, area_min_y_pu = 0;  // usable area, in plotter units
   std::int64_t area_max_x_pu = 0, area_max_y_pu = 0;
   bool allow_negative = false;

@@ -1,7 +1,9 @@
 // The device-language seam of the simulator: bytes in, commands out, each with what it makes a cutter do.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,12 +27,21 @@ enum class DeviceOp {
   report_identity,  // buffered queries, answered once executed (OI, OS, OA)
   report_status,
   report_position,
+  home,                 // knife up, then to the origin (GP-GL H, TT)
+  knife_up_relative,    // the knife goes up, then moves by params' pairs (GP-GL O)
+  knife_down_relative,  // the knife goes down, then moves by params' pairs (GP-GL E)
+  report_version,       // buffered queries of GP-GL: FG; TB71 and FA (calibration); [ and U (area)
+  report_calibration,
+  report_lower_left,
+  report_upper_right,
   // Device control: bypasses the buffer and is answered at once.
   query_free_buffer,  // ESC.B
   query_idle,         // ESC.O
   query_io_error,     // ESC.E
   query_identity,     // ESC.A
   abort,              // ESC.K: drop what is buffered
+  initialize,         // GP-GL ESC EOT: drop what is buffered, knife up, no tool
+  query_state,        // GP-GL ESC ENQ: ready, moving, media unloaded or paused
   handshake_setup,    // ESC.@, .H, .I, .M, .N, .R, .T: only counted, pacing comes from the profile
   unknown_control,
 };
@@ -46,6 +57,19 @@ struct DeviceCommand {
   // since the command before, which a device stores and discards like any byte.
   std::size_t buffer_bytes = 0;
   bool malformed = false;  // a parameter that is not a number
+};
+
+// What a simulated device knows when it answers a query; each language formats its own answer.
+struct DeviceFacts {
+  std::size_t free_buffer_bytes = 0;
+  bool idle = true;  // nothing buffered, not moving
+  bool media_loaded = true;
+  bool paused = false;
+  int io_error = 0;     // HP's ESC.E code
+  bool errors = false;  // a command was malformed
+  std::array<std::int64_t, 2> position{0, 0};
+  bool knife_down = false;
+  std::array<std::int64_t, 2> area_min{0, 0}, area_max{0, 0};
 };
 
 // An incremental reader of one device language: feed bytes as they arrive; commands come out once
@@ -69,6 +93,9 @@ class DeviceReader {
   // Buffer bytes held for a command not yet complete (a device-control command being received is
   // not among them: those never enter the buffer).
   virtual std::size_t pending() const = 0;
+  // The bytes a device of this language answers the query `c` with (a report_* or query_* op),
+  // or "" for a command that is not one.
+  virtual std::string answer(const DeviceCommand& c, const DeviceFacts& facts) const = 0;
 };
 
 }  // namespace popcut::drivers

@@ -37,6 +37,8 @@ class HpglReader final : public DeviceReader {
   // Buffer bytes held for a command not yet complete (a device-control sequence being received
   // is not among them: those never enter the buffer).
   std::size_t pending() const override { return pending_.size() - synthetic_ + separators_; }
+  // HP-GL answers end with CR: ESC.B free bytes, ESC.O 8 when idle, ESC.E the error code.
+  std::string answer(const HpglCommand& c, const DeviceFacts& facts) const override;
 
  private:
   void parse(std::vector<HpglCommand>& out, bool final);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "popcut/gpgl/gpgl.h"
 #include "popcut/hpgl/hpgl.h"
 #include "popcut/lang/encoder.h"
 #include "popcut/names.h"
@@ -94,6 +95,8 @@ struct DeviceProfile {
   CutterLanguage language = CutterLanguage::hpgl;  // [device] language: the encoder and reader it picks
   // The frame ([device]: units, axes, usable area) every language uses, and [hpgl]'s syntax.
   HpglDialect dialect;
+  // [gpgl]'s syntax for a GP-GL device; its frame part is unused (make_encoder copies dialect's in).
+  GpglDialect gpgl;
   std::array<ToolSetting, 4> tools{};  // indexed by index_of(PlanKind)
   PlanOptions plan;                    // fold gap, turn limit, kind order, per-kind modes
   Kinematics kinematics;

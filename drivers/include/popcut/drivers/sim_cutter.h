@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <iosfwd>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,8 +22,8 @@ namespace popcut::drivers {
 // One knife-down path as the device moved it, in absolute plotter units.
 struct SimStroke {
   int pen = 0;
-  double force = 0;       // as sent (FS / !FS units)
-  double speed_cm_s = 0;  // VS in force when the knife went down
+  double force = 0;       // as sent (FS / !FS / FX units)
+  double speed_cm_s = 0;  // the speed in force when the knife went down
   std::vector<std::array<std::int64_t, 2>> points_pu;
 };
 
@@ -96,6 +97,12 @@ class SimCutter {
   // nothing meanwhile).
   bool holding_off() const { return xoff_; }
 
+  // A device without media, or paused at its panel, executes nothing and says so when asked
+  // (GP-GL ESC ENQ: "2", "3"); bytes still arrive and queries are still answered.
+  void set_media_loaded(bool loaded) { media_loaded_ = loaded; }
+  void set_paused(bool paused) { paused_ = paused; }
+  bool halted() const { return !media_loaded_ || paused_; }
+
   // What it cut, one colour per pen, over the usable area.
   void write_svg(std::ostream& out) const;
 
@@ -110,6 +117,10 @@ class SimCutter {
   void end_stroke();
   void check_water_marks();
   void queue_reply(const std::string& s);
+  DeviceFacts facts() const;
+  void drop_buffer();
+  double speed_cm_s_of(double value) const;
+  void set_tool_value(std::map<int, double>& per_tool, double& current, double value, const DeviceCommand& c);
 
   DeviceProfile profile_;
   SimFaults faults_;
@@ -128,6 +139,9 @@ class SimCutter {
   int pen_ = 0;
   double force_ = 0;
   double speed_cm_s_ = 0;
+  std::map<int, double> tool_force_, tool_speed_;  // per holder, where the language names one
+  bool media_loaded_ = true;
+  bool paused_ = false;
   std::optional<SimStroke> current_;
   std::vector<SimStroke> strokes_;
   SimReport report_;
