@@ -21,7 +21,6 @@
 #include "popcut/drivers/device_plan.h"
 #include "popcut/drivers/job_sender.h"
 #include "popcut/drivers/language.h"
-#include "popcut/drivers/material.h"
 #include "popcut/drivers/send_report.h"
 #include "popcut/text.h"
 #include "popcut/drivers/profile.h"

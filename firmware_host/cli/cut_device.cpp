@@ -25,7 +25,8 @@ const char* const kMaterialHelp =
     "Material (configs/materials/NAME.toml, e.g. card-220): its forces, speeds and passes for the profile's\n"
     "device family replace the profile's own";
 
-DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material) {
+DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material,
+                               std::string* material_source) {
   DeviceProfile profile = drivers::load_profile(profile_path);
   if (material.empty()) return profile;
   drivers::Material m;
@@ -36,6 +37,7 @@ DeviceProfile load_cli_profile(const std::string& profile_path, const std::strin
     throw Error(e.code(), "", "--material", e.message());
   }
   drivers::apply_material(profile, m);
+  if (material_source) *material_source = m.source;
   return profile;
 }
 

@@ -30,8 +30,9 @@ struct SimFaultArgs {
 extern const char* const kMaterialHelp;
 
 // The profile (with its calibration overlay, as load_profile merges it) and --material's settings
-// for its family, when one is given.
-drivers::DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material);
+// for its family, when one is given; `material_source` receives the material's file.
+drivers::DeviceProfile load_cli_profile(const std::string& profile_path, const std::string& material,
+                                        std::string* material_source = nullptr);
 
 // Adds the --sim-* options to `cmd`.
 void add_sim_fault_options(CLI::App& cmd, SimFaultArgs& faults);

@@ -94,22 +94,37 @@ Placed place_test(const Spot& at, const TestCutShape& shape, const DeviceProfile
   return out;
 }
 
+// Where a kind's settings are written: the profile's [tool.KIND], or the material's [family] KIND.
+struct Terms {
+  std::string material_source, family;
+  std::string key(PlanKind k, const char* field) const {
+    const std::string kind(to_string(k));
+    if (material_source.empty()) return "[tool." + kind + "] " + field;
+    return material_source + " [" + family + "] " + kind + " " + field;
+  }
+};
+
+// A list of per-pass values ("70/140"), or the one value.
+std::string values_text(const std::vector<double>& per_pass, double one) {
+  if (per_pass.empty()) return format_decimal(one, 1);
+  std::string out;
+  for (double v : per_pass) out += (out.empty() ? "" : "/") + format_decimal(v, 1);
+  return out;
+}
+
 std::string tool_text(const DeviceProfile& p, PlanKind k) {
   const ToolSetting& t = p.tools[index_of(k)];
   const KindPlan& kp = p.plan.kinds[index_of(k)];
   return "[tool." + std::string(to_string(k)) + "] " + to_string(kp.mode) + ", force_g " +
-         format_decimal(t.force_g, 1) + ", speed_cm_s " + format_decimal(t.speed_cm_s, 1) + ", passes " +
-         std::to_string(kp.passes);
+         values_text(t.pass_force_g, t.force_g) + ", speed_cm_s " + values_text(t.pass_speed_cm_s, t.speed_cm_s) +
+         ", passes " + std::to_string(kp.passes);
 }
 
-// What to look at on the cut test, and what to change in the profile for each fault.
-json advice(const DeviceProfile& p, PlanKind tri, const TestCutShape& s) {
-  const ToolSetting& cut = p.tools[index_of(PlanKind::cut)];
-  const ToolSetting& score = p.tools[index_of(tri)];
-  const auto more = [](double g, double f) { return format_decimal(g * f, 0); };
-  const std::string tri_tool = "[tool." + std::string(to_string(tri)) + "] force_g";
-  const double blade = p.plan.blade_offset_mm;
-  json look = json::array(), adjust = json::array();
+// The force that cuts through: the last pass's where passes have their own.
+double full_force_g(const ToolSetting& t) { return t.pass_force_g.empty() ? t.force_g : t.pass_force_g.back(); }
+
+json look_at(const DeviceProfile& p, PlanKind tri, const TestCutShape& s) {
+  json look = json::array();
   look.push_back("the " + format_decimal(s.square_mm, 1) + " mm square (" + tool_text(p, PlanKind::cut) +
                  ") comes away cleanly: card drops out with no fibres holding it, vinyl weeds off its backing "
                  "without lifting the film around it");
@@ -123,28 +138,40 @@ json advice(const DeviceProfile& p, PlanKind tri, const TestCutShape& s) {
       "corners: sharp and closed, no tearing; not rounded (blade offset too small), no hooks or tails "
       "(too large)");
   look.push_back("the backing sheet or mat under the square: at most a faint line, never cut through");
-  adjust.push_back("square not cut through: raise [tool.cut] force_g by about 10 % (" + format_decimal(cut.force_g, 0) +
-                   " -> " + more(cut.force_g, 1.1) +
-                   ") or set passes = 2; backing or mat cut: lower it by about 10 % (-> " + more(cut.force_g, 0.9) +
-                   ") or shorten the blade (less blade out of the holder: about the "
-                   "material's thickness)");
+  return look;
+}
+
+// What to change, in the terms the settings came from, for each fault.
+json adjust(const DeviceProfile& p, PlanKind tri, const Terms& terms) {
+  const ToolSetting& cut = p.tools[index_of(PlanKind::cut)];
+  const double cut_g = full_force_g(cut), score_g = full_force_g(p.tools[index_of(tri)]);
+  const auto times = [](double g, double f) { return format_decimal(g * f, 0); };
+  const char* force = cut.pass_force_g.empty() ? "force_g" : "pass_force_g (the last pass)";
+  const double blade = p.plan.blade_offset_mm;
+  json out = json::array();
+  out.push_back("square not cut through: raise " + terms.key(PlanKind::cut, force) + " by about 10 % (" +
+                format_decimal(cut_g, 0) + " -> " + times(cut_g, 1.1) + ") or add a pass (" +
+                terms.key(PlanKind::cut, "passes") + "); backing or mat cut: lower it by about 10 % (-> " +
+                times(cut_g, 0.9) +
+                ") or shorten the blade (less blade out of the holder: about the material's "
+                "thickness)");
   if (tri != PlanKind::cut) {
-    adjust.push_back("triangle cut through: lower " + tri_tool + " by about 15 % (" + format_decimal(score.force_g, 0) +
-                     " -> " + more(score.force_g, 0.85) + "); score too faint to fold: raise it by about 15 % (-> " +
-                     more(score.force_g, 1.15) + ")");
+    out.push_back("triangle cut through: lower " + terms.key(tri, "force_g") + " by about 15 % (" +
+                  format_decimal(score_g, 0) + " -> " + times(score_g, 0.85) +
+                  "); score too faint to fold: raise it by about 15 % (-> " + times(score_g, 1.15) + ")");
   }
-  adjust.push_back("torn or ragged corners: lower [tool.cut] speed_cm_s by about a third (" +
-                   format_decimal(cut.speed_cm_s, 1) + " -> " + format_decimal(cut.speed_cm_s * 0.67, 1) +
-                   "), or use a fresh blade");
-  adjust.push_back(
+  out.push_back("torn or ragged corners: lower " + terms.key(PlanKind::cut, "speed_cm_s") + " by about a third (" +
+                format_decimal(cut.speed_cm_s, 1) + " -> " + format_decimal(cut.speed_cm_s * 0.67, 1) +
+                "), or use a fresh blade");
+  out.push_back(
       "rounded corners: raise [plan] blade_offset_mm by 0.05 (" + format_decimal(blade, 2) + " -> " +
       format_decimal(blade + 0.05, 2) + "); hooks or tails at the corners: lower it by 0.05" +
       (p.plan.overcut_mm > 0 ? "" : "; a loop that does not close where it started: set [plan] overcut_mm = 0.5"));
-  return {{"look_at", look}, {"adjust", adjust}};
+  return out;
 }
 
 json test_json(const TestCutCommand& c, const DeviceProfile& p, const Placed& at, const TestCutShape& s, PlanKind tri,
-               const drivers::DevicePlan& plan) {
+               const drivers::DevicePlan& plan, const Terms& terms) {
   const KindStats t = plan.plan.total();
   json r = {{"format", "popcut.test_cut.v1"},
             {"profile", p.source},
@@ -164,14 +191,16 @@ json test_json(const TestCutCommand& c, const DeviceProfile& p, const Placed& at
             {"job_bytes", plan.encoded.bytes.size()},
             {"calibration", drivers::calibration_json(p.calibration)},
             {"material", c.material.empty() ? json(nullptr) : json(c.material)}};
-  r.update(advice(p, tri, s));
+  r["look_at"] = look_at(p, tri, s);
+  r["adjust"] = adjust(p, tri, terms);
   return r;
 }
 
 int run_test_cut(const TestCutCommand& c) {
   return run_guarded(c.json_out, [&] {
     Target target = cut_target(c.device, c.app->count("--device") > 0, c.profile_path);
-    DeviceProfile p = load_cli_profile(target.profile_path, c.material);
+    std::string material_source;
+    DeviceProfile p = load_cli_profile(target.profile_path, c.material, &material_source);
     use_profile_device(target, p);
     const TestCutShape shape = test_cut_shape(c.square_mm);
     const Placed at = place_test(parse_at(c.at, 10), shape, p, c.at);
@@ -184,7 +213,8 @@ int run_test_cut(const TestCutCommand& c) {
     if (!c.out_dir.empty()) write_job_file(c.out_dir, plan.encoded);
     if (!target.note.empty() && !c.json_out) std::cerr << "popcut: " << target.note << "\n";
     const DeviceRun run = run_device_job(target, p, plan, c.faults, c.out_dir, !c.no_progress && !c.json_out);
-    json report = test_json(c, p, at, shape, tri, plan);
+    const Terms terms{material_source, std::string(drivers::kDeviceFamilyNames.name(p.family))};
+    json report = test_json(c, p, at, shape, tri, plan, terms);
     report["transport"] = run.described;
     report["sent"] = drivers::send_result_json(run.sent, plan.encoded.bytes.size());
     if (!run.sim.is_null()) report["sim"] = run.sim;

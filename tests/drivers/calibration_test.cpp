@@ -144,13 +144,58 @@ TEST(MotionSchedule, TimeFactorScalesEveryMark) {
   EXPECT_LT(modelled_motion_s(job, p), plain.back().start_s) << "no first-travel allowance, no factor";
 }
 
-// The device of the round trip: its x runs 0.7 % long, its y 0.4 % short, its y axis leans 0.35°.
-std::array<double, 2> on_paper(const std::array<std::int64_t, 2>& pu) {
-  const double x = static_cast<double>(pu[0]) / 40, y = static_cast<double>(pu[1]) / 40, g = 0.35 * kPi / 180;
+// The device of the round trip: its x runs 0.7 % long, its y 0.4 % short, its y axis leans 0.35°;
+// `units_per_mm` is its nominal resolution.
+std::array<double, 2> on_paper(const std::array<std::int64_t, 2>& pu, double units_per_mm) {
+  const double x = static_cast<double>(pu[0]) / units_per_mm, y = static_cast<double>(pu[1]) / units_per_mm;
+  const double g = 0.35 * kPi / 180;
   return {x * 1.007 + y * 0.996 * std::sin(g), y * 0.996 * std::cos(g)};
 }
 
-// Cuts the frame on the simulator and measures its corners on paper as the distorted device made them.
+using Pu = std::array<std::int64_t, 2>;
+
+// The frame's corners as the simulator cut them: the extreme points of everything cut (a
+// parallelogram with its diagonal and tick), named by where they lie on the plotter's axes.
+struct Corners {
+  Pu lo_lo{}, hi_hi{}, hi_lo{}, lo_hi{};  // (x, y) smallest/largest
+};
+
+Corners corners_of(const std::vector<SimStroke>& strokes) {
+  Corners c;
+  bool first = true;
+  const auto sum = [](const Pu& a) { return a[0] + a[1]; };
+  const auto diff = [](const Pu& a) { return a[0] - a[1]; };
+  for (const SimStroke& s : strokes) {
+    for (const Pu& pt : s.points_pu) {
+      if (first || sum(pt) < sum(c.lo_lo)) c.lo_lo = pt;
+      if (first || sum(pt) > sum(c.hi_hi)) c.hi_hi = pt;
+      if (first || diff(pt) > diff(c.hi_lo)) c.hi_lo = pt;
+      if (first || diff(pt) < diff(c.lo_hi)) c.lo_hi = pt;
+      first = false;
+    }
+  }
+  return c;
+}
+
+// Whether some stroke runs straight from a to b (either way).
+bool joined(const std::vector<SimStroke>& strokes, const Pu& a, const Pu& b) {
+  for (const SimStroke& s : strokes) {
+    for (std::size_t i = 1; i < s.points_pu.size(); ++i) {
+      const Pu& p = s.points_pu[i - 1];
+      const Pu& q = s.points_pu[i];
+      if ((p == a && q == b) || (p == b && q == a)) return true;
+    }
+  }
+  return false;
+}
+
+double distance_on_paper(const Pu& a, const Pu& b, double units_per_mm) {
+  const auto u = on_paper(a, units_per_mm), v = on_paper(b, units_per_mm);
+  return std::hypot(u[0] - v[0], u[1] - v[1]);
+}
+
+// Cuts the frame on the simulator and measures it on paper as a user would: the side the tick
+// stands on is the width, the diagonal is the one that was cut. Also the corner's angle.
 FrameMeasurement cut_and_measure(const DeviceProfile& p, double* corner_deg) {
   DeviceProfile q = p;
   q.plan.kinds[index_of(PlanKind::outline)].mode = ToolMode::skip;
@@ -158,50 +203,58 @@ FrameMeasurement cut_and_measure(const DeviceProfile& p, double* corner_deg) {
   CutSession session("sim", q);
   const CutResult r = session.run(job.encoded, planned_paths(job.plan, q.dialect, 1), {});
   EXPECT_TRUE(r.sim && r.sim->cut_exactly_the_plan());
-  // The corners: the extreme points of everything cut (a parallelogram with its diagonal and tick).
-  std::array<std::int64_t, 2> c00{}, c11{}, c10{}, c01{};
-  bool first = true;
-  for (const SimStroke& s : session.simulator()->strokes()) {
-    for (const auto& pt : s.points_pu) {
-      const auto sum = [](const std::array<std::int64_t, 2>& a) { return a[0] + a[1]; };
-      const auto diff = [](const std::array<std::int64_t, 2>& a) { return a[0] - a[1]; };
-      if (first || sum(pt) < sum(c00)) c00 = pt;
-      if (first || sum(pt) > sum(c11)) c11 = pt;
-      if (first || diff(pt) > diff(c10)) c10 = pt;
-      if (first || diff(pt) < diff(c01)) c01 = pt;
-      first = false;
+  const std::vector<SimStroke>& strokes = session.simulator()->strokes();
+  const Corners c = corners_of(strokes);
+  const double upm = q.dialect.units_per_mm_x / q.calibration.scale_x;  // the device's own, uncalibrated
+  const auto paper = [&](const Pu& a, const Pu& b) { return distance_on_paper(a, b, upm); };
+  // The tick: a stroke end at a side's midpoint (within a unit of rounding).
+  const auto mid = [](const Pu& a, const Pu& b) { return Pu{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2}; };
+  const auto near = [](const Pu& a, const Pu& b) { return std::abs(a[0] - b[0]) <= 1 && std::abs(a[1] - b[1]) <= 1; };
+  const auto tick_on = [&](const Pu& a, const Pu& b) {
+    for (const SimStroke& s : strokes) {
+      for (const Pu& e : {s.points_pu.front(), s.points_pu.back()}) {
+        if (near(e, mid(a, b))) return true;
+      }
     }
-  }
-  const auto a = on_paper(c00), b = on_paper(c10), c = on_paper(c01), d = on_paper(c11);
-  const auto dist = [](std::array<double, 2> u, std::array<double, 2> v) {
-    return std::hypot(u[0] - v[0], u[1] - v[1]);
+    return false;
   };
-  const double ux = b[0] - a[0], uy = b[1] - a[1], vx = c[0] - a[0], vy = c[1] - a[1];
+  const bool width_along_x = tick_on(c.lo_lo, c.hi_lo) || tick_on(c.lo_hi, c.hi_hi);
+  const double along_x = paper(c.lo_lo, c.hi_lo), along_y = paper(c.lo_lo, c.lo_hi);
+  const bool main_diagonal = joined(strokes, c.lo_lo, c.hi_hi);
+  EXPECT_NE(main_diagonal, joined(strokes, c.hi_lo, c.lo_hi)) << "one diagonal is cut";
+  const auto a = on_paper(c.lo_lo, upm), b = on_paper(c.hi_lo, upm), d = on_paper(c.lo_hi, upm);
+  const double ux = b[0] - a[0], uy = b[1] - a[1], vx = d[0] - a[0], vy = d[1] - a[1];
   *corner_deg = std::acos((ux * vx + uy * vy) / (std::hypot(ux, uy) * std::hypot(vx, vy))) * 180 / kPi;
-  return {dist(a, b), dist(a, c), dist(a, d)};
+  return {width_along_x ? along_x : along_y, width_along_x ? along_y : along_x,
+          main_diagonal ? paper(c.lo_lo, c.hi_hi) : paper(c.hi_lo, c.lo_hi)};
 }
 
 TEST_F(OverlayDir, DistortedSimulatorIsCorrectedByItsOwnMeasurement) {
-  double corner = 0;
-  const DeviceProfile before = load_profile(kSim);
-  const FrameMeasurement m = cut_and_measure(before, &corner);
-  EXPECT_NEAR(m.width_mm, 100.7, 0.05);
-  EXPECT_NEAR(corner, 90 - 0.35, 0.02);
-  const DeviceCalibration& now = before.calibration;
-  const AxisCalibration cal = calibrate_axes({100, 150}, m, before.dialect, {now.scale_x, now.scale_y, now.skew_deg});
-  CalibrationOverlay o;
-  o.scale_x = cal.correction.scale_x;
-  o.scale_y = cal.correction.scale_y;
-  o.skew_deg = cal.correction.skew_deg;
-  save_calibration_overlay(calibration_overlay_path(kSim), o);
-  // The next job on the profile picks the overlay up and lands right on paper.
-  const DeviceProfile after = load_profile(kSim);
-  ASSERT_FALSE(after.calibration.overlay.empty());
-  const FrameMeasurement fixed = cut_and_measure(after, &corner);
-  EXPECT_NEAR(fixed.width_mm, 100, 0.04);
-  EXPECT_NEAR(fixed.height_mm, 150, 0.04);
-  EXPECT_NEAR(fixed.diagonal_mm, std::hypot(100.0, 150.0), 0.04);
-  EXPECT_NEAR(corner, 90, 0.02);
+  // sim: HP-GL's frame; the Cameo 4: GP-GL, turned a quarter (swap_axes, flip_x, sheet_at_origin).
+  for (const std::string name : {"sim", "silhouette-cameo4"}) {
+    const std::string profile = std::string(POPCUT_SOURCE_DIR) + "/configs/devices/" + name + ".toml";
+    double corner = 0;
+    const DeviceProfile before = load_profile(profile);
+    const FrameMeasurement m = cut_and_measure(before, &corner);
+    EXPECT_NEAR(corner, 90 - 0.35, 0.03) << name;
+    EXPECT_GT(std::abs(m.width_mm - 100) + std::abs(m.height_mm - 150), 0.5) << name << ": visibly off before";
+    const DeviceCalibration& now = before.calibration;
+    const AxisCalibration cal = calibrate_axes({100, 150}, m, before.dialect, {now.scale_x, now.scale_y, now.skew_deg});
+    CalibrationOverlay o;
+    o.scale_x = cal.correction.scale_x;
+    o.scale_y = cal.correction.scale_y;
+    o.skew_deg = cal.correction.skew_deg;
+    save_calibration_overlay(calibration_overlay_path(profile), o);
+    // The next job on the profile picks the overlay up and lands right on paper (a 0.05 mm GP-GL
+    // step rounds coarser than HP-GL's 0.025 mm).
+    const DeviceProfile after = load_profile(profile);
+    ASSERT_FALSE(after.calibration.overlay.empty()) << name;
+    const FrameMeasurement fixed = cut_and_measure(after, &corner);
+    EXPECT_NEAR(fixed.width_mm, 100, 0.06) << name;
+    EXPECT_NEAR(fixed.height_mm, 150, 0.06) << name;
+    EXPECT_NEAR(fixed.diagonal_mm, std::hypot(100.0, 150.0), 0.06) << name;
+    EXPECT_NEAR(corner, 90, 0.03) << name;
+  }
 }
 
 }  // namespace

@@ -112,9 +112,22 @@ TEST_F(CliCalibrate, TestCutRefusesASpotWhereItDoesNotFitNamingTheArea) {
   EXPECT_NE(r.err.find("--at: 'ten,10' is not X,Y in mm"), std::string::npos) << r.err;
   r = popcut("test-cut --device sim --size-mm 60");
   EXPECT_EQ(r.code, 2) << r.err;
-  r = popcut("test-cut --device sim --material card-220");
+  r = popcut("test-cut --device sim --material no-such-stock");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--material: 'card-220'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--material"), std::string::npos) << r.err;
+}
+
+TEST_F(CliCalibrate, TestCutWithAMaterialAdvisesInTheMaterialsTerms) {
+  const CliRun r = popcut("test-cut --device sim --material card-220 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json j = last_json(r.out);
+  EXPECT_EQ(j["material"], "card-220");
+  EXPECT_NE(j["square"]["tool"].get<std::string>().find("force_g 70/140"), std::string::npos) << j["square"];
+  const std::string first = j["adjust"][0].get<std::string>();
+  EXPECT_NE(first.find("card-220.toml [generic] cut pass_force_g (the last pass) by about 10 % (140 -> 154)"),
+            std::string::npos)
+      << first;
+  EXPECT_TRUE(j["sim"]["strokes_match_plan"].get<bool>());
 }
 
 TEST_F(CliCalibrate, CalibrateWritesTheOverlayAndEveryLaterJobUsesIt) {
