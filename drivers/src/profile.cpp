@@ -101,8 +101,11 @@ void read_kinematics_section(TomlSection& k, DeviceProfile& p) {
   out.knife_up_s = k.number("knife_up_s", 0.03, 0, 10);
   out.knife_down_s = k.number("knife_down_s", 0.03, 0, 10);
   // The device's real pace over the model's, as calibrate measures it; the sender's motion model
-  // (motion_schedule) scales by it, the simulator's own clock does not.
-  p.calibration.time_factor = k.number("time_factor", 1, kMinTimeFactor, kMaxTimeFactor);
+  // (motion_schedule) scales by it, the simulator's own clock does not. A pace that was measured
+  // lets time pacing use the smaller pace_margin_calibrated_percent.
+  const std::optional<double> time_factor = k.optional_number("time_factor", kMinTimeFactor, kMaxTimeFactor);
+  p.calibration.time_factor = time_factor.value_or(1);
+  p.transport.pace_measured = time_factor.has_value();
 }
 
 // [plan]: the planner's options for this device (the per-kind modes come from [tool.*]).
