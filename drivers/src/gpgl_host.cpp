@@ -61,6 +61,7 @@ class GpglHost final : public HostProtocol {
            "): check [device] language and that the profile is the device's, then the cable and the port";
   }
   DrainQuery default_query() const override { return DrainQuery::esc_enq; }
+  bool init_resets_device() const override { return true; }  // ESC EOT
 };
 
 const GpglHost kGpglHost;

@@ -197,6 +197,7 @@ class HpglHost final : public HostProtocol {
            "device's";
   }
   DrainQuery default_query() const override { return DrainQuery::none; }
+  bool init_resets_device() const override { return false; }  // IN runs in order, after what is buffered
 };
 
 const HpglHost kHpglHost;

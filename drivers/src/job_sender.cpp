@@ -4,6 +4,8 @@
 #include "popcut/drivers/language.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -124,10 +126,37 @@ class Sender {
   bool check_device_first() {
     if (session_.query != DrainQuery::none && !channel_.ask(session_.query, "before sending")) return false;
     if (session_.device_stop() != DeviceStop::none) return false;  // no sheet, or paused: nothing goes out
+    if (!wait_while_busy()) return false;
     // Reading ESC.E clears it: an error left from before this job must not fail it. A device
     // the profile says answers ESC.E and does not is found here, before any byte of the job.
     return !session_.options.error_query || !session_.transport.answers() ||
            channel_.ask(DrainQuery::esc_e, "before sending");
+  }
+
+  // A device still cutting an earlier job (a resume sent at once, another program's job) would
+  // drop what it holds at this job's init where that resets it: ask until it is idle, up to
+  // hold_timeout. False with the status set, or on a cancel or a device stop meanwhile.
+  bool wait_while_busy() {
+    if (session_.query == DrainQuery::none || !session_.host.init_resets_device()) return true;
+    const auto busy = [&] {
+      return session_.host.meaning(session_.query, channel_.last_answer()) == StatusMeaning::busy;
+    };
+    const auto start = session_.transport.now();
+    while (busy()) {
+      if (session_.user_cancelled() || session_.device_stop() != DeviceStop::none) return false;
+      if (session_.transport.now() - start >= session_.options.hold_timeout) {
+        session_.result.status = {
+            TransportError::timeout, ETIMEDOUT,
+            "the device was still busy (" + session_.query_name(session_.query) + " answers) after " +
+                std::to_string(session_.options.hold_timeout.count() / 1000) +
+                " s, cutting an earlier job: the job's init would reset it and drop what it holds, so nothing "
+                "was sent; wait until it stops, or reset it"};
+        return false;
+      }
+      if (!channel_.take_replies(std::chrono::milliseconds(250))) return false;  // a pause between questions
+      if (!channel_.ask(session_.query, "while waiting for an earlier job to end")) return false;
+    }
+    return session_.device_stop() == DeviceStop::none;
   }
 
   // Every job byte, paced, or up to the command in flight at a cancel. False with the status set.

@@ -2,6 +2,7 @@
 // paused) and a profile talking to a device of another language.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -241,6 +242,36 @@ TEST(GpglStatus, ADeviceThatStopsMidJobEndsItWithTheKnifeUpAndTheResumeCutsTheRe
     ASSERT_TRUE(rest.sent.complete()) << rest.sent.status.message;
     EXPECT_FALSE(rest.mismatch) << what << ": the resume cuts strokes M+1.. exactly";
   }
+}
+
+// GP-GL's init (ESC EOT) resets the device: a job sent while it still cuts an earlier one (a
+// resume sent at once, say) waits until it answers ready, so the earlier strokes are all cut.
+TEST(GpglStatus, AJobWaitsForTheDeviceToFinishAnEarlierOneBeforeItsInitResetsIt) {
+  const DeviceProfile p = cameo();
+  const StrokePlan plan = townhouse_plan(p);
+  const EncodedJob job = encode_for_device(plan, p);
+  auto cutter = std::make_shared<SimCutter>(p);
+  cutter->preload(job.bytes);  // the earlier job, all in its buffer: it is cutting
+  SimTransport t(cutter);
+  ASSERT_TRUE(t.open().ok());
+  SendOptions o = send_options(p);
+  o.motion = motion_schedule(job.bytes, p);
+  const SendResult sent = send_job(t, job, o);
+  ASSERT_TRUE(sent.complete()) << sent.status.message;
+  ASSERT_TRUE(cutter->run_to_end());
+  EXPECT_EQ(cutter->strokes().size(), 2 * job.total_strokes) << "both jobs cut whole, one after the other";
+  EXPECT_GT(sent.status_queries, 3) << "asked until the device was ready";
+
+  // A device that stays busy past hold_timeout: nothing is sent, and the message says why.
+  auto stuck = std::make_shared<SimCutter>(p, SimFaults{std::nullopt, std::nullopt, 50});
+  stuck->preload(job.bytes);
+  SimTransport st(stuck);
+  ASSERT_TRUE(st.open().ok());
+  o.hold_timeout = std::chrono::milliseconds(5000);
+  const SendResult refused = send_job(st, job, o);
+  EXPECT_FALSE(refused.status.ok());
+  EXPECT_EQ(refused.bytes_sent, 0u);
+  EXPECT_NE(refused.status.message.find("still busy"), std::string::npos) << refused.status.message;
 }
 
 // An HP-GL plotter ignores ESC ENQ: a GP-GL profile talking to one hears nothing and says which

@@ -49,6 +49,9 @@ class HostProtocol {
   virtual std::string mismatch_hint(std::string_view heard) const = 0;
   // The drain query a profile of this language gets when it names none (none: do not ask).
   virtual DrainQuery default_query() const = 0;
+  // The job's init resets the device and drops what its buffer holds (GP-GL's ESC EOT): a job
+  // must not start while the device still cuts an earlier one.
+  virtual bool init_resets_device() const = 0;
 };
 
 // One language's part in the drivers; each language unit defines one (hpgl_language.cpp,
