@@ -37,7 +37,8 @@ TEST_F(ImportSize, TallMeshWarnsNamingTheDevicesAndSizes) {
   EXPECT_NE(r.err.find(" does not fit generic-hpgl (at most 599.975 x 999.975 mm)"), std::string::npos)
       << "names the device and its size: " << r.err;
   EXPECT_NE(r.err.find("use --fit-mm sim"), std::string::npos) << "and says what to do: " << r.err;
-  EXPECT_EQ(r.err.find("does not fit graphtec-ce ("), std::string::npos) << "the roll takes it along its feed: " << r.err;
+  EXPECT_EQ(r.err.find("does not fit graphtec-ce ("), std::string::npos)
+      << "the roll takes it along its feed: " << r.err;
   const CliRun j = run("import " + tower() + " -o " + out("t.json") + " --json");
   ASSERT_EQ(j.code, 0) << j.err;
   const json report = json::parse(j.out);
@@ -66,7 +67,8 @@ TEST_F(ImportSize, HeightAndFitSizeTheCard) {
   const std::string warnings = j["warnings"].dump();
   EXPECT_NE(warnings.find("does not fit roland-gx24"), std::string::npos)
       << "the narrower roll is warned of: " << r.out;
-  EXPECT_EQ(warnings.find("does not fit graphtec-ce ("), std::string::npos) << "not the roll it was fitted to: " << r.out;
+  EXPECT_EQ(warnings.find("does not fit graphtec-ce ("), std::string::npos)
+      << "not the roll it was fitted to: " << r.out;
   const CliRun cut = run("plan " + out("t.json") + " --profile " + std::string(POPCUT_SOURCE_DIR) +
                          "/configs/devices/graphtec-ce.toml -o " + out("t.hpgl"));
   EXPECT_EQ(cut.code, 0) << "the fitted card plans for that device: " << cut.err;
