@@ -163,9 +163,13 @@ json adjust(const DeviceProfile& p, PlanKind tri, const Terms& terms) {
   out.push_back("torn or ragged corners: lower " + terms.key(PlanKind::cut, "speed_cm_s") + " by about a third (" +
                 format_decimal(cut.speed_cm_s, 1) + " -> " + format_decimal(cut.speed_cm_s * 0.67, 1) +
                 "), or use a fresh blade");
+  // A GP-GL device that turns its blade itself (FC) has its offset there, not in popcut's plan.
+  const bool device_offset = p.language == CutterLanguage::gpgl && p.gpgl.cutter_offset_mm && blade == 0;
+  const std::string offset_key = device_offset ? "[gpgl] cutter_offset_mm" : "[plan] blade_offset_mm";
+  const double offset = device_offset ? *p.gpgl.cutter_offset_mm : blade;
   out.push_back(
-      "rounded corners: raise [plan] blade_offset_mm by 0.05 (" + format_decimal(blade, 2) + " -> " +
-      format_decimal(blade + 0.05, 2) + "); hooks or tails at the corners: lower it by 0.05" +
+      "rounded corners: raise " + offset_key + " by 0.05 (" + format_decimal(offset, 2) + " -> " +
+      format_decimal(offset + 0.05, 2) + "); hooks or tails at the corners: lower it by 0.05" +
       (p.plan.overcut_mm > 0 ? "" : "; a loop that does not close where it started: set [plan] overcut_mm = 0.5"));
   return out;
 }

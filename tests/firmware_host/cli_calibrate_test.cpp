@@ -130,6 +130,25 @@ TEST_F(CliCalibrate, TestCutWithAMaterialAdvisesInTheMaterialsTerms) {
   EXPECT_TRUE(j["sim"]["strokes_match_plan"].get<bool>());
 }
 
+TEST_F(CliCalibrate, TestCutAndCalibrateSpeakGpgl) {
+  const std::string cameo = std::string(POPCUT_SOURCE_DIR) + "/configs/devices/silhouette-cameo4.toml";
+  CliRun r = popcut("test-cut --device sim --profile " + cameo + " --at 20,30 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  json j = last_json(r.out);
+  EXPECT_TRUE(j["sim"]["strokes_match_plan"].get<bool>());
+  EXPECT_NEAR(j["box_mm"]["max_x"].get<double>(), 20 + 28 * std::sqrt(3.0) / 2, 1e-3) << "turned: the height along x";
+  EXPECT_NE(j["adjust"].back().get<std::string>().find("[gpgl] cutter_offset_mm by 0.05 (0.9 -> 0.95)"),
+            std::string::npos)
+      << j["adjust"].back();
+  r = popcut("calibrate --device sim --profile " + cameo + " --json " + kMeasured);
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = last_json(r.out);
+  // A quarter turn: the frame's 100 mm width ran along the plotter's y.
+  EXPECT_DOUBLE_EQ(j["error"]["side_x_mm"].get<double>(), 150);
+  EXPECT_NEAR(j["correction"]["scale_y"].get<double>(), 100 / 100.4, 1e-5);
+  EXPECT_TRUE(fs::exists(cal_dir() / "silhouette-cameo4.toml"));
+}
+
 TEST_F(CliCalibrate, CalibrateWritesTheOverlayAndEveryLaterJobUsesIt) {
   const std::string model = std::string(POPCUT_SOURCE_DIR) + "/examples/voxel/box.json";
   CliRun before = popcut("plan " + model + " --profile " + POPCUT_SOURCE_DIR + "/configs/devices/sim.toml -o " +
