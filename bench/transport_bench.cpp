@@ -167,7 +167,9 @@ void BM_BytesPerMm(benchmark::State& state) {
 // how much longer the job takes than the device's own motion (it waits for bytes), and the most
 // the 256-byte buffer held, with the shipped margin (range 1: 25 %) or a calibrated device's
 // (10 %), for a device as fast as the plan (range 2: 0) or exactly the margin slower (1), that
-// cannot be asked or answers its language's status query (range 3: ESC.O, ESC ENQ in GP-GL).
+// cannot be asked or answers its language's status query (range 3: ESC.O, ESC ENQ in GP-GL),
+// starting anywhere or (range 4: 1) where its finish parks the head ([kinematics] starts_at
+// "origin", an HP-GL finish made absolute where the shipped one is not).
 // Timed: building the motion schedule the pacing follows.
 void BM_TimePaced(benchmark::State& state) {
   const std::vector<std::string> files = testing::shipped_profiles();
@@ -179,15 +181,23 @@ void BM_TimePaced(benchmark::State& state) {
   const drivers::DrainQuery asked = own == drivers::DrainQuery::none ? drivers::DrainQuery::esc_o : own;
   p.transport.drain_query = state.range(3) ? asked : drivers::DrainQuery::none;
   p.transport.error_query = false;
+  if (state.range(4)) {
+    if (p.language == CutterLanguage::hpgl) p.dialect.finish = "PU;PA0,0;SP0;";
+    p.starts_at = drivers::StartsAt::origin;
+  }
   const EncodedJob job = drivers::encode_for_device(plan_of("townhouse.json", p), p);
   drivers::SendOptions o = drivers::send_options(p);
   o.pace_margin_percent = static_cast<int>(state.range(1));
   for (auto _ : state) {
-    o.motion = drivers::motion_schedule(job.bytes, p);
+    o.motion = drivers::motion_schedule(job, p);
     benchmark::DoNotOptimize(o.motion);
   }
   const double slowdown = state.range(2) ? 1 + o.pace_margin_percent / 100.0 : 1.0;
   auto cutter = std::make_shared<drivers::SimCutter>(p, drivers::SimFaults{std::nullopt, std::nullopt, slowdown});
+  // Where the last job's finish left it (nothing: at the origin).
+  if (state.range(4)) cutter->preload(drivers::language_unit(p.language).park(p));
+  cutter->run_to_end();
+  const double start_s = cutter->now_s();
   drivers::SimTransport t(cutter);
   if (!t.open().ok()) throw std::runtime_error("sim transport did not open");
   const drivers::SendResult r = drivers::send_job(t, job, o);
@@ -196,9 +206,10 @@ void BM_TimePaced(benchmark::State& state) {
   state.counters["margin"] = static_cast<double>(o.pace_margin_percent);
   state.counters["slowdown"] = slowdown;
   state.counters["esc_o"] = static_cast<double>(state.range(3));
+  state.counters["parked"] = static_cast<double>(state.range(4));
   state.counters["complete"] = r.complete() ? 1 : 0;
   const double motion_s = cutter->report().motion_time_s;
-  state.counters["job_over_motion"] = cutter->report().clock_s / motion_s;
+  state.counters["job_over_motion"] = (cutter->report().clock_s - start_s) / motion_s;
   // The schedule over the device's motion at the plan's pace: the first-travel allowance.
   state.counters["schedule_over_motion"] = o.motion.back().start_s * slowdown / motion_s;
   state.counters["max_used"] = static_cast<double>(cutter->report().max_buffer_used);
@@ -323,7 +334,16 @@ BENCHMARK(BM_TimePaced)
     ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1, 1),
                    {25, 10},
                    {0, 1},
-                   {0, 1}})
+                   {0, 1},
+                   {0}})
+    ->MinTime(0.05)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TimePaced)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(testing::shipped_profiles().size()) - 1, 1),
+                   {10},
+                   {0, 1},
+                   {0},
+                   {1}})
     ->MinTime(0.05)
     ->Unit(benchmark::kMillisecond);
 #if POPCUT_BENCH_USB
@@ -359,18 +379,18 @@ int main(int argc, char** argv) {
                   100 * r.counters.at("line_fraction"));
     }
     std::printf("\ntime pacing (flow none) on the simulator's virtual clock, townhouse, 256-byte buffer\n");
-    std::printf("%-16s %-7s %-9s %-7s %-9s %-12s %-13s %-9s %-9s %-12s\n", "profile", "margin", "slowdown", "ESC.O",
-                "complete", "job/motion", "sched/motion", "max used", "overflow", "schedule ms");
+    std::printf("%-16s %-7s %-9s %-7s %-7s %-9s %-12s %-13s %-9s %-9s %-12s\n", "profile", "margin", "slowdown",
+                "ESC.O", "start", "complete", "job/motion", "sched/motion", "max used", "overflow", "schedule ms");
     const std::vector<std::string> names = popcut::testing::shipped_profiles();
     for (const auto& r : rep.rows()) {
       if (r.name.rfind("BM_TimePaced", 0) != 0) continue;
       const std::size_t i = static_cast<std::size_t>(std::stoi(r.name.substr(r.name.find('/') + 1)));
-      std::printf("%-16s %-7s %-9.2f %-7s %-9s %-12.3f %-13.3f %-9.0f %-9.0f %-12.2f\n",
+      std::printf("%-16s %-7s %-9.2f %-7s %-7s %-9s %-12.3f %-13.3f %-9.0f %-9.0f %-12.2f\n",
                   fs::path(names[i]).stem().c_str(),
                   (std::to_string(static_cast<int>(r.counters.at("margin"))) + " %").c_str(), r.counters.at("slowdown"),
-                  r.counters.at("esc_o") != 0 ? "asked" : "-", r.counters.at("complete") != 0 ? "yes" : "NO",
-                  r.counters.at("job_over_motion"), r.counters.at("schedule_over_motion"), r.counters.at("max_used"),
-                  r.counters.at("overflow"), r.ms);
+                  r.counters.at("esc_o") != 0 ? "asked" : "-", r.counters.at("parked") != 0 ? "parked" : "any",
+                  r.counters.at("complete") != 0 ? "yes" : "NO", r.counters.at("job_over_motion"),
+                  r.counters.at("schedule_over_motion"), r.counters.at("max_used"), r.counters.at("overflow"), r.ms);
     }
     std::printf(
         "\nGP-GL (silhouette-cameo4) next to HP-GL's streaming above: job time over the device's motion time\n");

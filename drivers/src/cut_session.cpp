@@ -103,7 +103,7 @@ SendResult CutSession::send(const EncodedJob& job, const CutControl& control) {
   // The device's pace: a real device (or a printer node) holds up to a buffer of motion after the
   // last byte, and one with no handshake is paced by it (the simulator too, on its virtual clock).
   // A plain file needs no waiting.
-  if (!plain_file()) opts.motion = motion_schedule(job.bytes, profile_);
+  if (!plain_file()) opts.motion = motion_schedule(job, profile_);
   opts.cancel = control.cancel;
   opts.give_up = control.give_up;
   opts.waiting_to_cancel = control.waiting_to_cancel;

@@ -178,6 +178,12 @@ std::string gpgl_knife_up(const DeviceProfile& p) {
   return "M" + std::to_string(p.dialect.area_min_x_pu) + "," + std::to_string(p.dialect.area_min_y_pu) + kGpglEtx;
 }
 
+// As encode_gpgl_job's finish: the origin corner (the knife-up's move), home, or nowhere.
+std::string gpgl_park(const DeviceProfile& p) {
+  if (p.gpgl.finish == GpglFinish::origin) return gpgl_knife_up(p);
+  return p.gpgl.finish == GpglFinish::home ? std::string("H") + kGpglEtx : std::string();
+}
+
 std::unique_ptr<JobEncoder> gpgl_encoder(const DeviceProfile& p) {
   GpglDialect d = p.gpgl;
   static_cast<PlotterFrame&>(d) = p.dialect;  // the frame is [device]'s, calibration included
@@ -189,6 +195,6 @@ std::unique_ptr<DeviceReader> gpgl_reader() { return std::make_unique<GpglReader
 
 const LanguageUnit kGpglLanguage = {CutterLanguage::gpgl, "gpgl",        read_gpgl_section, check_abort,
                                     gpgl_encoder,         gpgl_reader,   gpgl_units_per_mm, check_gpgl_profile,
-                                    gpgl_speed_cm_s,      gpgl_knife_up, gpgl_host_protocol};
+                                    gpgl_speed_cm_s,      gpgl_knife_up, gpgl_park,         gpgl_host_protocol};
 
 }  // namespace popcut::drivers

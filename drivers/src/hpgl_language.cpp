@@ -209,11 +209,12 @@ double hpgl_speed_cm_s(const DeviceProfile&, double vs) { return vs; }
 std::string hpgl_knife_up(const DeviceProfile& p) {
   return "PU" + p.dialect.terminator + (p.dialect.newline ? "\n" : "");
 }
+std::string hpgl_park(const DeviceProfile& p) { return p.dialect.finish; }
 
 }  // namespace
 
 const LanguageUnit kHpglLanguage = {CutterLanguage::hpgl, "hpgl",        read_hpgl_section, check_abort,
                                     hpgl_encoder,         hpgl_reader,   nullptr,           nullptr,
-                                    hpgl_speed_cm_s,      hpgl_knife_up, hpgl_host};
+                                    hpgl_speed_cm_s,      hpgl_knife_up, hpgl_park,         hpgl_host};
 
 }  // namespace popcut::drivers

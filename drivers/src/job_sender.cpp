@@ -432,7 +432,10 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.pace_margin_percent = profile.transport.pace_measured ? profile.transport.pace_margin_calibrated_percent
                                                           : profile.transport.pace_margin_percent;
   o.language = profile.language;
-  o.abort_bytes = profile.transport.abort + language_unit(profile.language).knife_up(profile);
+  const LanguageUnit& language = language_unit(profile.language);
+  o.abort_bytes = profile.transport.abort + language.knife_up(profile);
+  // The next job's pacing takes the head to be where the finish leaves it.
+  if (profile.starts_at == StartsAt::origin) o.abort_bytes += language.park(profile);
   o.abort_discards_buffer = profile.transport.abort_discards_buffer;
   return o;
 }

@@ -14,6 +14,7 @@
 #include "language_units.h"
 #include "popcut/drivers/calibration.h"
 #include "popcut/drivers/language.h"
+#include "popcut/drivers/motion_model.h"
 #include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
@@ -106,6 +107,7 @@ void read_kinematics_section(TomlSection& k, DeviceProfile& p) {
   const std::optional<double> time_factor = k.optional_number("time_factor", kMinTimeFactor, kMaxTimeFactor);
   p.calibration.time_factor = time_factor.value_or(1);
   p.transport.pace_measured = time_factor.has_value();
+  p.starts_at = k.choice("starts_at", StartsAt::anywhere, kStartsAtNames);
 }
 
 // [plan]: the planner's options for this device (the per-kind modes come from [tool.*]).
@@ -238,6 +240,7 @@ DeviceProfile read_profile(const toml::table& root, const std::string& source) {
   plan.reject_unknown();
   read_tool_sections(root, source, p);
   if (language.check_profile) language.check_profile(p);
+  check_starts_at(p);
   return p;
 }
 

@@ -14,6 +14,7 @@
 #include "popcut/drivers/motion_model.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/error.h"
+#include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
 #include "shipped_profiles.h"
 
@@ -54,7 +55,7 @@ PacedJob pace(const DeviceProfile& p, const EncodedJob& job, int margin_percent,
   SimTransport t(cutter);
   EXPECT_TRUE(t.open().ok());
   SendOptions o = send_options(p);
-  o.motion = motion_schedule(job.bytes, p);
+  o.motion = motion_schedule(job, p);
   o.pace_margin_percent = margin_percent;
   PacedJob r;
   r.model_end_s = o.motion.back().start_s;
@@ -185,6 +186,100 @@ TEST(TimePacing, TheCalibratedMarginIsReadAndChecked) {
           << e.what();
     }
   }
+}
+
+// A device that stands where its finish leaves the head when a job starts ([kinematics] starts_at
+// "origin"), the finish made absolute where a shipped HP-GL one is not, calibrated.
+DeviceProfile parked(DeviceProfile p) {
+  if (p.language == CutterLanguage::hpgl) p.dialect.finish = "PU;PA0,0;SP0;";
+  p.starts_at = StartsAt::origin;
+  p.transport.pace_measured = true;
+  check_starts_at(p);
+  return p;
+}
+
+// With the start known, the model allows no first travel: a calibrated device as fast as its
+// measured pace ends within the calibrated margin (10 %) of its motion, under the 1.15 the
+// cutters issue asks of devices that cannot be asked; one exactly that margin slower, started
+// where the last job's finish (or a cancel) left it, loses nothing.
+TEST(TimePacing, ADeviceThatStartsWhereItsFinishParksIsPacedWithoutTheFirstTravel) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = parked(blind(load_profile(file)));
+    const StrokePlan plan = townhouse_plan(p);
+    const EncodedJob job = encode_for_device(plan, p);
+    const std::vector<PlotterPath> planned = plan_in_plotter_units(plan, p.dialect);
+    const std::string park = language_unit(p.language).park(p);
+    const int margin = send_options(p).pace_margin_percent;
+    ASSERT_EQ(margin, 10) << file;
+    const PacedJob fast = pace(p, job, margin, 1, park);
+    ASSERT_TRUE(fast.sent.complete()) << file << ": " << fast.sent.status.message;
+    EXPECT_LE(fast.report.clock_s, 1.11 * fast.report.motion_time_s) << file;
+    EXPECT_GT(fast.report.clock_s, 1.05 * fast.report.motion_time_s) << file << ": the margin is still paid";
+    for (const std::string& earlier : {park, park + move_to(p, "40,40") + send_options(p).abort_bytes}) {
+      const PacedJob slow = pace(p, job, margin, 1.10, earlier);
+      ASSERT_TRUE(slow.sent.complete()) << file << ": " << slow.sent.status.message;
+      EXPECT_EQ(slow.report.overflow_bytes, 0u) << file;
+      EXPECT_FALSE(first_difference(planned, slow.strokes).has_value()) << file << ": the whole job cut";
+    }
+  }
+}
+
+// Two jobs in a row on one device, the second started where the first's finish left the head, a
+// device the margin slower: the second loses nothing either.
+TEST(TimePacing, ASecondJobStartsWhereTheFirstParkedAndLosesNothing) {
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = parked(blind(load_profile(file)));
+    const EncodedJob job = encode_for_device(townhouse_plan(p), p);
+    const PacedJob second = pace(p, job, 10, 1.10, job.bytes);
+    ASSERT_TRUE(second.sent.complete()) << file << ": " << second.sent.status.message;
+    EXPECT_EQ(second.report.overflow_bytes, 0u) << file;
+  }
+}
+
+// What starts_at = "origin" rests on: a device left far from where the finish parks, as slow as
+// the margin allows, overflows in some dialect; and a resumed job (which starts where its
+// interrupted run stopped) keeps the first-travel allowance.
+TEST(TimePacing, StartsAtOriginIsAClaimAboutTheDeviceAndAResumeDoesNotRelyOnIt) {
+  std::size_t overflowed = 0;
+  for (const std::string& file : testing::shipped_profiles()) {
+    const DeviceProfile p = parked(blind(load_profile(file)));
+    const StrokePlan plan = townhouse_plan(p);
+    const PacedJob far = pace(p, encode_for_device(plan, p), 10, 1.10, move_to(p, far_corner(p.dialect)));
+    overflowed += far.report.overflow_bytes;
+    const EncodedJob resumed = encode_for_device(plan, p, 20);
+    const std::vector<MotionMark> marks = motion_schedule(resumed, p), anywhere = motion_schedule(resumed.bytes, p);
+    ASSERT_EQ(marks.size(), anywhere.size()) << file;
+    EXPECT_DOUBLE_EQ(marks.back().start_s, anywhere.back().start_s) << file;
+  }
+  EXPECT_GT(overflowed, 0u) << "a device left at the far corner is not paced for by starts_at = \"origin\"";
+}
+
+// `text` with its first `from` replaced by `to` (which must be there).
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+// A finish that leaves the head where the job ended (no move, or a relative one) cannot carry
+// starts_at = "origin": refused at load, naming the key and where the head is left.
+TEST(TimePacing, StartsAtOriginNeedsAFinishThatGoesThere) {
+  const std::string base = std::string(POPCUT_SOURCE_DIR) + "/configs/devices/";
+  for (const std::string name : {"generic-hpgl", "secabo"}) {
+    std::string text = replaced(read_text_file(base + name + ".toml", 1 << 20), "[kinematics]",
+                                "[kinematics]\nstarts_at = \"origin\"");
+    if (name == "secabo") text = replaced(text, "finish = \"PU;PA0,0;\"", "finish = \"PU0,0;\"");
+    try {
+      parse_profile(text, name);
+      ADD_FAILURE() << name << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("[kinematics] starts_at"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("leaves it at"), std::string::npos) << e.what();
+    }
+  }
+  const std::string ok =
+      replaced(read_text_file(base + "secabo.toml", 1 << 20), "[kinematics]", "[kinematics]\nstarts_at = \"origin\"");
+  EXPECT_EQ(parse_profile(ok, "secabo").starts_at, StartsAt::origin) << "its finish goes home absolutely";
 }
 
 }  // namespace

@@ -76,6 +76,9 @@ struct LanguageUnit {
   double (*speed_cm_s)(const DeviceProfile& profile, double value);
   // The command that lifts the knife, sent after [transport] abort when a job is cancelled.
   std::string (*knife_up)(const DeviceProfile& profile);
+  // The job's finish on its own: where it leaves the head is where a job of a [kinematics]
+  // starts_at = "origin" device starts, so a cancel sends it after the knife-up too.
+  std::string (*park)(const DeviceProfile& profile);
   const HostProtocol& (*host)();  // the sender's side: status queries and their answers
 };
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "popcut/drivers/profile.h"
+#include "popcut/lang/encoder.h"
 
 namespace popcut::drivers {
 
@@ -23,6 +24,14 @@ struct MotionMark {
 // later by a travel of longest_first_travel_mm. A calibrated profile's [kinematics] time_factor
 // (real / modelled, as popcut calibrate measures it) scales every mark.
 std::vector<MotionMark> motion_schedule(std::string_view job, const DeviceProfile& profile);
+// The same for an encoded job: a profile whose [kinematics] starts_at is "origin" starts the model
+// where its finish leaves the head, with no first-travel allowance (a resumed job keeps the
+// allowance: it starts where its interrupted run stopped). Throws popcut::Error(invalid_input)
+// naming starts_at when the finish, or a cancel's knife-up and finish, leave the head elsewhere.
+std::vector<MotionMark> motion_schedule(const EncodedJob& job, const DeviceProfile& profile);
+// A profile's [kinematics] starts_at = "origin" checked on a two-stroke job (motion_schedule
+// checks each real job too): throws as motion_schedule does; nothing for "anywhere".
+void check_starts_at(const DeviceProfile& profile);
 // The job's motion time by the same model from the origin, unscaled and without the first-travel
 // allowance: what calibrate holds a device's measured time against.
 double modelled_motion_s(std::string_view job, const DeviceProfile& profile);

@@ -94,6 +94,14 @@ inline constexpr auto kDeviceFamilyNames = enum_names<DeviceFamily>({{DeviceFami
                                                                      {DeviceFamily::uscutter, "uscutter"},
                                                                      {DeviceFamily::secabo, "secabo"}});
 
+// Where the device's head is when a job starts. anywhere: unknown (a finish need not send it
+// home), so time pacing allows for a first travel across the area. origin: where the job's finish
+// leaves it (and a cancel's knife-up, which then ends with the finish too) — a device that also
+// stands there after a sheet is loaded; pacing then starts the model there and allows nothing.
+enum class StartsAt { anywhere, origin };
+inline constexpr auto kStartsAtNames =
+    enum_names<StartsAt>({{StartsAt::anywhere, "anywhere"}, {StartsAt::origin, "origin"}});
+
 // A device's calibration in effect: the profile's [device] scale_x, scale_y, skew_deg and
 // [kinematics] time_factor, or its overlay's where load_profile merged one (calibration.h).
 struct DeviceCalibration {
@@ -117,6 +125,7 @@ struct DeviceProfile {
   Kinematics kinematics;
   TransportDefaults transport;
   DeviceCalibration calibration;
+  StartsAt starts_at = StartsAt::anywhere;  // [kinematics] starts_at
   // Knife-down speed per kind in mm/s, as estimate_time_s wants it.
   std::array<double, 4> cut_speed_mm_s() const;
 };

@@ -83,6 +83,7 @@ class SimCutter {
   // The simulator's clock, for a host that runs it in real time (popcut sim-plotter): advance()
   // executes what the clock reaches; receive() moves it by each byte's line time.
   double now_s() const { return now_s_; }
+  std::array<std::int64_t, 2> position() const { return pos_; }  // plotter units
   void advance(double t_s) { advance_to(t_s); }
   // When the next buffered command starts (now or when the one in motion ends); nullopt when
   // none waits or the device is frozen.
