@@ -84,7 +84,8 @@ void read_device_frame(TomlSection& dev, double language_units, const LanguageUn
   d.allow_negative = dev.boolean("negative_coords", false);
   const double lo = d.allow_negative ? -10000 : 0;
   const double min_x = dev.number("area_min_x_mm", 0, lo, 10000), min_y = dev.number("area_min_y_mm", 0, lo, 10000);
-  const double max_x = dev.number("area_max_x_mm", 600, lo, 10000),
+  // A roll runs along plotter y on HP-GL cutters and along x on a GP-GL one with its axes swapped.
+  const double max_x = dev.number("area_max_x_mm", 600, lo, 100000),
                max_y = dev.number("area_max_y_mm", 1000, lo, 100000);
   if (max_x <= min_x) dev.fail("area_max_x_mm", "must exceed area_min_x_mm (" + format_significant(min_x) + ")");
   if (max_y <= min_y) dev.fail("area_max_y_mm", "must exceed area_min_y_mm (" + format_significant(min_y) + ")");
