@@ -61,4 +61,29 @@ TEST_F(CliProfile, CutRefusesAKnifeDownInitFinishOrAbortWithExit2) {
   EXPECT_EQ(ok.code, 0) << "going home after lifting the knife is fine: " << ok.err;
 }
 
+// [kinematics] starts_at = "origin" through the popcut binary: a finish that leaves the head
+// where the job ended is refused before anything is cut (exit 2, the key and where the head is
+// left); one that goes home absolutely cuts the card on the simulator, its cut matching the plan.
+TEST_F(CliProfile, StartsAtOriginNeedsAFinishThatParksTheHead) {
+  const popcut::testing::CliRun bad =
+      cut(sim_profile_with("[kinematics]", "[kinematics]\nstarts_at = \"origin\""), dir_ / "bad");
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("knife.toml: [kinematics] starts_at"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("leaves it at"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad" / "job.hpgl")) << "nothing planned or sent";
+  std::string parked = sim_profile_with("finish = \"PU;SP0;\"", "finish = \"PU;PA0,0;SP0;\"");
+  {
+    std::ifstream in(parked);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    text.replace(text.find("[kinematics]"), 12, "[kinematics]\nstarts_at = \"origin\"");
+    std::ofstream(parked) << text;
+  }
+  const popcut::testing::CliRun ok = cut(parked, dir_ / "ok");
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(popcut::testing::slurp(dir_ / "ok" / "report.json").find("\"strokes_match_plan\": true"), std::string::npos)
+      << popcut::testing::slurp(dir_ / "ok" / "report.json");
+}
+
 }  // namespace
