@@ -26,7 +26,8 @@ void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
                     {"model", d.device(s.name)->profile.name},
                     {"state", s.paused ? (s.job ? "pausing" : "paused") : (s.job ? "cutting" : "idle")},
                     {"paused", s.paused},
-                    {"job", shown ? json(s.job) : json(nullptr)}});
+                    {"job", shown ? json(s.job) : json(nullptr)},
+                    {"blade", d.blade(s.name)}});
   }
   send_json(res, {{"devices", list}});
 }
@@ -41,6 +42,21 @@ void list_materials(ApiContext& api, const Caller&, const Req&, Res& res) {
     list.push_back({{"name", m.name}, {"description", m.description}, {"families", families}});
   }
   send_json(res, {{"materials", list}});
+}
+
+// The body may be empty or {}: there is nothing to say but that the blade was changed.
+void reset_blade(ApiContext& api, const Caller&, const Req& req, Res& res) {
+  const std::string name = req.matches[1];
+  if (!req.body.empty()) {
+    const json body = parse_body(req);
+    if (!body.is_object()) fail(ApiError::bad_request, "the body must be {} or empty");
+    for (const auto& [k, v] : body.items()) fail(ApiError::bad_request, "unknown field '" + k + "' (takes none)", k);
+  }
+  Daemon& d = api.daemon();
+  if (!d.device(name)) fail(ApiError::not_found, "no device named " + name);
+  if (!d.reset_blade(name))
+    fail(ApiError::conflict, name + " is cutting: change the blade, and reset its counters, between jobs");
+  send_json(res, {{"device", name}, {"blade", d.blade(name)}});
 }
 
 void pause_device(ApiContext& api, const Caller&, const Req& req, Res& res) { set_paused(api, req, res, true); }

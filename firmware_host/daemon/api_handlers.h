@@ -17,12 +17,19 @@ void get_metrics(ApiContext& api, const Caller& caller, const Req& req, Res& res
 void get_kiosk_page(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_kiosk_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_kiosk_style(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_operator_page(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_operator_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_operator_style(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+
+// api_stats.cpp (admin)
+void get_stats(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 // api_devices.cpp
 void list_devices(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void list_materials(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void pause_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void resume_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void reset_blade(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 // api_jobs.cpp
 void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);

@@ -58,6 +58,8 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
             {"progress",
              j.strokes_total > 0 ? static_cast<double>(j.strokes_sent) / static_cast<double>(j.strokes_total) : 0.0},
             {"est_time_s", j.est_time_s},
+            {"cut_mm", j.cut_mm},
+            {"knife_down_strokes", j.knife_down_strokes},
             {"created_at", j.created_at},
             {"started_at", j.started_at > 0 ? json(j.started_at) : json(nullptr)},
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},

@@ -1,4 +1,4 @@
-// Routes without a token: /healthz, /metrics and the kiosk page's fixed files.
+// Routes without a token: /healthz, /metrics and the kiosk and operator pages' fixed files.
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -34,7 +34,15 @@ void get_metrics(ApiContext& api, const Caller&, const Req&, Res& res) {
   m.errors_5xx = counters.errors_5xx;
   m.submitted = counters.submitted;
   m.cuts_completed = d.cuts_completed();
-  for (const DeviceStatus& s : d.devices()) m.devices.push_back({s.name, s.job != 0, s.paused});
+  for (const DeviceStatus& s : d.devices()) {
+    const DeviceWear w = d.store().device_wear(s.name);
+    m.devices.push_back({s.name, s.job != 0, s.paused, w.lifetime.cut_mm, w.lifetime.knife_down_strokes, w.blade.cut_mm,
+                         blade_worn(w, d.device(s.name)->blade_life_m)});
+  }
+  const NotifyCounts n = d.notify_counts();
+  m.notify_delivered = n.delivered;
+  m.notify_failures = n.failures;
+  m.notify_dropped = n.dropped;
   m.uptime_s = api.uptime_s();
   res.set_content(metrics_text(m), "text/plain; version=0.0.4");
 }
@@ -47,6 +55,16 @@ void get_kiosk_script(ApiContext& api, const Caller&, const Req&, Res& res) {
 }
 void get_kiosk_style(ApiContext& api, const Caller&, const Req&, Res& res) {
   kiosk_file(api, "app.css", "text/css", res);
+}
+// The operator page lives beside the kiosk's files; it asks for the admin token itself.
+void get_operator_page(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "operator.html", "text/html; charset=utf-8", res);
+}
+void get_operator_script(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "operator.js", "text/javascript", res);
+}
+void get_operator_style(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "operator.css", "text/css", res);
 }
 
 }  // namespace popcut::daemon

@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 #include <toml++/toml.h>
@@ -123,6 +124,7 @@ DeviceConfig read_device(TomlSection& d, const std::string& source, std::set<std
   if (address.kind != drivers::DeviceKind::sim && (d.node("sim_slowdown") || d.node("sim_time_scale"))) {
     d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
   }
+  dev.blade_life_m = d.optional_number("blade_life_m", 0.001, 1e6);
   d.reject_unknown();
   try {
     dev.profile = drivers::load_profile(dev.profile_path);
@@ -150,15 +152,111 @@ TokenConfig read_token(TomlSection& t, std::set<std::string>& names, std::set<st
   return tok;
 }
 
+// A webhook's URL split into what a client connects to and the path it posts to. Only what a
+// shop's receiver needs: no user:password@ (the secret authenticates), no fragment.
+void split_notify_url(const TomlSection& s, NotifyConfig& n) {
+  const std::string& url = n.url;
+  const std::size_t sep = url.find("://");
+  std::string scheme = sep == std::string::npos ? "" : url.substr(0, sep);
+  for (char& ch : scheme) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (scheme != "http" && scheme != "https")
+    s.fail("url", "\"" + url + "\": expected http://HOST[:PORT]/PATH or https://HOST[:PORT]/PATH");
+  for (const char ch : url) {
+    if (static_cast<unsigned char>(ch) <= ' ' || static_cast<unsigned char>(ch) >= 127)
+      s.fail("url", "\"" + url + "\": spaces, control and non-ASCII characters must be %-encoded");
+  }
+  const std::size_t host_start = sep + 3;
+  const std::size_t path_start = std::min(url.find_first_of("/?", host_start), url.size());
+  const std::string authority = url.substr(host_start, path_start - host_start);
+  if (authority.find('@') != std::string::npos)
+    s.fail("url", "no user:password@ in the URL: set secret, and the receiver checks X-Popcut-Signature");
+  if (url.find('#') != std::string::npos) s.fail("url", "a URL fragment (#...) is never sent: remove it");
+  // [v6]:port, host:port or host.
+  std::string host = authority, port_text;
+  if (!authority.empty() && authority.front() == '[') {
+    const std::size_t close = authority.find(']');
+    if (close == std::string::npos) s.fail("url", "\"" + url + "\": an IPv6 address needs its closing ']'");
+    host = authority.substr(1, close - 1);
+    if (close + 1 < authority.size()) {
+      if (authority[close + 1] != ':') s.fail("url", "\"" + url + "\": expected ':' and a port after ']'");
+      port_text = authority.substr(close + 2);
+    }
+    unsigned char addr[sizeof(in6_addr)];
+    if (::inet_pton(AF_INET6, host.c_str(), addr) != 1) s.fail("url", "\"" + host + "\" is not an IPv6 address");
+  } else if (const std::size_t colon = authority.find(':'); colon != std::string::npos) {
+    host = authority.substr(0, colon);
+    port_text = authority.substr(colon + 1);
+  }
+  if (host.empty() ||
+      host.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-:") != std::string::npos)
+    s.fail("url", "\"" + url + "\": no host name or address");
+  int port = scheme == "https" ? 443 : 80;
+  if (authority.find(':') != std::string::npos && authority.back() != ']') {
+    if (port_text.empty() || port_text.size() > 5 || port_text.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoi(port_text) < 1 || std::stoi(port_text) > 65535)
+      s.fail("url", "\"" + url + "\": the port must be 1 to 65535");
+    port = std::stoi(port_text);
+  }
+  const bool v6 = host.find(':') != std::string::npos;
+  n.origin = scheme + "://" + (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
+  n.path = path_start < url.size() ? url.substr(path_start) : "/";
+  if (n.path.front() == '?') n.path = "/" + n.path;
+}
+
+// [[notify]] events: names from kEventKindNames, each once; every event when absent.
+std::vector<EventKind> notify_events(TomlSection& s) {
+  std::vector<EventKind> out;
+  const toml::array* list = s.array("events");
+  if (!list) {
+    for (const auto& [kind, name] : kEventKindNames.entries) out.push_back(kind);
+    return out;
+  }
+  if (list->empty()) s.fail("events", "empty: name the events to send (" + kEventKindNames.list(", ") + ")");
+  for (const toml::node& e : *list) {
+    const std::optional<std::string> name = e.value<std::string>();
+    const std::optional<EventKind> kind = name ? kEventKindNames.find(*name) : std::nullopt;
+    if (!e.is_string() || !kind)
+      s.fail("events", (e.is_string() ? "\"" + *name + "\" is not an event" : std::string("expected strings")) +
+                           " (known: " + kEventKindNames.list(", ") + ")");
+    if (std::find(out.begin(), out.end(), *kind) != out.end()) s.fail("events", "\"" + *name + "\" is listed twice");
+    out.push_back(*kind);
+  }
+  return out;
+}
+
+// One [[notify]].
+NotifyConfig read_notify(TomlSection& s, const std::string& source) {
+  NotifyConfig n;
+  n.url = s.text("url", "", 2048);
+  if (n.url.empty()) s.fail("url", "missing: where to POST the events (http://HOST:PORT/PATH)");
+  split_notify_url(s, n);
+  n.events = notify_events(s);
+  n.secret = s.text("secret", "", 256);
+  if (s.node("secret") && n.secret.size() < 16) s.fail("secret", "must be at least 16 characters");
+  n.timeout_s = s.number("timeout_s", 5, 0.1, 300);
+  n.retries = s.integer("retries", 3, 0, 20);
+  const bool https = n.origin.rfind("https", 0) == 0;
+  n.ca_file = s.node("ca_file") ? resolve(s.text("ca_file", "", 4096), source) : "";
+  if (!n.ca_file.empty() && !https) s.fail("ca_file", "applies to https:// URLs only");
+  std::error_code ec;
+  if (!n.ca_file.empty() && !std::filesystem::is_regular_file(n.ca_file, ec))
+    s.fail("ca_file", "\"" + n.ca_file + "\" is not a file");
+#ifndef CPPHTTPLIB_OPENSSL_SUPPORT
+  if (https) s.fail("url", "this popcutd was built without TLS (cpp-httplib without OpenSSL): use http://");
+#endif
+  s.reject_unknown();
+  return n;
+}
+
 // The document's sections: [server] and [limits] tables, [[device]] and [[token]] arrays of tables.
 class ConfigSections {
  public:
   ConfigSections(const toml::table& root, const std::string& source) : root_(root), source_(source) {
     for (const auto& [k, v] : root) {
       const std::string key(k.str());
-      if (key != "server" && key != "limits" && key != "device" && key != "token") {
+      if (key != "server" && key != "limits" && key != "device" && key != "token" && key != "notify") {
         throw Error(ErrorCode::invalid_input, source, "[" + key + "]",
-                    "unknown section (expected server, limits, [[device]], [[token]])");
+                    "unknown section (expected server, limits, [[device]], [[token]], [[notify]])");
       }
     }
   }
@@ -266,6 +364,7 @@ DaemonConfig parse_daemon_config(const std::string& text, const std::string& sou
   for (TomlSection& t : sections.entries("token")) c.tokens.push_back(read_token(t, token_names, secrets));
   if (c.tokens.empty())
     throw Error(ErrorCode::invalid_input, source, "[[token]]", "no tokens: add at least one [[token]]");
+  for (TomlSection& n : sections.entries("notify")) c.notify.push_back(read_notify(n, source));
   return c;
 }
 

@@ -3,11 +3,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "popcut/drivers/material.h"
 #include "popcut/drivers/profile.h"
+#include "notify_event.h"
 #include "popcut/names.h"
 
 namespace popcut::daemon {
@@ -26,6 +28,21 @@ struct DeviceConfig {
   // tests and demos a cut long enough to watch, cancel or kill.
   double sim_slowdown = 1;
   double sim_time_scale = 0;
+  // Metres of knife-down cut a blade is good for: past it the device shows blade.worn and
+  // blade_worn is raised once (until an admin resets the counters). Unset: never worn.
+  std::optional<double> blade_life_m;
+};
+
+// One [[notify]]: a webhook that is POSTed the events it names (docs/api.md "Webhooks").
+struct NotifyConfig {
+  std::string url;     // as written: http://HOST[:PORT][/PATH] or https://...
+  std::string origin;  // scheme://host:port, what an HTTP client connects to
+  std::string path;    // from the first '/' (with any query); "/" when the URL has none
+  std::vector<EventKind> events;
+  std::string secret;    // "" none: no X-Popcut-Signature; else at least 16 characters
+  double timeout_s = 5;  // to connect, and for each read and write of a request
+  int retries = 3;       // further attempts after a failed one, with growing pauses
+  std::string ca_file;   // https: the certificates to trust instead of the system's ("" system's)
 };
 
 struct TokenConfig {
@@ -63,6 +80,7 @@ struct DaemonConfig {
   std::vector<drivers::Material> materials;
   std::vector<DeviceConfig> devices;
   std::vector<TokenConfig> tokens;
+  std::vector<NotifyConfig> notify;
   Limits limits;
 };
 

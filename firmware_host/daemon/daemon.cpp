@@ -100,7 +100,9 @@ Daemon::DataDirLock::~DataDirLock() {
 }
 
 Daemon::Daemon(DaemonConfig config) : config_(std::move(config)), lock_(config_.data_dir), store_(jobs_db(config_)) {
-  recovered_ = store_.recover();
+  notifier_ = std::make_unique<Notifier>(config_.notify);
+  recovered_ = store_.recover([this](const Job& j) { return crashed_run_wear(j); });
+  for (const std::int64_t id : recovered_.interrupted_ids) emit_outcome(id);
   for (int i = 0; i < config_.planners; ++i) planners_.emplace_back([this] { plan_loop(); });
   for (const DeviceConfig& d : config_.devices) {
     auto w = std::make_unique<Worker>();
@@ -271,9 +273,11 @@ void Daemon::plan_one(const Job& job) {
                                  : ApiError::internal),
                   e.what());
     log_line("job ", job.id, ": planning failed: ", e.what());
+    emit_outcome(job.id);
   } catch (const std::exception& e) {
     store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());
     log_line("job ", job.id, ": planning failed: ", e.what());
+    emit_outcome(job.id);
   }
 }
 
@@ -328,9 +332,11 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       // A done job carries no error; this run's (empty) remainder trivially matches the plan.
       log_line("job ", job.id, ": every stroke had been received before the restart; done");
       store_.finish(job.id, JobState::done, "", "", true);
+      emit_outcome(job.id);
       return;
     }
-    const EncodedJob cut = drivers::encode_for_device(plan, job_profile(dev, job.material), done_before + 1);
+    const drivers::DeviceProfile profile = job_profile(dev, job.material);
+    const EncodedJob cut = drivers::encode_for_device(plan, profile, done_before + 1);
     log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
@@ -363,11 +369,14 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       std::lock_guard lock(mutex_);
       user_cancel = w.user_cancel;
     }
+    commit_run_wear(job, dev, plan, profile, out);
     record_outcome(store_, job, dev, user_cancel, out);
     if (out.kind == CutOutcome::Kind::complete) ++cuts_completed_;
+    emit_outcome(job.id);
   } catch (const std::exception& e) {
     store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());
     log_line("job ", job.id, ": ", e.what());
+    emit_outcome(job.id);
   }
 }
 

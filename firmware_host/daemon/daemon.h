@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "config.h"
+#include "device_link.h"
+#include "notifier.h"
 #include "store.h"
 
 namespace popcut::daemon {
@@ -36,6 +38,12 @@ struct DeviceStatus {
   double time_factor = 1;    // wall-clock seconds per planned second: a simulated cutter's slowdown and time scale
   CancelStage cancel = CancelStage::none;  // of the job being cut
 };
+
+// The events a job's committed state raises: job_done, job_failed, job_interrupted, and with
+// them device_error when the device or its line failed (error code device_error).
+std::vector<EventKind> outcome_events(const Job& job);
+// A job as an event carries it: what it is, where it stands, what it cut.
+nlohmann::json event_job_json(const Job& job);
 
 class Daemon {
  public:
@@ -78,6 +86,16 @@ class Daemon {
   JobStore::Recovered recovered() const { return recovered_; }
   std::uint64_t cuts_completed() const { return cuts_completed_; }
 
+  // Raises an event for the webhooks (docs/api.md "Webhooks") and returns at once: the job as
+  // committed (0: none) and the device ("": none). daemon_events.cpp.
+  void emit_event(EventKind kind, std::int64_t job_id, const std::string& device);
+  NotifyCounts notify_counts() const { return notifier_->counts(); }
+  // The blade was changed: the device's blade counters start again. False while it cuts (a run
+  // in progress would put its wear on the new blade).
+  bool reset_blade(const std::string& device);
+  // {"cut_mm", "knife_down_strokes", "score_mm", "perforate_mm", "life_m", "worn", "since"}.
+  nlohmann::json blade(const std::string& device);
+
  private:
   struct Worker {
     const DeviceConfig* device = nullptr;
@@ -97,6 +115,13 @@ class Daemon {
   void device_loop(Worker& w);
   void cut_one(Worker& w, const Job& job);
   bool wait_for_work();
+  // After a run: its wear committed, then the events its outcome calls for (daemon_events.cpp).
+  void commit_run_wear(const Job& job, const DeviceConfig& dev, const StrokePlan& plan,
+                       const drivers::DeviceProfile& profile, const CutOutcome& out);
+  void emit_outcome(std::int64_t job_id);
+  // A run cut short by a crash: the strokes it certainly got to the device (after resume_from,
+  // up to strokes_sent), counted at the restart.
+  Wear crashed_run_wear(const Job& job) const;
 
   // Held for the daemon's life: a second popcutd on the same data_dir would take over (and
   // mark interrupted) jobs this one is cutting.
@@ -122,6 +147,7 @@ class Daemon {
   std::uint64_t generation_ = 0;  // bumped by notify(): a wait that saw it change has work to look at
   std::vector<std::thread> planners_;
   std::vector<std::unique_ptr<Worker>> workers_;
+  std::unique_ptr<Notifier> notifier_;  // outlives the threads: they are joined in ~Daemon's body
 };
 
 }  // namespace popcut::daemon

@@ -135,6 +135,10 @@ struct Job {
   std::optional<std::int64_t> strokes_executed;
   double est_time_s = 0;
   double created_at = 0, started_at = 0, finished_at = 0;  // unix seconds; 0 = not yet
+  // Knife-down millimetres of cut-mode strokes and knife-down strokes of every mode, over the
+  // runs that ended (each counts only the strokes it certainly got to the device; wear.h).
+  double cut_mm = 0;
+  std::int64_t knife_down_strokes = 0;
   bool sim_match = false;  // sim devices: what it cut equals the plan (strokes from resume_from on)
 
   // The device holding this job's half-cut sheet: an interrupted job, or one resumed and waiting,

@@ -8,70 +8,15 @@
 #include <chrono>
 
 #include "popcut/error.h"
+#include "sqlite_stmt.h"
 
 namespace popcut::daemon {
 namespace {
 
-// One prepared statement; binds by position from 1, steps, finalises on scope exit.
-class Stmt {
- public:
-  Stmt(sqlite3* db, const char* sql) : db_(db) {
-    if (sqlite3_prepare_v2(db, sql, -1, &st_, nullptr) != SQLITE_OK) fail("prepare");
-  }
-  ~Stmt() { sqlite3_finalize(st_); }
-  Stmt(const Stmt&) = delete;
-  Stmt& operator=(const Stmt&) = delete;
-
-  Stmt& bind(int i, std::int64_t v) {
-    sqlite3_bind_int64(st_, i, v);
-    return *this;
-  }
-  Stmt& bind(int i, std::optional<std::int64_t> v) {
-    if (v)
-      sqlite3_bind_int64(st_, i, *v);
-    else
-      sqlite3_bind_null(st_, i);
-    return *this;
-  }
-  Stmt& bind(int i, double v) {
-    sqlite3_bind_double(st_, i, v);
-    return *this;
-  }
-  Stmt& bind(int i, const std::string& v) {
-    sqlite3_bind_text(st_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
-    return *this;
-  }
-  // True while there is a row.
-  bool step() {
-    const int rc = sqlite3_step(st_);
-    if (rc == SQLITE_ROW) return true;
-    if (rc != SQLITE_DONE) fail("step");
-    return false;
-  }
-  std::int64_t integer(int col) const { return sqlite3_column_int64(st_, col); }
-  std::optional<std::int64_t> nullable_integer(int col) const {
-    if (sqlite3_column_type(st_, col) == SQLITE_NULL) return std::nullopt;
-    return sqlite3_column_int64(st_, col);
-  }
-  double real(int col) const { return sqlite3_column_double(st_, col); }
-  std::string text(int col) const {
-    const unsigned char* t = sqlite3_column_text(st_, col);
-    return t ? std::string(reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(st_, col)))
-             : "";
-  }
-
- private:
-  [[noreturn]] void fail(const char* what) const {
-    throw Error(ErrorCode::io, "job database", what, sqlite3_errmsg(db_));
-  }
-  sqlite3* db_;
-  sqlite3_stmt* st_ = nullptr;
-};
-
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point, material";
+    "resume_point, material, cut_mm, knife_down_strokes";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -95,7 +40,17 @@ Job read_job(const Stmt& s) {
   j.strokes_executed = s.nullable_integer(17);
   j.resume_point = parse_resume_point(s.text(18));  // NULL (never resumed) reads as "": nullopt
   j.material = s.text(19);
+  j.cut_mm = s.real(20);
+  j.knife_down_strokes = s.integer(21);
   return j;
+}
+
+// A cut's run ends (finished, interrupted, or found cut short at restart) at `end`: its time
+// since run_started_at is added to the job's cutting_s. Only a job leaving `cutting` has a run.
+std::string end_run(const std::string& end) {
+  return "cutting_s = cutting_s + CASE WHEN state='cutting' AND run_started_at > 0 THEN MAX(0, " + end +
+         " - run_started_at) ELSE 0 END, last_cut_at = CASE WHEN state='cutting' THEN MAX(last_cut_at, " + end +
+         ") ELSE last_cut_at END";
 }
 
 std::string select_jobs(const std::string& where) {
@@ -148,6 +103,12 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
     if (!has_column("jobs", "resume_point")) exec("ALTER TABLE jobs ADD COLUMN resume_point TEXT");
     // From before materials: every old job used its profile's own forces.
     if (!has_column("jobs", "material")) exec("ALTER TABLE jobs ADD COLUMN material TEXT NOT NULL DEFAULT ''");
+    // Wear: a job's own knife-down totals over its runs, and each device's counters (store_wear.cpp).
+    if (!has_column("jobs", "cut_mm")) exec("ALTER TABLE jobs ADD COLUMN cut_mm REAL NOT NULL DEFAULT 0");
+    if (!has_column("jobs", "knife_down_strokes"))
+      exec("ALTER TABLE jobs ADD COLUMN knife_down_strokes INTEGER NOT NULL DEFAULT 0");
+    create_wear_tables();
+    add_run_time_columns();
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -192,14 +153,27 @@ void JobStore::exec(const char* sql) {
   }
 }
 
-JobStore::Recovered JobStore::recover() {
+JobStore::Recovered JobStore::recover(const std::function<Wear(const Job&)>& crashed_run_wear) {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
-  Stmt(db_,
-       "UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, error_code='interrupted',"
-       " error_message='popcutd stopped without a clean shutdown during the cut' WHERE state='cutting'")
-      .step();
   Recovered r;
+  try {
+    std::vector<Job> cut_short;
+    for (Stmt s(db_, select_jobs("WHERE state='cutting' ORDER BY id").c_str()); s.step();)
+      cut_short.push_back(read_job(s));
+    for (const Job& j : cut_short) {
+      r.interrupted_ids.push_back(j.id);
+      if (crashed_run_wear) add_wear_locked(j.id, j.device, crashed_run_wear(j));
+    }
+  } catch (...) {
+    exec("ROLLBACK");
+    throw;
+  }
+  Stmt(db_, ("UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0,"
+             " error_code='interrupted', error_message='popcutd stopped without a clean shutdown during the cut', " +
+             end_run("last_cut_at") + " WHERE state='cutting'")
+                .c_str())
+      .step();
   r.interrupted = sqlite3_changes(db_);
   Stmt(db_, "UPDATE jobs SET state='queued' WHERE state='planning'").step();
   r.requeued = sqlite3_changes(db_);
@@ -348,10 +322,13 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
     }
     Job j = read_job(s);
     j.started_at = j.started_at > 0 ? j.started_at : unix_now_s();
-    Stmt(db_, "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL WHERE id=?")
+    Stmt(db_,
+         "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL,"
+         " run_started_at=?4, last_cut_at=?4 WHERE id=?3")
         .bind(1, device)
         .bind(2, j.started_at)
         .bind(3, j.id)
+        .bind(4, unix_now_s())
         .step();
     exec("COMMIT");
     j.state = JobState::cutting;
@@ -365,7 +342,11 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
 
 void JobStore::set_progress(std::int64_t id, std::int64_t strokes_sent) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET strokes_sent=? WHERE id=? AND state='cutting'").bind(1, strokes_sent).bind(2, id).step();
+  Stmt(db_, "UPDATE jobs SET strokes_sent=?, last_cut_at=? WHERE id=? AND state='cutting'")
+      .bind(1, strokes_sent)
+      .bind(2, unix_now_s())
+      .bind(3, id)
+      .step();
 }
 
 void JobStore::set_executed(std::int64_t id, std::optional<std::int64_t> strokes_executed) {
@@ -379,16 +360,17 @@ void JobStore::set_executed(std::int64_t id, std::optional<std::int64_t> strokes
 void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message,
                       bool sim_match) {
   std::lock_guard lock(mutex_);
-  Stmt(db_,
-       "UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
-       " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END"
-       " WHERE id=? AND state IN ('planning','cutting')")
+  Stmt(db_, ("UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
+             " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END, " +
+             end_run("?7") + " WHERE id=?6 AND state IN ('planning','cutting')")
+                .c_str())
       .bind(1, std::string(to_string(state)))
       .bind(2, code)
       .bind(3, message)
       .bind(4, is_terminal(state) ? unix_now_s() : 0.0)
       .bind(5, static_cast<std::int64_t>(sim_match))
       .bind(6, id)
+      .bind(7, unix_now_s())
       .step();
 }
 

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -11,6 +12,8 @@
 #include <vector>
 
 #include "job.h"
+#include "stats.h"
+#include "wear.h"
 
 struct sqlite3;
 
@@ -42,8 +45,11 @@ class JobStore {
   // that was planning goes back to queued (planning is repeatable). Returns how many of each.
   struct Recovered {
     int interrupted = 0, requeued = 0;
+    std::vector<std::int64_t> interrupted_ids;  // the jobs that were cutting
   };
-  Recovered recover();
+  // `crashed_run_wear`: the wear of a run cut short by the crash (the strokes it certainly got to
+  // the device), added to its job and device in the same transaction as its state change.
+  Recovered recover(const std::function<Wear(const Job&)>& crashed_run_wear = {});
 
   // nullopt when `queue_length` unfinished jobs exist already.
   std::optional<std::int64_t> insert(const NewJob& job, int queue_length);
@@ -83,12 +89,32 @@ class JobStore {
 
   void set_paused(const std::string& device, bool paused);
   bool paused(const std::string& device);
+  // Jobs created, finished or cut since `since_s` (unix seconds), and any being cut: what
+  // job_stats (stats.h) counts.
+  std::vector<StatsRow> stats_rows(double since_s);
   std::map<std::string, std::int64_t> count_by_state();
   std::int64_t count_submitted();
 
+  // Wear (store_wear.cpp). A run's wear is added to its job and its device in one transaction,
+  // before the run's outcome is recorded: a crash between the two leaves the job `cutting`, and
+  // recovery resumes it after strokes_sent; that wear counts no stroke past it, the next run none before.
+  struct WearAdded {
+    DeviceWear device;        // after the addition
+    bool newly_worn = false;  // the blade passed blade_life_m with this run: raise blade_worn (once)
+  };
+  WearAdded add_run_wear(std::int64_t job_id, const std::string& device, const Wear& run,
+                         std::optional<double> blade_life_m);
+  DeviceWear device_wear(const std::string& device);
+  // The blade was changed: its counters start again from now (the lifetime ones go on).
+  DeviceWear reset_blade(const std::string& device);
+
  private:
+  void create_wear_tables();
+  // The addition itself, inside a transaction the caller holds (with mutex_).
+  void add_wear_locked(std::int64_t job_id, const std::string& device, const Wear& run);
   void exec(const char* sql);
   bool has_column(const char* table, const char* column);
+  void add_run_time_columns();
   // Reads run on their own connections: in WAL mode a reader sees the last commit and neither
   // waits for the writer nor holds it up. A free one if any, else the next in turn.
   struct Reader {
