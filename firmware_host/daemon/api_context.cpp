@@ -2,6 +2,8 @@
 #include "api_context.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <thread>
 #include <unordered_set>
 
@@ -82,6 +84,25 @@ std::string string_field(const json& body, const char* key, bool required) {
   }
   if (!body[key].is_string()) fail(ApiError::bad_request, std::string("'") + key + "' must be a string", key);
   return body[key].get<std::string>();
+}
+
+bool whole_in(const json& v, std::int64_t lo, std::int64_t hi) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    return hi >= 0 && u <= static_cast<std::uint64_t>(hi) && static_cast<std::int64_t>(u) >= lo;
+  }
+  if (!v.is_number_integer()) return false;
+  const std::int64_t n = v.get<std::int64_t>();
+  return n >= lo && n <= hi;
+}
+
+std::optional<double> parse_unix_seconds(const std::string& text) {
+  if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789.") != std::string::npos)
+    return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
 }
 
 std::optional<std::string> query_param(const httplib::Request& req, const char* name) {

@@ -45,6 +45,10 @@ struct Caller {
 json parse_body(const httplib::Request& req);
 // body[key] as a string; "" when absent or null and not `required`.
 std::string string_field(const json& body, const char* key, bool required);
+// A JSON whole number from lo to hi (a float such as 2.0, or a number beyond int64, is not).
+bool whole_in(const json& v, std::int64_t lo, std::int64_t hi);
+// Unix seconds as a query gives them: a finite number from 0, at most 20 characters.
+std::optional<double> parse_unix_seconds(const std::string& text);
 // A query parameter given at most once: ?angle=10&angle=20 is a malformed request, not a guess.
 std::optional<std::string> query_param(const httplib::Request& req, const char* name);
 // ?angle= in whole degrees (90 when absent), rounded to the previews' step of 5 degrees.

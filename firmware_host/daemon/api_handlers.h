@@ -35,6 +35,7 @@ void reset_blade(ApiContext& api, const Caller& caller, const Req& req, Res& res
 void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void list_jobs(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void patch_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);  // admin: priority, before
 void get_job_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_job_preview(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void cancel_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);

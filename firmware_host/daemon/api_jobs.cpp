@@ -7,6 +7,7 @@
 
 #include "../report_json.h"
 #include "api_handlers.h"
+#include "api_queue.h"
 #include "mesh_upload.h"
 #include "model_limits.h"
 #include "popcut/drivers/device_plan.h"
@@ -63,6 +64,7 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
             {"created_at", j.created_at},
             {"started_at", j.started_at > 0 ? json(j.started_at) : json(nullptr)},
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
+            {"priority", j.priority},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
   if (!j.error_code.empty() || !j.error_message.empty())
@@ -230,6 +232,7 @@ void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res)
   Daemon& d = api.daemon();
   NewJob nj;
   nj.owner = caller.name;
+  nj.idempotency_key = idempotency_key(req);
   std::string source = "model";
   if (req.is_multipart_form_data()) {
     source = job_from_upload(api, req, nj);
@@ -237,34 +240,71 @@ void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res)
     job_from_json(api, req, nj);
   }
   const std::vector<std::string> warnings = check_for_device(api, nj, source);
-  const std::optional<std::int64_t> id = d.store().insert(nj, d.config().limits.queue_length);
-  if (!id)
-    fail(ApiError::queue_full,
-         "the queue holds " + std::to_string(d.config().limits.queue_length) + " unfinished jobs; try later");
+  if (!nj.idempotency_key.empty()) nj.request_sha256 = request_digest(nj);
+  const SubmitResult r = d.store().submit(nj, d.config().limits.queue_length);
+  switch (r.outcome) {
+    case Submitted::created: break;
+    case Submitted::replayed: {
+      // The first answer again, as it stands now: a retry learns where its job is.
+      res.set_header("Idempotent-Replayed", "true");
+      json answer = current_job(d, r.id);
+      answer["warnings"] = warnings;
+      return send_json(res, answer, 200);
+    }
+    case Submitted::key_reused:
+      fail(ApiError::key_reused,
+           "this Idempotency-Key was used for job " + std::to_string(r.id) +
+               ", a different submission; send a new key for a new job",
+           "Idempotency-Key");
+    case Submitted::queue_full:
+      fail(ApiError::queue_full,
+           "the queue holds " + std::to_string(d.config().limits.queue_length) + " unfinished jobs; try later");
+  }
   ++api.counters().submitted;
   d.notify();
-  json answer = current_job(d, *id);
+  json answer = current_job(d, r.id);
   answer["warnings"] = warnings;
   send_json(res, answer, 201);
 }
 
 void list_jobs(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
-  int limit = 100;
-  if (const std::optional<std::string> given = query_param(req, "limit")) {
-    const std::string& l = *given;
-    if (l.empty() || l.size() > 5 || l.find_first_not_of("0123456789") != std::string::npos || std::stoi(l) < 1 ||
-        std::stoi(l) > 10000) {
-      fail(ApiError::bad_request, "limit must be a whole number from 1 to 10000", "limit");
-    }
-    limit = std::stoi(l);
-  }
+  JobFilter filter = job_filter(req);
+  if (!caller.admin()) filter.owner = caller.name;
   Daemon& d = api.daemon();
   json list = json::array();
-  const std::vector<Job> jobs = d.store().list(caller.admin() ? "" : caller.name, limit);
+  const std::vector<Job> jobs = d.store().list(filter);
   const bool any_ready = std::any_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.state == JobState::ready; });
   const Forecast f = any_ready ? forecast(d) : Forecast();
   for (const Job& j : jobs) list.push_back(job_json(d, j, &f));
   send_json(res, {{"jobs", list}});
+}
+
+void patch_job(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
+  Daemon& d = api.daemon();
+  const Job j = api.visible_job(req, caller);
+  const Reorder to = reorder_request(req);
+  const std::string id = "job " + std::to_string(j.id);
+  if (to.before && *to.before == j.id) fail(ApiError::bad_request, "a job cannot be moved ahead of itself", "before");
+  const std::string other = to.before ? "job " + std::to_string(*to.before) : "";
+  switch (d.store().reorder(j.id, to)) {
+    case ReorderResult::moved: break;
+    case ReorderResult::not_found: fail(ApiError::not_found, "no " + id);
+    case ReorderResult::not_waiting:
+      fail(ApiError::conflict, "only a waiting job (queued, planning or ready) moves in the queue; " + id + " is " +
+                                   to_string(d.store().get(j.id)->state));
+    case ReorderResult::before_not_found: fail(ApiError::bad_request, "no " + other + " to move ahead of", "before");
+    case ReorderResult::before_not_waiting:
+      fail(ApiError::conflict,
+           other + " is " + to_string(d.store().get(*to.before)->state) + ": a job moves only ahead of a waiting one",
+           "before");
+    case ReorderResult::priority_mismatch:
+      fail(ApiError::bad_request,
+           other + " has priority " + std::to_string(d.store().get(*to.before)->priority) +
+               ": a job moved ahead of it takes that priority; leave 'priority' out or give the same",
+           "priority");
+  }
+  d.notify();
+  send_json(res, current_job(d, j.id));
 }
 
 void get_job(ApiContext& api, const Caller& caller, const Req& req, Res& res) {

@@ -34,8 +34,9 @@ std::vector<Route> api_routes() {
       {Method::post, R"(/api/v1/devices/([^/]+)/blade)", Access::admin, takes_none(), reset_blade,
        "resetting a device's blade counters"},
       {Method::post, "/api/v1/jobs", Access::token, takes_none(), submit_job},
-      {Method::get, "/api/v1/jobs", Access::token, takes({"limit"}), list_jobs},
+      {Method::get, "/api/v1/jobs", Access::token, takes({"limit", "state", "device", "since"}), list_jobs},
       {Method::get, R"(/api/v1/jobs/(\d+))", Access::token, takes_none(), get_job},
+      {Method::patch, R"(/api/v1/jobs/(\d+))", Access::admin, takes_none(), patch_job, "moving a job in the queue"},
       {Method::get, R"(/api/v1/jobs/(\d+)/pattern\.svg)", Access::token, takes_none(), get_job_pattern},
       {Method::get, R"(/api/v1/jobs/(\d+)/preview\.png)", Access::token, takes({"angle"}), get_job_preview},
       {Method::post, R"(/api/v1/jobs/(\d+)/cancel)", Access::token, takes_none(), cancel_job},
@@ -96,12 +97,17 @@ void HttpApi::install_routes() {
       server_.Get(route.pattern, guarded(route));
       continue;
     }
-    server_.Post(route.pattern, [this, handler = guarded(route)](const httplib::Request& req, httplib::Response& res,
-                                                                 const httplib::ContentReader& content) {
+    auto with_body = [this, handler = guarded(route)](const httplib::Request& req, httplib::Response& res,
+                                                      const httplib::ContentReader& content) {
       // httplib hands a content-reading handler its (non-const) request as const; the body goes
       // where httplib's own reader puts it, so handlers read req.body and req.files as ever.
       if (read_body(const_cast<httplib::Request&>(req), content, res)) handler(req, res);
-    });
+    };
+    if (route.method == Method::post) {
+      server_.Post(route.pattern, with_body);
+    } else {
+      server_.Patch(route.pattern, with_body);
+    }
   }
 }
 
@@ -154,7 +160,7 @@ bool HttpApi::refuse_before_body(const httplib::Request& req, httplib::Response&
     refuse(res, *framing.refusal, framing.message);
     return true;
   }
-  if (req.method != "POST") return false;
+  if (req.method != "POST" && req.method != "PATCH") return false;
   try {
     api_->auth(req);
   } catch (const ApiFailure& f) {

@@ -69,16 +69,17 @@ BodyFraming read_framing(const httplib::Request& req) {
   if (f.refusal) return f;
   f.chunked = chunked;
   if (chunked && f.length) return refused(ApiError::bad_request, "both Content-Length and Transfer-Encoding: send one");
-  if (req.method != "POST") {
+  if (req.method != "POST" && req.method != "PATCH") {
     // httplib does not read such a body: it would be parsed as the next request.
     if (chunked || (f.length && *f.length > 0))
       return refused(ApiError::bad_request, "a " + req.method + " request has no body");
     return f;
   }
-  // httplib reads a POST body without Content-Length until the client closes: a client that
+  // httplib reads a POST (or PATCH) body without Content-Length until the client closes: a client that
   // neither sends a length nor closes would hold a thread for the whole read timeout.
   if (!f.length && !chunked)
-    return refused(ApiError::length_required, "a POST needs Content-Length (curl: -d '' for an empty body)");
+    return refused(ApiError::length_required,
+                   "a " + req.method + " needs Content-Length (curl: -d '' for an empty body)");
   return f;
 }
 

@@ -31,7 +31,8 @@ int http_status(ApiError e) {
     case ApiError::model_too_complex: return 413;
     case ApiError::bad_model:
     case ApiError::no_device: return 422;
-    case ApiError::no_material: return 422;
+    case ApiError::no_material:
+    case ApiError::key_reused: return 422;
     case ApiError::length_required: return 411;
     case ApiError::method_not_allowed: return 405;
     case ApiError::queue_full:

@@ -50,6 +50,7 @@ enum class ApiError {
   queue_full,          // 503: [limits] queue_length unfinished jobs already
   no_device,           // 422: no device of that name, or none with that profile
   no_material,         // 422: no material of that name, or none with values for the device's family
+  key_reused,          // 422: an Idempotency-Key already used for a different submission
   length_required,     // 411: a POST without Content-Length (or chunked encoding)
   method_not_allowed,  // 405: the path exists, not with this method (Allow lists those it has)
   busy,                // 503: every preview-rendering slot is in use; retry shortly
@@ -72,6 +73,7 @@ inline constexpr auto kApiErrorNames = enum_names<ApiError>({
     {ApiError::queue_full, "queue_full"},
     {ApiError::no_device, "no_device"},
     {ApiError::no_material, "no_material"},
+    {ApiError::key_reused, "key_reused"},
     {ApiError::length_required, "length_required"},
     {ApiError::method_not_allowed, "method_not_allowed"},
     {ApiError::busy, "busy"},
@@ -140,6 +142,10 @@ struct Job {
   double cut_mm = 0;
   std::int64_t knife_down_strokes = 0;
   bool sim_match = false;  // sim devices: what it cut equals the plan (strokes from resume_from on)
+  // Its place in the queue (docs/api.md "The queue"): higher priority first, then lower rank;
+  // rank starts as the id (first come, first served) and an admin's `before` puts it between two.
+  int priority = 0;
+  double queue_rank = 0;
 
   // The device holding this job's half-cut sheet: an interrupted job, or one resumed and waiting,
   // continues there and nowhere else ("" when no sheet of it is on a device).

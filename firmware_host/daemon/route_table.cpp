@@ -26,16 +26,22 @@ RouteTable::~RouteTable() = default;
 
 std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const std::string& path,
                                                 const httplib::Params& params) const {
-  bool has_get = false, has_post = false;
+  bool has[3] = {false, false, false};  // by Method
   const Route* routed = nullptr;
-  const Method asked = method == "POST" ? Method::post : Method::get;
-  const bool known_method = method == "GET" || method == "HEAD" || method == "POST";
+  const std::optional<Method> asked = method == "GET" || method == "HEAD" ? std::optional(Method::get)
+                                      : method == "POST"                  ? std::optional(Method::post)
+                                      : method == "PATCH"                 ? std::optional(Method::patch)
+                                                                          : std::nullopt;
   for (std::size_t i = 0; i < routes_.size(); ++i) {
     if (!std::regex_match(path, patterns_[i])) continue;
-    (routes_[i].method == Method::get ? has_get : has_post) = true;
-    if (known_method && routes_[i].method == asked) routed = &routes_[i];
+    has[static_cast<int>(routes_[i].method)] = true;
+    if (asked && routes_[i].method == *asked) routed = &routes_[i];
   }
-  const std::string allow = has_get && has_post ? "GET, HEAD, POST" : has_get ? "GET, HEAD" : has_post ? "POST" : "";
+  std::string allow;
+  for (const auto& [m, name] :
+       {std::pair{Method::get, "GET, HEAD"}, {Method::post, "POST"}, {Method::patch, "PATCH"}}) {
+    if (has[static_cast<int>(m)]) allow += (allow.empty() ? "" : ", ") + std::string(name);
+  }
   if (allow.empty()) return RouteRefusal{ApiError::not_found, "no such resource: " + path, ""};
   if (!routed)
     return RouteRefusal{ApiError::method_not_allowed, method + " is not allowed on " + path + " (Allow: " + allow + ")",

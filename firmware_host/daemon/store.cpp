@@ -9,6 +9,7 @@
 
 #include "popcut/error.h"
 #include "sqlite_stmt.h"
+#include "store_queue.h"
 
 namespace popcut::daemon {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point, material, cut_mm, knife_down_strokes";
+    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK;
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -42,6 +43,8 @@ Job read_job(const Stmt& s) {
   j.material = s.text(19);
   j.cut_mm = s.real(20);
   j.knife_down_strokes = s.integer(21);
+  j.priority = static_cast<int>(s.integer(22));
+  j.queue_rank = s.real(23);
   return j;
 }
 
@@ -109,6 +112,7 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
       exec("ALTER TABLE jobs ADD COLUMN knife_down_strokes INTEGER NOT NULL DEFAULT 0");
     create_wear_tables();
     add_run_time_columns();
+    add_queue_columns();
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -182,14 +186,24 @@ JobStore::Recovered JobStore::recover(const std::function<Wear(const Job&)>& cra
 }
 
 std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length) {
+  const SubmitResult r = submit(nj, queue_length);
+  if (r.outcome == Submitted::queue_full || r.outcome == Submitted::key_reused) return std::nullopt;
+  return r.id;
+}
+
+SubmitResult JobStore::submit(const NewJob& nj, int queue_length) {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
+    if (const std::optional<SubmitResult> earlier = replay_locked(nj)) {
+      exec("COMMIT");
+      return *earlier;
+    }
     Stmt count(db_, "SELECT COUNT(*) FROM jobs WHERE state IN ('queued','planning','ready','cutting','interrupted')");
     count.step();
     if (count.integer(0) >= queue_length) {
       exec("ROLLBACK");
-      return std::nullopt;
+      return {Submitted::queue_full, 0};
     }
     Stmt ins(db_,
              "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at, material) "
@@ -203,8 +217,9 @@ std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length)
         .step();
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();
+    remember_key_locked(nj, id);
     exec("COMMIT");
-    return id;
+    return {Submitted::created, id};
   } catch (...) {
     exec("ROLLBACK");
     throw;
@@ -227,12 +242,20 @@ std::optional<std::string> JobStore::model_json(std::int64_t id) {
   return s.text(0);
 }
 
-std::vector<Job> JobStore::list(const std::string& owner, int limit) {
+std::vector<Job> JobStore::list(const JobFilter& f) {
+  std::string where =
+      "WHERE (?1 = '' OR owner = ?1) AND (?2 = '' OR device = ?2 OR (device = '' AND target_device = ?2))"
+      " AND (?3 IS NULL OR MAX(created_at, finished_at) >= ?3)";
+  if (!f.states.empty()) {
+    where += " AND state IN (";
+    for (std::size_t i = 0; i < f.states.size(); ++i)
+      where += (i ? ",'" : "'") + std::string(to_string(f.states[i])) + "'";
+    where += ")";
+  }
   auto [db, lock] = reader();
-  Stmt s(db, select_jobs(owner.empty() ? "WHERE ?1='' ORDER BY id DESC LIMIT ?2"
-                                       : "WHERE owner=?1 ORDER BY id DESC LIMIT ?2")
-                 .c_str());
-  s.bind(1, owner).bind(2, static_cast<std::int64_t>(limit));
+  Stmt s(db, select_jobs(where + " ORDER BY id DESC LIMIT ?4").c_str());
+  s.bind(1, f.owner).bind(2, f.device).bind(4, static_cast<std::int64_t>(f.limit));
+  if (f.since_s) s.bind(3, *f.since_s);
   std::vector<Job> out;
   while (s.step()) out.push_back(read_job(s));
   return out;
@@ -244,7 +267,7 @@ std::vector<Job> JobStore::list(const std::string& owner, int limit) {
 // Jobs that may take the same device: two bound to or naming devices, the same device; else (one
 // or both name only a profile) the same profile: a job naming a device also records its profile.
 static const char* kAheadWhere =
-    " WHERE id < ?1 AND state IN ('queued','planning','ready') AND"
+    " WHERE " POPCUT_QUEUE_AHEAD("?1", "?4", "?5") " AND state IN ('queued','planning','ready') AND"
     " ((?2 <> '' AND " POPCUT_JOB_DEVICE " <> '' AND " POPCUT_JOB_DEVICE " = ?2) OR ((?2 = '' OR " POPCUT_JOB_DEVICE
     " = '') AND target_profile = ?3))";
 // Cutting time left of a job: the share of its strokes not yet cut (after resume_from, if resumed).
@@ -255,7 +278,11 @@ static const char* kLeftS =
 int JobStore::place_in_line(const Job& j) {
   auto [db, lock] = reader();
   Stmt s(db, (std::string("SELECT COUNT(*) FROM jobs") + kAheadWhere).c_str());
-  s.bind(1, j.id).bind(2, j.targets().device).bind(3, j.target_profile);
+  s.bind(1, j.id)
+      .bind(2, j.targets().device)
+      .bind(3, j.target_profile)
+      .bind(4, std::int64_t{j.priority})
+      .bind(5, j.queue_rank);
   s.step();
   return static_cast<int>(s.integer(0));
 }
@@ -263,7 +290,7 @@ int JobStore::place_in_line(const Job& j) {
 std::vector<WaitingJob> JobStore::waiting() {
   auto [db, lock] = reader();
   Stmt s(db, (std::string("SELECT id, " POPCUT_JOB_DEVICE ", target_profile, ") + kLeftS +
-              " FROM jobs WHERE state IN ('queued','planning','ready') ORDER BY id")
+              " FROM jobs WHERE state IN ('queued','planning','ready') ORDER BY " POPCUT_QUEUE_ORDER)
                  .c_str());
   std::vector<WaitingJob> out;
   while (s.step()) out.push_back({s.integer(0), {s.text(1), s.text(2)}, s.real(3)});
@@ -282,7 +309,7 @@ std::optional<Job> JobStore::claim_for_planning() {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
-    Stmt s(db_, select_jobs("WHERE state='queued' ORDER BY id LIMIT 1").c_str());
+    Stmt s(db_, select_jobs("WHERE state='queued' ORDER BY " POPCUT_QUEUE_ORDER " LIMIT 1").c_str());
     if (!s.step()) {
       exec("COMMIT");
       return std::nullopt;
@@ -313,7 +340,7 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
   try {
     // A resumed job goes back to the device holding its half-cut sheet, and only there.
     Stmt s(db_, select_jobs("WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
-                            "='' AND target_profile=?2)) ORDER BY id LIMIT 1")
+                            "='' AND target_profile=?2)) ORDER BY " POPCUT_QUEUE_ORDER " LIMIT 1")
                     .c_str());
     s.bind(1, device).bind(2, profile_name);
     if (!s.step()) {

@@ -23,7 +23,20 @@ struct NewJob {
   std::string owner, name, target_device, target_profile;
   std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
   std::string material{};  // configs/materials stem; empty: the profile's own forces
+  // Idempotency-Key (empty: none) and a digest of what was asked: a retry with the same key and
+  // the same request is answered with the first job (docs/api.md "Idempotent submission").
+  std::string idempotency_key{}, request_sha256{};
 };
+
+// What a submission became. replayed: the key was seen with the same request (id: that job);
+// key_reused: with another request; queue_full: [limits] queue_length unfinished jobs already.
+enum class Submitted { created, replayed, key_reused, queue_full };
+struct SubmitResult {
+  Submitted outcome = Submitted::created;
+  std::int64_t id = 0;
+};
+// How long popcutd remembers an Idempotency-Key.
+inline constexpr double kIdempotencyKeepS = 24 * 3600;
 
 // giving_up: Daemon::cancel only, a repeated cancel of a cut whose stop waits for a device that
 // holds the line: the wait is given up and the abort is not sent.
@@ -31,6 +44,24 @@ enum class CancelResult { cancelled, requested, giving_up, already_final, not_fo
 // executed_unknown: resuming after the executed strokes was asked, but the device never said what
 // it executed (a transport without status answers, or a cut cut short by a crash).
 enum class ResumeResult { resumed, not_interrupted, executed_unknown };
+
+// What GET /api/v1/jobs lists: each part empty takes every job.
+struct JobFilter {
+  std::string owner;              // empty: everyone's
+  std::vector<JobState> states;   // empty: any state
+  std::string device;             // cut on it, or (not cut yet) naming it
+  std::optional<double> since_s;  // created or finished at or after (unix seconds)
+  int limit = 100;
+};
+
+// An admin's move (PATCH /api/v1/jobs/N): a new priority, or the place just ahead of `before`
+// (taking that job's priority), or both when they agree.
+struct Reorder {
+  std::optional<int> priority;
+  std::optional<std::int64_t> before;
+};
+// priority_mismatch: `priority` and `before` given, and `before` has another priority.
+enum class ReorderResult { moved, not_found, not_waiting, before_not_found, before_not_waiting, priority_mismatch };
 
 class JobStore {
  public:
@@ -51,25 +82,27 @@ class JobStore {
   // the device), added to its job and device in the same transaction as its state change.
   Recovered recover(const std::function<Wear(const Job&)>& crashed_run_wear = {});
 
-  // nullopt when `queue_length` unfinished jobs exist already.
+  // nullopt when `queue_length` unfinished jobs exist already (or the key was used for another request).
   std::optional<std::int64_t> insert(const NewJob& job, int queue_length);
+  // insert, with the job's Idempotency-Key looked up and recorded in the same transaction.
+  SubmitResult submit(const NewJob& job, int queue_length);
   std::optional<Job> get(std::int64_t id);
   std::optional<std::string> model_json(std::int64_t id);
-  // Newest first; owner empty = everyone's.
-  std::vector<Job> list(const std::string& owner, int limit);
+  // Newest first, those `filter` takes.
+  std::vector<Job> list(const JobFilter& filter);
   // Jobs waiting ahead of this one that a device it may go to could cut (queued, planning, ready).
   int place_in_line(const Job& job);
-  // Every job waiting (queued, planning, ready), oldest first: what each may go to and the
+  // Every job waiting (queued, planning, ready), in the queue's order: what each may go to and the
   // cutting time it has left (0 while unplanned; a resumed one, after the strokes already cut).
   std::vector<WaitingJob> waiting();
   // The jobs being cut.
   std::vector<Job> cutting();
 
-  // queued -> planning, oldest first.
+  // queued -> planning, first in the queue's order (priority, then rank).
   std::optional<Job> claim_for_planning();
   // planning -> ready (unless cancelled meanwhile).
   void set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s);
-  // ready -> cutting on `device`, oldest first among jobs naming it or its profile.
+  // ready -> cutting on `device`, first in the queue's order among jobs naming it or its profile.
   std::optional<Job> claim_for_device(const std::string& device, const std::string& profile_name);
   void set_progress(std::int64_t id, std::int64_t strokes_sent);
   // The last stroke the device is known to have executed at the end of a cut (nullopt: unknown).
@@ -86,6 +119,9 @@ class JobStore {
   // device holds nothing, and a crash before the next confirmation must not resume past them).
   // The choice is committed with the state, so a restart before the cut keeps it.
   ResumeResult resume(std::int64_t id, ResumePoint from = ResumePoint::received);
+
+  // Moves a waiting job (store_queue.cpp); place_in_line, eta_s and the claims follow the new order.
+  ReorderResult reorder(std::int64_t id, const Reorder& to);
 
   void set_paused(const std::string& device, bool paused);
   bool paused(const std::string& device);
@@ -115,6 +151,11 @@ class JobStore {
   void exec(const char* sql);
   bool has_column(const char* table, const char* column);
   void add_run_time_columns();
+  void add_queue_columns();
+  // The key's earlier job in this transaction (store_queue.cpp), or nullopt; forgets old keys.
+  std::optional<SubmitResult> replay_locked(const NewJob& job);
+  void remember_key_locked(const NewJob& job, std::int64_t id);
+  ReorderResult reorder_locked(std::int64_t id, const Reorder& to);
   // Reads run on their own connections: in WAL mode a reader sees the last commit and neither
   // waits for the writer nor holds it up. A free one if any, else the next in turn.
   struct Reader {

@@ -54,7 +54,8 @@ TEST(RouteTable, RefusalsFollowFromTheTable) {
 TEST(RouteTable, PopcutdsOwnTable) {
   const RouteTable table(api_routes());
   EXPECT_EQ(table.refusal("DELETE", "/api/v1/jobs", {})->allow, "GET, HEAD, POST");
-  EXPECT_EQ(table.refusal("DELETE", "/api/v1/jobs/1", {})->allow, "GET, HEAD");
+  EXPECT_EQ(table.refusal("DELETE", "/api/v1/jobs/1", {})->allow, "GET, HEAD, PATCH");
+  EXPECT_FALSE(table.refusal("PATCH", "/api/v1/jobs/1", {}));
   EXPECT_EQ(table.refusal("GET", "/api/v1/jobs/1/cancel", {})->allow, "POST");
   EXPECT_FALSE(table.refusal("GET", "/api/v1/jobs/7/preview.png", params({{"angle", "30"}})));
   EXPECT_FALSE(table.refusal("POST", "/api/v1/render/preview.png", params({{"angle", "30"}})));

@@ -207,8 +207,9 @@ TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
        "bad_request"},
       {"PUT on the jobs", request("PUT", "/api/v1/jobs", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405",
        "method_not_allowed"},
-      {"PATCH on a job", request("PATCH", "/api/v1/jobs/1", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405",
+      {"PATCH on cancel", request("PATCH", "/api/v1/jobs/1/cancel", "Content-Length: 2\r\n", "{}"), "HTTP/1.1 405",
        "method_not_allowed"},
+      {"a PATCH without a length", request("PATCH", "/api/v1/jobs/1", ""), "HTTP/1.1 411", "length_required"},
       {"DELETE on a job", request("DELETE", "/api/v1/jobs/1", ""), "HTTP/1.1 405", "method_not_allowed"},
       {"OPTIONS on healthz", request("OPTIONS", "/healthz", ""), "HTTP/1.1 405", "method_not_allowed"},
       {"GET on cancel", request("GET", "/api/v1/jobs/1/cancel", ""), "HTTP/1.1 405", "method_not_allowed"},
@@ -224,7 +225,7 @@ TEST_F(PopcutdHttp, FramingAndMethodsAreAnsweredConsistently) {
   EXPECT_NE(request("PUT", "/api/v1/jobs", "Content-Length: 0\r\n").find("\r\nAllow: GET, HEAD, POST\r\n"),
             std::string::npos)
       << "405 names the methods the path takes";
-  EXPECT_NE(request("DELETE", "/api/v1/jobs/1", "").find("\r\nAllow: GET, HEAD\r\n"), std::string::npos)
+  EXPECT_NE(request("DELETE", "/api/v1/jobs/1", "").find("\r\nAllow: GET, HEAD, PATCH\r\n"), std::string::npos)
       << "405 names the methods the path takes";
   EXPECT_EQ(status_line(request("HEAD", "/healthz", "")).rfind("HTTP/1.1 200", 0), 0u) << "HEAD goes with GET";
   httplib::Client none = d->client("");

@@ -1,0 +1,21 @@
+// What the queue's requests ask: Idempotency-Key, the list's filters, an admin's move (docs/api.md).
+#pragma once
+
+#include <string>
+
+#include "api_handlers.h"
+#include "store.h"
+
+namespace popcut::daemon {
+
+// The Idempotency-Key header: at most one, 1 to 255 visible ASCII characters ("" when absent).
+std::string idempotency_key(const Req& req);
+// SHA-256 (hex) of what a submission asks for, whatever its encoding: a retried multipart
+// upload has a new boundary, and two requests with one key are the same when these are.
+std::string request_digest(const NewJob& job);
+// ?limit=, ?state=a,b, ?device=, ?since= (unix seconds); owner left empty.
+JobFilter job_filter(const Req& req);
+// PATCH /api/v1/jobs/N: {"priority": P} and/or {"before": M}.
+Reorder reorder_request(const Req& req);
+
+}  // namespace popcut::daemon
