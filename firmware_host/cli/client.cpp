@@ -3,12 +3,14 @@
 
 #include <httplib.h>
 
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <thread>
 
 #include "cli/checks.h"
@@ -55,12 +57,17 @@ class Connection {
   // `shape` says what is wrong with a successful answer ("" if nothing): anything but popcutd's
   // shapes means something else answers at that address.
   using Shape = std::string (*)(const json&);
-  json request(const std::string& method, const std::string& path, Shape shape, const std::string& body = "") {
-    return answer(method == "GET" ? client_.Get(path.c_str()) : client_.Post(path.c_str(), body, "application/json"),
-                  shape);
+  json request(const std::string& method, const std::string& path, Shape shape, const std::string& body = "",
+               const httplib::Headers& headers = {}) {
+    return retried(headers, shape, [&] {
+      if (method == "GET") return client_.Get(path, headers);
+      if (method == "PATCH") return client_.Patch(path, headers, body, "application/json");
+      return client_.Post(path, headers, body, "application/json");
+    });
   }
-  json post_form(const std::string& path, const httplib::MultipartFormDataItems& items, Shape shape) {
-    return answer(client_.Post(path.c_str(), items), shape);
+  json post_form(const std::string& path, const httplib::MultipartFormDataItems& items, Shape shape,
+                 const httplib::Headers& headers = {}) {
+    return retried(headers, shape, [&] { return client_.Post(path, headers, items); });
   }
 
  private:
@@ -90,6 +97,20 @@ class Connection {
     }
     return j;
   }
+
+  // A request with an Idempotency-Key is sent again, with the same key, when the connection broke
+  // after it went out: popcutd may have queued the job, and the key makes the retry find it.
+  template <typename Send>
+  json retried(const httplib::Headers& headers, Shape shape, Send send) {
+    httplib::Result r = send();
+    const bool keyed = headers.count("Idempotency-Key") > 0;
+    for (int attempt = 0; keyed && attempt < 3 && !r && broken_after_sending(r.error()); ++attempt) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500 << attempt));
+      r = send();
+    }
+    return answer(r, shape);
+  }
+  static bool broken_after_sending(httplib::Error e) { return e == httplib::Error::Read || e == httplib::Error::Write; }
 
   // httplib names its errors in one word ("Connection"); say what it means for the user.
   static std::string why(httplib::Error e) {
@@ -153,15 +174,50 @@ int run(const ClientCommands& s, const std::function<int(Connection&)>& body) {
   }
 }
 
+// --since: unix seconds, or a span back from now ("90m", "12h", "7d").
+std::optional<double> since_s(const std::string& text) {
+  if (text.empty() || text.size() > 20 || !std::isdigit(static_cast<unsigned char>(text[0]))) return std::nullopt;
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  const std::string unit = text.substr(used);
+  const double scale = unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : unit == "d" ? 86400 : 0;
+  if (unit.empty()) return v;
+  if (scale == 0) return std::nullopt;
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::max(0.0, now - v * scale);
+}
+
 bool is_mesh_path(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   return ext == ".obj" || ext == ".stl" || ext == ".off" || ext == ".ply";
 }
 
+// A random (version 4) UUID: this invocation's Idempotency-Key.
+std::string random_uuid() {
+  std::random_device rd;
+  std::array<unsigned char, 16> b{};
+  for (unsigned char& x : b) x = static_cast<unsigned char>(rd() & 0xff);
+  b[6] = static_cast<unsigned char>((b[6] & 0x0f) | 0x40);
+  b[8] = static_cast<unsigned char>((b[8] & 0x3f) | 0x80);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    if (i == 4 || i == 6 || i == 8 || i == 10) out += '-';
+    out += {hex[b[i] >> 4], hex[b[i] & 15]};
+  }
+  return out;
+}
+
 int submit(const ClientCommands& s, Connection& c) {
   if (s.device.empty() == s.profile.empty())
     throw ClientFailure{kBadInput, "name exactly one of --device NAME or --profile PROFILE"};
+  const httplib::Headers key = {{"Idempotency-Key", s.idempotency_key.empty() ? random_uuid() : s.idempotency_key}};
   json job;
   if (is_mesh_path(s.model_path)) {
     // The mesh goes as it is, with popcut import's options: popcutd imports it with the same code
@@ -179,7 +235,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.name.empty()) items.push_back({"name", s.name, "", ""});
     if (!s.material.empty()) items.push_back({"material", s.material, "", ""});
     for (const auto& [option, value] : s.import_values) items.push_back({option, value, "", ""});
-    job = c.post_form("/api/v1/jobs", items, job_shape_problem);
+    job = c.post_form("/api/v1/jobs", items, job_shape_problem, key);
   } else {
     if (!s.import_values.empty()) {
       throw ClientFailure{
@@ -199,7 +255,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.profile.empty()) body["profile"] = s.profile;
     if (!s.name.empty()) body["name"] = s.name;
     if (!s.material.empty()) body["material"] = s.material;
-    job = c.request("POST", "/api/v1/jobs", job_shape_problem, body.dump());
+    job = c.request("POST", "/api/v1/jobs", job_shape_problem, body.dump(), key);
   }
   // Only the submission's answer has them; a job fetched again while waiting does not.
   const json warnings = job.value("warnings", json::array());
@@ -253,11 +309,37 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
           },
           "TEXT"));
   s.submit->add_flag("--wait", s.wait, "Wait until the job is done, failed, cancelled or interrupted");
+  s.submit
+      ->add_option("--idempotency-key", s.idempotency_key,
+                   "Send this Idempotency-Key (default: a new UUID per run): a script that runs submit again with the\n"
+                   "same key, within 24 h, gets the first job back instead of a second one")
+      ->check(CLI::Validator(
+          [](std::string& t) {
+            const bool visible = std::all_of(t.begin(), t.end(), [](char ch) { return ch > ' ' && ch < 0x7f; });
+            return !t.empty() && t.size() <= 255 && visible ? std::string()
+                                                            : std::string("1 to 255 visible ASCII characters");
+          },
+          "KEY"));
   common(s.submit);
   add_import_options(s.submit, s.import_values);
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
+  s.jobs->add_option("--state", s.states, "Only jobs in these states (comma-separated, e.g. done,failed)");
+  s.jobs->add_option("--device", s.filter_device, "Only jobs cut on (or waiting for) this device");
+  s.jobs
+      ->add_option("--since", s.since,
+                   "Only jobs created or finished since: unix seconds, or a span back from now (90m, 12h, 7d)")
+      ->check(CLI::Validator([](std::string& t) { return since_s(t) ? std::string() : "unix seconds or 90m, 12h, 7d"; },
+                             "WHEN"));
   common(s.jobs);
+  s.move = app.add_subcommand("move",
+                              "Move a waiting job in popcutd's queue (admin token): a priority (higher is cut first),\n"
+                              "or the place just ahead of another waiting job (taking its priority).\n"
+                              "Exit 2 if refused (not waiting, no such job, not the admin token).");
+  s.move->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+  s.move->add_option("--priority", s.priority, "-100 to 100; 0 is every job's default")->check(CLI::Range(-100, 100));
+  s.move->add_option("--before", s.before_id, "The waiting job to go just ahead of")->check(positive_whole("a job id"));
+  common(s.move);
   s.cancel =
       app.add_subcommand("cancel",
                          "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
@@ -284,8 +366,11 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
   if (s.submit && *s.submit) return run(s, [&](Connection& c) { return submit(s, c); });
   if (s.jobs && *s.jobs) {
     return run(s, [&](Connection& c) {
-      const json r =
-          c.request("GET", std::string("/api/v1/jobs?limit=") + (s.all ? "10000" : "100"), job_list_shape_problem);
+      httplib::Params query = {{"limit", s.all ? "10000" : "100"}};
+      if (!s.states.empty()) query.emplace("state", s.states);
+      if (!s.filter_device.empty()) query.emplace("device", s.filter_device);
+      if (!s.since.empty()) query.emplace("since", std::to_string(static_cast<long long>(*since_s(s.since))));
+      const json r = c.request("GET", httplib::append_query_params("/api/v1/jobs", query), job_list_shape_problem);
       if (s.json_out)
         print_json_line(r);
       else
@@ -306,6 +391,20 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
     });
   };
   if (s.cancel && *s.cancel) return job_action("cancel", "");
+  if (s.move && *s.move) {
+    return run(s, [&](Connection& c) {
+      json body = json::object();
+      if (*s.move->get_option("--priority")) body["priority"] = s.priority;
+      if (*s.move->get_option("--before")) body["before"] = s.before_id;
+      if (body.empty()) throw ClientFailure{kBadInput, "name --priority P, --before JOB or both"};
+      const json j = c.request("PATCH", "/api/v1/jobs/" + std::to_string(s.job_id), job_shape_problem, body.dump());
+      if (s.json_out)
+        print_json_line(j);
+      else
+        print_job_line(j);
+      return kOk;
+    });
+  }
   if (s.resume && *s.resume) return job_action("resume", json{{"from", s.resume_from}}.dump());
   return std::nullopt;
 }

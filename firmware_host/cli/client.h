@@ -14,7 +14,12 @@ struct ClientCommands {
   CLI::App* jobs = nullptr;
   CLI::App* cancel = nullptr;
   CLI::App* resume = nullptr;
+  CLI::App* move = nullptr;
   std::string server, token, model_path, device, profile, name, material;
+  std::string idempotency_key;                                     // submit: "" sends a new UUID
+  std::string states, filter_device, since;                        // jobs' filters
+  int priority = 0;                                                // move --priority
+  long long before_id = 0;                                         // move --before
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;

@@ -12,8 +12,8 @@ let current = 0;         // bumped whenever the model changes: answers about an 
 const urls = {};         // object URLs in use, freed when replaced
 const BLANK = "data:image/svg+xml,%3Csvg xmlns='http://www.w3.org/2000/svg'/%3E";
 
-async function api(method, path, body, type) {
-  const headers = { Authorization: 'Bearer ' + token };
+async function api(method, path, body, type, extra) {
+  const headers = Object.assign({ Authorization: 'Bearer ' + token }, extra);
   // A FormData body sets its own multipart Content-Type.
   if (body !== undefined && !(body instanceof FormData)) headers['Content-Type'] = 'application/json';
   const res = await fetch(path, { method, headers, body: body === undefined ? (method === 'POST' ? '' : undefined) : body });
@@ -23,6 +23,16 @@ async function api(method, path, body, type) {
     throw new Error(message);
   }
   return type === 'blob' ? res.blob() : res.json();
+}
+
+// A random (version 4) UUID; crypto.randomUUID is only there on https or localhost, a kiosk on
+// the shop's network may be neither.
+function newKey() {
+  const b = crypto.getRandomValues(new Uint8Array(16));
+  b[6] = (b[6] & 0x0f) | 0x40;
+  b[8] = (b[8] & 0x3f) | 0x80;
+  const h = Array.from(b, (x) => x.toString(16).padStart(2, '0')).join('');
+  return [h.slice(0, 8), h.slice(8, 12), h.slice(12, 16), h.slice(16, 20), h.slice(20)].join('-');
 }
 
 function showImage(id, blob) {
@@ -237,7 +247,18 @@ $('queue').addEventListener('click', async () => {
     const job = { device: $('device').value, name: $('name').value, model: JSON.parse(model) };
     if ($('material').value) job.material = $('material').value;
     const body = JSON.stringify(job);
-    jobItem(await api('POST', '/api/v1/jobs', body));
+    // One key per press: the retry after a dropped connection (the job may have been queued)
+    // finds the first job instead of queuing a second card.
+    const key = { 'Idempotency-Key': newKey() };
+    let answer;
+    try {
+      answer = await api('POST', '/api/v1/jobs', body, 'json', key);
+    } catch (e) {
+      if (!(e instanceof TypeError)) throw e;  // fetch's network failure; an answer is an Error
+      await new Promise((r) => setTimeout(r, 1000));
+      answer = await api('POST', '/api/v1/jobs', body, 'json', key);
+    }
+    jobItem(answer);
   } catch (e) {
     showError('queue-error', e);
   }

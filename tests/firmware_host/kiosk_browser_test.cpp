@@ -1,5 +1,6 @@
 // The kiosk page in headless Chromium (driven over WebDriver by chromedriver) against a real popcutd.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <fstream>
 #include <thread>
@@ -69,6 +70,22 @@ TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
   EXPECT_NE(b.run("return document.querySelector('#jobs .job .where').textContent").get<std::string>().find("on sim-b"),
             std::string::npos)
       << "it says which cutter cut it";
+  {
+    // The press sent its own Idempotency-Key, a version 4 UUID, recorded with the job.
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2((dir.path() / "data" / "jobs.db").c_str(), &db, SQLITE_OPEN_READONLY, nullptr),
+              SQLITE_OK);
+    sqlite3_stmt* st = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT owner, key FROM idempotency", -1, &st, nullptr), SQLITE_OK);
+    ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+    EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)), "kiosk");
+    const std::string key = reinterpret_cast<const char*>(sqlite3_column_text(st, 1));
+    EXPECT_EQ(key.size(), 36u) << key;
+    EXPECT_EQ(key[14], '4') << key;
+    EXPECT_EQ(sqlite3_step(st), SQLITE_DONE) << "one press, one key";
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+  }
   // Every kiosk file came from the daemon: nothing from elsewhere.
   EXPECT_EQ(
       b.run("return performance.getEntriesByType('resource').filter(e => !e.name.startsWith(location.origin)).length")

@@ -3,8 +3,13 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <map>
 #include <mutex>
+#include <regex>
 #include <thread>
 
 #include "popcutd_process.h"
@@ -54,6 +59,7 @@ class FakeServer {
     };
     server_.Get(".*", handler);
     server_.Post(".*", handler);
+    server_.Patch(".*", handler);
     port_ = server_.bind_to_any_port("127.0.0.1");
     thread_ = std::thread([this] { server_.listen_after_bind(); });
   }
@@ -105,7 +111,10 @@ class PopcutClientAnswers : public ::testing::Test {
             "submit " + kSrc + "/examples/meshes/house.obj --profile sim",
             "cancel 7",
             "resume 7",
-            "resume 7 --from executed"};
+            "resume 7 --from executed",
+            "move 7 --priority 3",
+            "move 7 --before 5",
+            "jobs --state done,failed --device a --since 7d"};
   }
   TempDir dir_{"popcut-client-test"};
   FakeServer server_;
@@ -184,6 +193,114 @@ TEST_F(PopcutClientAnswers, PopcutdsShapesAreTaken) {
   const CliRun refused = cli("cancel 7");
   EXPECT_EQ(refused.code, 2) << "popcutd's refusal is exit 2: " << refused.err;
   EXPECT_NE(refused.err.find("popcutd refused (404 not_found): no job 7"), std::string::npos) << refused.err;
+}
+
+// A loopback listener that reads `n` requests, one connection each, and keeps their headers; the
+// first `drop` are closed unanswered (the job may have been queued: the client cannot know).
+class DroppingServer {
+ public:
+  DroppingServer(int n, int drop, std::string answer) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    if (::bind(fd_, reinterpret_cast<sockaddr*>(&a), len) != 0 || ::listen(fd_, 4) != 0 ||
+        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len) != 0)
+      throw std::runtime_error("cannot listen on loopback");
+    port_ = ntohs(a.sin_port);
+    thread_ = std::thread([this, n, drop, answer] {
+      for (int i = 0; i < n; ++i) {
+        const int c = ::accept(fd_, nullptr, nullptr);
+        if (c < 0) return;
+        std::string got;
+        char buf[4096];
+        // Headers, then the Content-Length of body, so the client sees its request taken whole.
+        while (got.find("\r\n\r\n") == std::string::npos) {
+          const ssize_t k = ::read(c, buf, sizeof buf);
+          if (k <= 0) break;
+          got.append(buf, static_cast<std::size_t>(k));
+        }
+        std::smatch m;
+        const std::size_t body_at = got.find("\r\n\r\n") + 4;
+        if (std::regex_search(got, m, std::regex("Content-Length: (\\d+)", std::regex::icase))) {
+          while (got.size() < body_at + std::stoul(m[1])) {
+            const ssize_t k = ::read(c, buf, sizeof buf);
+            if (k <= 0) break;
+            got.append(buf, static_cast<std::size_t>(k));
+          }
+        }
+        {
+          std::lock_guard lock(m_);
+          requests_.push_back(got.substr(0, body_at));
+        }
+        if (i >= drop) {
+          const std::string reply = "HTTP/1.1 201 Created\r\nContent-Type: application/json\r\nContent-Length: " +
+                                    std::to_string(answer.size()) + "\r\nConnection: close\r\n\r\n" + answer;
+          (void)!::write(c, reply.data(), reply.size());
+        }
+        ::close(c);
+      }
+    });
+  }
+  ~DroppingServer() {
+    ::shutdown(fd_, SHUT_RDWR);
+    ::close(fd_);
+    thread_.join();
+  }
+  std::string address() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  // Each request's Idempotency-Key header value ("" where it had none).
+  std::vector<std::string> keys() {
+    std::lock_guard lock(m_);
+    std::vector<std::string> out;
+    for (const std::string& r : requests_) {
+      std::smatch m;
+      out.push_back(std::regex_search(r, m, std::regex("Idempotency-Key: ([^\r]*)", std::regex::icase)) ? m[1].str()
+                                                                                                        : "");
+    }
+    return out;
+  }
+
+ private:
+  int fd_ = -1, port_ = 0;
+  std::thread thread_;
+  std::mutex m_;
+  std::vector<std::string> requests_;
+};
+
+int run_popcut(const std::string& args) {
+  const int status = std::system((std::string(POPCUT_CLI) + " " + args + " >/dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(PopcutSubmitKey, ARetryAfterABrokenConnectionSendsTheSameKey) {
+  DroppingServer server(3, 2, kJob.dump());
+  EXPECT_EQ(run_popcut("submit " + kSrc + "/examples/voxel/box.json --device a --server " + server.address() +
+                       " --token kiosk-0123456789abcdef"),
+            0)
+      << "the third try is answered";
+  const std::vector<std::string> keys = server.keys();
+  ASSERT_EQ(keys.size(), 3u);
+  EXPECT_TRUE(
+      std::regex_match(keys[0], std::regex("[0-9a-f]{8}-[0-9a-f]{4}-4[0-9a-f]{3}-[89ab][0-9a-f]{3}-[0-9a-f]{12}")))
+      << "a version 4 UUID: " << keys[0];
+  EXPECT_EQ(keys[1], keys[0]);
+  EXPECT_EQ(keys[2], keys[0]) << "every retry of one submission carries its key";
+}
+
+TEST(PopcutSubmitKey, EachRunHasItsOwnKeyUnlessOneIsGiven) {
+  std::vector<std::string> keys;
+  for (const std::string& given : {std::string(""), std::string(""), std::string(" --idempotency-key order-1138")}) {
+    DroppingServer server(1, 0, kJob.dump());
+    EXPECT_EQ(run_popcut("submit " + kSrc + "/examples/voxel/box.json --device a --server " + server.address() +
+                         " --token kiosk-0123456789abcdef" + given),
+              0);
+    keys.push_back(server.keys().at(0));
+  }
+  EXPECT_NE(keys[0], keys[1]) << "a second run is a second job";
+  EXPECT_EQ(keys[2], "order-1138");
+  EXPECT_EQ(run_popcut("submit " + kSrc + "/examples/voxel/box.json --device a --idempotency-key 'a b'"), 2)
+      << "a key popcutd would refuse is refused before sending";
 }
 
 }  // namespace

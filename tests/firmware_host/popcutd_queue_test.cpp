@@ -1,6 +1,7 @@
 // The queue: priority and `before` in the store and over PATCH /api/v1/jobs/N, Idempotency-Key, and the list's filters.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <string>
@@ -295,6 +296,37 @@ TEST_F(QueueHttp, TheListFiltersByStateDeviceAndTime) {
     EXPECT_EQ(r.status, 400) << bad;
     EXPECT_EQ(r.body["error"]["field"], bad.substr(0, bad.find('='))) << bad;
   }
+}
+
+// The same through the popcut binary: submit with a key, move, and the list's filters.
+TEST_F(QueueHttp, TheCliSubmitsOnceMovesAndFilters) {
+  ASSERT_EQ(post_json(admin_, "/api/v1/devices/sim-a/pause", "").status, 200);
+  const std::string out = (dir_.path() / "cli.out").string();
+  const auto cli = [&](const std::string& args, const std::string& token) {
+    const std::string cmd = std::string(POPCUT_CLI) + " " + args +
+                            " --json --server http://127.0.0.1:" + std::to_string(d_.port()) + " --token " + token +
+                            " >" + out + " 2>/dev/null";
+    const int status = std::system(cmd.c_str());
+    return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, popcut::testing::read_file(out)};
+  };
+  const std::string keyed = "submit " + kSrc + "/examples/voxel/pyramid.json --device sim-a --idempotency-key ord-7";
+  const auto [code1, first] = cli(keyed, kKiosk);
+  ASSERT_EQ(code1, 0) << first;
+  const auto [code2, again] = cli(keyed, kKiosk);
+  ASSERT_EQ(code2, 0) << again;
+  const std::int64_t a = json::parse(first)["id"];
+  EXPECT_EQ(json::parse(again)["id"], a) << "the same key, the same job";
+  const std::int64_t b = submit("b");
+  const auto [moved, moved_out] = cli("move " + std::to_string(b) + " --before " + std::to_string(a), kAdmin);
+  ASSERT_EQ(moved, 0) << moved_out;
+  EXPECT_EQ(json::parse(moved_out)["place_in_line"], 0);
+  EXPECT_EQ(cli("move " + std::to_string(a) + " --priority 1", kKiosk).first, 2) << "the kiosk token may not";
+  EXPECT_EQ(cli("move " + std::to_string(a), kAdmin).first, 2) << "a move needs --priority or --before";
+  const auto [listed, list] = cli("jobs --state queued,planning,ready --device sim-a --since 1h", kAdmin);
+  ASSERT_EQ(listed, 0) << list;
+  EXPECT_EQ(json::parse(list)["jobs"].size(), 2u) << list;
+  EXPECT_EQ(json::parse(cli("jobs --state done", kAdmin).second)["jobs"].size(), 0u);
+  EXPECT_EQ(cli("jobs --since yesterday", kAdmin).first, 2);
 }
 
 }  // namespace
