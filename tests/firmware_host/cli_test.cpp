@@ -55,7 +55,7 @@ const char* kBox = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[
 const char* kSplit = R"({"format": "popcut.voxel.v1", "voxel_mm": 2, "heights": [[3]], "windows": [[0, 1]]})";
 
 TEST_F(Cli, HelpEverywhere) {
-  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold ", "render ", "import "}) {
+  for (const char* sub : {"", "pattern ", "validate ", "repair ", "fold ", "render ", "import ", "move ", "jobs "}) {
     const Result r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.code, 0) << "'" << sub << "--help' exits 0";
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << "'" << sub << "--help' prints usage: " << r.out;
@@ -78,7 +78,7 @@ TEST_F(Cli, UsageErrorsExit2) {
   EXPECT_EQ(
       typo.err,
       "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, plan, cut, "
-      "test-cut, calibrate, submit, jobs, cancel, devices or sim-plotter)\nRun 'popcut --help' for usage.\n");
+      "test-cut, calibrate, submit, jobs, move, cancel, devices or sim-plotter)\nRun 'popcut --help' for usage.\n");
   const Result flag = run("validate --jsn x.json");
   EXPECT_EQ(flag.err.rfind("popcut: error: ", 0), 0u) << "usage errors read like every other error: " << flag.err;
   EXPECT_NE(flag.err.find("popcut validate --help"), std::string::npos) << "and point at the right help: " << flag.err;
