@@ -53,13 +53,18 @@ struct Job {
   TimeEstimate time;
   std::string hpgl;    // the whole job
   EncodedJob encoded;  // what is sent: the whole job, or from --resume-from on
+  NestLayout layout;   // the grid of cards the media holds
+  int copies = 1;      // how many of them are cut
 };
 
 Job make_job(const CutCommands& s, const std::string& profile_path, std::size_t from_stroke = 1) {
   const std::string& model_path = s.model_path;
   Job j;
   j.profile = load_cli_profile(profile_path, s.material);
-  drivers::DevicePlan d = drivers::plan_for_device(load_cli_pattern(model_path), j.profile, profile_path);
+  drivers::DevicePlan d =
+      drivers::plan_for_device(load_cli_pattern(model_path), j.profile, profile_path, {s.copies, s.gap_mm});
+  j.layout = d.layout;
+  j.copies = s.copies;
   j.plan = std::move(d.plan);
   j.time = d.time;
   j.encoded = std::move(d.encoded);
@@ -91,6 +96,12 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
             {"strokes_below_resolution", t.strokes_below_resolution},
             {"hpgl_bytes", j.hpgl.size()},
             {"calibration", drivers::calibration_json(j.profile.calibration)},
+            {"copies",
+             {{"count", j.copies},
+              {"columns", j.layout.columns},
+              {"rows", j.layout.rows},
+              {"fit", j.layout.count()},
+              {"gap_mm", j.layout.gap_mm}}},
             {"kinds", json::object()}};
   for (PlanKind k : kAllPlanKinds) {
     json kj = kind_json(j.plan.kinds[index_of(k)], j.time.kind_s[index_of(k)]);
@@ -210,6 +221,15 @@ int run_cut(const CutCommands& s) {
   });
 }
 
+// --copies and --gap-mm, the same on plan and cut.
+void add_copies_options(CLI::App* sub, CutCommands& s) {
+  sub->add_option("--copies", s.copies,
+                  "Cut this many copies of the card on one sheet, nested in a grid the device's media holds\n"
+                  "(folds and cuts of every card first, then every card's outline); exit 2 if they do not fit")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--gap-mm", s.gap_mm, "Space between nested copies (default 5)")->check(CLI::Range(0.0, 100.0));
+}
+
 }  // namespace
 
 void add_cut_commands(CLI::App& app, CutCommands& s) {
@@ -220,6 +240,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan->add_option("--material", s.material, kMaterialHelp);
   s.plan->add_option("--report", s.report_path, "Also write the plan's figures as JSON (popcut.plan.v1)");
   s.plan->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
+  add_copies_options(s.plan, s);
 
   s.cut = app.add_subcommand(
       "cut",
@@ -248,6 +269,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
       "Send strokes N.. only (numbered from 1 as progress and errors count them), starting with the knife up");
   s.cut->add_option("--out", s.out_dir, "Directory for job.hpgl, cut.svg and report.json")->required();
   s.cut->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
+  add_copies_options(s.cut, s);
   s.cut->add_flag("--no-progress", s.no_progress, "No progress bar, even on a terminal");
   add_sim_fault_options(*s.cut, s.faults);
 }

@@ -17,6 +17,8 @@ struct CutCommands {
   bool json_out = false, no_progress = false;
   SimFaultArgs faults;
   long resume_from = 1;
+  int copies = 1;       // cards nested on the one sheet
+  double gap_mm = 5.0;  // between them
 };
 
 // Adds `plan` and `cut` to the app; `state` receives the parsed options.

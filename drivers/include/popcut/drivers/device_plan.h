@@ -7,12 +7,20 @@
 #include "popcut/hpgl/hpgl.h"
 #include "popcut/mesh/import_request.h"
 #include "popcut/pattern/pattern.h"
+#include "popcut/plan/nest.h"
 #include "popcut/plan/plan.h"
 
 namespace popcut::drivers {
 
+// Several copies of the card on one sheet of the device's media (popcut/plan/nest.h).
+struct Copies {
+  int count = 1;        // 1 .. 1000
+  double gap_mm = 5.0;  // between neighbouring cards' extents (a drag knife's corners included)
+};
+
 struct DevicePlan {
   StrokePlan plan;     // strokes below the plotter's resolution dropped: what is sent
+  NestLayout layout;   // the grid of cards the device's media holds (copies fill it row by row)
   TimeEstimate time;   // of `plan`, with the profile's kinematics and speeds
   EncodedJob encoded;  // the whole job, from stroke 1
 };
@@ -20,7 +28,13 @@ struct DevicePlan {
 // plan_strokes -> drop_below_resolution -> estimate_time -> encode_for_device (in the profile's
 // language). A sheet that does not fit the device's usable area throws popcut::Error(invalid_input)
 // naming `profile_source`: the pattern is fine, it is this device that is too small.
-DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source);
+// With copies.count > 1 the card is planned once and nested (nest_plan) in the grid the device's
+// usable area holds; more copies than fit throws Error(invalid_input) at "copies", saying how
+// many fit.
+DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source,
+                           const Copies& copies = {});
+// The grid of `card` (a card's plan) that the device's usable area holds.
+NestLayout copies_layout(const StrokePlan& card, const DeviceProfile& profile, double gap_mm);
 
 // The largest sheet the device takes, as plan_for_device places it: the usable area with the
 // sheet's x along the plotter's x (its y with swap_axes), less the blade offset on every side
