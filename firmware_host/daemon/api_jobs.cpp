@@ -65,6 +65,7 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
             {"started_at", j.started_at > 0 ? json(j.started_at) : json(nullptr)},
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
             {"priority", j.priority},
+            {"copies", j.copies},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
   if (!j.error_code.empty() || !j.error_message.empty())
@@ -145,9 +146,10 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
   const DeviceConfig* dev = d.planning_device(nj.target_device, nj.target_profile);
   if (!dev) fail(ApiError::no_device, "no device for this job", "device");
   try {
-    drivers::plan_for_device(p, d.job_profile(*dev, nj.material), dev->profile_path);
+    drivers::plan_for_device(p, d.job_profile(*dev, nj.material), dev->profile_path, {nj.copies});
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;
+    if (e.location() == "copies") fail(ApiError::bad_model, e.message() + "; submit the rest as another job", "copies");
     fail(ApiError::bad_model,
          "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
              ": " + e.message(),
@@ -159,7 +161,8 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
 // A mesh with popcut import's options: imported now, so its errors answer this request; the
 // job then holds the imported model like any other. Returns the model's source for messages.
 std::string job_from_upload(ApiContext& api, const Req& req, NewJob& nj) {
-  MeshUpload u = import_upload(api, req, {"name", "device", "profile", "material"});
+  MeshUpload u = import_upload(api, req, {"name", "device", "profile", "material", "copies"});
+  if (u.fields.count("copies")) nj.copies = copies_field(json::parse(u.fields["copies"], nullptr, false));
   // Unnamed, the job is named after the file (house.obj: "house").
   if (u.fields.count("name") && u.fields["name"].empty())
     fail(ApiError::bad_request, "'name' is empty: leave it out to name the job after its file", "name");
@@ -175,9 +178,10 @@ void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
   const json body = parse_body(req);
   if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object");
   for (const auto& [k, v] : body.items()) {
-    if (k != "name" && k != "device" && k != "profile" && k != "material" && k != "model")
+    if (k != "name" && k != "device" && k != "profile" && k != "material" && k != "model" && k != "copies")
       fail(ApiError::bad_request, "unknown field '" + k + "'", k);
   }
+  if (body.contains("copies")) nj.copies = copies_field(body["copies"]);
   if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
   if (!body["model"].is_object())
     fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");

@@ -21,7 +21,9 @@ std::string idempotency_key(const Req& req) {
 
 std::string request_digest(const NewJob& nj) {
   std::string all;
-  for (const std::string* part : {&nj.name, &nj.target_device, &nj.target_profile, &nj.material, &nj.model_json}) {
+  const std::string copies = std::to_string(nj.copies);
+  for (const std::string* part :
+       {&nj.name, &nj.target_device, &nj.target_profile, &nj.material, &copies, &nj.model_json}) {
     all += std::to_string(part->size()) + ":" + *part;
   }
   unsigned char md[EVP_MAX_MD_SIZE];
@@ -68,6 +70,12 @@ JobFilter job_filter(const Req& req) {
     f.since_s = since;
   }
   return f;
+}
+
+int copies_field(const json& v) {
+  if (!whole_in(v, 1, 1000))
+    fail(ApiError::bad_request, "'copies' must be a whole number from 1 to 1000 (cards nested on one sheet)", "copies");
+  return v.get<int>();
 }
 
 Reorder reorder_request(const Req& req) {

@@ -15,6 +15,8 @@ std::string idempotency_key(const Req& req);
 std::string request_digest(const NewJob& job);
 // ?limit=, ?state=a,b, ?device=, ?since= (unix seconds); owner left empty.
 JobFilter job_filter(const Req& req);
+// A submission's `copies`: a whole number from 1 to 1000 (400 naming the field otherwise).
+int copies_field(const json& v);
 // PATCH /api/v1/jobs/N: {"priority": P} and/or {"before": M}.
 Reorder reorder_request(const Req& req);
 

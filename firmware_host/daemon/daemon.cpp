@@ -258,7 +258,7 @@ void Daemon::plan_one(const Job& job) {
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
     // As `popcut cut` plans it; a sheet that does not fit the device is refused now, not at the cutter.
     const drivers::DevicePlan planned =
-        drivers::plan_for_device(pattern, job_profile(*dev, job.material), dev->profile_path);
+        drivers::plan_for_device(pattern, job_profile(*dev, job.material), dev->profile_path, {job.copies});
     const StrokePlan& plan = planned.plan;
     const std::filesystem::path dir = job_dir(job.id);
     std::filesystem::create_directories(dir);

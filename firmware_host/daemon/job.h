@@ -146,6 +146,7 @@ struct Job {
   // rank starts as the id (first come, first served) and an admin's `before` puts it between two.
   int priority = 0;
   double queue_rank = 0;
+  int copies = 1;  // cards nested on its sheet
 
   // The device holding this job's half-cut sheet: an interrupted job, or one resumed and waiting,
   // continues there and nowhere else ("" when no sheet of it is on a device).

@@ -17,7 +17,7 @@ namespace {
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK;
+    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK ", copies";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -45,6 +45,7 @@ Job read_job(const Stmt& s) {
   j.knife_down_strokes = s.integer(21);
   j.priority = static_cast<int>(s.integer(22));
   j.queue_rank = s.real(23);
+  j.copies = static_cast<int>(s.integer(24));
   return j;
 }
 
@@ -206,14 +207,15 @@ SubmitResult JobStore::submit(const NewJob& nj, int queue_length) {
       return {Submitted::queue_full, 0};
     }
     Stmt ins(db_,
-             "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at, material) "
-             "VALUES (?,?,?,?,'queued',?,?)");
+             "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at, material, copies) "
+             "VALUES (?,?,?,?,'queued',?,?,?)");
     ins.bind(1, nj.owner)
         .bind(2, nj.name)
         .bind(3, nj.target_device)
         .bind(4, nj.target_profile)
         .bind(5, unix_now_s())
         .bind(6, nj.material)
+        .bind(7, std::int64_t{nj.copies})
         .step();
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();

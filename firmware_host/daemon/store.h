@@ -23,6 +23,7 @@ struct NewJob {
   std::string owner, name, target_device, target_profile;
   std::string model_json;  // the model as submitted (popcut.voxel.v1 / popcut.faces.v1)
   std::string material{};  // configs/materials stem; empty: the profile's own forces
+  int copies = 1;          // cards nested on the one sheet (drivers::Copies)
   // Idempotency-Key (empty: none) and a digest of what was asked: a retry with the same key and
   // the same request is answered with the first job (docs/api.md "Idempotent submission").
   std::string idempotency_key{}, request_sha256{};

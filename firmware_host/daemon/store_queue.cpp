@@ -70,6 +70,7 @@ void JobStore::add_queue_columns() {
   exec(
       "CREATE TABLE IF NOT EXISTS idempotency (owner TEXT NOT NULL, key TEXT NOT NULL, request_sha256 TEXT NOT NULL,"
       " job_id INTEGER NOT NULL, created_at REAL NOT NULL, PRIMARY KEY (owner, key))");
+  if (!has_column("jobs", "copies")) exec("ALTER TABLE jobs ADD COLUMN copies INTEGER NOT NULL DEFAULT 1");
   if (has_column("jobs", "priority")) return;
   exec("ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0");
   exec("ALTER TABLE jobs ADD COLUMN queue_rank REAL");  // NULL: the id

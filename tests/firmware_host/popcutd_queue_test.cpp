@@ -329,4 +329,44 @@ TEST_F(QueueHttp, TheCliSubmitsOnceMovesAndFilters) {
   EXPECT_EQ(cli("jobs --since yesterday", kAdmin).first, 2);
 }
 
+// copies: the cards nested on one sheet of the device, planned and cut as one job.
+TEST_F(QueueHttp, CopiesAreNestedOnOneSheetAndCutAsPlanned) {
+  const auto submit_copies = [&](const std::string& copies) {
+    return post_json(kiosk_, "/api/v1/jobs",
+                     R"({"device": "sim-a", "copies": )" + copies + R"(, "model": )" + model_ + "}");
+  };
+  const std::int64_t one = submit("one");
+  const Reply three = submit_copies("3");
+  ASSERT_EQ(three.status, 201) << three.body.dump();
+  EXPECT_EQ(three.body["copies"], 3);
+  std::vector<json> done;
+  for (const std::int64_t id : {one, three.body["id"].get<std::int64_t>()}) {
+    const std::string path = "/api/v1/jobs/" + std::to_string(id);
+    ASSERT_TRUE(popcut::testing::wait_until([&] { return get_json(admin_, path).body["state"] == "done"; }, 300));
+    done.push_back(get_json(admin_, path).body);
+  }
+  EXPECT_EQ(done[1]["strokes_total"], 3 * done[0]["strokes_total"].get<int>());
+  EXPECT_TRUE(done[1]["sim_match"].get<bool>()) << "the simulator cut exactly the nested plan";
+  EXPECT_NEAR(done[1]["cut_mm"].get<double>(), 3 * done[0]["cut_mm"].get<double>(), 1.0);
+  // How many the sim profile's area holds, as popcut plan says.
+  const std::string out = (dir_.path() / "plan.json").string();
+  ASSERT_EQ(std::system((std::string(POPCUT_CLI) + " plan " + kSrc + "/examples/voxel/pyramid.json --profile " + kSrc +
+                         "/configs/devices/sim.toml -o /dev/null --json >" + out)
+                            .c_str()),
+            0);
+  const int fit = json::parse(popcut::testing::read_file(out))["copies"]["fit"];
+  const Reply too_many = submit_copies(std::to_string(fit + 1));
+  EXPECT_EQ(too_many.status, 422) << too_many.body.dump();
+  EXPECT_EQ(too_many.body["error"]["field"], "copies");
+  EXPECT_NE(too_many.body["error"]["message"].get<std::string>().find("it holds " + std::to_string(fit)),
+            std::string::npos)
+      << too_many.body.dump();
+  const std::vector<std::string> bad_copies = {"0", "1001", "2.5", "\"3\""};
+  for (const std::string& bad : bad_copies) {
+    const Reply r = submit_copies(bad);
+    EXPECT_EQ(r.status, 400) << bad;
+    EXPECT_EQ(r.body["error"]["field"], "copies") << bad;
+  }
+}
+
 }  // namespace
