@@ -116,9 +116,6 @@ class JobStore {
   DeviceSheet device_sheet(const std::string& device);
   // A fresh sheet is loaded; nullopt (and nothing changed) while a job is cutting on the device.
   std::optional<DeviceSheet> confirm_sheet(const std::string& device);
-  // The device said its tray is empty before the job's first byte: cutting -> ready as claimed,
-  // the sheet empty, in one transaction. False when the job was no longer cutting.
-  bool unclaim_empty_tray(std::int64_t job_id, const std::string& device);
 
  private:
   void create_sheet_tables();

@@ -78,25 +78,4 @@ std::optional<DeviceSheet> JobStore::confirm_sheet(const std::string& device) {
   }
 }
 
-bool JobStore::unclaim_empty_tray(std::int64_t job_id, const std::string& device) {
-  std::lock_guard lock(mutex_);
-  exec("BEGIN IMMEDIATE");
-  try {
-    // Back to ready as the claim found it: nothing reached the device, so nothing of it changes.
-    Stmt(db_,
-         "UPDATE jobs SET state='ready', device=CASE WHEN strokes_sent > 0 OR resume_from > 0 THEN device ELSE '' END,"
-         " started_at=CASE WHEN strokes_sent > 0 OR resume_from > 0 THEN started_at ELSE 0 END, run_started_at=0"
-         " WHERE id=? AND state='cutting'")
-        .bind(1, job_id)
-        .step();
-    const bool back = sqlite3_changes(db_) > 0;
-    write_sheet(db_, device, SheetState::empty, 0);
-    exec("COMMIT");
-    return back;
-  } catch (...) {
-    exec("ROLLBACK");
-    throw;
-  }
-}
-
 }  // namespace popcut::daemon
