@@ -1,4 +1,4 @@
-// popcut submit / jobs / cancel / resume: the command-line client of popcutd's HTTP API.
+// popcut submit / jobs / cancel / resume / sheet: the command-line client of popcutd's HTTP API.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -14,7 +14,9 @@ struct ClientCommands {
   CLI::App* jobs = nullptr;
   CLI::App* cancel = nullptr;
   CLI::App* resume = nullptr;
+  CLI::App* sheet = nullptr;
   std::string server, token, model_path, device, profile, name, material;
+  std::string sheet_device;  // sheet NAME
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;

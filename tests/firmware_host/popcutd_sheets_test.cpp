@@ -4,7 +4,10 @@
 #include <httplib.h>
 
 #include <chrono>
+#include <sys/wait.h>
+
 #include <csignal>
+#include <cstdio>
 #include <mutex>
 #include <thread>
 
@@ -198,6 +201,56 @@ TEST(PopcutdSheets, KillNineDuringACutLeavesTheSheetUsed) {
   stays_ready(kiosk, second, 1.0);
   ASSERT_EQ(post_json(kiosk, "/api/v1/devices/sim-a/sheet", "").status, 200);
   wait_state(kiosk, second, "done");
+}
+
+}  // namespace
+
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string out;
+};
+
+// `popcut ARGS` with its standard output and error together, and its exit status.
+CliRun popcut(const std::string& args) {
+  CliRun r;
+  FILE* p = ::popen((std::string(POPCUT_CLI) + " " + args + " 2>&1").c_str(), "r");
+  char buf[512];
+  while (p && std::fgets(buf, sizeof buf, p)) r.out += buf;
+  const int status = p ? ::pclose(p) : -1;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+TEST(PopcutdSheets, PopcutSheetConfirmsAndExitsAsDocumented) {
+  TempDir dir("popcutd-sheets-cli");
+  PopcutdProcess d(POPCUTD, config(dir, 0, 0.3), (dir.path() / "data").string());
+  httplib::Client kiosk = d.client(kKiosk);
+  const std::string server = " --server http://127.0.0.1:" + std::to_string(d.port());
+  const std::int64_t first = submit(kiosk);
+  const std::int64_t second = submit(kiosk);
+  wait_state(kiosk, first, "cutting");
+  const CliRun busy = popcut("sheet sim-a" + server + " --token " + kAdmin);
+  EXPECT_EQ(busy.code, 2) << "409 while cutting is a refusal: " << busy.out;
+  EXPECT_NE(busy.out.find("409"), std::string::npos) << busy.out;
+  wait_state(kiosk, first, "done");
+  ASSERT_TRUE(wait_until([&] { return state(kiosk, second) == "ready"; }, 60));
+  EXPECT_EQ(popcut("sheet sim-z" + server + " --token " + kAdmin).code, 2) << "unknown device";
+  EXPECT_EQ(popcut("sheet sim-a" + server + " --token " + kOther).code, 2) << "another's job";
+  EXPECT_EQ(popcut("sheet ../x" + server + " --token " + kAdmin).code, 2) << "not a device name";
+  stays_ready(kiosk, second, 0.5);
+  const CliRun ok = popcut("sheet sim-a" + server + " --token " + kKiosk);
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("sim-a  sheet loaded"), std::string::npos) << ok.out;
+  wait_state(kiosk, second, "done");
+  const CliRun as_json = popcut("sheet sim-a --json" + server + " --token " + kKiosk);
+  EXPECT_EQ(as_json.code, 0) << as_json.out;
+  EXPECT_EQ(json::parse(as_json.out)["sheet"], "loaded") << as_json.out;
+  EXPECT_EQ(popcut("sheet sim-a --server http://127.0.0.1:1 --token " + kKiosk).code, 3) << "nothing listens";
+  const CliRun help = popcut("sheet --help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("fresh sheet"), std::string::npos) << help.out;
 }
 
 }  // namespace
