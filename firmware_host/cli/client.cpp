@@ -334,8 +334,7 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
   if (s.resume && *s.resume) return job_action("resume", json{{"from", s.resume_from}}.dump());
   if (s.sheet && *s.sheet) {
     return run(s, [&](Connection& c) {
-      const json r = c.request("POST", "/api/v1/devices/" + s.sheet_device + "/sheet",
-                               sheet_shape_problem, "");
+      const json r = c.request("POST", "/api/v1/devices/" + s.sheet_device + "/sheet", sheet_shape_problem, "");
       if (s.json_out)
         print_json_line(r);
       else

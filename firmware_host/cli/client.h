@@ -16,7 +16,7 @@ struct ClientCommands {
   CLI::App* resume = nullptr;
   CLI::App* sheet = nullptr;
   std::string server, token, model_path, device, profile, name, material;
-  std::string sheet_device;  // sheet NAME
+  std::string sheet_device;                                        // sheet NAME
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;

@@ -52,14 +52,15 @@ constexpr CommandGroup group(std::string_view unlisted = "") {
 
 // In the order popcut --help lists the subcommands.
 const CommandGroup kCommandGroups[] = {
-    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(),       // pattern, validate, repair
-    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(),                // fold, render
-    group<&CommandStates::import, add_import_command, run_import_command>(),            // import
-    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(),                   // plan, cut
-    group<&CommandStates::test_cut, add_test_cut_command, run_test_cut_command>(),      // test-cut
-    group<&CommandStates::calibrate, add_calibrate_command, run_calibrate_command>(),   // calibrate
-    group<&CommandStates::client, add_client_commands, run_client_commands>("resume"),  // submit, jobs, cancel, resume, sheet
-    group<&CommandStates::devices, add_devices_command, run_devices_command>(),         // devices
+    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(),      // pattern, validate, repair
+    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(),               // fold, render
+    group<&CommandStates::import, add_import_command, run_import_command>(),           // import
+    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(),                  // plan, cut
+    group<&CommandStates::test_cut, add_test_cut_command, run_test_cut_command>(),     // test-cut
+    group<&CommandStates::calibrate, add_calibrate_command, run_calibrate_command>(),  // calibrate
+    group<&CommandStates::client, add_client_commands, run_client_commands>(
+        "resume"),                                                               // submit, jobs, cancel, resume, sheet
+    group<&CommandStates::devices, add_devices_command, run_devices_command>(),  // devices
     group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>(),  // sim-plotter
 };
 

@@ -21,6 +21,11 @@ void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
     std::optional<Job> cutting;
     if (s.job && !caller.admin()) cutting = d.store().get(s.job);
     const bool shown = s.job && (caller.admin() || (cutting && cutting->owner == caller.name));
+    // The job that last used the sheet, to its owner (whose kiosk offers "Sheet loaded") and the admin.
+    const DeviceSheet sheet = d.sheet(s.name);
+    std::optional<Job> last;
+    if (sheet.last_job && !caller.admin()) last = d.store().get(sheet.last_job);
+    const bool last_shown = sheet.last_job && (caller.admin() || (last && last->owner == caller.name));
     list.push_back({{"name", s.name},
                     {"profile", s.profile},
                     {"model", d.device(s.name)->profile.name},
@@ -29,7 +34,8 @@ void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
                     {"job", shown ? json(s.job) : json(nullptr)},
                     {"blade", d.blade(s.name)},
                     {"confirm_sheet", d.device(s.name)->confirm_sheet},
-                    {"sheet", sheet_label(d.sheet(s.name), s.job != 0)}});
+                    {"sheet", sheet_label(sheet, s.job != 0)},
+                    {"sheet_job", last_shown ? json(sheet.last_job) : json(nullptr)}});
   }
   send_json(res, {{"devices", list}});
 }

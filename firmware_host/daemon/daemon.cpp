@@ -294,8 +294,7 @@ void Daemon::device_loop(Worker& w) {
       continue;
     }
     std::optional<Job> job;
-    if (!store_.paused(w.device->name))
-      job = store_.claim_for_device(w.device->name, profile, w.device->confirm_sheet);
+    if (!store_.paused(w.device->name)) job = store_.claim_for_device(w.device->name, profile, w.device->confirm_sheet);
     if (!job) {
       wait_for_work();
       continue;

@@ -1,4 +1,5 @@
-// popcutd's sheet step: after a job a confirm_sheet device waits for a fresh sheet; confirming one lets its worker go on.
+// popcutd's sheet step: after a job a confirm_sheet device waits for a fresh sheet; confirming one lets its worker go
+// on.
 #include "sheets.h"
 
 #include "daemon.h"

@@ -13,8 +13,8 @@ namespace popcut::daemon {
 // after leaves it used); empty: the device itself said its tray is empty before a job began.
 // Both wait for a person to say a fresh sheet is loaded.
 enum class SheetState { loaded, used, empty };
-inline constexpr auto kSheetStateNames = enum_names<SheetState>(
-    {{SheetState::loaded, "loaded"}, {SheetState::used, "used"}, {SheetState::empty, "empty"}});
+inline constexpr auto kSheetStateNames =
+    enum_names<SheetState>({{SheetState::loaded, "loaded"}, {SheetState::used, "used"}, {SheetState::empty, "empty"}});
 const char* to_string(SheetState state);
 std::optional<SheetState> parse_sheet_state(const std::string& text);
 

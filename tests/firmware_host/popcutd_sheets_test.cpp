@@ -62,16 +62,16 @@ class Receiver {
 
 // sim-a waits for sheets; box.json plans 6.8 s, so sim_time_scale 0.3 cuts it in about 2 s.
 std::string config(const TempDir& dir, int hook_port, double time_scale) {
-  return dir.write(
-      "popcutd.toml",
-      "[server]\ndata_dir = \"" + (dir.path() / "data").string() + "\"\n[[device]]\nname = \"sim-a\"\nprofile = \"" +
-          kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\nconfirm_sheet = true\nsim_time_scale = " +
-          std::to_string(time_scale) + "\n[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk +
-          "\"\n[[token]]\nname = \"other\"\ntoken = \"" + kOther + "\"\n[[token]]\nname = \"admin\"\ntoken = \"" +
-          kAdmin + "\"\nrole = \"admin\"\n" +
-          (hook_port ? "[[notify]]\nurl = \"http://127.0.0.1:" + std::to_string(hook_port) +
-                           "/hook\"\nevents = [\"awaiting_sheet\"]\n"
-                     : ""));
+  return dir.write("popcutd.toml",
+                   "[server]\ndata_dir = \"" + (dir.path() / "data").string() +
+                       "\"\n[[device]]\nname = \"sim-a\"\nprofile = \"" + kSrc +
+                       "/configs/devices/sim.toml\"\ntransport = \"sim\"\nconfirm_sheet = true\nsim_time_scale = " +
+                       std::to_string(time_scale) + "\n[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk +
+                       "\"\n[[token]]\nname = \"other\"\ntoken = \"" + kOther +
+                       "\"\n[[token]]\nname = \"admin\"\ntoken = \"" + kAdmin + "\"\nrole = \"admin\"\n" +
+                       (hook_port ? "[[notify]]\nurl = \"http://127.0.0.1:" + std::to_string(hook_port) +
+                                        "/hook\"\nevents = [\"awaiting_sheet\"]\n"
+                                  : ""));
 }
 
 std::int64_t submit(httplib::Client& c) {
@@ -89,9 +89,7 @@ void wait_state(httplib::Client& c, std::int64_t id, const std::string& want) {
   EXPECT_TRUE(wait_until([&] { return state(c, id) == want; }, 120)) << "job " << id << " never " << want;
 }
 
-std::string sheet(httplib::Client& c) {
-  return get_json(c, "/api/v1/devices").body["devices"][0].value("sheet", "");
-}
+std::string sheet(httplib::Client& c) { return get_json(c, "/api/v1/devices").body["devices"][0].value("sheet", ""); }
 
 double metric(PopcutdProcess& d, const std::string& series) {
   const auto r = d.client("").Get("/metrics");
