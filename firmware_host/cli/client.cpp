@@ -279,6 +279,14 @@ int submit(const ClientCommands& s, Connection& c) {
   return s.wait && job["state"] != "done" ? kCannotWrite : kOk;
 }
 
+// `popcut sheet NAME`'s answer: {"device": NAME, "sheet": STATE}.
+std::string sheet_shape_problem(const json& a) {
+  if (!a.is_object()) return "expected an object, got " + excerpt(a);
+  if (!a.contains("device") || !a["device"].is_string()) return "\"device\" is missing or not a string";
+  if (!a.contains("sheet") || !a["sheet"].is_string()) return "\"sheet\" is missing or not a string";
+  return "";
+}
+
 }  // namespace
 
 void add_client_commands(CLI::App& app, ClientCommands& s) {
@@ -360,6 +368,23 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
           "power-cycled (the strokes between may be cut twice)")
       ->check(CLI::IsMember({"received", "executed"}));
   common(s.resume);
+  s.sheet = app.add_subcommand(
+      "sheet",
+      "Say a fresh sheet is loaded on a device that waits for one (awaiting_sheet) after each job.\n"
+      "Needs the admin token or that of the last job's owner. Exit 2 if refused (unknown device, another's\n"
+      "job, or 409 while the device is cutting), 3 if popcutd cannot be reached.");
+  s.sheet->add_option("NAME", s.sheet_device, "The device's name in popcutd.toml")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& t) {
+            // As popcutd.toml allows them; nothing that would change the request's path.
+            const bool ok = !t.empty() && t.size() <= 64 && t[0] != '.' &&
+                            t.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") ==
+                                std::string::npos;
+            return ok ? std::string() : "\"" + t + "\" is not a device name (letters, digits, '-', '_', '.')";
+          },
+          "NAME"));
+  common(s.sheet);
 }
 
 std::optional<int> run_client_commands(const ClientCommands& s) {
@@ -406,6 +431,16 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
     });
   }
   if (s.resume && *s.resume) return job_action("resume", json{{"from", s.resume_from}}.dump());
+  if (s.sheet && *s.sheet) {
+    return run(s, [&](Connection& c) {
+      const json r = c.request("POST", "/api/v1/devices/" + s.sheet_device + "/sheet", sheet_shape_problem, "");
+      if (s.json_out)
+        print_json_line(r);
+      else
+        std::cout << r["device"].get<std::string>() << "  sheet " << r["sheet"].get<std::string>() << "\n";
+      return kOk;
+    });
+  }
   return std::nullopt;
 }
 

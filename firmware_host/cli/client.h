@@ -1,4 +1,4 @@
-// popcut submit / jobs / cancel / resume: the command-line client of popcutd's HTTP API.
+// popcut submit / jobs / cancel / resume / sheet: the command-line client of popcutd's HTTP API.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -15,11 +15,13 @@ struct ClientCommands {
   CLI::App* cancel = nullptr;
   CLI::App* resume = nullptr;
   CLI::App* move = nullptr;
+  CLI::App* sheet = nullptr;
   std::string server, token, model_path, device, profile, name, material;
   std::string idempotency_key;                                     // submit: "" sends a new UUID
   std::string states, filter_device, since;                        // jobs' filters
   int priority = 0;                                                // move --priority
   long long before_id = 0;                                         // move --before
+  std::string sheet_device;                                        // sheet NAME
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;

@@ -59,8 +59,8 @@ const CommandGroup kCommandGroups[] = {
     group<&CommandStates::test_cut, add_test_cut_command, run_test_cut_command>(),     // test-cut
     group<&CommandStates::calibrate, add_calibrate_command, run_calibrate_command>(),  // calibrate
     group<&CommandStates::client, add_client_commands, run_client_commands>(
-        "resume"),                                                               // submit, jobs, move, cancel, resume
-    group<&CommandStates::devices, add_devices_command, run_devices_command>(),  // devices
+        "resume"),  // submit, jobs, move, cancel, resume, sheet
+    group<&CommandStates::devices, add_devices_command, run_devices_command>(),              // devices
     group<&CommandStates::sim_plotter, add_sim_plotter_command, run_sim_plotter_command>(),  // sim-plotter
 };
 

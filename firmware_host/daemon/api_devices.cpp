@@ -21,13 +21,21 @@ void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
     std::optional<Job> cutting;
     if (s.job && !caller.admin()) cutting = d.store().get(s.job);
     const bool shown = s.job && (caller.admin() || (cutting && cutting->owner == caller.name));
+    // The job that last used the sheet, to its owner (whose kiosk offers "Sheet loaded") and the admin.
+    const DeviceSheet sheet = d.sheet(s.name);
+    std::optional<Job> last;
+    if (sheet.last_job && !caller.admin()) last = d.store().get(sheet.last_job);
+    const bool last_shown = sheet.last_job && (caller.admin() || (last && last->owner == caller.name));
     list.push_back({{"name", s.name},
                     {"profile", s.profile},
                     {"model", d.device(s.name)->profile.name},
                     {"state", s.paused ? (s.job ? "pausing" : "paused") : (s.job ? "cutting" : "idle")},
                     {"paused", s.paused},
                     {"job", shown ? json(s.job) : json(nullptr)},
-                    {"blade", d.blade(s.name)}});
+                    {"blade", d.blade(s.name)},
+                    {"confirm_sheet", d.device(s.name)->confirm_sheet},
+                    {"sheet", sheet_label(sheet, s.job != 0)},
+                    {"sheet_job", last_shown ? json(sheet.last_job) : json(nullptr)}});
   }
   send_json(res, {{"devices", list}});
 }
@@ -57,6 +65,28 @@ void reset_blade(ApiContext& api, const Caller&, const Req& req, Res& res) {
   if (!d.reset_blade(name))
     fail(ApiError::conflict, name + " is cutting: change the blade, and reset its counters, between jobs");
   send_json(res, {{"device", name}, {"blade", d.blade(name)}});
+}
+
+// A fresh sheet is loaded: an admin, or the owner of the job that last used the sheet (the kiosk
+// shows that user the button). The body may be empty or {}.
+void confirm_sheet(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
+  const std::string name = req.matches[1];
+  if (!req.body.empty()) {
+    const json body = parse_body(req);
+    if (!body.is_object()) fail(ApiError::bad_request, "the body must be {} or empty");
+    for (const auto& [k, v] : body.items()) fail(ApiError::bad_request, "unknown field '" + k + "' (takes none)", k);
+  }
+  Daemon& d = api.daemon();
+  if (!d.device(name)) fail(ApiError::not_found, "no device named " + name);
+  if (!caller.admin()) {
+    const DeviceSheet sheet = d.sheet(name);
+    const std::optional<Job> last = sheet.last_job ? d.store().get(sheet.last_job) : std::nullopt;
+    if (!last || last->owner != caller.name)
+      fail(ApiError::forbidden, "confirming " + name + "'s sheet needs the admin token or the owner of its last job");
+  }
+  const std::optional<DeviceSheet> sheet = d.confirm_sheet(name);
+  if (!sheet) fail(ApiError::conflict, name + " is cutting: load a fresh sheet after the job ends");
+  send_json(res, {{"device", name}, {"sheet", sheet_label(*sheet, false)}});
 }
 
 void pause_device(ApiContext& api, const Caller&, const Req& req, Res& res) { set_paused(api, req, res, true); }

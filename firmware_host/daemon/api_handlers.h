@@ -30,6 +30,7 @@ void list_materials(ApiContext& api, const Caller& caller, const Req& req, Res& 
 void pause_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void resume_device(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void reset_blade(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void confirm_sheet(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 // api_jobs.cpp
 void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);

@@ -38,6 +38,7 @@ void get_metrics(ApiContext& api, const Caller&, const Req&, Res& res) {
     const DeviceWear w = d.store().device_wear(s.name);
     m.devices.push_back({s.name, s.job != 0, s.paused, w.lifetime.cut_mm, w.lifetime.knife_down_strokes, w.blade.cut_mm,
                          blade_worn(w, d.device(s.name)->blade_life_m)});
+    m.devices.back().awaiting_sheet = s.job == 0 && d.sheet(s.name).awaiting();
   }
   const NotifyCounts n = d.notify_counts();
   m.notify_delivered = n.delivered;

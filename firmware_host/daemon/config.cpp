@@ -125,6 +125,8 @@ DeviceConfig read_device(TomlSection& d, const std::string& source, std::set<std
     d.fail("sim_slowdown", "sim_* settings apply to transport = \"sim\" only");
   }
   dev.blade_life_m = d.optional_number("blade_life_m", 0.001, 1e6);
+  // A simulated cutter has no sheet to change; a real one cuts the next job onto the last one's.
+  dev.confirm_sheet = d.boolean("confirm_sheet", address.kind != drivers::DeviceKind::sim);
   d.reject_unknown();
   try {
     dev.profile = drivers::load_profile(dev.profile_path);

@@ -31,6 +31,9 @@ struct DeviceConfig {
   // Metres of knife-down cut a blade is good for: past it the device shows blade.worn and
   // blade_worn is raised once (until an admin resets the counters). Unset: never worn.
   std::optional<double> blade_life_m;
+  // After each job the device waits in awaiting_sheet until someone confirms a fresh sheet
+  // (docs/api.md "Sheets"). Default: true for every transport but sim.
+  bool confirm_sheet = true;
 };
 
 // One [[notify]]: a webhook that is POSTed the events it names (docs/api.md "Webhooks").

@@ -102,7 +102,10 @@ Daemon::DataDirLock::~DataDirLock() {
 Daemon::Daemon(DaemonConfig config) : config_(std::move(config)), lock_(config_.data_dir), store_(jobs_db(config_)) {
   notifier_ = std::make_unique<Notifier>(config_.notify);
   recovered_ = store_.recover([this](const Job& j) { return crashed_run_wear(j); });
-  for (const std::int64_t id : recovered_.interrupted_ids) emit_outcome(id);
+  for (const std::int64_t id : recovered_.interrupted_ids) {
+    emit_outcome(id);
+    if (const std::optional<Job> j = store_.get(id); j && device(j->device)) sheet_after_job(*device(j->device), id);
+  }
   for (int i = 0; i < config_.planners; ++i) planners_.emplace_back([this] { plan_loop(); });
   for (const DeviceConfig& d : config_.devices) {
     auto w = std::make_unique<Worker>();
@@ -291,7 +294,7 @@ void Daemon::device_loop(Worker& w) {
       continue;
     }
     std::optional<Job> job;
-    if (!store_.paused(w.device->name)) job = store_.claim_for_device(w.device->name, profile);
+    if (!store_.paused(w.device->name)) job = store_.claim_for_device(w.device->name, profile, w.device->confirm_sheet);
     if (!job) {
       wait_for_work();
       continue;
@@ -316,6 +319,7 @@ void Daemon::device_loop(Worker& w) {
       std::lock_guard lock(mutex_);
       w.job = 0;
     }
+    sheet_after_job(*w.device, job->id);
     notify();
   }
 }

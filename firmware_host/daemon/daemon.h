@@ -96,6 +96,11 @@ class Daemon {
   // {"cut_mm", "knife_down_strokes", "score_mm", "perforate_mm", "life_m", "worn", "since"}.
   nlohmann::json blade(const std::string& device);
 
+  // Sheets (sheets.cpp, docs/api.md "Sheets"): the device's as stored; a fresh one loaded (nullopt
+  // while a job cuts on the device: nothing changed).
+  DeviceSheet sheet(const std::string& device);
+  std::optional<DeviceSheet> confirm_sheet(const std::string& device);
+
  private:
   struct Worker {
     const DeviceConfig* device = nullptr;
@@ -119,6 +124,9 @@ class Daemon {
   void commit_run_wear(const Job& job, const DeviceConfig& dev, const StrokePlan& plan,
                        const drivers::DeviceProfile& profile, const CutOutcome& out);
   void emit_outcome(std::int64_t job_id);
+  // A job on `dev` ended (or was found cut short at a restart): a confirm_sheet device now awaits
+  // a fresh sheet, which is logged and raised as awaiting_sheet.
+  void sheet_after_job(const DeviceConfig& dev, std::int64_t job_id);
   // A run cut short by a crash: the strokes it certainly got to the device (after resume_from,
   // up to strokes_sent), counted at the restart.
   Wear crashed_run_wear(const Job& job) const;

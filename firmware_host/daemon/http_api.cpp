@@ -33,6 +33,7 @@ std::vector<Route> api_routes() {
        "resuming a device"},
       {Method::post, R"(/api/v1/devices/([^/]+)/blade)", Access::admin, takes_none(), reset_blade,
        "resetting a device's blade counters"},
+      {Method::post, R"(/api/v1/devices/([^/]+)/sheet)", Access::token, takes_none(), confirm_sheet},
       {Method::post, "/api/v1/jobs", Access::token, takes_none(), submit_job},
       {Method::get, "/api/v1/jobs", Access::token, takes({"limit", "state", "device", "since"}), list_jobs},
       {Method::get, R"(/api/v1/jobs/(\d+))", Access::token, takes_none(), get_job},

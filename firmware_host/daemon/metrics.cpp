@@ -52,6 +52,10 @@ std::string metrics_text(const MetricsSample& m) {
        "# TYPE popcut_device_blade_worn gauge\n";
   for (const MetricsSample::Device& d : m.devices)
     o << "popcut_device_blade_worn{device=\"" << d.name << "\"} " << (d.blade_worn ? 1 : 0) << "\n";
+  o << "# HELP popcut_device_awaiting_sheet 1 while the device waits for someone to confirm a fresh sheet.\n"
+       "# TYPE popcut_device_awaiting_sheet gauge\n";
+  for (const MetricsSample::Device& d : m.devices)
+    o << "popcut_device_awaiting_sheet{device=\"" << d.name << "\"} " << (d.awaiting_sheet ? 1 : 0) << "\n";
   o << "# HELP popcut_notify_delivered_total Webhook deliveries answered 2xx.\n"
        "# TYPE popcut_notify_delivered_total counter\npopcut_notify_delivered_total "
     << m.notify_delivered << "\n"

@@ -25,6 +25,7 @@ struct MetricsSample {
     std::int64_t knife_down_strokes_total = 0;
     double blade_cut_mm = 0;  // since the blade was last changed
     bool blade_worn = false;
+    bool awaiting_sheet = false;  // idle until someone confirms a fresh sheet
   };
   std::map<std::string, std::int64_t> jobs_by_state;
   std::uint64_t requests = 0, errors_4xx = 0, errors_5xx = 0, submitted = 0, cuts_completed = 0;

@@ -112,6 +112,7 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
     if (!has_column("jobs", "knife_down_strokes"))
       exec("ALTER TABLE jobs ADD COLUMN knife_down_strokes INTEGER NOT NULL DEFAULT 0");
     create_wear_tables();
+    create_sheet_tables();
     add_run_time_columns();
     add_queue_columns();
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
@@ -336,15 +337,22 @@ void JobStore::set_planned(std::int64_t id, std::int64_t strokes_total, double e
       .step();
 }
 
-std::optional<Job> JobStore::claim_for_device(const std::string& device, const std::string& profile_name) {
+std::optional<Job> JobStore::claim_for_device(const std::string& device, const std::string& profile_name,
+                                              bool confirm_sheet) {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
+    const std::optional<std::int64_t> only = confirm_sheet ? sheet_allows_locked(device) : 0;
+    if (!only) {
+      exec("COMMIT");
+      return std::nullopt;
+    }
     // A resumed job goes back to the device holding its half-cut sheet, and only there.
-    Stmt s(db_, select_jobs("WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
-                            "='' AND target_profile=?2)) ORDER BY " POPCUT_QUEUE_ORDER " LIMIT 1")
-                    .c_str());
-    s.bind(1, device).bind(2, profile_name);
+    Stmt s(db_,
+           select_jobs("WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
+                       "='' AND target_profile=?2)) AND (?3 = 0 OR id = ?3) ORDER BY " POPCUT_QUEUE_ORDER " LIMIT 1")
+               .c_str());
+    s.bind(1, device).bind(2, profile_name).bind(3, *only);
     if (!s.step()) {
       exec("COMMIT");
       return std::nullopt;
@@ -359,6 +367,7 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
         .bind(3, j.id)
         .bind(4, unix_now_s())
         .step();
+    if (confirm_sheet) use_sheet_locked(device, j.id);
     exec("COMMIT");
     j.state = JobState::cutting;
     j.device = device;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "job.h"
+#include "sheets.h"
 #include "stats.h"
 #include "wear.h"
 
@@ -104,7 +105,10 @@ class JobStore {
   // planning -> ready (unless cancelled meanwhile).
   void set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s);
   // ready -> cutting on `device`, first in the queue's order among jobs naming it or its profile.
-  std::optional<Job> claim_for_device(const std::string& device, const std::string& profile_name);
+  // With `confirm_sheet`, only onto a loaded sheet (or the job a used one holds, resumed), which the
+  // claim marks used in the same transaction: docs/api.md "Sheets".
+  std::optional<Job> claim_for_device(const std::string& device, const std::string& profile_name,
+                                      bool confirm_sheet = false);
   void set_progress(std::int64_t id, std::int64_t strokes_sent);
   // The last stroke the device is known to have executed at the end of a cut (nullopt: unknown).
   void set_executed(std::int64_t id, std::optional<std::int64_t> strokes_executed);
@@ -145,7 +149,17 @@ class JobStore {
   // The blade was changed: its counters start again from now (the lifetime ones go on).
   DeviceWear reset_blade(const std::string& device);
 
+  // Sheets (store_sheets.cpp).
+  DeviceSheet device_sheet(const std::string& device);
+  // A fresh sheet is loaded; nullopt (and nothing changed) while a job is cutting on the device.
+  std::optional<DeviceSheet> confirm_sheet(const std::string& device);
+
  private:
+  void create_sheet_tables();
+  // Inside a transaction the caller holds: 0 any job may be claimed onto the device's sheet, a
+  // job id only that one, nullopt none; and the claim of `job_id` using it.
+  std::optional<std::int64_t> sheet_allows_locked(const std::string& device);
+  void use_sheet_locked(const std::string& device, std::int64_t job_id);
   void create_wear_tables();
   // The addition itself, inside a transaction the caller holds (with mutex_).
   void add_wear_locked(std::int64_t job_id, const std::string& device, const Wear& run);

@@ -172,20 +172,29 @@ async function loadChoices() {
   }
 }
 
-function jobItem(j) {
+// awaiting: the devices waiting for a fresh sheet after one of this user's jobs, by that job's id.
+function jobItem(j, awaiting) {
   let li = document.querySelector('#jobs [data-id="' + j.id + '"]');
   if (!li) {
     li = document.createElement('li');
     li.className = 'job';
     li.dataset.id = j.id;
     li.innerHTML = '<span class="title"></span><button class="cancel">Cancel</button>' +
+                   '<button class="sheet" hidden>Sheet loaded</button>' +
                    '<span class="state"></span><span class="where"></span><progress max="1" value="0"></progress>';
     li.querySelector('.cancel').addEventListener('click', async () => {
       try { await api('POST', '/api/v1/jobs/' + j.id + '/cancel'); } catch (e) { alert(e.message); }
       refreshJobs();
     });
+    // The cutter waits for a fresh sheet after this job: its owner says one is loaded.
+    li.querySelector('.sheet').addEventListener('click', async () => {
+      try { await api('POST', '/api/v1/devices/' + encodeURIComponent(li.dataset.cutOn) + '/sheet'); }
+      catch (e) { alert(e.message); }
+      refreshJobs();
+    });
     $('jobs').prepend(li);
   }
+  li.dataset.cutOn = j.cut_on || '';
   li.querySelector('.title').textContent = '#' + j.id + ' ' + j.name;
   li.querySelector('.state').textContent = j.state;
   li.dataset.state = j.state;
@@ -198,12 +207,15 @@ function jobItem(j) {
   li.querySelector('.where').textContent = where;
   li.querySelector('progress').value = j.progress;
   li.querySelector('.cancel').hidden = ['done', 'failed', 'cancelled'].includes(j.state);
+  li.querySelector('.sheet').hidden = !(awaiting && awaiting.get(j.id) === j.cut_on);
 }
 
 async function refreshJobs() {
   try {
-    const r = await api('GET', '/api/v1/jobs?limit=20');
-    for (const j of r.jobs.slice().reverse()) jobItem(j);
+    const [r, dev] = await Promise.all([api('GET', '/api/v1/jobs?limit=20'), api('GET', '/api/v1/devices')]);
+    const awaiting = new Map();
+    for (const d of dev.devices) if (d.sheet === 'awaiting_sheet' && d.sheet_job !== null) awaiting.set(d.sheet_job, d.name);
+    for (const j of r.jobs.slice().reverse()) jobItem(j, awaiting);
   } catch (e) { /* the next poll tries again */ }
 }
 

@@ -12,6 +12,7 @@ namespace {
 using nlohmann::json;
 using popcut::testing::base64_decode;
 using popcut::testing::Browser;
+using popcut::testing::get_json;
 using popcut::testing::kRendered;
 using popcut::testing::PopcutdProcess;
 using popcut::testing::TempDir;
@@ -102,7 +103,7 @@ TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
   const std::string cfg = dir.write(
       "slow.toml", "[server]\ndata_dir = \"x\"\n[[device]]\nname = \"slow\"\nprofile = \"" + kSrc +
                        "/configs/devices/sim.toml\"\ntransport = \"sim\"\nsim_time_scale = 1\nsim_slowdown = 20\n"
-                       "[[token]]\nname = \"kiosk\"\ntoken = \"kiosk-change-me-0123456789\"\n");
+                       "confirm_sheet = true\n[[token]]\nname = \"kiosk\"\ntoken = \"kiosk-change-me-0123456789\"\n");
   PopcutdProcess d(POPCUTD, cfg, (dir.path() / "data").string());
   Browser b((dir.path() / "chromium").string());
   b.session("POST", "/url",
@@ -135,6 +136,19 @@ TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
       << "the kiosk cancels its own job mid-cut";
   EXPECT_TRUE(b.run("return document.querySelector('#jobs .job .cancel').hidden").get<bool>())
       << "no cancel button on a cancelled job";
+  // The cancelled cut used the sheet: its owner is offered "Sheet loaded", and pressing it frees the cutter.
+  httplib::Client c = d.client("kiosk-change-me-0123456789");
+  EXPECT_EQ(get_json(c, "/api/v1/devices").body["devices"][0]["sheet"], "awaiting_sheet");
+  ASSERT_TRUE(
+      wait_until([&] { return !b.run("return document.querySelector('#jobs .job .sheet').hidden").get<bool>(); }, 60))
+      << "the owner's job shows the button; page: " << b.run("return document.body.innerText").dump();
+  EXPECT_EQ(b.run("return document.querySelector('#jobs .job .sheet').textContent").get<std::string>(), "Sheet loaded");
+  b.click("#jobs .job .sheet");
+  ASSERT_TRUE(wait_until([&] { return get_json(c, "/api/v1/devices").body["devices"][0]["sheet"] == "loaded"; }, 60))
+      << "the press confirmed the sheet";
+  EXPECT_TRUE(
+      wait_until([&] { return b.run("return document.querySelector('#jobs .job .sheet').hidden").get<bool>(); }, 60))
+      << "and the button goes";
 }
 
 // A visitor's 3D mesh: popcutd imports it with the options on the page, the card shows, it is cut.

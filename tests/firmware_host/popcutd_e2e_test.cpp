@@ -843,11 +843,13 @@ class SerialPopcutd : public PopcutClient {
     return std::make_unique<popcut::testing::SimPlotterProcess>(POPCUT_CLI, args,
                                                                 (dir_.path() / (name + ".json")).string());
   }
-  // popcutd with one device, "cutter", on the plotter's port.
+  // popcutd with one device, "cutter", on the plotter's port; these tests are about the line, so
+  // jobs follow each other without the sheet step (popcutd_sheets_test.cpp has that).
   std::unique_ptr<PopcutdProcess> start_on(const popcut::testing::SimPlotterProcess& p) {
     std::ostringstream o;
     o << "[server]\ndata_dir = \"unused\"\n"
       << "[[device]]\nname = \"cutter\"\nprofile = \"" << profile_ << "\"\ntransport = \"serial:" << p.port() << "\"\n"
+      << "confirm_sheet = false\n"
       << "[[token]]\nname = \"kiosk\"\ntoken = \"" << kKiosk << "\"\n"
       << "[[token]]\nname = \"admin\"\ntoken = \"" << kAdmin << "\"\nrole = \"admin\"\n";
     return std::make_unique<PopcutdProcess>(POPCUTD, dir_.write("serial.toml", o.str()), data_,

@@ -1,0 +1,32 @@
+// A device's sheet (docs/api.md "Sheets"): loaded and fresh, used by a job and awaiting a fresh one, or reported empty.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "popcut/names.h"
+
+namespace popcut::daemon {
+
+// As stored in device_sheets. used: a job was claimed onto the sheet (so a kill -9 at any point
+// after leaves it used); empty: the device itself said its tray is empty before a job began.
+// Both wait for a person to say a fresh sheet is loaded.
+enum class SheetState { loaded, used, empty };
+inline constexpr auto kSheetStateNames =
+    enum_names<SheetState>({{SheetState::loaded, "loaded"}, {SheetState::used, "used"}, {SheetState::empty, "empty"}});
+const char* to_string(SheetState state);
+std::optional<SheetState> parse_sheet_state(const std::string& text);
+
+struct DeviceSheet {
+  std::string device;
+  SheetState state = SheetState::loaded;  // a device never seen has its first sheet loaded
+  std::int64_t last_job = 0;              // the job that last used the sheet (0: none)
+  double since_s = 0;                     // unix seconds of the last change (0: never)
+  bool awaiting() const { return state != SheetState::loaded; }
+};
+
+// What the API shows as `sheet`: in_use while a job cuts, else awaiting_sheet or loaded.
+const char* sheet_label(const DeviceSheet& sheet, bool cutting);
+
+}  // namespace popcut::daemon

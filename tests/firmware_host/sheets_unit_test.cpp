@@ -1,0 +1,121 @@
+// The sheet step without processes: [[device]] confirm_sheet, and the store's device_sheets against a real SQLite file.
+#include <gtest/gtest.h>
+
+#include "config.h"
+#include "popcut/error.h"
+#include "popcutd_process.h"
+#include "store.h"
+
+namespace {
+using namespace popcut;
+using namespace popcut::daemon;
+
+const std::string kSrc = POPCUT_SOURCE_DIR;
+
+std::string device_config(const std::string& transport, const std::string& extra) {
+  return "[server]\ndata_dir = \"/tmp/x\"\n[[device]]\nname = \"a\"\nprofile = \"devices/sim.toml\"\ntransport = \"" +
+         transport + "\"\n" + extra + "[[token]]\nname = \"k\"\ntoken = \"kiosk-secret-0123456789\"\n";
+}
+
+DaemonConfig parse(const std::string& text) { return parse_daemon_config(text, kSrc + "/configs/test.toml"); }
+
+TEST(ConfirmSheet, DefaultsToTrueForEveryTransportButSim) {
+  EXPECT_FALSE(parse(device_config("sim", "")).devices[0].confirm_sheet) << "a simulated cutter has no sheet";
+  EXPECT_TRUE(parse(device_config("file:out.hpgl", "")).devices[0].confirm_sheet);
+  EXPECT_TRUE(parse(device_config("serial:/dev/ttyUSB0", "")).devices[0].confirm_sheet);
+  EXPECT_TRUE(parse(device_config("sim", "confirm_sheet = true\n")).devices[0].confirm_sheet);
+  EXPECT_FALSE(parse(device_config("file:out.hpgl", "confirm_sheet = false\n")).devices[0].confirm_sheet);
+}
+
+TEST(ConfirmSheet, ANonBooleanNamesFileSectionAndKey) {
+  try {
+    parse(device_config("sim", "confirm_sheet = \"yes\"\n"));
+    ADD_FAILURE() << "confirm_sheet = \"yes\" loads";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("test.toml"), std::string::npos) << what;
+    EXPECT_NE(what.find("[device.0] confirm_sheet"), std::string::npos) << what;
+    EXPECT_NE(what.find("expected true or false"), std::string::npos) << what;
+  }
+}
+
+class Sheets : public ::testing::Test {
+ protected:
+  popcut::testing::TempDir dir_{"popcut-sheets"};
+  std::string db() const { return (dir_.path() / "jobs.db").string(); }
+  // A job planned and waiting for `device`.
+  static std::int64_t ready_job(JobStore& s, const std::string& device) {
+    const std::int64_t id = *s.insert({"kiosk", "card", device, "sim", "{}"}, 100);
+    EXPECT_EQ(s.claim_for_planning()->id, id);
+    s.set_planned(id, 10, 5.0);
+    return id;
+  }
+};
+
+TEST_F(Sheets, AClaimUsesTheSheetAndNothingMoreIsClaimedUntilConfirmed) {
+  JobStore s(db());
+  EXPECT_EQ(s.device_sheet("a").state, SheetState::loaded) << "a device never seen starts with its sheet loaded";
+  const std::int64_t first = ready_job(s, "a");
+  const std::int64_t second = ready_job(s, "a");
+  ASSERT_EQ(s.claim_for_device("a", "sim", true)->id, first);
+  const DeviceSheet used = s.device_sheet("a");
+  EXPECT_EQ(used.state, SheetState::used) << "marked in the claim's own transaction";
+  EXPECT_EQ(used.last_job, first);
+  EXPECT_FALSE(s.confirm_sheet("a").has_value()) << "no confirmation while a job is cutting on the device";
+  EXPECT_EQ(s.device_sheet("a").state, SheetState::used) << "and it changed nothing";
+  s.finish(first, JobState::done, "", "");
+  EXPECT_FALSE(s.claim_for_device("a", "sim", true).has_value()) << "the next job waits for a fresh sheet";
+  EXPECT_EQ(s.get(second)->state, JobState::ready);
+  const std::optional<DeviceSheet> fresh = s.confirm_sheet("a");
+  ASSERT_TRUE(fresh.has_value());
+  EXPECT_EQ(fresh->state, SheetState::loaded);
+  EXPECT_EQ(fresh->last_job, first) << "who used it last is kept (the kiosk's owner check reads it)";
+  EXPECT_EQ(s.claim_for_device("a", "sim", true)->id, second) << "confirmed: the next job is claimed";
+}
+
+TEST_F(Sheets, ADeviceWithoutConfirmSheetNeverWaits) {
+  JobStore s(db());
+  const std::int64_t first = ready_job(s, "a");
+  const std::int64_t second = ready_job(s, "a");
+  ASSERT_EQ(s.claim_for_device("a", "sim", false)->id, first);
+  s.finish(first, JobState::done, "", "");
+  EXPECT_EQ(s.device_sheet("a").state, SheetState::loaded);
+  EXPECT_EQ(s.claim_for_device("a", "sim", false)->id, second);
+}
+
+TEST_F(Sheets, AUsedSheetSurvivesACrashAndOnlyItsOwnJobMayGoOnCuttingIt) {
+  std::int64_t first = 0, other = 0;
+  {
+    JobStore s(db());
+    first = ready_job(s, "a");
+    other = ready_job(s, "a");
+    ASSERT_EQ(s.claim_for_device("a", "sim", true)->id, first);
+    s.set_progress(first, 4);
+  }  // the process dies here: nothing else is written
+  JobStore s(db());
+  ASSERT_EQ(s.recover().interrupted, 1);
+  EXPECT_EQ(s.device_sheet("a").state, SheetState::used) << "the state came back from the file";
+  EXPECT_FALSE(s.claim_for_device("a", "sim", true).has_value()) << "no other job onto the half-cut sheet";
+  ASSERT_EQ(s.resume(first), ResumeResult::resumed);
+  const std::optional<Job> again = s.claim_for_device("a", "sim", true);
+  ASSERT_TRUE(again.has_value()) << "the job whose sheet it is goes on cutting it";
+  EXPECT_EQ(again->id, first);
+  EXPECT_EQ(again->resume_from, 4);
+  s.finish(first, JobState::done, "", "");
+  EXPECT_FALSE(s.claim_for_device("a", "sim", true).has_value());
+  ASSERT_TRUE(s.confirm_sheet("a").has_value());
+  EXPECT_EQ(s.claim_for_device("a", "sim", true)->id, other);
+}
+
+TEST_F(Sheets, SheetsAreKeptPerDevice) {
+  JobStore s(db());
+  const std::int64_t on_a = ready_job(s, "a");
+  const std::int64_t on_b = ready_job(s, "b");
+  ASSERT_EQ(s.claim_for_device("a", "sim", true)->id, on_a);
+  s.finish(on_a, JobState::cancelled, "cancelled", "cancelled during the cut");
+  EXPECT_EQ(s.device_sheet("a").state, SheetState::used) << "a cancelled cut used the sheet too";
+  EXPECT_EQ(s.device_sheet("b").state, SheetState::loaded);
+  EXPECT_EQ(s.claim_for_device("b", "sim", true)->id, on_b) << "b's sheet is its own";
+}
+
+}  // namespace
