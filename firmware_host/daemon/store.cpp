@@ -16,7 +16,7 @@ namespace {
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point, material, cut_mm, knife_down_strokes";
+    "resume_point, material, cut_mm, knife_down_strokes, pause_requested";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -42,16 +42,21 @@ Job read_job(const Stmt& s) {
   j.material = s.text(19);
   j.cut_mm = s.real(20);
   j.knife_down_strokes = s.integer(21);
+  j.pause_requested = s.integer(22) != 0;
   return j;
 }
 
 // A cut's run ends (finished, interrupted, or found cut short at restart) at `end`: its time
 // since run_started_at is added to the job's cutting_s. Only a job leaving `cutting` has a run.
+}  // namespace
+
 std::string end_run(const std::string& end) {
   return "cutting_s = cutting_s + CASE WHEN state='cutting' AND run_started_at > 0 THEN MAX(0, " + end +
          " - run_started_at) ELSE 0 END, last_cut_at = CASE WHEN state='cutting' THEN MAX(last_cut_at, " + end +
          ") ELSE last_cut_at END";
 }
+
+namespace {
 
 std::string select_jobs(const std::string& where) {
   return std::string("SELECT ") + kJobColumns + " FROM jobs " + where;
@@ -109,6 +114,7 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
       exec("ALTER TABLE jobs ADD COLUMN knife_down_strokes INTEGER NOT NULL DEFAULT 0");
     create_wear_tables();
     add_run_time_columns();
+    add_pause_column();
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -169,7 +175,7 @@ JobStore::Recovered JobStore::recover(const std::function<Wear(const Job&)>& cra
     exec("ROLLBACK");
     throw;
   }
-  Stmt(db_, ("UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0,"
+  Stmt(db_, ("UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, pause_requested=0,"
              " error_code='interrupted', error_message='popcutd stopped without a clean shutdown during the cut', " +
              end_run("last_cut_at") + " WHERE state='cutting'")
                 .c_str())
@@ -185,7 +191,8 @@ std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length)
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
-    Stmt count(db_, "SELECT COUNT(*) FROM jobs WHERE state IN ('queued','planning','ready','cutting','interrupted')");
+    Stmt count(
+        db_, "SELECT COUNT(*) FROM jobs WHERE state IN ('queued','planning','ready','cutting','interrupted','paused')");
     count.step();
     if (count.integer(0) >= queue_length) {
       exec("ROLLBACK");
@@ -360,7 +367,8 @@ void JobStore::set_executed(std::int64_t id, std::optional<std::int64_t> strokes
 void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message,
                       bool sim_match) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, ("UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
+  Stmt(db_, ("UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0, "
+             "pause_requested=0,"
              " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END, " +
              end_run("?7") + " WHERE id=?6 AND state IN ('planning','cutting')")
                 .c_str())
@@ -378,9 +386,9 @@ CancelResult JobStore::cancel(std::int64_t id) {
   std::lock_guard lock(mutex_);
   Stmt(db_,
        "UPDATE jobs SET state='cancelled', finished_at=?, error_code='cancelled',"
-       " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut' ELSE "
-       "'cancelled before the cut' END"
-       " WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
+       " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut'"
+       " WHEN 'paused' THEN 'cancelled while paused; the rest was not cut' ELSE 'cancelled before the cut' END,"
+       " pause_requested=0 WHERE id=? AND state IN ('queued','planning','ready','interrupted','paused')")
       .bind(1, unix_now_s())
       .bind(2, id)
       .step();

@@ -31,6 +31,13 @@ enum class CancelResult { cancelled, requested, giving_up, already_final, not_fo
 // executed_unknown: resuming after the executed strokes was asked, but the device never said what
 // it executed (a transport without status answers, or a cut cut short by a crash).
 enum class ResumeResult { resumed, not_interrupted, executed_unknown };
+// paused: a ready job is held at once; requested: a cutting one stops at the stroke in flight.
+enum class PauseResult { paused, requested, conflict, not_found };
+enum class ContinueResult { continued, not_paused, not_found };
+
+// A cut's run ends at `end` (an SQL expression): its time since run_started_at is added to the
+// job's cutting_s (store.cpp; store_pause.cpp ends a run at a pause with it).
+std::string end_run(const std::string& end);
 
 class JobStore {
  public:
@@ -87,6 +94,18 @@ class JobStore {
   // The choice is committed with the state, so a restart before the cut keeps it.
   ResumeResult resume(std::int64_t id, ResumePoint from = ResumePoint::received);
 
+  // Pause and continue of one job (store_pause.cpp; docs/api.md "Pausing a cut"). ready ->
+  // paused at once, cutting -> pause requested; anything else is a conflict.
+  PauseResult request_pause(std::int64_t id);
+  bool pause_requested(std::int64_t id);
+  // cutting -> paused once the device drained and lifted the knife: the next run starts after
+  // strokes_sent (every stroke through it is cut, no more), and this run's time ends now.
+  void mark_paused(std::int64_t id, const std::string& message);
+  // paused -> ready, on the device holding its sheet, continuing after resume_from.
+  ContinueResult continue_job(std::int64_t id);
+  // A paused job holds its half-cut sheet on `device`: no other job is cut there meanwhile.
+  bool holds_paused_job(const std::string& device);
+
   void set_paused(const std::string& device, bool paused);
   bool paused(const std::string& device);
   // Jobs created, finished or cut since `since_s` (unix seconds), and any being cut: what
@@ -115,6 +134,7 @@ class JobStore {
   void exec(const char* sql);
   bool has_column(const char* table, const char* column);
   void add_run_time_columns();
+  void add_pause_column();
   // Reads run on their own connections: in WAL mode a reader sees the last commit and neither
   // waits for the writer nor holds it up. A free one if any, else the next in turn.
   struct Reader {
