@@ -1,4 +1,4 @@
-// popcut submit / jobs / cancel / resume: the command-line client of popcutd's HTTP API.
+// popcut submit / jobs / cancel / resume / pause / continue: the command-line client of popcutd's HTTP API.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -14,6 +14,8 @@ struct ClientCommands {
   CLI::App* jobs = nullptr;
   CLI::App* cancel = nullptr;
   CLI::App* resume = nullptr;
+  CLI::App* pause = nullptr;
+  CLI::App* continue_cmd = nullptr;
   std::string server, token, model_path, device, profile, name, material;
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
