@@ -108,6 +108,7 @@ SendResult CutSession::send(const EncodedJob& job, const CutControl& control) {
   opts.give_up = control.give_up;
   opts.waiting_to_cancel = control.waiting_to_cancel;
   opts.progress = control.progress;
+  opts.pause = control.pause;
   if (paced_) paced_->stop_on(control.cancel);
   return send_job(transport(), job, opts);
 }

@@ -168,6 +168,12 @@ class Sender {
     const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(256, session_.options.buffer_bytes / 8));
     std::size_t limit = job.bytes.size();
     while (r.bytes_sent < limit) {
+      if (!r.cancelled && !r.paused && session_.pause_requested()) {
+        // Finish the stroke in flight, then stop: nothing is dropped, so nothing is cut twice.
+        r.paused = true;
+        limit = stroke_boundary_at_or_after(r.bytes_sent);
+        continue;
+      }
       if (!r.cancelled && session_.cancel_requested()) {
         // Finish the command in flight (a half command would swallow the abort), then stop.
         r.cancelled = true;
@@ -177,12 +183,36 @@ class Sender {
       std::size_t n = std::min(chunk, limit - r.bytes_sent);
       if (!pacer_->pace(n, chunk)) return false;
       if (!r.cancelled && session_.cancel_requested()) continue;  // noticed while waiting: stop properly
+      if (!r.paused && session_.pause_requested()) continue;
       n = on_boundary(n);
       if (!write_job_bytes(n)) return false;
-      if (r.cancelled && r.bytes_sent >= limit) break;
+      if ((r.cancelled || r.paused) && r.bytes_sent >= limit) break;
       if (!channel_.ping_if_due()) return false;
     }
+    if (r.paused && !r.cancelled) return lift_for_pause();
     return true;
+  }
+
+  // Where a pause stops: the end of the stroke in flight (nothing sent yet: right here; past the
+  // last stroke, in the finish: the end of the job).
+  std::size_t stroke_boundary_at_or_after(std::size_t offset) const {
+    const EncodedJob& job = session_.job;
+    if (offset == 0) return 0;
+    const auto it = std::lower_bound(job.stroke_end.begin(), job.stroke_end.end(), offset);
+    if (it != job.stroke_end.end()) return *it;
+    if (job.stroke_end.empty()) return job.command_boundary_at_or_after(offset);
+    return job.bytes.size();
+  }
+
+  // Paused before the end: the knife goes up behind the last stroke sent, before the drain, so
+  // it is not left down while the device empties its buffer. False with the status set.
+  bool lift_for_pause() {
+    SendResult& r = session_.result;
+    // Nothing sent yet: the knife is where the last job left it; the finish went out: it lifted it.
+    if (r.bytes_sent == 0 || r.bytes_sent >= session_.job.bytes.size()) return true;
+    if (line_.write_abort(session_.options.pause_bytes)) return true;
+    if (r.status.ok()) r.status = {TransportError::io, 0, "the knife-up of the pause did not reach the device"};
+    return false;
   }
 
   // Writes the next n job bytes; a cancel while the device holds the line stops them at a command
@@ -271,8 +301,9 @@ class Sender {
     if (session_.time_paced()) {
       tracker_.all_out();  // drained out of popcut's side: the device has every byte
       advance_by_line(tracker_, session_.transport, r.bytes_sent);
+      const double end_s = r.paused ? tracker_.time_past(r.bytes_sent) : tracker_.end_s();
       wait = std::chrono::milliseconds(
-          static_cast<long>(std::ceil((tracker_.end_s() - tracker_.seconds()) * tracker_.slowdown() * 1000)));
+          static_cast<long>(std::ceil(std::max(0.0, end_s - tracker_.seconds()) * tracker_.slowdown() * 1000)));
     }
     std::chrono::milliseconds waited{0};
     while (waited < wait) {
@@ -437,6 +468,8 @@ SendOptions send_options(const DeviceProfile& profile) {
   // The next job's pacing takes the head to be where the finish leaves it.
   if (profile.starts_at == StartsAt::origin) o.abort_bytes += language.park(profile);
   o.abort_discards_buffer = profile.transport.abort_discards_buffer;
+  o.pause_bytes = language.knife_up(profile);
+  if (profile.starts_at == StartsAt::origin) o.pause_bytes += language.park(profile);
   return o;
 }
 

@@ -385,6 +385,20 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
           },
           "NAME"));
   common(s.sheet);
+  s.pause = app.add_subcommand(
+      "pause",
+      "Pause a job: a job being cut stops after the stroke in flight, the cutter cuts what it already holds,\n"
+      "the knife is lifted and the job waits as 'paused' with the sheet on the device (nothing else is cut\n"
+      "there meanwhile). Unlike cancel, nothing is dropped: 'popcut continue' cuts the rest.\n"
+      "Exit 2 if refused (the job is not ready or cutting).");
+  s.pause->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+  common(s.pause);
+  s.continue_cmd = app.add_subcommand(
+      "continue",
+      "Continue a paused job: popcutd sends the cutter's set-up again and cuts from the stroke after the\n"
+      "last one cut. Exit 2 if refused (the job is not paused).");
+  s.continue_cmd->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+  common(s.continue_cmd);
 }
 
 std::optional<int> run_client_commands(const ClientCommands& s) {
@@ -441,6 +455,8 @@ std::optional<int> run_client_commands(const ClientCommands& s) {
       return kOk;
     });
   }
+  if (s.pause && *s.pause) return job_action("pause", "");
+  if (s.continue_cmd && *s.continue_cmd) return job_action("continue", "");
   return std::nullopt;
 }
 

@@ -1,4 +1,5 @@
-// popcut submit / jobs / cancel / resume / sheet: the command-line client of popcutd's HTTP API.
+// popcut submit / jobs / move / cancel / resume / pause / continue / sheet: the command-line client of popcutd's HTTP
+// API.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,8 @@ struct ClientCommands {
   CLI::App* resume = nullptr;
   CLI::App* move = nullptr;
   CLI::App* sheet = nullptr;
+  CLI::App* pause = nullptr;
+  CLI::App* continue_cmd = nullptr;
   std::string server, token, model_path, device, profile, name, material;
   std::string idempotency_key;                                     // submit: "" sends a new UUID
   std::string states, filter_device, since;                        // jobs' filters

@@ -84,9 +84,13 @@ void confirm_sheet(ApiContext& api, const Caller& caller, const Req& req, Res& r
     if (!last || last->owner != caller.name)
       fail(ApiError::forbidden, "confirming " + name + "'s sheet needs the admin token or the owner of its last job");
   }
-  const std::optional<DeviceSheet> sheet = d.confirm_sheet(name);
-  if (!sheet) fail(ApiError::conflict, name + " is cutting: load a fresh sheet after the job ends");
-  send_json(res, {{"device", name}, {"sheet", sheet_label(*sheet, false)}});
+  const SheetConfirmation c = d.confirm_sheet(name);
+  if (c.held_state == "cutting") fail(ApiError::conflict, name + " is cutting: load a fresh sheet after the job ends");
+  if (!c.sheet)
+    fail(ApiError::conflict, "job " + std::to_string(c.held_by) + " is " + c.held_state +
+                                 " with its half-cut sheet on " + name +
+                                 ": continue or resume it to finish that sheet, or cancel it, before a fresh one");
+  send_json(res, {{"device", name}, {"sheet", sheet_label(*c.sheet, false)}});
 }
 
 void pause_device(ApiContext& api, const Caller&, const Req& req, Res& res) { set_paused(api, req, res, true); }

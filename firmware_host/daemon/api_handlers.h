@@ -40,6 +40,9 @@ void patch_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_job_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_job_preview(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void cancel_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+// api_pause.cpp: POST /api/v1/jobs/N/pause and /continue (docs/api.md "Pausing a cut").
+void pause_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void continue_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void resume_job(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 // api_models.cpp: example models, pictures of a model before it is queued, mesh import.

@@ -82,6 +82,7 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
     }
   } else if (j.state == JobState::cutting) {
     r["cancel"] = nullptr;
+    r["pause_requested"] = j.pause_requested;
     for (const DeviceStatus& dev : d.devices()) {
       if (dev.job != j.id) continue;
       r["eta_s"] = busy_s(dev, {j});
@@ -384,6 +385,40 @@ void resume_job(ApiContext& api, const Caller& caller, const Req& req, Res& res)
   }
   d.notify();
   send_json(res, current_job(d, j.id), 202);
+}
+
+// A pause keeps everything the device holds and cuts it: unlike a cancel it drops nothing, and
+// the job is continued (not resumed) from the stroke after the last one cut.
+void pause_job(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
+  Daemon& d = api.daemon();
+  const Job j = api.visible_job(req, caller);
+  switch (d.pause(j.id)) {
+    case PauseResult::paused: return send_json(res, current_job(d, j.id), 200);
+    case PauseResult::requested: return send_json(res, current_job(d, j.id), 202);
+    case PauseResult::conflict:
+      fail(ApiError::conflict, "only a ready or cutting job pauses; job " + std::to_string(j.id) + " is " +
+                                   to_string(d.store().get(j.id)->state) +
+                                   (d.store().get(j.id)->state == JobState::cutting ? " and being cancelled" : ""));
+    case PauseResult::not_found: fail(ApiError::not_found, "no job " + std::to_string(j.id));
+  }
+}
+
+void continue_job(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
+  Daemon& d = api.daemon();
+  const Job j = api.visible_job(req, caller);
+  // The rest of a half-cut sheet is cut on the device holding it, as for a resume.
+  if (!j.device.empty() && !d.device(j.device)) {
+    fail(ApiError::conflict, "job " + std::to_string(j.id) + " was paused on " + j.device +
+                                 ", which is not configured any more; configure it again, or cancel the job");
+  }
+  switch (d.continue_job(j.id)) {
+    case ContinueResult::continued: return send_json(res, current_job(d, j.id), 200);
+    case ContinueResult::not_paused:
+      fail(ApiError::conflict,
+           "only a paused job continues; job " + std::to_string(j.id) + " is " + to_string(d.store().get(j.id)->state) +
+               (d.store().get(j.id)->state == JobState::interrupted ? " (POST .../resume resumes it)" : ""));
+    case ContinueResult::not_found: fail(ApiError::not_found, "no job " + std::to_string(j.id));
+  }
 }
 
 }  // namespace popcut::daemon

@@ -56,6 +56,10 @@ void record_outcome(JobStore& store, const Job& job, const DeviceConfig& dev, bo
                                           out.still_buffered + " from its buffer");
       }
       break;
+    case CutOutcome::Kind::paused:
+      store.mark_paused(job.id, "paused after stroke " + std::to_string(out.last_stroke_sent) +
+                                    "; the knife was lifted and the device drained: continue cuts the rest");
+      break;
     case CutOutcome::Kind::failed:
       if (out.bytes_lost) {
         // Not resumable: the device cut something else than the job.
@@ -294,7 +298,9 @@ void Daemon::device_loop(Worker& w) {
       continue;
     }
     std::optional<Job> job;
-    if (!store_.paused(w.device->name)) job = store_.claim_for_device(w.device->name, profile, w.device->confirm_sheet);
+    // A paused job holds its half-cut sheet on the device: nothing else is cut onto it.
+    if (!store_.paused(w.device->name) && !store_.holds_paused_job(w.device->name))
+      job = store_.claim_for_device(w.device->name, profile, w.device->confirm_sheet);
     if (!job) {
       wait_for_work();
       continue;
@@ -307,7 +313,10 @@ void Daemon::device_loop(Worker& w) {
       w.cancel_waiting = false;
       w.give_up = false;
       w.stop_cut = stopping_.load();
+      w.pause_cut = false;
     }
+    // Likewise a pause (the job was claimed between the request and now).
+    if (store_.pause_requested(job->id)) w.pause_cut = true;
     // A cancel that arrived between the claim and now is in the database only.
     if (store_.cancel_requested(job->id)) {
       std::lock_guard lock(mutex_);
@@ -345,14 +354,16 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
     const CutControl control{
-        w.stop_cut, w.give_up, [&] {
+        w.stop_cut, w.give_up,
+        [&] {
           // A user's cancel can be given up by cancelling again; popcutd's own stop waits it out.
           log_line("job ", job.id, ": ", dev.name, " holds the line (XOFF or CTS): waiting up to ",
                    dev.profile.transport.hold_timeout_ms / 1000, " s (hold_timeout_ms) for it to take the abort",
                    stopping_ ? " before popcutd stops"
                              : "; cancelling again gives up, and the device may then cut everything its buffer holds");
           w.cancel_waiting = true;
-        }};
+        },
+        &w.pause_cut};
     // Held against the whole plan from the resumed stroke on, worked out apart from the bytes
     // sent: a resume that started at the wrong stroke shows in sim_match.
     const std::vector<PlotterPath> planned = drivers::planned_paths(plan, dev.profile.dialect, done_before + 1);
@@ -376,6 +387,10 @@ void Daemon::cut_one(Worker& w, const Job& job) {
     commit_run_wear(job, dev, plan, profile, out);
     record_outcome(store_, job, dev, user_cancel, out);
     if (out.kind == CutOutcome::Kind::complete) ++cuts_completed_;
+    if (out.kind == CutOutcome::Kind::paused) {
+      log_line("job ", job.id, ": paused on ", dev.name, " after stroke ", out.last_stroke_sent);
+      emit_event(EventKind::job_paused, job.id, dev.name);
+    }
     emit_outcome(job.id);
   } catch (const std::exception& e) {
     store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());

@@ -62,6 +62,10 @@ class Daemon {
   // lifts the knife, and the worker records `cancelled`. Cancelled again while that stop waits
   // for a device holding the line: the wait is given up (giving_up); before then it changes nothing.
   CancelResult cancel(std::int64_t id);
+  // Pause and continue of a job (daemon_pause.cpp; docs/api.md "Pausing a cut"): a cutting job
+  // stops after the stroke in flight, drains, lifts the knife and is recorded paused.
+  PauseResult pause(std::int64_t id);
+  ContinueResult continue_job(std::int64_t id);
   void set_paused(const std::string& device, bool paused);
   std::vector<DeviceStatus> devices();
   const DeviceConfig* device(const std::string& name) const;
@@ -99,7 +103,7 @@ class Daemon {
   // Sheets (sheets.cpp, docs/api.md "Sheets"): the device's as stored; a fresh one loaded (nullopt
   // while a job cuts on the device: nothing changed).
   DeviceSheet sheet(const std::string& device);
-  std::optional<DeviceSheet> confirm_sheet(const std::string& device);
+  SheetConfirmation confirm_sheet(const std::string& device);
 
  private:
   struct Worker {
@@ -110,6 +114,7 @@ class Daemon {
     std::atomic<bool> stop_cut{false};
     std::atomic<bool> cancel_waiting{false};  // the stop waits for the device to let the abort through
     std::atomic<bool> give_up{false};         // ... and a second cancel gave that wait up
+    std::atomic<bool> pause_cut{false};       // a pause of the job being cut (daemon_pause.cpp)
     bool user_cancel = false;                 // guarded by mutex_: why stop_cut was set
     // The device thread's own: until when a device paced by time may still be cutting what the
     // last job left in its buffer (no job is sent to it before).

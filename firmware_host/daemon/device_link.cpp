@@ -19,7 +19,9 @@ CutOutcome outcome_of(const drivers::CutResult& r, const std::string& device, bo
   out.still_buffered = drivers::still_buffered_text(sent);
   out.discarded = drivers::discarded_text(sent);
   out.busy_for_s = sent.busy_for_s;
-  if (sent.complete()) {
+  if (sent.paused_cleanly()) {
+    out.kind = CutOutcome::Kind::paused;
+  } else if (sent.complete()) {
     out.kind = CutOutcome::Kind::complete;
     out.sim_match = r.sim && r.sim->cut_exactly_the_plan();
   } else if (sent.cancelled) {
@@ -59,7 +61,8 @@ class DriversLink final : public DeviceLink {
     drivers::CutControl send_control{&control.stop, &control.give_up, control.waiting_to_cancel,
                                      [&](const drivers::SendProgress& p) {
                                        if (p.last_stroke_sent != reported) progress(reported = p.last_stroke_sent);
-                                     }};
+                                     },
+                                     control.pause};
     const drivers::CutResult r = session.run(job, planned, send_control);
     if (!r.open_status.ok()) {
       failed.error = session.describe() + ": " + r.open_status.message;

@@ -15,7 +15,9 @@
 namespace popcut::daemon {
 
 struct CutOutcome {
-  enum class Kind { complete, stopped, failed } kind = Kind::failed;
+  // paused: stopped at a stroke boundary, drained and the knife lifted: strokes through
+  // last_stroke_sent are cut, no more.
+  enum class Kind { complete, stopped, failed, paused } kind = Kind::failed;
   std::size_t last_stroke_sent = 0;  // stroke number (from 1) of the last stroke the device certainly received
   std::optional<std::size_t> last_stroke_executed;  // the last it is known to have executed (nullopt: unknown)
   std::string error;           // failed: what the transport said; stopped: why the knife-up did not reach the device
@@ -42,6 +44,8 @@ struct CutControl {
   const std::atomic<bool>& stop;
   const std::atomic<bool>& give_up;
   std::function<void()> waiting_to_cancel;
+  // Set: finish the stroke in flight, lift the knife, let the device drain; the outcome is paused.
+  const std::atomic<bool>* pause = nullptr;
 };
 
 class DeviceLink {

@@ -42,6 +42,8 @@ std::vector<Route> api_routes() {
       {Method::get, R"(/api/v1/jobs/(\d+)/preview\.png)", Access::token, takes({"angle"}), get_job_preview},
       {Method::post, R"(/api/v1/jobs/(\d+)/cancel)", Access::token, takes_none(), cancel_job},
       {Method::post, R"(/api/v1/jobs/(\d+)/resume)", Access::token, takes_none(), resume_job},
+      {Method::post, R"(/api/v1/jobs/(\d+)/pause)", Access::token, takes_none(), pause_job},
+      {Method::post, R"(/api/v1/jobs/(\d+)/continue)", Access::token, takes_none(), continue_job},
       {Method::post, "/api/v1/render/pattern.svg", Access::token, takes_none(), render_pattern},
       {Method::post, "/api/v1/render/preview.png", Access::token, takes({"angle"}), render_preview},
       {Method::post, "/api/v1/import", Access::token, takes_none(), import_model},

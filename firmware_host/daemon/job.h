@@ -13,7 +13,7 @@
 namespace popcut::daemon {
 
 // Life of a job (docs/api.md "Job states"). Terminal: done, failed, cancelled.
-enum class JobState { queued, planning, ready, cutting, done, failed, cancelled, interrupted };
+enum class JobState { queued, planning, ready, cutting, done, failed, cancelled, interrupted, paused };
 inline constexpr auto kJobStateNames = enum_names<JobState>({{JobState::queued, "queued"},
                                                              {JobState::planning, "planning"},
                                                              {JobState::ready, "ready"},
@@ -21,7 +21,8 @@ inline constexpr auto kJobStateNames = enum_names<JobState>({{JobState::queued, 
                                                              {JobState::done, "done"},
                                                              {JobState::failed, "failed"},
                                                              {JobState::cancelled, "cancelled"},
-                                                             {JobState::interrupted, "interrupted"}});
+                                                             {JobState::interrupted, "interrupted"},
+                                                             {JobState::paused, "paused"}});
 const char* to_string(JobState state);
 std::optional<JobState> parse_job_state(const std::string& text);
 bool is_terminal(JobState state);
@@ -146,12 +147,14 @@ struct Job {
   // rank starts as the id (first come, first served) and an admin's `before` puts it between two.
   int priority = 0;
   double queue_rank = 0;
-  int copies = 1;  // cards nested on its sheet
+  int copies = 1;                // cards nested on its sheet
+  bool pause_requested = false;  // cutting: a pause was asked; the worker stops at the stroke in flight
 
   // The device holding this job's half-cut sheet: an interrupted job, or one resumed and waiting,
   // continues there and nowhere else ("" when no sheet of it is on a device).
   std::string bound_device() const {
-    return state == JobState::interrupted || state == JobState::ready ? device : std::string();
+    return state == JobState::interrupted || state == JobState::ready || state == JobState::paused ? device
+                                                                                                   : std::string();
   }
   // Where it may be cut: the device holding its sheet, else the one it names, else its profile's.
   Targets targets() const {

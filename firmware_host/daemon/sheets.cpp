@@ -18,9 +18,9 @@ const char* sheet_label(const DeviceSheet& sheet, bool cutting) {
 
 DeviceSheet Daemon::sheet(const std::string& device) { return store_.device_sheet(device); }
 
-std::optional<DeviceSheet> Daemon::confirm_sheet(const std::string& device) {
-  std::optional<DeviceSheet> sheet = store_.confirm_sheet(device);
-  if (!sheet) return std::nullopt;
+SheetConfirmation Daemon::confirm_sheet(const std::string& device) {
+  SheetConfirmation sheet = store_.confirm_sheet(device);
+  if (!sheet.sheet) return sheet;
   log_line(device, ": a fresh sheet is loaded");
   notify();  // its worker may claim the next job now
   return sheet;

@@ -29,4 +29,12 @@ struct DeviceSheet {
 // What the API shows as `sheet`: in_use while a job cuts, else awaiting_sheet or loaded.
 const char* sheet_label(const DeviceSheet& sheet, bool cutting);
 
+// A confirmation's outcome: the fresh sheet, or the job whose sheet is still on the device
+// (cutting, paused, interrupted, or resumed and waiting) and its state.
+struct SheetConfirmation {
+  std::optional<DeviceSheet> sheet;
+  std::int64_t held_by = 0;
+  std::string held_state;
+};
+
 }  // namespace popcut::daemon

@@ -17,7 +17,7 @@ namespace {
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK ", copies";
+    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK ", copies, pause_requested";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -46,16 +46,21 @@ Job read_job(const Stmt& s) {
   j.priority = static_cast<int>(s.integer(22));
   j.queue_rank = s.real(23);
   j.copies = static_cast<int>(s.integer(24));
+  j.pause_requested = s.integer(25) != 0;
   return j;
 }
 
 // A cut's run ends (finished, interrupted, or found cut short at restart) at `end`: its time
 // since run_started_at is added to the job's cutting_s. Only a job leaving `cutting` has a run.
+}  // namespace
+
 std::string end_run(const std::string& end) {
   return "cutting_s = cutting_s + CASE WHEN state='cutting' AND run_started_at > 0 THEN MAX(0, " + end +
          " - run_started_at) ELSE 0 END, last_cut_at = CASE WHEN state='cutting' THEN MAX(last_cut_at, " + end +
          ") ELSE last_cut_at END";
 }
+
+namespace {
 
 std::string select_jobs(const std::string& where) {
   return std::string("SELECT ") + kJobColumns + " FROM jobs " + where;
@@ -115,6 +120,7 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
     create_sheet_tables();
     add_run_time_columns();
     add_queue_columns();
+    add_pause_column();
     exec("CREATE TABLE IF NOT EXISTS models (id INTEGER PRIMARY KEY, model TEXT NOT NULL)");
     exec("CREATE TABLE IF NOT EXISTS devices (name TEXT PRIMARY KEY, paused INTEGER NOT NULL)");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, id)");
@@ -175,7 +181,7 @@ JobStore::Recovered JobStore::recover(const std::function<Wear(const Job&)>& cra
     exec("ROLLBACK");
     throw;
   }
-  Stmt(db_, ("UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0,"
+  Stmt(db_, ("UPDATE jobs SET state='interrupted', resume_from=strokes_sent, cancel_requested=0, pause_requested=0,"
              " error_code='interrupted', error_message='popcutd stopped without a clean shutdown during the cut', " +
              end_run("last_cut_at") + " WHERE state='cutting'")
                 .c_str())
@@ -185,48 +191,6 @@ JobStore::Recovered JobStore::recover(const std::function<Wear(const Job&)>& cra
   r.requeued = sqlite3_changes(db_);
   exec("COMMIT");
   return r;
-}
-
-std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length) {
-  const SubmitResult r = submit(nj, queue_length);
-  if (r.outcome == Submitted::queue_full || r.outcome == Submitted::key_reused) return std::nullopt;
-  return r.id;
-}
-
-SubmitResult JobStore::submit(const NewJob& nj, int queue_length) {
-  std::lock_guard lock(mutex_);
-  exec("BEGIN IMMEDIATE");
-  try {
-    if (const std::optional<SubmitResult> earlier = replay_locked(nj)) {
-      exec("COMMIT");
-      return *earlier;
-    }
-    Stmt count(db_, "SELECT COUNT(*) FROM jobs WHERE state IN ('queued','planning','ready','cutting','interrupted')");
-    count.step();
-    if (count.integer(0) >= queue_length) {
-      exec("ROLLBACK");
-      return {Submitted::queue_full, 0};
-    }
-    Stmt ins(db_,
-             "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at, material, copies) "
-             "VALUES (?,?,?,?,'queued',?,?,?)");
-    ins.bind(1, nj.owner)
-        .bind(2, nj.name)
-        .bind(3, nj.target_device)
-        .bind(4, nj.target_profile)
-        .bind(5, unix_now_s())
-        .bind(6, nj.material)
-        .bind(7, std::int64_t{nj.copies})
-        .step();
-    const std::int64_t id = sqlite3_last_insert_rowid(db_);
-    Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();
-    remember_key_locked(nj, id);
-    exec("COMMIT");
-    return {Submitted::created, id};
-  } catch (...) {
-    exec("ROLLBACK");
-    throw;
-  }
 }
 
 std::optional<Job> JobStore::get(std::int64_t id) {
@@ -347,11 +311,13 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
       exec("COMMIT");
       return std::nullopt;
     }
-    // A resumed job goes back to the device holding its half-cut sheet, and only there.
-    Stmt s(db_,
-           select_jobs("WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
-                       "='' AND target_profile=?2)) AND (?3 = 0 OR id = ?3) ORDER BY " POPCUT_QUEUE_ORDER " LIMIT 1")
-               .c_str());
+    // A resumed or continued job goes back to the device holding its half-cut sheet, and only
+    // there, before any other: that sheet is what lies on the device.
+    Stmt s(db_, select_jobs(
+                    "WHERE state='ready' AND (" POPCUT_JOB_DEVICE "=?1 OR (" POPCUT_JOB_DEVICE
+                    "='' AND target_profile=?2)) AND (?3 = 0 OR id = ?3) ORDER BY device = ?1 DESC, " POPCUT_QUEUE_ORDER
+                    " LIMIT 1")
+                    .c_str());
     s.bind(1, device).bind(2, profile_name).bind(3, *only);
     if (!s.step()) {
       exec("COMMIT");
@@ -398,7 +364,8 @@ void JobStore::set_executed(std::int64_t id, std::optional<std::int64_t> strokes
 void JobStore::finish(std::int64_t id, JobState state, const std::string& code, const std::string& message,
                       bool sim_match) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, ("UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0,"
+  Stmt(db_, ("UPDATE jobs SET state=?, error_code=?, error_message=?, finished_at=?, sim_match=?, cancel_requested=0, "
+             "pause_requested=0,"
              " resume_from=CASE WHEN ?1='interrupted' THEN strokes_sent ELSE resume_from END, " +
              end_run("?7") + " WHERE id=?6 AND state IN ('planning','cutting')")
                 .c_str())
@@ -416,9 +383,9 @@ CancelResult JobStore::cancel(std::int64_t id) {
   std::lock_guard lock(mutex_);
   Stmt(db_,
        "UPDATE jobs SET state='cancelled', finished_at=?, error_code='cancelled',"
-       " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut' ELSE "
-       "'cancelled before the cut' END"
-       " WHERE id=? AND state IN ('queued','planning','ready','interrupted')")
+       " error_message=CASE state WHEN 'interrupted' THEN 'cancelled while interrupted; the rest was not cut'"
+       " WHEN 'paused' THEN 'cancelled while paused; the rest was not cut' ELSE 'cancelled before the cut' END,"
+       " pause_requested=0 WHERE id=? AND state IN ('queued','planning','ready','interrupted','paused')")
       .bind(1, unix_now_s())
       .bind(2, id)
       .step();

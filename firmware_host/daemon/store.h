@@ -46,6 +46,13 @@ enum class CancelResult { cancelled, requested, giving_up, already_final, not_fo
 // executed_unknown: resuming after the executed strokes was asked, but the device never said what
 // it executed (a transport without status answers, or a cut cut short by a crash).
 enum class ResumeResult { resumed, not_interrupted, executed_unknown };
+// paused: a ready job is held at once; requested: a cutting one stops at the stroke in flight.
+enum class PauseResult { paused, requested, conflict, not_found };
+enum class ContinueResult { continued, not_paused, not_found };
+
+// A cut's run ends at `end` (an SQL expression): its time since run_started_at is added to the
+// job's cutting_s (store.cpp; store_pause.cpp ends a run at a pause with it).
+std::string end_run(const std::string& end);
 
 // What GET /api/v1/jobs lists: each part empty takes every job.
 struct JobFilter {
@@ -127,6 +134,17 @@ class JobStore {
 
   // Moves a waiting job (store_queue.cpp); place_in_line, eta_s and the claims follow the new order.
   ReorderResult reorder(std::int64_t id, const Reorder& to);
+  // Pause and continue of one job (store_pause.cpp; docs/api.md "Pausing a cut"). ready ->
+  // paused at once, cutting -> pause requested; anything else is a conflict.
+  PauseResult request_pause(std::int64_t id);
+  bool pause_requested(std::int64_t id);
+  // cutting -> paused once the device drained and lifted the knife: the next run starts after
+  // strokes_sent (every stroke through it is cut, no more), and this run's time ends now.
+  void mark_paused(std::int64_t id, const std::string& message);
+  // paused -> ready, on the device holding its sheet, continuing after resume_from.
+  ContinueResult continue_job(std::int64_t id);
+  // A paused job holds its half-cut sheet on `device`: no other job is cut there meanwhile.
+  bool holds_paused_job(const std::string& device);
 
   void set_paused(const std::string& device, bool paused);
   bool paused(const std::string& device);
@@ -152,7 +170,7 @@ class JobStore {
   // Sheets (store_sheets.cpp).
   DeviceSheet device_sheet(const std::string& device);
   // A fresh sheet is loaded; nullopt (and nothing changed) while a job is cutting on the device.
-  std::optional<DeviceSheet> confirm_sheet(const std::string& device);
+  SheetConfirmation confirm_sheet(const std::string& device);
 
  private:
   void create_sheet_tables();
@@ -171,6 +189,7 @@ class JobStore {
   std::optional<SubmitResult> replay_locked(const NewJob& job);
   void remember_key_locked(const NewJob& job, std::int64_t id);
   ReorderResult reorder_locked(std::int64_t id, const Reorder& to);
+  void add_pause_column();
   // Reads run on their own connections: in WAL mode a reader sees the last commit and neither
   // waits for the writer nor holds it up. A free one if any, else the next in turn.
   struct Reader {

@@ -76,6 +76,50 @@ void JobStore::add_queue_columns() {
   exec("ALTER TABLE jobs ADD COLUMN queue_rank REAL");  // NULL: the id
 }
 
+std::optional<std::int64_t> JobStore::insert(const NewJob& nj, int queue_length) {
+  const SubmitResult r = submit(nj, queue_length);
+  if (r.outcome == Submitted::queue_full || r.outcome == Submitted::key_reused) return std::nullopt;
+  return r.id;
+}
+
+SubmitResult JobStore::submit(const NewJob& nj, int queue_length) {
+  std::lock_guard lock(mutex_);
+  exec("BEGIN IMMEDIATE");
+  try {
+    if (const std::optional<SubmitResult> earlier = replay_locked(nj)) {
+      exec("COMMIT");
+      return *earlier;
+    }
+    Stmt count(db_,
+               "SELECT COUNT(*) FROM jobs WHERE state IN ('queued','planning','ready','cutting','interrupted',"
+               "'paused')");
+    count.step();
+    if (count.integer(0) >= queue_length) {
+      exec("ROLLBACK");
+      return {Submitted::queue_full, 0};
+    }
+    Stmt ins(db_,
+             "INSERT INTO jobs (owner, name, target_device, target_profile, state, created_at, material, copies) "
+             "VALUES (?,?,?,?,'queued',?,?,?)");
+    ins.bind(1, nj.owner)
+        .bind(2, nj.name)
+        .bind(3, nj.target_device)
+        .bind(4, nj.target_profile)
+        .bind(5, unix_now_s())
+        .bind(6, nj.material)
+        .bind(7, std::int64_t{nj.copies})
+        .step();
+    const std::int64_t id = sqlite3_last_insert_rowid(db_);
+    Stmt(db_, "INSERT INTO models (id, model) VALUES (?,?)").bind(1, id).bind(2, nj.model_json).step();
+    remember_key_locked(nj, id);
+    exec("COMMIT");
+    return {Submitted::created, id};
+  } catch (...) {
+    exec("ROLLBACK");
+    throw;
+  }
+}
+
 std::optional<SubmitResult> JobStore::replay_locked(const NewJob& nj) {
   if (nj.idempotency_key.empty()) return std::nullopt;
   Stmt(db_, "DELETE FROM idempotency WHERE created_at < ?").bind(1, unix_now_s() - kIdempotencyKeepS).step();

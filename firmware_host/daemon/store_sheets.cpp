@@ -57,21 +57,26 @@ DeviceSheet JobStore::device_sheet(const std::string& device) {
   return read_sheet(db, device);
 }
 
-std::optional<DeviceSheet> JobStore::confirm_sheet(const std::string& device) {
+SheetConfirmation JobStore::confirm_sheet(const std::string& device) {
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
     // Checked in the transaction a claim also takes: a job claimed a moment ago is cutting here.
-    Stmt cutting(db_, "SELECT 1 FROM jobs WHERE state='cutting' AND device=?");
-    cutting.bind(1, device);
-    if (cutting.step()) {
+    // A paused, interrupted or resumed job's half-cut sheet is on the device too: a fresh one
+    // would take the rest of that card.
+    Stmt holding(db_,
+                 "SELECT id, state FROM jobs WHERE device=? AND state IN ('cutting','paused','interrupted','ready')"
+                 " ORDER BY state='cutting' DESC, id LIMIT 1");
+    holding.bind(1, device);
+    if (holding.step()) {
+      SheetConfirmation held{std::nullopt, holding.integer(0), holding.text(1)};
       exec("ROLLBACK");
-      return std::nullopt;
+      return held;
     }
     write_sheet(db_, device, SheetState::loaded, 0);
-    DeviceSheet sheet = read_sheet(db_, device);
+    SheetConfirmation done{read_sheet(db_, device), 0, ""};
     exec("COMMIT");
-    return sheet;
+    return done;
   } catch (...) {
     exec("ROLLBACK");
     throw;

@@ -78,7 +78,8 @@ TEST_F(Cli, UsageErrorsExit2) {
   EXPECT_EQ(
       typo.err,
       "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, plan, cut, "
-      "test-cut, calibrate, submit, jobs, move, cancel, sheet, devices or sim-plotter)\nRun 'popcut --help' for "
+      "test-cut, calibrate, submit, jobs, move, cancel, sheet, pause, continue, devices or sim-plotter)\nRun 'popcut "
+      "--help' for "
       "usage.\n");
   const Result flag = run("validate --jsn x.json");
   EXPECT_EQ(flag.err.rfind("popcut: error: ", 0), 0u) << "usage errors read like every other error: " << flag.err;

@@ -114,7 +114,9 @@ class PopcutClientAnswers : public ::testing::Test {
             "resume 7 --from executed",
             "move 7 --priority 3",
             "move 7 --before 5",
-            "jobs --state done,failed --device a --since 7d"};
+            "jobs --state done,failed --device a --since 7d",
+            "pause 7",
+            "continue 7"};
   }
   TempDir dir_{"popcut-client-test"};
   FakeServer server_;
@@ -193,6 +195,13 @@ TEST_F(PopcutClientAnswers, PopcutdsShapesAreTaken) {
   const CliRun refused = cli("cancel 7");
   EXPECT_EQ(refused.code, 2) << "popcutd's refusal is exit 2: " << refused.err;
   EXPECT_NE(refused.err.find("popcutd refused (404 not_found): no job 7"), std::string::npos) << refused.err;
+  server_.answer_everything(
+      {409, R"({"error":{"code":"conflict","message":"only a paused job continues; job 7 is done"}})"});
+  const CliRun not_paused = cli("continue 7");
+  EXPECT_EQ(not_paused.code, 2) << "a refused continue is exit 2: " << not_paused.err;
+  EXPECT_NE(not_paused.err.find("popcutd refused (409 conflict): only a paused job continues"), std::string::npos)
+      << not_paused.err;
+  EXPECT_EQ(cli("pause 0").code, cli("cancel 0").code) << "a bad id is refused as for cancel";
 }
 
 // A loopback listener that reads `n` requests, one connection each, and keeps their headers; the

@@ -193,6 +193,12 @@ TEST(PopcutdSheets, KillNineDuringACutLeavesTheSheetUsed) {
   EXPECT_EQ(state(kiosk, first), "interrupted");
   EXPECT_EQ(sheet(kiosk), "awaiting_sheet");
   stays_ready(kiosk, second, 1.5);
+  // Its half-cut sheet is on the cutter: a fresh one now would take the rest of that card.
+  const auto held = post_json(kiosk, "/api/v1/devices/sim-a/sheet", "");
+  EXPECT_EQ(held.status, 409) << held.body.dump();
+  EXPECT_NE(held.body["error"]["message"].get<std::string>().find("job " + std::to_string(first) + " is interrupted"),
+            std::string::npos)
+      << held.body.dump();
   // The interrupted job may go on cutting its own half-cut sheet; the next still waits.
   ASSERT_EQ(post_json(kiosk, "/api/v1/jobs/" + std::to_string(first) + "/resume", "").status, 202);
   wait_state(kiosk, first, "done");

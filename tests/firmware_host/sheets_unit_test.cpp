@@ -61,12 +61,12 @@ TEST_F(Sheets, AClaimUsesTheSheetAndNothingMoreIsClaimedUntilConfirmed) {
   const DeviceSheet used = s.device_sheet("a");
   EXPECT_EQ(used.state, SheetState::used) << "marked in the claim's own transaction";
   EXPECT_EQ(used.last_job, first);
-  EXPECT_FALSE(s.confirm_sheet("a").has_value()) << "no confirmation while a job is cutting on the device";
+  EXPECT_FALSE(s.confirm_sheet("a").sheet.has_value()) << "no confirmation while a job is cutting on the device";
   EXPECT_EQ(s.device_sheet("a").state, SheetState::used) << "and it changed nothing";
   s.finish(first, JobState::done, "", "");
   EXPECT_FALSE(s.claim_for_device("a", "sim", true).has_value()) << "the next job waits for a fresh sheet";
   EXPECT_EQ(s.get(second)->state, JobState::ready);
-  const std::optional<DeviceSheet> fresh = s.confirm_sheet("a");
+  const std::optional<DeviceSheet> fresh = s.confirm_sheet("a").sheet;
   ASSERT_TRUE(fresh.has_value());
   EXPECT_EQ(fresh->state, SheetState::loaded);
   EXPECT_EQ(fresh->last_job, first) << "who used it last is kept (the kiosk's owner check reads it)";
@@ -103,7 +103,7 @@ TEST_F(Sheets, AUsedSheetSurvivesACrashAndOnlyItsOwnJobMayGoOnCuttingIt) {
   EXPECT_EQ(again->resume_from, 4);
   s.finish(first, JobState::done, "", "");
   EXPECT_FALSE(s.claim_for_device("a", "sim", true).has_value());
-  ASSERT_TRUE(s.confirm_sheet("a").has_value());
+  ASSERT_TRUE(s.confirm_sheet("a").sheet.has_value());
   EXPECT_EQ(s.claim_for_device("a", "sim", true)->id, other);
 }
 

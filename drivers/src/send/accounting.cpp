@@ -74,8 +74,11 @@ void SendAccounting::settle(int answers) {
   // Executed is known only from the device's answers (or an answered drain); it never runs
   // ahead of what it received.
   if (session_.query != DrainQuery::none && answers > 0 && r.device_io_error == 0) {
-    const std::size_t bytes = drained_ ? r.bytes_sent : std::min(executed_, r.bytes_received);
-    r.last_stroke_executed = std::min(stroke_executed_by(job, bytes), r.last_stroke_sent);
+    // Drained, the device executed everything sent: a job paused after stroke K (no command of
+    // the job after it) has executed K too, not only once the next command went.
+    const std::size_t executed = drained_ ? job.last_stroke_within(r.bytes_sent)
+                                          : stroke_executed_by(job, std::min(executed_, r.bytes_received));
+    r.last_stroke_executed = std::min(executed, r.last_stroke_sent);
   } else {  // unknown: no answers, or lost bytes made what it executed something else than the job
     r.last_stroke_executed.reset();
   }

@@ -34,6 +34,7 @@ class SendSession {
   // flight, with the abort and the knife-up.
   bool cancel_requested() const { return stop_ != DeviceStop::none || user_cancelled(); }
   bool user_cancelled() const { return options.cancel && options.cancel->load(); }
+  bool pause_requested() const { return options.pause && options.pause->load(); }
   // A status answer said the device cannot go on (tray empty, paused); the first reason stands.
   void device_stopped(DeviceStop why) {
     if (stop_ == DeviceStop::none) stop_ = why;

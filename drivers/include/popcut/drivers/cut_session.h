@@ -28,6 +28,8 @@ struct CutControl {
   const std::atomic<bool>* give_up = nullptr;
   std::function<void()> waiting_to_cancel;
   std::function<void(const SendProgress&)> progress;  // after every chunk
+  // Pauses the cut at the end of the stroke in flight (SendOptions::pause): drained, knife up.
+  const std::atomic<bool>* pause = nullptr;
 };
 
 // How a simulated cut went, worst first: each verdict holds only when none above it does.

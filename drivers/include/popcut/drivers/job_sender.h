@@ -76,6 +76,13 @@ struct SendOptions {
   const std::atomic<bool>* give_up = nullptr;
   std::function<void()> waiting_to_cancel;
   std::function<void(const SendProgress&)> progress;  // after every chunk
+  // Set (from any thread) to pause the job: unlike a cancel, nothing of what the device holds is
+  // dropped. The sender finishes the stroke in flight, sends pause_bytes (knife up), waits until
+  // the device has executed everything as at the end of a job, and returns with paused set and
+  // the counts of a drained job, so that last_stroke_written is the last stroke cut and a resume
+  // from the next one cuts each stroke exactly once. A cancel during that wait wins.
+  const std::atomic<bool>* pause = nullptr;
+  std::string pause_bytes = "PU;";  // knife up (send_options: the language's, and its park for starts_at origin)
 };
 
 // How SendResult::bytes_received was counted: transport (a write's count is what the device
@@ -137,6 +144,9 @@ struct SendResult {
   // holds, by the model (0: not paced by time). A job sent to it meanwhile would overrun it.
   double busy_for_s = 0;
   bool cancelled = false;
+  // Paused (SendOptions::pause) at a stroke boundary: status ok means the device drained and
+  // lifted the knife, and strokes first_stroke..last_stroke_written are cut, no more.
+  bool paused = false;
   bool abort_sent = false;  // the abort sequence and knife up reached the transport
   // The abort went out and the profile says the device drops its buffer on it (an ESC.B answer
   // after it showing job bytes still held says otherwise and clears this): last_stroke_sent is
@@ -169,7 +179,9 @@ struct SendResult {
   // counts say where to resume once the sheet is loaded or the device resumed.
   DeviceStop device_stop = DeviceStop::none;
   TransportStatus status;  // ok only when every byte went out and the device drained (not on cancel)
-  bool complete() const { return status.ok() && !cancelled; }
+  bool complete() const { return status.ok() && !cancelled && !paused; }
+  // Paused with every stroke through last_stroke_written executed and the knife lifted.
+  bool paused_cleanly() const { return status.ok() && paused && !cancelled; }
 };
 
 // Flow, buffer, timeouts, drain query and abort sequence from the profile.
