@@ -287,14 +287,15 @@ std::string sheet_shape_problem(const json& a) {
   return "";
 }
 
-}  // namespace
+// --server, --token and --json, on every client command.
+void add_common_options(CLI::App* sub, ClientCommands& s) {
+  sub->add_option("--server", s.server, "popcutd's address (default $POPCUT_SERVER or http://127.0.0.1:8742)");
+  sub->add_option("--token", s.token, "Access token (default $POPCUT_TOKEN)");
+  sub->add_flag("--json", s.json_out, "Print the daemon's answer as JSON");
+}
 
-void add_client_commands(CLI::App& app, ClientCommands& s) {
-  const auto common = [&](CLI::App* sub) {
-    sub->add_option("--server", s.server, "popcutd's address (default $POPCUT_SERVER or http://127.0.0.1:8742)");
-    sub->add_option("--token", s.token, "Access token (default $POPCUT_TOKEN)");
-    sub->add_flag("--json", s.json_out, "Print the daemon's answer as JSON");
-  };
+void add_submit_command(CLI::App& app, ClientCommands& s) {
+  const auto common = [&](CLI::App* sub) { add_common_options(sub, s); };
   s.submit = app.add_subcommand(
       "submit",
       "Queue a model on popcutd for a device (or any device with a profile).\n"
@@ -330,6 +331,13 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
           "KEY"));
   common(s.submit);
   add_import_options(s.submit, s.import_values);
+}
+
+}  // namespace
+
+void add_client_commands(CLI::App& app, ClientCommands& s) {
+  add_submit_command(app, s);
+  const auto common = [&](CLI::App* sub) { add_common_options(sub, s); };
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   s.jobs->add_option("--state", s.states, "Only jobs in these states (comma-separated, e.g. done,failed)");
