@@ -338,6 +338,13 @@ void add_submit_command(CLI::App& app, ClientCommands& s) {
 void add_client_commands(CLI::App& app, ClientCommands& s) {
   add_submit_command(app, s);
   const auto common = [&](CLI::App* sub) { add_common_options(sub, s); };
+  // A command on one job: its id, then the common options.
+  const auto one_job = [&](const char* name, const char* help) {
+    CLI::App* sub = app.add_subcommand(name, help);
+    sub->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+    common(sub);
+    return sub;
+  };
   s.jobs = app.add_subcommand("jobs", "List your jobs on popcutd (an admin token sees everyone's), newest first.");
   s.jobs->add_flag("--all", s.all, "Up to 10000 jobs instead of 100");
   s.jobs->add_option("--state", s.states, "Only jobs in these states (comma-separated, e.g. done,failed)");
@@ -348,26 +355,20 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
       ->check(CLI::Validator([](std::string& t) { return since_s(t) ? std::string() : "unix seconds or 90m, 12h, 7d"; },
                              "WHEN"));
   common(s.jobs);
-  s.move = app.add_subcommand("move",
-                              "Move a waiting job in popcutd's queue (admin token): a priority (higher is cut first),\n"
-                              "or the place just ahead of another waiting job (taking its priority).\n"
-                              "Exit 2 if refused (not waiting, no such job, not the admin token).");
-  s.move->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+  s.move = one_job("move",
+                   "Move a waiting job in popcutd's queue (admin token): a priority (higher is cut first),\n"
+                   "or the place just ahead of another waiting job (taking its priority).\n"
+                   "Exit 2 if refused (not waiting, no such job, not the admin token).");
   s.move->add_option("--priority", s.priority, "-100 to 100; 0 is every job's default")->check(CLI::Range(-100, 100));
   s.move->add_option("--before", s.before_id, "The waiting job to go just ahead of")->check(positive_whole("a job id"));
-  common(s.move);
-  s.cancel =
-      app.add_subcommand("cancel",
-                         "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
-                         "If the cutter holds the line (the job shows 'cancel waiting_for_device'), cancelling again\n"
-                         "gives up the wait: the abort is not sent and the cutter may cut all its buffer holds.");
-  s.cancel->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
-  common(s.cancel);
-  s.resume = app.add_subcommand(
-      "resume",
-      "Cut the rest of an interrupted job (a device error, SIGTERM or a crash stopped its cut).\n"
-      "Exit 2 if refused (not interrupted; --from executed where the device's executed strokes are unknown).");
-  s.resume->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
+  s.cancel = one_job("cancel",
+                     "Cancel a job; a job being cut stops at a command boundary with the knife lifted.\n"
+                     "If the cutter holds the line (the job shows 'cancel waiting_for_device'), cancelling again\n"
+                     "gives up the wait: the abort is not sent and the cutter may cut all its buffer holds.");
+  s.resume =
+      one_job("resume",
+              "Cut the rest of an interrupted job (a device error, SIGTERM or a crash stopped its cut).\n"
+              "Exit 2 if refused (not interrupted; --from executed where the device's executed strokes are unknown).");
   s.resume
       ->add_option(
           "--from", s.resume_from,
@@ -375,7 +376,6 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
           "its buffer; executed: after the strokes it is known to have executed, for a device that was reset or\n"
           "power-cycled (the strokes between may be cut twice)")
       ->check(CLI::IsMember({"received", "executed"}));
-  common(s.resume);
   s.sheet = app.add_subcommand(
       "sheet",
       "Say a fresh sheet is loaded on a device that waits for one (awaiting_sheet) after each job.\n"
@@ -393,20 +393,16 @@ void add_client_commands(CLI::App& app, ClientCommands& s) {
           },
           "NAME"));
   common(s.sheet);
-  s.pause = app.add_subcommand(
-      "pause",
-      "Pause a job: a job being cut stops after the stroke in flight, the cutter cuts what it already holds,\n"
-      "the knife is lifted and the job waits as 'paused' with the sheet on the device (nothing else is cut\n"
-      "there meanwhile). Unlike cancel, nothing is dropped: 'popcut continue' cuts the rest.\n"
-      "Exit 2 if refused (the job is not ready or cutting).");
-  s.pause->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
-  common(s.pause);
-  s.continue_cmd = app.add_subcommand(
-      "continue",
-      "Continue a paused job: popcutd sends the cutter's set-up again and cuts from the stroke after the\n"
-      "last one cut. Exit 2 if refused (the job is not paused).");
-  s.continue_cmd->add_option("ID", s.job_id, "Job id")->required()->check(positive_whole("a job id"));
-  common(s.continue_cmd);
+  s.pause =
+      one_job("pause",
+              "Pause a job: a job being cut stops after the stroke in flight, the cutter cuts what it already holds,\n"
+              "the knife is lifted and the job waits as 'paused' with the sheet on the device (nothing else is cut\n"
+              "there meanwhile). Unlike cancel, nothing is dropped: 'popcut continue' cuts the rest.\n"
+              "Exit 2 if refused (the job is not ready or cutting).");
+  s.continue_cmd =
+      one_job("continue",
+              "Continue a paused job: popcutd sends the cutter's set-up again and cuts from the stroke after the\n"
+              "last one cut. Exit 2 if refused (the job is not paused).");
 }
 
 std::optional<int> run_client_commands(const ClientCommands& s) {
