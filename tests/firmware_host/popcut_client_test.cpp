@@ -233,7 +233,9 @@ class DroppingServer {
         std::smatch m;
         const std::size_t body_at = got.find("\r\n\r\n") + 4;
         if (std::regex_search(got, m, std::regex("Content-Length: (\\d+)", std::regex::icase))) {
-          while (got.size() < body_at + std::stoul(m[1])) {
+          // Read the length before appending: the match points into got, which may move.
+          const std::size_t body_bytes = std::stoul(m[1]);
+          while (got.size() < body_at + body_bytes) {
             const ssize_t k = ::read(c, buf, sizeof buf);
             if (k <= 0) break;
             got.append(buf, static_cast<std::size_t>(k));
