@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -142,6 +143,15 @@ void read_gpgl_section(TomlSection& g, DeviceProfile& p) {
 }
 
 // What [gpgl] and the other sections must agree on, once all are read.
+// A per-pass value's refusal, saying which pass (1-based, as a user counts them).
+void pass_checked(std::size_t i, const std::function<void()>& level) {
+  try {
+    level();
+  } catch (const Error& e) {
+    throw Error(e.code(), e.source(), e.location(), "pass " + std::to_string(i + 1) + ": " + e.message());
+  }
+}
+
 void check_gpgl_profile(const DeviceProfile& p) {
   const GpglDialect& d = p.gpgl;
   if (d.cutter_offset_mm && *d.cutter_offset_mm > 0 && p.plan.blade_offset_mm > 0) {
@@ -166,6 +176,13 @@ void check_gpgl_profile(const DeviceProfile& p) {
     };
     in_range("force_g", [&] { d.force_level(t.force_g); });
     in_range("speed_cm_s", [&] { d.speed_level(t.speed_cm_s); });
+    // A light first pass is sent as its own FX/! too: each pass's value must suit the device.
+    for (std::size_t i = 0; i < t.pass_force_g.size(); ++i) {
+      in_range("pass_force_g", [&] { pass_checked(i, [&] { d.force_level(t.pass_force_g[i]); }); });
+    }
+    for (std::size_t i = 0; i < t.pass_speed_cm_s.size(); ++i) {
+      in_range("pass_speed_cm_s", [&] { pass_checked(i, [&] { d.speed_level(t.pass_speed_cm_s[i]); }); });
+    }
   }
 }
 

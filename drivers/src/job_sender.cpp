@@ -261,8 +261,9 @@ class Sender {
             ? "its input buffer overflowed: bytes were lost, so the cut is wrong; popcut paced "
               "the job by time (flow_control "
               "\"none\"), and the device is slower than the profile's kinematics and tool "
-              "speeds allow, with pace_margin_percent (" +
-                  std::to_string(o.pace_margin_percent) + " %), or its buffer is smaller than buffer_bytes"
+              "speeds allow with a pace margin of " +
+                  std::to_string(o.pace_margin_percent) + " % (" + o.pace_margin_from +
+                  "): raise it, or calibrate the device's pace; or its buffer is smaller than buffer_bytes"
             : "its input buffer overflowed: bytes were lost, so the cut is wrong; the device "
               "does not do the flow control the "
               "profile says (flow_control, buffer_bytes)";
@@ -451,6 +452,14 @@ const char* to_string(ReceivedCountedBy how) { return kReceivedCountedByNames.na
 const char* to_string(DrainedBy how) { return kDrainedByNames.name(how).data(); }
 const char* to_string(DeviceStop why) { return kDeviceStopNames.name(why).data(); }
 
+std::string pace_margin_from(const DeviceProfile& profile) {
+  const TransportDefaults& t = profile.transport;
+  std::string from = std::string(t.pace_margin_key()) + " in " + profile.source;
+  if (!t.pace_measured) return from + ": the pace is not calibrated";
+  const std::string& measured_in = profile.calibration.overlay.empty() ? profile.source : profile.calibration.overlay;
+  return from + ", since [kinematics] time_factor in " + measured_in + " measured the pace";
+}
+
 SendOptions send_options(const DeviceProfile& profile) {
   SendOptions o;
   o.flow = profile.transport.flow;
@@ -460,8 +469,8 @@ SendOptions send_options(const DeviceProfile& profile) {
   o.drain_query = profile.transport.drain_query;
   o.error_query = profile.transport.error_query;
   o.baud = profile.transport.baud;
-  o.pace_margin_percent = profile.transport.pace_measured ? profile.transport.pace_margin_calibrated_percent
-                                                          : profile.transport.pace_margin_percent;
+  o.pace_margin_percent = profile.transport.pace_margin_in_use();
+  o.pace_margin_from = pace_margin_from(profile);
   o.language = profile.language;
   const LanguageUnit& language = language_unit(profile.language);
   o.abort_bytes = profile.transport.abort + language.knife_up(profile);

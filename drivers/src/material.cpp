@@ -7,6 +7,7 @@
 #include <system_error>
 #include <toml++/toml.h>
 
+#include "popcut/drivers/language.h"
 #include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
@@ -76,6 +77,24 @@ void read_header(TomlSection& s, bool present, Material& m) {
   for (const toml::node& n : *sources) {
     if (!n.is_string() || n.value<std::string>().value_or("").empty()) s.fail("sources", "expected non-empty strings");
     m.sources.push_back(*n.value<std::string>());
+  }
+}
+
+// The language's own checks on the profile with the material in it: a value the material file's
+// ranges allow may still be out of this device's (a force above its FX maximum), and is then named
+// as the material's ([FAMILY.KIND] KEY in its file) since the profile alone was fine.
+void check_applied(const DeviceProfile& profile, const Material& material, const std::string& family) {
+  const LanguageUnit& language = language_unit(profile.language);
+  if (!language.check_profile) return;
+  try {
+    language.check_profile(profile);
+  } catch (const Error& e) {
+    std::string where = e.location();
+    const std::string tool = "[tool.";
+    if (where.rfind(tool, 0) == 0) where = "[" + family + "." + where.substr(tool.size());
+    throw Error(e.code(), material.source, where,
+                e.message() + " for " + profile.name + " (" + profile.source + "): material \"" + material.name +
+                    "\" does not suit this device");
   }
 }
 
@@ -164,6 +183,7 @@ void apply_material(DeviceProfile& profile, const Material& material) {
     plan.perforate_on_mm = m.perforate_on_mm;
     plan.perforate_off_mm = m.perforate_off_mm;
   }
+  check_applied(profile, material, family);
 }
 
 }  // namespace popcut::drivers

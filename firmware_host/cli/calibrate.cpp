@@ -210,6 +210,17 @@ std::string overlay_target(const CalibrateCommand& c, const std::string& profile
   return path;
 }
 
+// A frame cut on the simulator measures nothing about a real device: its correction (and its sim-clock
+// time_factor) must not land in the overlay every later real job on that profile uses.
+void refuse_sim_into_real_overlay(const CalibrateCommand& c, const Target& target, const DeviceProfile& p) {
+  if (c.no_cut || target.device != "sim" || p.transport.uri == "sim" || !c.overlay_path.empty()) return;
+  throw Error(ErrorCode::invalid_input, "", "--overlay",
+              "--device sim with the profile of a real device (" + p.name + ", [transport] default = \"" +
+                  p.transport.uri + "\" in " + target.profile_path +
+                  ") would write a simulated calibration into that device's overlay: give --overlay PATH to "
+                  "write it elsewhere, or calibrate on the device itself");
+}
+
 int run_calibrate(const CalibrateCommand& c) {
   return run_guarded(c.json_out, [&] {
     Target target = cut_target(c.device, c.app->count("--device") > 0, c.profile_path);
@@ -217,6 +228,7 @@ int run_calibrate(const CalibrateCommand& c) {
     std::error_code ec;
     const DeviceProfile p = drivers::load_profile_with_overlay(
         target.profile_path, std::filesystem::exists(overlay_path, ec) ? overlay_path : std::string());
+    refuse_sim_into_real_overlay(c, target, p);
     const FrameSize size{c.width_mm, c.height_mm};
     json report = {{"format", "popcut.calibrate.v1"},
                    {"profile", p.source},
@@ -228,7 +240,7 @@ int run_calibrate(const CalibrateCommand& c) {
     if (!c.no_cut) {
       use_profile_device(target, p);
       const drivers::DevicePlan job = frame_job(p, size, target.profile_path);
-      if (!c.out_dir.empty()) write_job_file(c.out_dir, job.encoded);
+      if (!c.out_dir.empty()) write_job_file(c.out_dir, job.encoded, p.language);
       if (!target.note.empty() && !c.json_out) std::cerr << "popcut: " << target.note << "\n";
       const DeviceRun run = run_device_job(target, p, job, c.faults, c.out_dir, !c.no_progress && !c.json_out);
       report["transport"] = run.described;
@@ -306,7 +318,8 @@ void add_calibrate_command(CLI::App& app, CalibrateCommand& c) {
       "--overlay", c.overlay_path,
       "The overlay to read and write (default: POPCUT_CALIBRATION_DIR, XDG_CONFIG_HOME/popcut/calibration "
       "or ~/.config/popcut/calibration, then the profile's file name)");
-  c.app->add_option("--out", c.out_dir, "Also write job.hpgl, report.json and (on sim) cut.svg into this directory");
+  c.app->add_option("--out", c.out_dir,
+                    "Also write job.hpgl (or job.gpgl), report.json and (on sim) cut.svg into this directory");
   c.app->add_flag("--json", c.json_out, "Print the report (popcut.calibrate.v1) as JSON on standard output");
   c.app->add_flag("--no-progress", c.no_progress, "No progress bar, even on a terminal");
   add_sim_fault_options(*c.app, c.faults);

@@ -51,7 +51,7 @@ struct Job {
   DeviceProfile profile;
   StrokePlan plan;
   TimeEstimate time;
-  std::string hpgl;    // the whole job
+  std::string bytes;   // the whole job, in the profile's language
   EncodedJob encoded;  // what is sent: the whole job, or from --resume-from on
   NestLayout layout;   // the grid of cards the media holds
   int copies = 1;      // how many of them are cut
@@ -68,7 +68,7 @@ Job make_job(const CutCommands& s, const std::string& profile_path, std::size_t 
   j.plan = std::move(d.plan);
   j.time = d.time;
   j.encoded = std::move(d.encoded);
-  j.hpgl = j.encoded.bytes;
+  j.bytes = j.encoded.bytes;
   if (from_stroke != 1) {
     try {
       j.encoded = drivers::encode_for_device(j.plan, j.profile, from_stroke);
@@ -94,7 +94,8 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
             {"est_time_s", j.time.total_s},
             {"folds_dropped", t.folds_dropped},
             {"strokes_below_resolution", t.strokes_below_resolution},
-            {"hpgl_bytes", j.hpgl.size()},
+            {"language", std::string(kCutterLanguageNames.name(j.profile.language))},
+            {"job_bytes", j.bytes.size()},
             {"calibration", drivers::calibration_json(j.profile.calibration)},
             {"copies",
              {{"count", j.copies},
@@ -103,6 +104,8 @@ json plan_json(const Job& j, const std::string& model, const std::string& profil
               {"fit", j.layout.count()},
               {"gap_mm", j.layout.gap_mm}}},
             {"kinds", json::object()}};
+  // The name reports had before GP-GL, kept for HP-GL jobs so existing scripts read on.
+  if (j.profile.language == CutterLanguage::hpgl) r["hpgl_bytes"] = j.bytes.size();
   for (PlanKind k : kAllPlanKinds) {
     json kj = kind_json(j.plan.kinds[index_of(k)], j.time.kind_s[index_of(k)]);
     kj["mode"] = to_string(j.profile.plan.kinds[index_of(k)].mode);
@@ -120,7 +123,7 @@ int run_plan(const CutCommands& s) {
                   "the job goes to standard output: write the report to a file instead");
     }
     const Job j = make_job(s, s.profile_path);
-    write_cli_output(s.out_path, [&](std::ostream& o) { o << j.hpgl; });
+    write_cli_output(s.out_path, [&](std::ostream& o) { o << j.bytes; });
     const json report = plan_json(j, s.model_path, s.profile_path, s.material);
     if (!s.report_path.empty())
       write_cli_output(s.report_path, [&](std::ostream& o) { o << rounded_numbers(report).dump(2) << "\n"; });
@@ -181,7 +184,8 @@ void print_cut_summary(const Job& j, const drivers::CutSession& session, const d
               << static_cast<long>(t.cut_mm) << " mm cut, " << static_cast<long>(t.travel_mm) << " mm travel";
   }
   if (cutter) std::cerr << ", " << static_cast<long>(cutter->report().motion_time_s + 0.5) << " s of motion";
-  std::cerr << "; wrote " << (dir / "job.hpgl").string() << (cutter ? ", cut.svg" : "") << " and report.json\n";
+  std::cerr << "; wrote " << (dir / job_file_name(j.profile.language)).string() << (cutter ? ", cut.svg" : "")
+            << " and report.json\n";
 }
 
 int run_cut(const CutCommands& s) {
@@ -193,7 +197,7 @@ int run_cut(const CutCommands& s) {
     drivers::CutSession session(target.device, j.profile, session_options(s.faults));
     check_device(s.faults, session, j.profile, target);
     if (!target.note.empty() && !s.json_out) std::cerr << "popcut: " << target.note << "\n";
-    const std::filesystem::path dir = write_job_file(s.out_dir, j.encoded);
+    const std::filesystem::path dir = write_job_file(s.out_dir, j.encoded, j.profile.language);
     open_device(session);
     const drivers::SendResult sent = send_with_interrupts(session, j.encoded, j.profile, !s.no_progress && !s.json_out);
     // From --resume-from N the simulator should have cut exactly strokes N.. of the plan.
@@ -245,7 +249,8 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.cut = app.add_subcommand(
       "cut",
       "Plan, encode and send a job to a cutter: the simulated one (sim) or a file/device node.\n"
-      "Writes DIR/job.hpgl (the job this run sends, whole; report.json says how much went out), DIR/report.json and, "
+      "Writes DIR/job.hpgl or DIR/job.gpgl (the job this run sends, in the profile's language, whole; report.json says "
+      "how much went out), DIR/report.json and, "
       "on sim, DIR/cut.svg.\n"
       "Exit 0: the device has the whole job (and said so, where it answers status queries).\n"
       "Exit 3: the job did not get through (disconnect, timeout, a device that does not answer, or one\n"
@@ -267,7 +272,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.cut->add_option(
       "--resume-from", s.resume_from,
       "Send strokes N.. only (numbered from 1 as progress and errors count them), starting with the knife up");
-  s.cut->add_option("--out", s.out_dir, "Directory for job.hpgl, cut.svg and report.json")->required();
+  s.cut->add_option("--out", s.out_dir, "Directory for job.hpgl (or job.gpgl), cut.svg and report.json")->required();
   s.cut->add_flag("--json", s.json_out, "Print the report as JSON on standard output");
   add_copies_options(s.cut, s);
   s.cut->add_flag("--no-progress", s.no_progress, "No progress bar, even on a terminal");

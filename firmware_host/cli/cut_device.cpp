@@ -192,7 +192,7 @@ std::optional<int> sim_exit(double slowdown, const DeviceProfile& profile, const
   const drivers::SimVerdict verdict = check.verdict();
   if (verdict == drivers::SimVerdict::exact || verdict == drivers::SimVerdict::command_errors) return std::nullopt;
   const drivers::TransportDefaults& tp = profile.transport;
-  const double allowed = (1 + tp.pace_margin_percent / 100.0) * profile.calibration.time_factor;
+  const double allowed = (1 + tp.pace_margin_in_use() / 100.0) * profile.calibration.time_factor;
   const bool by_model = tp.flow == drivers::FlowControl::none || tp.flow == drivers::FlowControl::status;
   if (check.overflow_bytes > 0 && by_model && slowdown > allowed) {
     // The fault the simulator was asked for (--sim-slowdown past what pacing by the motion model
@@ -204,21 +204,21 @@ std::optional<int> sim_exit(double slowdown, const DeviceProfile& profile, const
                       ? "the motion model and its status answers (flow_control \"status\")"
                       : "time (flow_control \"none\")")
               << ", and --sim-slowdown " << format_decimal(slowdown, 3)
-              << " is slower than the profile allows for with pace_margin_percent (" << tp.pace_margin_percent
-              << " %) (see " << report << ")\n";
+              << " is slower than the profile allows for with a pace margin of " << tp.pace_margin_in_use() << " % ("
+              << drivers::pace_margin_from(profile) << ") (see " << report << ")\n";
     return static_cast<int>(kCannotWrite);
   }
   std::cerr << "popcut: internal error: the simulated cutter did not cut what was planned (see " << report << ")\n";
   return static_cast<int>(kInternal);
 }
 
-std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded) {
+std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded, CutterLanguage language) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec)
     throw CliError(kCannotWrite, ErrorCode::io, out_dir, "output", "cannot create the directory: " + ec.message());
   const std::filesystem::path dir(out_dir);
-  write_cli_output((dir / "job.hpgl").string(), [&](std::ostream& o) { o << encoded.bytes; });
+  write_cli_output((dir / job_file_name(language)).string(), [&](std::ostream& o) { o << encoded.bytes; });
   return dir;
 }
 

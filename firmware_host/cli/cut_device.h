@@ -72,8 +72,9 @@ std::optional<int> stopped_exit(const drivers::SendResult& sent, const drivers::
 std::optional<int> sim_exit(double slowdown, const drivers::DeviceProfile& profile, const drivers::SimCheck& check,
                             const std::string& report);
 
-// Creates `out_dir` and writes the job this run sends into it (job.hpgl); returns the directory.
-std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded);
+// Creates `out_dir` and writes the job this run sends into it (job.hpgl or job.gpgl, by `language`);
+// returns the directory.
+std::filesystem::path write_job_file(const std::string& out_dir, const EncodedJob& encoded, CutterLanguage language);
 
 // A device check's job (test-cut, calibrate) sent as popcut cut sends one, from stroke 1.
 struct DeviceRun {

@@ -214,7 +214,7 @@ int run_test_cut(const TestCutCommand& c) {
     const Point2 offset = p.dialect.swap_axes ? Point2{at.at.y_mm, at.at.x_mm} : Point2{at.at.x_mm, at.at.y_mm};
     const drivers::DevicePlan plan = drivers::plan_for_device(
         test_cut_pattern(shape, offset, at.edge_mm, line_kind_of(tri)), p, target.profile_path);
-    if (!c.out_dir.empty()) write_job_file(c.out_dir, plan.encoded);
+    if (!c.out_dir.empty()) write_job_file(c.out_dir, plan.encoded, p.language);
     if (!target.note.empty() && !c.json_out) std::cerr << "popcut: " << target.note << "\n";
     const DeviceRun run = run_device_job(target, p, plan, c.faults, c.out_dir, !c.no_progress && !c.json_out);
     const Terms terms{material_source, std::string(drivers::kDeviceFamilyNames.name(p.family))};
@@ -257,7 +257,8 @@ void add_test_cut_command(CLI::App& app, TestCutCommand& c) {
                     "along the plotter's axes (default 10,10)");
   c.app->add_option("--size-mm", c.square_mm, "The square's side; the triangle is 2.8 times as wide (default 10)")
       ->check(finite_range(3, 50));
-  c.app->add_option("--out", c.out_dir, "Also write job.hpgl, report.json and (on sim) cut.svg into this directory");
+  c.app->add_option("--out", c.out_dir,
+                    "Also write job.hpgl (or job.gpgl), report.json and (on sim) cut.svg into this directory");
   c.app->add_flag("--json", c.json_out, "Print the report (popcut.test_cut.v1) as JSON on standard output");
   c.app->add_flag("--no-progress", c.no_progress, "No progress bar, even on a terminal");
   add_sim_fault_options(*c.app, c.faults);

@@ -211,5 +211,60 @@ TEST(Materials, ProfilesTakePerPassListsToo) {
   }
 }
 
+// Each shipped material, applied to each shipped profile of a family it has values for, passes the profile language's
+// own checks (a GP-GL device's FX and ! ranges), per pass too.
+TEST(Materials, ShippedMaterialsSuitEveryShippedProfileTheyHaveAFamilyFor) {
+  std::size_t applied = 0;
+  for (const std::filesystem::directory_entry& e : std::filesystem::directory_iterator(kConfigs + "/devices")) {
+    const DeviceProfile profile = load_profile(e.path().string());
+    for (const std::string& n : material_names(kMaterials)) {
+      const Material m = find_material(kMaterials, n);
+      if (!m.families[static_cast<std::size_t>(profile.family)]) continue;
+      DeviceProfile p = profile;
+      try {
+        apply_material(p, m);
+        ++applied;
+      } catch (const Error& err) {
+        ADD_FAILURE() << n << " on " << e.path().filename() << ": " << err.what();
+      }
+    }
+  }
+  EXPECT_GE(applied, 70u) << "11 profiles times 7 materials";
+}
+
+// A value the material's ranges allow but the device's do not is refused naming the material's file and key.
+TEST(Materials, AValueOutOfTheDevicesRangeIsRefusedNamingTheMaterialsKey) {
+  const std::string cameo = kConfigs + "/devices/silhouette-cameo4.toml";
+  const std::pair<std::string, std::string> cases[] = {
+      {"{ force_g = 900, speed_cm_s = 10 }", "[silhouette.cut] force_g"},
+      {"{ passes = 2, pass_force_g = [900, 100], speed_cm_s = 10 }", "[silhouette.cut] pass_force_g"},
+      {"{ passes = 2, force_g = 100, pass_speed_cm_s = [150, 5] }", "[silhouette.cut] pass_speed_cm_s"},
+  };
+  for (const auto& [cut, where] : cases) {
+    DeviceProfile p = load_profile(cameo);
+    const Material m = parse_material(kHeader + family("silhouette", cut), "heavy.toml", "heavy");
+    try {
+      apply_material(p, m);
+      ADD_FAILURE() << cut << " was applied";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.source(), "heavy.toml") << e.what();
+      EXPECT_EQ(e.location(), where) << e.what();
+      EXPECT_NE(e.message().find("material \"heavy\" does not suit this device"), std::string::npos) << e.what();
+      EXPECT_NE(e.message().find(cameo), std::string::npos) << e.what();
+    }
+  }
+  // The profile's own per-pass values are checked as its single ones are.
+  try {
+    parse_profile(
+        "[device]\nname = \"x\"\nlanguage = \"gpgl\"\nfamily = \"silhouette\"\n[tool.cut]\npasses = 2\n"
+        "pass_force_g = [50, 500]\n",
+        "p.toml");
+    FAIL() << "a pass force above the device's range";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location(), "[tool.cut] pass_force_g") << e.what();
+    EXPECT_NE(e.message().find("pass 2: "), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace popcut::drivers

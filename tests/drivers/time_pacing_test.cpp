@@ -152,10 +152,40 @@ TEST(TimePacing, ADeviceSlowerThanTheMarginIsCaughtByItsErrorAnswer) {
   ASSERT_GT(r.report.overflow_bytes, 0u) << "60 % slower than the plan overruns a 10 % margin";
   EXPECT_FALSE(r.sent.complete());
   EXPECT_EQ(r.sent.status.error, TransportError::io) << r.sent.status.message;
-  EXPECT_NE(r.sent.status.message.find("pace_margin_percent (10 %)"), std::string::npos) << r.sent.status.message;
+  EXPECT_NE(r.sent.status.message.find("a pace margin of 10 %"), std::string::npos) << r.sent.status.message;
   const PacedJob within = pace(p, job, 10, 1.1);
   EXPECT_TRUE(within.sent.complete()) << "at the margin the same device reports no error: "
                                       << within.sent.status.message;
+}
+
+// The overflow message names the margin in use and the key it came from: the profile's own margin
+// for a guessed pace, the calibrated one (and where the pace was measured) for a measured pace.
+TEST(TimePacing, TheOverflowNamesTheMarginInUseAndItsKey) {
+  DeviceProfile p = blind(load_profile(std::string(POPCUT_SOURCE_DIR) + "/configs/devices/sim.toml"));
+  p.transport.error_query = true;
+  p.transport.pace_margin_percent = 12;
+  p.transport.pace_margin_calibrated_percent = 4;
+  EXPECT_EQ(p.transport.pace_margin_in_use(), 12);
+  EXPECT_STREQ(p.transport.pace_margin_key(), "[transport] pace_margin_percent");
+  const EncodedJob job = encode_for_device(townhouse_plan(p), p);
+  const PacedJob guessed = pace(p, job, p.transport.pace_margin_in_use(), 1.6);
+  ASSERT_EQ(guessed.sent.status.error, TransportError::io) << guessed.sent.status.message;
+  EXPECT_NE(guessed.sent.status.message.find("a pace margin of 12 % ([transport] pace_margin_percent in " + p.source +
+                                             ": the pace is not calibrated)"),
+            std::string::npos)
+      << guessed.sent.status.message;
+  p.transport.pace_measured = true;
+  p.calibration.overlay = "/cal/sim.toml";
+  EXPECT_EQ(p.transport.pace_margin_in_use(), 4);
+  EXPECT_STREQ(p.transport.pace_margin_key(), "[transport] pace_margin_calibrated_percent");
+  const PacedJob measured = pace(p, job, p.transport.pace_margin_in_use(), 1.6);
+  ASSERT_EQ(measured.sent.status.error, TransportError::io) << measured.sent.status.message;
+  EXPECT_NE(measured.sent.status.message.find("a pace margin of 4 % ([transport] pace_margin_calibrated_percent in " +
+                                              p.source +
+                                              ", since [kinematics] time_factor in /cal/sim.toml measured "
+                                              "the pace)"),
+            std::string::npos)
+      << measured.sent.status.message;
 }
 
 // The calibrated margin: 10 % by default, never above the profile's own margin.

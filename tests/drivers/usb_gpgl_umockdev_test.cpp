@@ -4,6 +4,9 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
+#include <nlohmann/json.hpp>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -158,6 +161,34 @@ TEST_F(SilhouetteUsb, UnplugMidJobIsResumable) {
   const std::vector<PlotterPath> planned = plan_in_plotter_units(plan, profile_.dialect);
   ASSERT_EQ(strokes.size(), planned.size()) << "every stroke once: none skipped, none twice";
   EXPECT_FALSE(first_difference(planned, strokes).has_value());
+}
+
+// popcut devices, a process of its own on the same testbed (it inherits the preload and the
+// testbed's directory): the Cameo is listed by its profile's device name, ready to copy as --device.
+TEST_F(SilhouetteUsb, PopcutDevicesListsTheCameoByItsProfilesName) {
+  plug_in();
+  const std::string out = ::testing::TempDir() + "popcut-devices.txt";
+  const std::string cmd = std::string(POPCUT_CLI) + " devices >" + out + " 2>&1";
+  const auto slurp = [&] {
+    std::ostringstream text;
+    text << std::ifstream(out).rdbuf();
+    return text.str();
+  };
+  ASSERT_EQ(std::system((cmd + " --json").c_str()), 0);
+  const nlohmann::json j = nlohmann::json::parse(slurp());
+  ASSERT_EQ(j["usb"].size(), 1u) << j.dump();
+  const nlohmann::json& cameo = j["usb"][0];
+  EXPECT_EQ(cameo["device"], kDevice) << "the serial number from its string descriptor";
+  EXPECT_EQ(cameo["product"], "CAMEO 4");
+  EXPECT_TRUE(cameo["bulk_out"].get<bool>());
+  ASSERT_EQ(cameo["names"].size(), 1u) << cameo.dump();
+  EXPECT_EQ(cameo["names"][0], profile_.name);
+  EXPECT_NE(cameo["profiles"][0].get<std::string>().find("silhouette-cameo4.toml"), std::string::npos);
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const std::string text = slurp();
+  EXPECT_NE(text.find(std::string(kDevice) + "  bus 1 address 3  CAMEO 4  " + profile_.name + " (profile "),
+            std::string::npos)
+      << text;
 }
 
 }  // namespace

@@ -140,12 +140,27 @@ TEST_F(CliCalibrate, TestCutAndCalibrateSpeakGpgl) {
   EXPECT_NE(j["adjust"].back().get<std::string>().find("[gpgl] cutter_offset_mm by 0.05 (0.9 -> 0.95)"),
             std::string::npos)
       << j["adjust"].back();
-  r = popcut("calibrate --device sim --profile " + cameo + " --json " + kMeasured);
+  const fs::path overlay = dir_ / "sim-cameo4.toml";
+  r = popcut("calibrate --device sim --profile " + cameo + " --overlay " + overlay.string() + " --json " + kMeasured);
   ASSERT_EQ(r.code, 0) << r.err;
   j = last_json(r.out);
   // A quarter turn: the frame's 100 mm width ran along the plotter's y.
   EXPECT_DOUBLE_EQ(j["error"]["side_x_mm"].get<double>(), 150);
   EXPECT_NEAR(j["correction"]["scale_y"].get<double>(), 100 / 100.4, 1e-5);
+  EXPECT_TRUE(fs::exists(overlay));
+  EXPECT_FALSE(fs::exists(cal_dir() / "silhouette-cameo4.toml")) << "the real device's overlay is left alone";
+}
+
+TEST_F(CliCalibrate, SimulatedFrameIsNotWrittenIntoARealDevicesOverlay) {
+  const std::string cameo = std::string(POPCUT_SOURCE_DIR) + "/configs/devices/silhouette-cameo4.toml";
+  CliRun r = popcut("calibrate --device sim --profile " + cameo + " " + kMeasured);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--overlay"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--device sim with the profile of a real device"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(cal_dir() / "silhouette-cameo4.toml")) << "nothing written";
+  // Measurements of a frame cut earlier on the device itself are real: --no-cut writes the device's overlay.
+  r = popcut("calibrate --device sim --no-cut --profile " + cameo + " " + kMeasured);
+  ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(cal_dir() / "silhouette-cameo4.toml"));
 }
 

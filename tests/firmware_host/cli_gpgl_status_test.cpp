@@ -34,6 +34,13 @@ TEST_F(CliGpglStatus, CutsTheTownhouseOnASimulatedCameo4) {
   EXPECT_EQ(rep["sim"]["overflow_bytes"], 0);
   EXPECT_EQ(rep["sent"]["drained_by"], "esc_enq") << "the device said \"ready\" at the end";
   EXPECT_TRUE(rep["sent"]["device_stop"].is_null());
+  // The job file is named for its language, and the report says which and how big, not "hpgl_bytes".
+  EXPECT_FALSE(fs::exists(dir_ / "whole" / "job.hpgl"));
+  const std::string job = slurp(dir_ / "whole" / "job.gpgl");
+  EXPECT_EQ(rep["language"], "gpgl");
+  EXPECT_EQ(rep["job_bytes"].get<std::size_t>(), job.size());
+  EXPECT_FALSE(rep.contains("hpgl_bytes"));
+  EXPECT_NE(r.err.find("wrote " + (dir_ / "whole" / "job.gpgl").string()), std::string::npos) << r.err;
 }
 
 TEST_F(CliGpglStatus, NoSheetLoadedIsExit3BeforeAnyByte) {

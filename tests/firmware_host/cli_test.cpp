@@ -533,6 +533,9 @@ TEST_F(Cli, PlanWritesHpglAndAReport) {
   }
   EXPECT_EQ(j["strokes"], j["pen_lift_bound"]) << "no turn limit in this profile: strokes at the Euler bound";
   EXPECT_GT(j["cut_mm"].get<double>(), 0);
+  EXPECT_EQ(j["language"], "hpgl");
+  EXPECT_EQ(j["job_bytes"].get<std::size_t>(), slurp(job).size());
+  EXPECT_EQ(j["hpgl_bytes"], j["job_bytes"]) << "the older name stays for HP-GL jobs";
   EXPECT_NE(r.err.find("wrote " + job.string()), std::string::npos) << r.err;
 }
 
@@ -580,7 +583,9 @@ TEST_F(Cli, TimePacingOnTheSimulatorKeepsUpOrNamesTheMargin) {
   EXPECT_TRUE(j["sim"]["strokes_match_plan"].get<bool>());
   const Result slow = run(base + (dir_ / "slow").string() + " --sim-slowdown 3");
   EXPECT_EQ(slow.code, 3) << slow.err;
-  EXPECT_NE(slow.err.find("pace_margin_percent (25 %)"), std::string::npos) << slow.err;
+  EXPECT_NE(slow.err.find("a pace margin of 25 % ([transport] pace_margin_percent in " + profile("generic-hpgl.toml")),
+            std::string::npos)
+      << slow.err;
   const auto slow_report = nlohmann::json::parse(slurp(dir_ / "slow" / "report.json"));
   EXPECT_GT(slow_report["sim"]["overflow_bytes"].get<int>(), 0);
   EXPECT_FALSE(slow_report["sent"]["complete"].get<bool>())

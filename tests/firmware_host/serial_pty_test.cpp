@@ -790,7 +790,7 @@ TEST_F(SerialPty, GpglStatusFlowCutsTheWholeJob) {
   ASSERT_EQ(plot->wait(), 0) << slurp(dir_ / "g.err");
   const json pr = plotter_report("g");
   EXPECT_EQ(pr["overflow_bytes"], 0);
-  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.hpgl"))) << "the device cut exactly the job";
+  EXPECT_EQ(strokes_of(pr), strokes_of(slurp(dir_ / "cut" / "job.gpgl"))) << "the device cut exactly the job";
   EXPECT_EQ(r.report["sent"]["drained_by"], "esc_enq");
   EXPECT_FALSE(pr["knife_down_at_end"].get<bool>());
 }

@@ -16,6 +16,11 @@ enum class CutterLanguage { hpgl, gpgl };
 inline constexpr auto kCutterLanguageNames =
     enum_names<CutterLanguage>({{CutterLanguage::hpgl, "hpgl"}, {CutterLanguage::gpgl, "gpgl"}});
 
+// The name popcut gives a job file of `language` in an output directory: job.hpgl, job.gpgl.
+inline std::string job_file_name(CutterLanguage language) {
+  return "job." + std::string(kCutterLanguageNames.name(language));
+}
+
 // The tool one line kind uses: pen (tool slot), force and speed, and optionally its own force
 // and speed for each pass (strokes planned with KindPlan::separate_passes carry Stroke::pass).
 struct ToolSetting {

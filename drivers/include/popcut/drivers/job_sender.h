@@ -59,6 +59,8 @@ struct SendOptions {
   std::vector<MotionMark> motion;
   // Time pacing assumes the device may take this much longer than the model says.
   int pace_margin_percent = 25;
+  // Where that margin is set, for the overflow message: the key, the file, and why that key.
+  std::string pace_margin_from = "[transport] pace_margin_percent";
   // Sent on cancel, after the last complete command: the profile's abort sequence, then knife up
   // (HP-GL's by default; send_options takes the profile language's).
   std::string abort_bytes = "PU;";
@@ -186,6 +188,9 @@ struct SendResult {
 
 // Flow, buffer, timeouts, drain query and abort sequence from the profile.
 SendOptions send_options(const DeviceProfile& profile);
+
+// The pace margin's key and file, and why that key: "[transport] pace_margin_percent in P: ...".
+std::string pace_margin_from(const DeviceProfile& profile);
 
 // Writes `job`, chunked on command boundaries; stops at the first transport error (reported with
 // the bytes and strokes that got through) or at a cancel. A transport that cannot answer

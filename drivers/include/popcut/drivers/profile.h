@@ -82,6 +82,12 @@ struct TransportDefaults {
   // The device's pace was measured (its [kinematics] time_factor comes from a calibration): time
   // pacing then uses pace_margin_calibrated_percent. Set by whatever merges the calibration in.
   bool pace_measured = false;
+
+  // The margin time pacing uses, and the key it is set by (named where a job overflows).
+  int pace_margin_in_use() const { return pace_measured ? pace_margin_calibrated_percent : pace_margin_percent; }
+  const char* pace_margin_key() const {
+    return pace_measured ? "[transport] pace_margin_calibrated_percent" : "[transport] pace_margin_percent";
+  }
 };
 
 // Which maker's force, speed and blade numbers a device takes: materials (configs/materials)
