@@ -1,6 +1,7 @@
 // One planning path for every caller that sends to a device (popcut cut, popcutd's planners).
 #include "popcut/drivers/device_plan.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "popcut/drivers/language.h"
@@ -25,22 +26,15 @@ NestLayout copies_layout(const StrokePlan& card, const DeviceProfile& profile, d
   return nest_layout(card.extent(), m.width_mm + margin_mm, m.height_mm + margin_mm, gap_mm);
 }
 
-DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source,
-                           const Copies& copies) {
+namespace {
+
+// `card`'s plan with `count` copies nested in `layout`, made ready to send: below-resolution strokes
+// dropped, timed and encoded in the profile's language.
+DevicePlan finished(const StrokePlan& card, const NestLayout& layout, int count, const DeviceProfile& profile,
+                    const std::string& profile_source) {
   DevicePlan d;
-  d.plan = plan_strokes(pattern, profile.plan);
-  d.layout = copies_layout(d.plan, profile, copies.gap_mm);
-  if (copies.count != 1) {
-    if (copies.count < 1 || copies.count > d.layout.count()) {
-      const Rect e = d.plan.extent();
-      throw Error(ErrorCode::invalid_input, profile_source, "copies",
-                  std::to_string(copies.count) + " copies of this " + fixed_mm(e.max.x_mm - e.min.x_mm) + " x " +
-                      fixed_mm(e.max.v_mm - e.min.v_mm) + " mm card do not fit one sheet of " + profile.name +
-                      ": it holds " + std::to_string(d.layout.count()) + " (" + std::to_string(d.layout.columns) +
-                      " x " + std::to_string(d.layout.rows) + ", " + fixed_mm(copies.gap_mm) + " mm apart)");
-    }
-    d.plan = nest_plan(d.plan, d.layout, copies.count);
-  }
+  d.layout = layout;
+  d.plan = count == 1 ? card : nest_plan(card, layout, count);
   try {
     // Figures and the time estimate count only what is sent: strokes that round to one plotter
     // point are not.
@@ -54,6 +48,38 @@ DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile,
     throw Error(e.code(), profile_source, e.location(), e.message());
   }
   return d;
+}
+
+}  // namespace
+
+DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source,
+                           const Copies& copies) {
+  const StrokePlan card = plan_strokes(pattern, profile.plan);
+  const NestLayout layout = copies_layout(card, profile, copies.gap_mm);
+  if (copies.count != 1 && (copies.count < 1 || copies.count > layout.count())) {
+    const Rect e = card.extent();
+    throw Error(ErrorCode::invalid_input, profile_source, "copies",
+                std::to_string(copies.count) + " copies of this " + fixed_mm(e.max.x_mm - e.min.x_mm) + " x " +
+                    fixed_mm(e.max.v_mm - e.min.v_mm) + " mm card do not fit one sheet of " + profile.name +
+                    ": it holds " + std::to_string(layout.count()) + " (" + std::to_string(layout.columns) + " x " +
+                    std::to_string(layout.rows) + ", " + fixed_mm(copies.gap_mm) + " mm apart)");
+  }
+  return finished(card, layout, copies.count, profile, profile_source);
+}
+
+SheetPlans plan_sheets_for_device(const Pattern& pattern, const DeviceProfile& profile,
+                                  const std::string& profile_source, const Copies& copies) {
+  if (copies.count < 1) throw Error(ErrorCode::invalid_input, profile_source, "copies", "at least one copy");
+  const StrokePlan card = plan_strokes(pattern, profile.plan);
+  const NestLayout layout = copies_layout(card, profile, copies.gap_mm);
+  SheetPlans s;
+  // A card too big for the device nests none: planned alone, its encoding says why it does not fit.
+  s.per_sheet = std::max(1, std::min(copies.count, layout.count()));
+  s.sheets = (copies.count + s.per_sheet - 1) / s.per_sheet;
+  s.full = finished(card, layout, s.per_sheet, profile, profile_source);
+  const int last = copies.count - s.per_sheet * (s.sheets - 1);
+  if (last != s.per_sheet) s.last = finished(card, layout, last, profile, profile_source);
+  return s;
 }
 
 NamedMedia media_of(const DeviceProfile& profile, const std::string& name) {

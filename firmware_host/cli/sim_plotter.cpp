@@ -34,6 +34,9 @@ using nlohmann::json;
 
 std::atomic<bool> g_stop{false};
 extern "C" void on_stop(int) { g_stop = true; }
+// A person at the device: SIGUSR1 loads a sheet, SIGUSR2 takes it out (its tray is then empty).
+std::atomic<int> g_sheet{0};  // 0: no change asked; 1: loaded; 2: empty
+extern "C" void on_sheet(int sig) { g_sheet = sig == SIGUSR1 ? 1 : 2; }
 
 // Tells when a host opens the port. The pty's master reports a hang-up (POLLHUP, and EIO once
 // the bytes written are read) while no fd of the slave is open, and so from the start when none
@@ -219,6 +222,11 @@ class Session {
   // One pass: replies, then what the line brings. False when the session is over.
   bool step() {
     if (!seen_host_ && opens_.opened()) host_arrived();
+    if (const int sheet = g_sheet.exchange(0); sheet != 0) {
+      cutter_.set_media_loaded(sheet == 1);
+      std::cerr << "sim-plotter: " << (sheet == 1 ? "a sheet is loaded" : "the sheet is taken out: its tray is empty")
+                << std::endl;
+    }
     const double t = now_s();
     // Replies first: XOFF must not wait behind anything.
     const drivers::IoResult rep = cutter_.reply(buf_, sizeof buf_, 0);
@@ -368,6 +376,10 @@ int run_sim_plotter(const SimPlotterCommand& s) {
   sa.sa_handler = on_stop;
   ::sigaction(SIGINT, &sa, nullptr);
   ::sigaction(SIGTERM, &sa, nullptr);
+  struct sigaction sheet {};
+  sheet.sa_handler = on_sheet;
+  ::sigaction(SIGUSR1, &sheet, nullptr);
+  ::sigaction(SIGUSR2, &sheet, nullptr);
 
   Session session(cutter, pty, opens);
   session.serve();
@@ -434,7 +446,8 @@ void add_sim_plotter_command(CLI::App& app, SimPlotterCommand& s) {
   s.app
       ->add_option("--tray-empty-after", s.tray_empty_after,
                    "No sheet loaded from the start (0) or after receiving N bytes (the sheet ran out): it cuts\n"
-                   "nothing more and says so in its status answer (GP-GL ESC ENQ: tray empty) (default: never)")
+                   "nothing more and says so in its status answer (GP-GL ESC ENQ: tray empty) (default: never).\n"
+                   "kill -USR1 loads a sheet, kill -USR2 takes it out, as a person at the device would")
       ->type_name("N")
       ->check(finite_range(0, 1e12));
   s.app

@@ -35,6 +35,7 @@ void list_devices(ApiContext& api, const Caller& caller, const Req&, Res& res) {
                     {"blade", d.blade(s.name)},
                     {"confirm_sheet", d.device(s.name)->confirm_sheet},
                     {"sheet", sheet_label(sheet, s.job != 0)},
+                    {"tray_empty", sheet.state == SheetState::empty},
                     {"sheet_job", last_shown ? json(sheet.last_job) : json(nullptr)}});
   }
   send_json(res, {{"devices", list}});

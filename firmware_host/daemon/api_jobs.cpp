@@ -66,6 +66,9 @@ json job_json(Daemon& d, const Job& j, const Forecast* shared = nullptr) {
             {"finished_at", j.finished_at > 0 ? json(j.finished_at) : json(nullptr)},
             {"priority", j.priority},
             {"copies", j.copies},
+            {"sheets", j.sheets()},
+            // The sheet being cut or next to cut (from 1); the last once done.
+            {"sheet", j.sheet_of(std::min(j.strokes_sent + 1, std::max<std::int64_t>(j.strokes_total, 1))) + 1},
             {"place_in_line", nullptr},
             {"eta_s", nullptr}};
   if (!j.error_code.empty() || !j.error_message.empty())
@@ -136,6 +139,13 @@ void set_material(Daemon& d, NewJob& nj, const std::string& material) {
              "; it has values for " + m->family_list(),
          "material");
   }
+  try {
+    // Its values out of this device's range (a force above its FX maximum) refuse the material, not the model.
+    (void)d.job_profile(*dev, material);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::invalid_input) throw;
+    fail(ApiError::no_material, e.what(), "material");
+  }
 }
 
 // The checks planning would make, made before the job is accepted: a model that is not a card,
@@ -147,10 +157,10 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
   const DeviceConfig* dev = d.planning_device(nj.target_device, nj.target_profile);
   if (!dev) fail(ApiError::no_device, "no device for this job", "device");
   try {
-    drivers::plan_for_device(p, d.job_profile(*dev, nj.material), dev->profile_path, {nj.copies});
+    // More copies than a sheet holds are cut sheet after sheet.
+    drivers::plan_sheets_for_device(p, d.job_profile(*dev, nj.material), dev->profile_path, {nj.copies});
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;
-    if (e.location() == "copies") fail(ApiError::bad_model, e.message() + "; submit the rest as another job", "copies");
     fail(ApiError::bad_model,
          "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
              ": " + e.message(),

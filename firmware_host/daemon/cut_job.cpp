@@ -1,9 +1,11 @@
 // Stroke plans as JSON job files: what a device worker re-reads to cut or resume a job.
 #include "cut_job.h"
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "popcut/error.h"
+#include "popcut/io/files.h"
 
 namespace popcut::daemon {
 
@@ -49,6 +51,18 @@ StrokePlan plan_from_json(const std::string& text, const std::string& source) {
   } catch (const nlohmann::json::exception& e) {
     throw Error(ErrorCode::invalid_input, source, "", e.what());
   }
+}
+
+SheetRun sheet_run(const std::string& dir, const Job& job, std::int64_t done_before) {
+  SheetRun run;
+  run.sheet = job.sheet_of(done_before + 1);
+  run.offset = run.sheet * job.sheet_strokes;
+  const std::filesystem::path last = std::filesystem::path(dir) / "plan-last.json";
+  std::error_code ec;
+  const bool on_last = job.sheets() > 1 && run.sheet + 1 == job.sheets() && std::filesystem::exists(last, ec);
+  const std::string path = (on_last ? last : std::filesystem::path(dir) / "plan.json").string();
+  run.plan = plan_from_json(read_text_file(path, std::size_t{1} << 30), path);
+  return run;
 }
 
 }  // namespace popcut::daemon

@@ -264,15 +264,22 @@ void Daemon::plan_one(const Job& job) {
     if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
     // As `popcut cut` plans it; a sheet that does not fit the device is refused now, not at the cutter.
-    const drivers::DevicePlan planned =
-        drivers::plan_for_device(pattern, job_profile(*dev, job.material), dev->profile_path, {job.copies});
-    const StrokePlan& plan = planned.plan;
+    // More copies than a sheet holds go on as many sheets as they take (sheet_plan_path).
+    const drivers::SheetPlans planned =
+        drivers::plan_sheets_for_device(pattern, job_profile(*dev, job.material), dev->profile_path, {job.copies});
     const std::filesystem::path dir = job_dir(job.id);
     std::filesystem::create_directories(dir);
     write_text_file((dir / "pattern.svg").string(), [&](std::ostream& o) { write_pattern_svg(o, pattern, {true}); });
-    write_text_file((dir / "plan.json").string(), [&](std::ostream& o) { o << plan_to_json(plan); });
+    write_text_file((dir / "plan.json").string(), [&](std::ostream& o) { o << plan_to_json(planned.full.plan); });
+    if (planned.last) {
+      write_text_file((dir / "plan-last.json").string(),
+                      [&](std::ostream& o) { o << plan_to_json(planned.last->plan); });
+    }
     // Committed last: a job is ready only once its files are on disk.
-    store_.set_planned(job.id, static_cast<std::int64_t>(planned.encoded.total_strokes), planned.time.total_s);
+    const bool sheets = planned.sheets > 1;
+    store_.set_planned(job.id, static_cast<std::int64_t>(planned.total_strokes()), planned.total_time_s(),
+                       sheets ? planned.per_sheet : 0,
+                       sheets ? static_cast<std::int64_t>(planned.full.encoded.total_strokes) : 0);
   } catch (const Error& e) {
     const bool user = e.code() == ErrorCode::invalid_input || e.code() == ErrorCode::limit;
     store_.finish(job.id, JobState::failed,
@@ -297,6 +304,7 @@ void Daemon::device_loop(Worker& w) {
           std::min<std::chrono::steady_clock::duration>(w.busy_until - now, std::chrono::milliseconds(200)));
       continue;
     }
+    ask_again_for_sheet(w);
     std::optional<Job> job;
     // A paused job holds its half-cut sheet on the device: nothing else is cut onto it.
     if (!store_.paused(w.device->name) && !store_.holds_paused_job(w.device->name))
@@ -336,11 +344,9 @@ void Daemon::device_loop(Worker& w) {
 void Daemon::cut_one(Worker& w, const Job& job) {
   const DeviceConfig& dev = *w.device;
   try {
-    const std::string plan_path = (std::filesystem::path(job_dir(job.id)) / "plan.json").string();
-    const StrokePlan plan = plan_from_json(read_text_file(plan_path, std::size_t{1} << 30), plan_path);
     // resume_from strokes were fully sent by an earlier run: this one starts at the next.
-    const std::size_t done_before = static_cast<std::size_t>(job.resume_from);
-    if (done_before >= static_cast<std::size_t>(job.strokes_total)) {
+    const std::int64_t done_before = job.resume_from;
+    if (done_before >= job.strokes_total) {
       // Killed after the last byte went out but before the drain was confirmed: nothing to send.
       // A done job carries no error; this run's (empty) remainder trivially matches the plan.
       log_line("job ", job.id, ": every stroke had been received before the restart; done");
@@ -348,9 +354,17 @@ void Daemon::cut_one(Worker& w, const Job& job) {
       emit_outcome(job.id);
       return;
     }
+    // The run in its sheet's own numbering (the job's less sheet.offset): one sheet per run.
+    const SheetRun sheet = sheet_run(job_dir(job.id), job, done_before);
+    Job local = job;
+    local.resume_from = done_before - sheet.offset;
+    const std::size_t first = static_cast<std::size_t>(local.resume_from) + 1;
     const drivers::DeviceProfile profile = job_profile(dev, job.material);
-    const EncodedJob cut = drivers::encode_for_device(plan, profile, done_before + 1);
-    log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", cut.total_strokes);
+    const EncodedJob cut = drivers::encode_for_device(sheet.plan, profile, first);
+    log_line("job ", job.id, ": cutting on ", dev.name, " from stroke ", done_before + 1, " of ", job.strokes_total,
+             job.sheets() > 1
+                 ? " (sheet " + std::to_string(sheet.sheet + 1) + " of " + std::to_string(job.sheets()) + ")"
+                 : std::string());
     const std::unique_ptr<DeviceLink> link = make_device_link(dev);
     // Logged before the job shows it: whoever sees waiting_for_device finds the line in the log.
     const CutControl control{
@@ -366,37 +380,56 @@ void Daemon::cut_one(Worker& w, const Job& job) {
         &w.pause_cut};
     // Held against the whole plan from the resumed stroke on, worked out apart from the bytes
     // sent: a resume that started at the wrong stroke shows in sim_match.
-    const std::vector<PlotterPath> planned = drivers::planned_paths(plan, dev.profile.dialect, done_before + 1);
-    const CutOutcome out = link->cut(
-        cut, planned, control, [&](std::size_t last) { store_.set_progress(job.id, static_cast<std::int64_t>(last)); });
+    const std::vector<PlotterPath> planned = drivers::planned_paths(sheet.plan, dev.profile.dialect, first);
+    const CutOutcome out = link->cut(cut, planned, control, [&](std::size_t last) {
+      store_.set_progress(job.id, sheet.offset + static_cast<std::int64_t>(last));
+    });
+    if (sheet_reported_empty(w, job, out)) return;
     if (out.busy_for_s > 0) {
       w.busy_until =
           std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<long>(out.busy_for_s * 1000) + 1);
       log_line("job ", job.id, ": ", dev.name, " has no handshake and may go on cutting for up to ",
                static_cast<long>(out.busy_for_s + 0.999), " s by the profile's pace: no job is sent to it before then");
     }
-    store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
-    store_.set_executed(job.id, out.last_stroke_executed
-                                    ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
-                                    : std::nullopt);
-    bool user_cancel;
-    {
-      std::lock_guard lock(mutex_);
-      user_cancel = w.user_cancel;
-    }
-    commit_run_wear(job, dev, plan, profile, out);
-    record_outcome(store_, job, dev, user_cancel, out);
-    if (out.kind == CutOutcome::Kind::complete) ++cuts_completed_;
-    if (out.kind == CutOutcome::Kind::paused) {
-      log_line("job ", job.id, ": paused on ", dev.name, " after stroke ", out.last_stroke_sent);
-      emit_event(EventKind::job_paused, job.id, dev.name);
-    }
-    emit_outcome(job.id);
+    commit_run_wear(local, dev, sheet.plan, profile, out);
+    close_run(w, job, sheet, out);
   } catch (const std::exception& e) {
     store_.finish(job.id, JobState::failed, to_string(ApiError::internal), e.what());
     log_line("job ", job.id, ": ", e.what());
     emit_outcome(job.id);
   }
+}
+
+void Daemon::close_run(Worker& w, const Job& job, const SheetRun& sheet, const CutOutcome& run) {
+  const DeviceConfig& dev = *w.device;
+  CutOutcome out = run;  // in the job's stroke numbers
+  const auto offset = static_cast<std::size_t>(sheet.offset);
+  out.last_stroke_sent += offset;
+  if (out.last_stroke_executed) *out.last_stroke_executed += offset;
+  store_.set_progress(job.id, static_cast<std::int64_t>(out.last_stroke_sent));
+  store_.set_executed(job.id, out.last_stroke_executed
+                                  ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
+                                  : std::nullopt);
+  if (out.kind == CutOutcome::Kind::complete) ++cuts_completed_;
+  if (out.kind == CutOutcome::Kind::complete && sheet.sheet + 1 < job.sheets()) {
+    // A full sheet and more to come: the job waits in its place for the next (device_loop's
+    // sheet_after_job asks for a fresh one where sheets are confirmed).
+    store_.sheet_full(job.id, dev.name, sheet.offset + job.sheet_strokes, dev.confirm_sheet);
+    log_line("job ", job.id, ": sheet ", sheet.sheet + 1, " of ", job.sheets(), " cut on ", dev.name,
+             dev.confirm_sheet ? "; its next sheet waits for a fresh one" : "");
+    return;
+  }
+  bool user_cancel;
+  {
+    std::lock_guard lock(mutex_);
+    user_cancel = w.user_cancel;
+  }
+  record_outcome(store_, job, dev, user_cancel, out);
+  if (out.kind == CutOutcome::Kind::paused) {
+    log_line("job ", job.id, ": paused on ", dev.name, " after stroke ", out.last_stroke_sent);
+    emit_event(EventKind::job_paused, job.id, dev.name);
+  }
+  emit_outcome(job.id);
 }
 
 }  // namespace popcut::daemon

@@ -20,6 +20,8 @@
 
 namespace popcut::daemon {
 
+struct SheetRun;
+
 // Where a user's cancel of a cut stands (docs/api.md "Cancelling a cut"): asked; waiting for a
 // device that holds the line to take the abort; the wait given up by a second cancel.
 enum class CancelStage { none, requested, waiting_for_device, giving_up };
@@ -119,11 +121,19 @@ class Daemon {
     // The device thread's own: until when a device paced by time may still be cutting what the
     // last job left in its buffer (no job is sent to it before).
     std::chrono::steady_clock::time_point busy_until{};
+    // A device without confirm_sheet whose tray may be reported empty (at start, or since it was):
+    // asked again before its next claim.
+    bool sheet_check = true;
   };
+  // How long a device without confirm_sheet that said "no sheet loaded" is left before it is asked again.
+  static constexpr std::chrono::seconds kNoSheetRetry{5};
   void plan_loop();
   void plan_one(const Job& job);
   void device_loop(Worker& w);
   void cut_one(Worker& w, const Job& job);
+  // A run's outcome (`run` in its sheet's stroke numbers) recorded for the job: the next sheet, or
+  // the job's end, pause or interruption, and its events.
+  void close_run(Worker& w, const Job& job, const SheetRun& sheet, const CutOutcome& run);
   bool wait_for_work();
   // After a run: its wear committed, then the events its outcome calls for (daemon_events.cpp).
   void commit_run_wear(const Job& job, const DeviceConfig& dev, const StrokePlan& plan,
@@ -132,6 +142,11 @@ class Daemon {
   // A job on `dev` ended (or was found cut short at a restart): a confirm_sheet device now awaits
   // a fresh sheet, which is logged and raised as awaiting_sheet.
   void sheet_after_job(const DeviceConfig& dev, std::int64_t job_id);
+  // The device said "no sheet loaded" before the job's first byte: the job goes back in line, the
+  // sheet is `empty`, awaiting_sheet is raised (true); false for any other outcome (sheets.cpp).
+  bool sheet_reported_empty(Worker& w, const Job& job, const CutOutcome& out);
+  // Before a claim: an empty tray on a device that confirms no sheets is asked about again.
+  void ask_again_for_sheet(Worker& w);
   // A run cut short by a crash: the strokes it certainly got to the device (after resume_from,
   // up to strokes_sent), counted at the restart.
   Wear crashed_run_wear(const Job& job) const;

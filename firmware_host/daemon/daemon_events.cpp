@@ -103,10 +103,11 @@ Wear Daemon::crashed_run_wear(const Job& j) const {
   const DeviceConfig* dev = device(j.device);
   if (!dev) return {};  // no longer configured: nowhere to count it
   try {
-    const std::string path = (std::filesystem::path(job_dir(j.id)) / "plan.json").string();
-    const StrokePlan plan = plan_from_json(read_text_file(path, std::size_t{1} << 30), path);
-    return wear_of(plan, job_profile(*dev, j.material).plan.kinds, static_cast<std::size_t>(j.resume_from) + 1,
-                   static_cast<std::size_t>(j.strokes_sent));
+    // A run stays on one sheet: its strokes in that sheet's numbers.
+    const SheetRun sheet = sheet_run(job_dir(j.id), j, j.resume_from);
+    return wear_of(sheet.plan, job_profile(*dev, j.material).plan.kinds,
+                   static_cast<std::size_t>(j.resume_from - sheet.offset) + 1,
+                   static_cast<std::size_t>(j.strokes_sent - sheet.offset));
   } catch (const std::exception& e) {
     log_line("job ", j.id, ": the wear of its run cut short is not counted: ", e.what());
     return {};

@@ -37,6 +37,7 @@ CutOutcome outcome_of(const drivers::CutResult& r, const std::string& device, bo
   } else {
     // Both numbers: strokes after the first may have been cut and are cut again on resume.
     out.error = device + ": " + sent.status.message + "; " + drivers::counts_brief(sent);
+    out.no_sheet = sent.device_stop == drivers::DeviceStop::tray_empty && sent.bytes_sent == 0;
   }
   return out;
 }

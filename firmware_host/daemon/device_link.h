@@ -29,6 +29,9 @@ struct CutOutcome {
   // failed: the device reported lost or garbled bytes (ESC.E 15 or 16): what it cut is not the
   // job, so no resume point repairs it.
   bool bytes_lost = false;
+  // failed before the first byte: the device said no sheet is loaded (GP-GL tray empty), and
+  // nothing was sent.
+  bool no_sheet = false;
   // stopped or failed on a device paced by time: how long it may go on cutting what it holds
   // (seconds, by the profile's pace); a job sent to it sooner would overrun its buffer.
   double busy_for_s = 0;

@@ -1,6 +1,7 @@
 // Job records, their documented states and the API's error-code catalogue (docs/api.md).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -147,8 +148,20 @@ struct Job {
   // rank starts as the id (first come, first served) and an admin's `before` puts it between two.
   int priority = 0;
   double queue_rank = 0;
-  int copies = 1;                // cards nested on its sheet
+  int copies = 1;                // cards nested on its sheets
   bool pause_requested = false;  // cutting: a pause was asked; the worker stops at the stroke in flight
+  // More copies than one sheet holds: sheet_copies cards on each sheet but the last, whose strokes
+  // sheet k (from 0) numbers from k * sheet_strokes + 1 on. 0 while unplanned or on one sheet.
+  int sheet_copies = 0;
+  std::int64_t sheet_strokes = 0;
+
+  int sheets() const { return sheet_copies > 0 ? (copies + sheet_copies - 1) / sheet_copies : 1; }
+  // The sheet (from 0) stroke `stroke` (from 1) is on.
+  int sheet_of(std::int64_t stroke) const {
+    if (sheets() <= 1 || sheet_strokes <= 0) return 0;
+    return static_cast<int>(
+        std::min<std::int64_t>(std::max<std::int64_t>(stroke - 1, 0) / sheet_strokes, sheets() - 1));
+  }
 
   // The device holding this job's half-cut sheet: an interrupted job, or one resumed and waiting,
   // continues there and nowhere else ("" when no sheet of it is on a device).

@@ -12,9 +12,12 @@ namespace popcut::daemon {
 // As stored in device_sheets. used: a job was claimed onto the sheet (so a kill -9 at any point
 // after leaves it used); empty: the device itself said its tray is empty before a job began.
 // Both wait for a person to say a fresh sheet is loaded.
-enum class SheetState { loaded, used, empty };
-inline constexpr auto kSheetStateNames =
-    enum_names<SheetState>({{SheetState::loaded, "loaded"}, {SheetState::used, "used"}, {SheetState::empty, "empty"}});
+// full: a job of several sheets filled this one; its next needs a fresh sheet, as any other job does.
+enum class SheetState { loaded, used, empty, full };
+inline constexpr auto kSheetStateNames = enum_names<SheetState>({{SheetState::loaded, "loaded"},
+                                                                 {SheetState::used, "used"},
+                                                                 {SheetState::empty, "empty"},
+                                                                 {SheetState::full, "full"}});
 const char* to_string(SheetState state);
 std::optional<SheetState> parse_sheet_state(const std::string& text);
 

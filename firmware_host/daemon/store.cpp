@@ -17,7 +17,9 @@ namespace {
 constexpr const char* kJobColumns =
     "id, owner, name, target_device, target_profile, device, state, error_code, error_message, strokes_total, "
     "strokes_sent, resume_from, est_time_s, created_at, started_at, finished_at, sim_match, strokes_executed, "
-    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK ", copies, pause_requested";
+    "resume_point, material, cut_mm, knife_down_strokes, priority, " POPCUT_JOB_RANK
+    ", copies, pause_requested, "
+    "sheet_copies, sheet_strokes";
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -47,6 +49,8 @@ Job read_job(const Stmt& s) {
   j.queue_rank = s.real(23);
   j.copies = static_cast<int>(s.integer(24));
   j.pause_requested = s.integer(25) != 0;
+  j.sheet_copies = static_cast<int>(s.integer(26));
+  j.sheet_strokes = s.integer(27);
   return j;
 }
 
@@ -292,12 +296,17 @@ std::optional<Job> JobStore::claim_for_planning() {
   }
 }
 
-void JobStore::set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s) {
+void JobStore::set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s, int sheet_copies,
+                           std::int64_t sheet_strokes) {
   std::lock_guard lock(mutex_);
-  Stmt(db_, "UPDATE jobs SET state='ready', strokes_total=?, est_time_s=? WHERE id=? AND state='planning'")
+  Stmt(db_,
+       "UPDATE jobs SET state='ready', strokes_total=?, est_time_s=?, sheet_copies=?, sheet_strokes=? WHERE id=? AND"
+       " state='planning'")
       .bind(1, strokes_total)
       .bind(2, est_time_s)
-      .bind(3, id)
+      .bind(3, std::int64_t{sheet_copies})
+      .bind(4, sheet_strokes)
+      .bind(5, id)
       .step();
 }
 
@@ -306,7 +315,7 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
   std::lock_guard lock(mutex_);
   exec("BEGIN IMMEDIATE");
   try {
-    const std::optional<std::int64_t> only = confirm_sheet ? sheet_allows_locked(device) : 0;
+    const std::optional<std::int64_t> only = sheet_allows_locked(device, confirm_sheet);
     if (!only) {
       exec("COMMIT");
       return std::nullopt;
@@ -324,6 +333,10 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
       return std::nullopt;
     }
     Job j = read_job(s);
+    if (*only == j.id && sheet_filled_locked(j, device)) {
+      exec("COMMIT");
+      return std::nullopt;
+    }
     j.started_at = j.started_at > 0 ? j.started_at : unix_now_s();
     Stmt(db_,
          "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL,"

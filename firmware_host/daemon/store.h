@@ -110,7 +110,9 @@ class JobStore {
   // queued -> planning, first in the queue's order (priority, then rank).
   std::optional<Job> claim_for_planning();
   // planning -> ready (unless cancelled meanwhile).
-  void set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s);
+  // With sheet_copies > 0 the job spans sheets (Job::sheets), each full one sheet_strokes long.
+  void set_planned(std::int64_t id, std::int64_t strokes_total, double est_time_s, int sheet_copies = 0,
+                   std::int64_t sheet_strokes = 0);
   // ready -> cutting on `device`, first in the queue's order among jobs naming it or its profile.
   // With `confirm_sheet`, only onto a loaded sheet (or the job a used one holds, resumed), which the
   // claim marks used in the same transaction: docs/api.md "Sheets".
@@ -171,13 +173,28 @@ class JobStore {
   DeviceSheet device_sheet(const std::string& device);
   // A fresh sheet is loaded; nullopt (and nothing changed) while a job is cutting on the device.
   SheetConfirmation confirm_sheet(const std::string& device);
+  // The device said before the job's first byte that no sheet is loaded: a job that had not
+  // started goes back to `ready` in its place and the device's sheet is `empty` (true); a resumed
+  // one, or one with a cancel or pause asked, is left to its outcome (false).
+  bool back_for_no_sheet(std::int64_t job_id, const std::string& device);
+  // A device that confirms no sheets, once its tray was reported empty: asked again at its next
+  // job (true when it was empty).
+  bool ask_again_for_sheet(const std::string& device);
+  // A job's sheet is cut and more follow: back to `ready` in its place, strokes through `next_from`
+  // done, on no device (its next sheet may go to any of its devices); the device's sheet is `full`
+  // and, with `confirm_sheet`, waits for a fresh one (docs/api.md "Sheets").
+  void sheet_full(std::int64_t job_id, const std::string& device, std::int64_t next_from, bool confirm_sheet);
 
  private:
   void create_sheet_tables();
   // Inside a transaction the caller holds: 0 any job may be claimed onto the device's sheet, a
   // job id only that one, nullopt none; and the claim of `job_id` using it.
-  std::optional<std::int64_t> sheet_allows_locked(const std::string& device);
+  // An empty tray allows none, whatever `confirm_sheet`.
+  std::optional<std::int64_t> sheet_allows_locked(const std::string& device, bool confirm_sheet);
   void use_sheet_locked(const std::string& device, std::int64_t job_id);
+  // `job`, claimed onto its own used sheet, would start its next sheet there (it was cut short
+  // just after a sheet's last stroke): that sheet is full instead, and the job on no device (true).
+  bool sheet_filled_locked(const Job& job, const std::string& device);
   void create_wear_tables();
   // The addition itself, inside a transaction the caller holds (with mutex_).
   void add_wear_locked(std::int64_t job_id, const std::string& device, const Wear& run);

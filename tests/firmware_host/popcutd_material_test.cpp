@@ -92,4 +92,31 @@ TEST(PopcutdMaterials, ListedValidatedStoredAndCut) {
   EXPECT_NE(read_file((dir.path() / "bad").string()).find("unknown material \"tin\""), std::string::npos);
 }
 
+// A material whose values suit its family's files but not this device (a force above the Cameo 4's
+// FX range) is refused as the material, 422 no_material on the field, naming the file and key.
+TEST(PopcutdMaterials, ValuesOutOfTheDevicesRangeRefuseTheMaterial) {
+  TempDir dir("popcutd-material-range");
+  const std::string table = " = { force_g = 30, speed_cm_s = 10, mode = \"score\" }\n";
+  dir.write("materials/heavy.toml",
+            "[material]\ndescription = \"too heavy for a Cameo\"\nsources = [\"a test\"]\n[silhouette]\n"
+            "cut = { force_g = 900, speed_cm_s = 10 }\noutline = { force_g = 110, speed_cm_s = 10 }\nvalley" +
+                table + "mountain" + table);
+  const std::string config = dir.write(
+      "popcutd.toml", "[server]\ndata_dir = \"" + (dir.path() / "data").string() + "\"\nmaterials_dir = \"" +
+                          (dir.path() / "materials").string() + "\"\n[[device]]\nname = \"cameo\"\nprofile = \"" +
+                          kSrc + "/configs/devices/silhouette-cameo4.toml\"\ntransport = \"sim\"\n[[token]]\n" +
+                          "name = \"kiosk\"\ntoken = \"" + kKiosk + "\"\n");
+  PopcutdProcess d(POPCUTD, config, (dir.path() / "data").string());
+  httplib::Client c = d.client(kKiosk);
+  const auto heavy =
+      post_json(c, "/api/v1/jobs", json{{"device", "cameo"}, {"material", "heavy"}, {"model", box()}}.dump());
+  EXPECT_EQ(heavy.status, 422) << heavy.body.dump();
+  EXPECT_EQ(heavy.body["error"]["code"], "no_material");
+  EXPECT_EQ(heavy.body["error"]["field"], "material");
+  const std::string message = heavy.body["error"]["message"].get<std::string>();
+  EXPECT_NE(message.find("heavy.toml: [silhouette.cut] force_g"), std::string::npos) << message;
+  EXPECT_NE(message.find("material \"heavy\" does not suit this device"), std::string::npos) << message;
+  EXPECT_EQ(get_json(c, "/api/v1/jobs").body["jobs"].size(), 0u) << "nothing was queued";
+}
+
 }  // namespace

@@ -118,4 +118,79 @@ TEST_F(Sheets, SheetsAreKeptPerDevice) {
   EXPECT_EQ(s.claim_for_device("b", "sim", true)->id, on_b) << "b's sheet is its own";
 }
 
+// "No sheet loaded" before the first byte: the job goes back in line in its place and the device's
+// tray is empty, which no claim passes, confirmed sheets or not, until a sheet is loaded.
+TEST_F(Sheets, AnEmptyTraySendsTheJobBackAndBlocksEveryClaim) {
+  JobStore s(db());
+  for (const bool confirm : {true, false}) {
+    const std::string dev = confirm ? "a" : "b";
+    const std::int64_t id = ready_job(s, dev);
+    ASSERT_EQ(s.claim_for_device(dev, "sim", confirm)->id, id);
+    ASSERT_TRUE(s.back_for_no_sheet(id, dev));
+    const Job j = *s.get(id);
+    EXPECT_EQ(j.state, JobState::ready);
+    EXPECT_EQ(j.device, "") << "not cut anywhere yet: any of its devices may take it";
+    EXPECT_EQ(j.started_at, 0);
+    EXPECT_EQ(s.device_sheet(dev).state, SheetState::empty);
+    EXPECT_EQ(s.device_sheet(dev).last_job, id) << "its owner may say a sheet is loaded";
+    EXPECT_FALSE(s.claim_for_device(dev, "sim", confirm))
+        << "nothing starts on an empty tray (confirm " << confirm << ")";
+    if (confirm) {
+      ASSERT_TRUE(s.confirm_sheet(dev).sheet) << "no job holds a sheet there";
+    } else {
+      EXPECT_TRUE(s.ask_again_for_sheet(dev));
+      EXPECT_FALSE(s.ask_again_for_sheet(dev)) << "only an empty tray is asked about";
+    }
+    EXPECT_EQ(s.claim_for_device(dev, "sim", confirm)->id, id) << "then the job is cut";
+  }
+  // A job that got strokes out, or was resumed, is not sent back: its sheet was the one taken out.
+  const std::int64_t resumed = ready_job(s, "b");
+  ASSERT_EQ(s.claim_for_device("b", "sim", false)->id, resumed);
+  s.set_progress(resumed, 3);
+  EXPECT_FALSE(s.back_for_no_sheet(resumed, "b"));
+  EXPECT_EQ(s.get(resumed)->state, JobState::cutting) << "left to its outcome";
+  EXPECT_EQ(s.device_sheet("b").state, SheetState::loaded);
+}
+
+// A job of two sheets: the first cut, the device's sheet is full and no job (this one included)
+// goes on until a fresh one is loaded; one cut short at the first sheet's very end and resumed on its
+// own used sheet is not let start the second there either.
+TEST_F(Sheets, AFullSheetWaitsForAFreshOneEvenForItsOwnJob) {
+  JobStore s(db());
+  for (const bool cut_short : {false, true}) {
+    NewJob nj{"kiosk", "cards", "a", "sim", "{}"};
+    nj.copies = 3;
+    const std::int64_t id = *s.insert(nj, 100);
+    ASSERT_EQ(s.claim_for_planning()->id, id);
+    s.set_planned(id, 18, 5.0, 2, 10);  // sheets of 2 cards, 10 strokes; the last sheet 8
+    const Job planned = *s.get(id);
+    EXPECT_EQ(planned.sheets(), 2);
+    EXPECT_EQ(planned.sheet_of(10), 0);
+    EXPECT_EQ(planned.sheet_of(11), 1);
+    ASSERT_EQ(s.claim_for_device("a", "sim", true)->id, id);
+    s.set_progress(id, 10);
+    if (cut_short) {
+      s.recover();  // killed after the sheet's last stroke, before its end was recorded
+      ASSERT_EQ(s.get(id)->state, JobState::interrupted);
+      ASSERT_EQ(s.resume(id), ResumeResult::resumed);
+      EXPECT_FALSE(s.claim_for_device("a", "sim", true)) << "its used sheet holds a whole sheet already";
+    } else {
+      s.sheet_full(id, "a", 10, true);
+    }
+    const Job j = *s.get(id);
+    EXPECT_EQ(j.state, JobState::ready);
+    EXPECT_EQ(j.device, "") << "its next sheet may go to any of its devices";
+    EXPECT_EQ(j.resume_from, 10);
+    EXPECT_EQ(s.device_sheet("a").state, SheetState::full);
+    EXPECT_FALSE(s.claim_for_device("a", "sim", true)) << "not onto the full sheet";
+    ASSERT_TRUE(s.confirm_sheet("a").sheet) << "no job holds a half-cut sheet there";
+    const std::optional<Job> next = s.claim_for_device("a", "sim", true);
+    ASSERT_TRUE(next);
+    EXPECT_EQ(next->id, id);
+    EXPECT_EQ(next->resume_from, 10) << "sheet 2 from its first stroke";
+    s.finish(id, JobState::done, "", "");
+    ASSERT_TRUE(s.confirm_sheet("a").sheet);
+  }
+}
+
 }  // namespace

@@ -31,6 +31,7 @@ TempDir::~TempDir() {
 
 std::string TempDir::write(const std::string& name, const std::string& content) const {
   const std::filesystem::path p = path_ / name;
+  std::filesystem::create_directories(p.parent_path());
   std::ofstream(p) << content;
   return p.string();
 }

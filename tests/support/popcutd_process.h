@@ -65,6 +65,7 @@ class SimPlotterProcess {
   SimPlotterProcess& operator=(const SimPlotterProcess&) = delete;
 
   const std::string& port() const { return port_; }
+  pid_t pid() const { return pid_; }  // kill -USR1 loads a sheet, -USR2 takes it out
   // Its exit status once the host has closed the port, or -1 if it still runs after `give_up_s`.
   int wait(double give_up_s = 120);
   std::string log() const;        // its standard error

@@ -1,6 +1,7 @@
 // A pattern planned for one device profile exactly as it will be sent: the figures `popcut cut` and popcutd report.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "popcut/drivers/profile.h"
@@ -33,6 +34,24 @@ struct DevicePlan {
 // many fit.
 DevicePlan plan_for_device(const Pattern& pattern, const DeviceProfile& profile, const std::string& profile_source,
                            const Copies& copies = {});
+// Copies over as many sheets as they take: every sheet holds per_sheet cards but the last, which
+// holds the rest (`last`, when fewer). Stroke numbers run on across sheets: sheet k (from 0)
+// starts after k * full's strokes.
+struct SheetPlans {
+  DevicePlan full;
+  std::optional<DevicePlan> last;
+  int per_sheet = 1;
+  int sheets = 1;
+  const DevicePlan& sheet(int k) const { return k + 1 == sheets && last ? *last : full; }
+  std::size_t total_strokes() const {
+    return static_cast<std::size_t>(sheets - 1) * full.encoded.total_strokes + sheet(sheets - 1).encoded.total_strokes;
+  }
+  double total_time_s() const { return (sheets - 1) * full.time.total_s + sheet(sheets - 1).time.total_s; }
+};
+// As plan_for_device, with no limit on copies: as many sheets as they need.
+SheetPlans plan_sheets_for_device(const Pattern& pattern, const DeviceProfile& profile,
+                                  const std::string& profile_source, const Copies& copies);
+
 // The grid of `card` (a card's plan) that the device's usable area holds.
 NestLayout copies_layout(const StrokePlan& card, const DeviceProfile& profile, double gap_mm);
 
