@@ -179,13 +179,17 @@ function jobItem(j, awaiting) {
     li = document.createElement('li');
     li.className = 'job';
     li.dataset.id = j.id;
-    li.innerHTML = '<span class="title"></span><button class="cancel">Cancel</button>' +
+    li.innerHTML = '<span class="title"></span><button class="pause" hidden>Pause</button>' +
+                   '<button class="continue" hidden>Continue</button><button class="cancel">Cancel</button>' +
                    '<button class="sheet" hidden>Sheet loaded</button>' +
                    '<span class="state"></span><span class="where"></span><progress max="1" value="0"></progress>';
-    li.querySelector('.cancel').addEventListener('click', async () => {
-      try { await api('POST', '/api/v1/jobs/' + j.id + '/cancel'); } catch (e) { alert(e.message); }
-      refreshJobs();
-    });
+    // Pause holds the half-cut card on the cutter to go on with it; cancel gives the job up.
+    for (const action of ['pause', 'continue', 'cancel']) {
+      li.querySelector('.' + action).addEventListener('click', async () => {
+        try { await api('POST', '/api/v1/jobs/' + j.id + '/' + action); } catch (e) { alert(e.message); }
+        refreshJobs();
+      });
+    }
     // The cutter waits for a fresh sheet after this job: its owner says one is loaded.
     li.querySelector('.sheet').addEventListener('click', async () => {
       try { await api('POST', '/api/v1/devices/' + encodeURIComponent(li.dataset.cutOn) + '/sheet'); }
@@ -207,6 +211,8 @@ function jobItem(j, awaiting) {
   li.querySelector('.where').textContent = where;
   li.querySelector('progress').value = j.progress;
   li.querySelector('.cancel').hidden = ['done', 'failed', 'cancelled'].includes(j.state);
+  li.querySelector('.pause').hidden = !['ready', 'cutting'].includes(j.state) || j.pause_requested === true;
+  li.querySelector('.continue').hidden = j.state !== 'paused';
   li.querySelector('.sheet').hidden = !(awaiting && awaiting.get(j.id) === j.cut_on);
 }
 

@@ -98,7 +98,7 @@ TEST(Kiosk, PicksAnExampleQueuesItAndSeesItCut) {
   std::ofstream(POPCUT_KIOSK_SCREENSHOT, std::ios::binary) << png;
 }
 
-TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
+TEST(Kiosk, UploadsAModelPausesAndContinuesAWaitingCardAndCancelsItsOwnJobWhileItCuts) {
   TempDir dir("popcut-kiosk");
   const std::string cfg = dir.write(
       "slow.toml", "[server]\ndata_dir = \"x\"\n[[device]]\nname = \"slow\"\nprofile = \"" + kSrc +
@@ -127,27 +127,51 @@ TEST(Kiosk, UploadsAModelAndCancelsItsOwnJobWhileItCuts) {
       },
       120))
       << "the castle is being cut (slowly)";
-  b.click("#jobs .job .cancel");
+  EXPECT_FALSE(b.run("return document.querySelector('#jobs .job .pause').hidden").get<bool>())
+      << "a job being cut can be paused";
+  // A second card waits behind it: Pause holds it, Continue puts it back in line, Cancel gives it up.
+  b.click("#queue");
   ASSERT_TRUE(wait_until(
       [&] {
-        return b.run("return document.querySelector('#jobs .job').dataset.state").get<std::string>() == "cancelled";
+        return b.run(
+                    "const j = document.querySelectorAll('#jobs .job'); return j.length == 2 ? j[0].dataset.state : ''")
+                   .get<std::string>() == "ready";
       },
-      120))
+      60))
+      << "the second card is in line; page: " << b.run("return document.body.innerText").dump();
+  const std::string second = "#jobs .job:first-child";
+  httplib::Client c = d.client("kiosk-change-me-0123456789");
+  const std::string second_id = b.run("return document.querySelector('" + second + "').dataset.id").get<std::string>();
+  EXPECT_TRUE(b.run("return document.querySelector('" + second + " .continue').hidden").get<bool>());
+  b.click(second + " .pause");
+  const auto state_of = [&](const std::string& selector) {
+    return b.run("return document.querySelector('" + selector + "').dataset.state").get<std::string>();
+  };
+  ASSERT_TRUE(wait_until([&] { return state_of(second) == "paused"; }, 60)) << "Pause holds the waiting card";
+  EXPECT_EQ(get_json(c, "/api/v1/jobs/" + second_id).body["state"], "paused");
+  EXPECT_TRUE(b.run("return document.querySelector('" + second + " .pause').hidden").get<bool>());
+  b.click(second + " .continue");
+  ASSERT_TRUE(wait_until([&] { return state_of(second) == "ready"; }, 60)) << "Continue puts it back in line";
+  EXPECT_TRUE(b.run("return document.querySelector('" + second + " .continue').hidden").get<bool>());
+  b.click(second + " .cancel");
+  ASSERT_TRUE(wait_until([&] { return state_of(second) == "cancelled"; }, 60));
+  b.click("#jobs .job:nth-child(2) .cancel");
+  ASSERT_TRUE(wait_until([&] { return state_of("#jobs .job:nth-child(2)") == "cancelled"; }, 120))
       << "the kiosk cancels its own job mid-cut";
-  EXPECT_TRUE(b.run("return document.querySelector('#jobs .job .cancel').hidden").get<bool>())
+  EXPECT_TRUE(b.run("return document.querySelector('#jobs .job:nth-child(2) .cancel').hidden").get<bool>())
       << "no cancel button on a cancelled job";
   // The cancelled cut used the sheet: its owner is offered "Sheet loaded", and pressing it frees the cutter.
-  httplib::Client c = d.client("kiosk-change-me-0123456789");
   EXPECT_EQ(get_json(c, "/api/v1/devices").body["devices"][0]["sheet"], "awaiting_sheet");
-  ASSERT_TRUE(
-      wait_until([&] { return !b.run("return document.querySelector('#jobs .job .sheet').hidden").get<bool>(); }, 60))
+  ASSERT_TRUE(wait_until(
+      [&] { return !b.run("return document.querySelector('#jobs .job:nth-child(2) .sheet').hidden").get<bool>(); }, 60))
       << "the owner's job shows the button; page: " << b.run("return document.body.innerText").dump();
-  EXPECT_EQ(b.run("return document.querySelector('#jobs .job .sheet').textContent").get<std::string>(), "Sheet loaded");
-  b.click("#jobs .job .sheet");
+  EXPECT_EQ(b.run("return document.querySelector('#jobs .job:nth-child(2) .sheet').textContent").get<std::string>(),
+            "Sheet loaded");
+  b.click("#jobs .job:nth-child(2) .sheet");
   ASSERT_TRUE(wait_until([&] { return get_json(c, "/api/v1/devices").body["devices"][0]["sheet"] == "loaded"; }, 60))
       << "the press confirmed the sheet";
-  EXPECT_TRUE(
-      wait_until([&] { return b.run("return document.querySelector('#jobs .job .sheet').hidden").get<bool>(); }, 60))
+  EXPECT_TRUE(wait_until(
+      [&] { return b.run("return document.querySelector('#jobs .job:nth-child(2) .sheet').hidden").get<bool>(); }, 60))
       << "and the button goes";
 }
 
