@@ -177,9 +177,13 @@ JobStore::Recovered JobStore::recover(const std::function<Wear(const Job&)>& cra
     std::vector<Job> cut_short;
     for (Stmt s(db_, select_jobs("WHERE state='cutting' ORDER BY id").c_str()); s.step();)
       cut_short.push_back(read_job(s));
+    std::vector<std::int64_t> counted;  // their run's wear was added just before the crash
+    for (Stmt s(db_, "SELECT id FROM jobs WHERE state='cutting' AND run_wear_counted=1"); s.step();)
+      counted.push_back(s.integer(0));
     for (const Job& j : cut_short) {
       r.interrupted_ids.push_back(j.id);
-      if (crashed_run_wear) add_wear_locked(j.id, j.device, crashed_run_wear(j));
+      const bool done = std::find(counted.begin(), counted.end(), j.id) != counted.end();
+      if (crashed_run_wear && !done) add_wear_locked(j.id, j.device, crashed_run_wear(j));
     }
   } catch (...) {
     exec("ROLLBACK");
@@ -340,7 +344,7 @@ std::optional<Job> JobStore::claim_for_device(const std::string& device, const s
     j.started_at = j.started_at > 0 ? j.started_at : unix_now_s();
     Stmt(db_,
          "UPDATE jobs SET state='cutting', device=?, started_at=?, strokes_executed=NULL,"
-         " run_started_at=?4, last_cut_at=?4 WHERE id=?3")
+         " run_started_at=?4, last_cut_at=?4, run_wear_counted=0 WHERE id=?3")
         .bind(1, device)
         .bind(2, j.started_at)
         .bind(3, j.id)

@@ -35,7 +35,13 @@ DeviceWear read_wear(sqlite3* db, const std::string& device) {
 
 }  // namespace
 
-void JobStore::create_wear_tables() { exec(kSchema); }
+void JobStore::create_wear_tables() {
+  exec(kSchema);
+  // Set when a run's wear is added, cleared when a run starts: a crash after the addition and
+  // before the job's outcome was recorded must not count that run again at the restart.
+  if (!has_column("jobs", "run_wear_counted"))
+    exec("ALTER TABLE jobs ADD COLUMN run_wear_counted INTEGER NOT NULL DEFAULT 0");
+}
 
 void JobStore::add_wear_locked(std::int64_t job_id, const std::string& device, const Wear& run) {
   if (run.knife_down_strokes == 0) return;
@@ -67,6 +73,7 @@ JobStore::WearAdded JobStore::add_run_wear(std::int64_t job_id, const std::strin
   exec("BEGIN IMMEDIATE");
   try {
     add_wear_locked(job_id, device, run);
+    Stmt(db_, "UPDATE jobs SET run_wear_counted=1 WHERE id=?").bind(1, job_id).step();
     WearAdded out;
     out.device = read_wear(db_, device);
     // Marked in the same transaction: the event is raised once, whatever restarts follow.

@@ -207,6 +207,7 @@ function jobItem(j, awaiting) {
   if (j.place_in_line !== null) where += ' · ' + (j.place_in_line === 0 ? 'next' : j.place_in_line + ' ahead');
   if (j.eta_s !== null) where += ' · about ' + Math.ceil(j.eta_s) + ' s';
   if (j.state === 'cutting' || j.state === 'done') where += ' · ' + j.strokes_sent + '/' + j.strokes_total + ' strokes';
+  if (j.sheets > 1) where += ' · sheet ' + j.sheet + ' of ' + j.sheets;
   if (j.error) where += ' · ' + j.error.message;
   li.querySelector('.where').textContent = where;
   li.querySelector('progress').value = j.progress;

@@ -120,8 +120,9 @@ function deviceState(d, job) {
   // Cutting a job this poll could not fetch: still cutting, without the numbers.
   if (d.job) return { key: 'cutting', glyph: '▶', text: (d.state === 'pausing' ? 'PAUSING — finishing #' : 'CUTTING #') + d.job };
   if (d.state === 'paused') return { key: 'paused', glyph: '⏸', text: 'PAUSED' };
+  // The device itself said it has none (GP-GL tray empty): the same step, in its words.
+  if (d.tray_empty) return { key: 'awaiting-sheet', glyph: '⚠', text: 'NO SHEET LOADED' };
   if (d.sheet === 'awaiting_sheet') return { key: 'awaiting-sheet', glyph: '⚠', text: 'LOAD A FRESH SHEET' };
-  if (d.sheet === 'empty') return { key: 'empty', glyph: '⚠', text: 'NO SHEET' };
   return { key: 'idle', glyph: '●', text: 'IDLE' };
 }
 
@@ -199,6 +200,7 @@ function queueRow(j, ahead) {
   if (j.place_in_line !== null) where += ' · ' + (j.place_in_line === 0 ? 'next' : j.place_in_line + ' ahead');
   if (j.eta_s !== null) where += ' · done in about ' + seconds(j.eta_s);
   if (j.state === 'cutting' || j.state === 'interrupted' || j.state === 'paused') where += ' · ' + j.strokes_sent + '/' + j.strokes_total + ' strokes';
+  if (j.sheets > 1) where += ' · sheet ' + j.sheet + ' of ' + j.sheets;
   if (j.pause === 'requested') where += ' · pause requested';
   if (j.error && j.state !== 'cutting') where += ' · ' + j.error.message;
   const badge = el('span', 'badge s-' + j.state, j.state.toUpperCase());

@@ -400,4 +400,32 @@ TEST(WearStore, AddsPerRunMarksWornOnceResetsAndSurvivesReopening) {
   EXPECT_EQ(s.device_wear("b").since_s, 0) << "a device never counted";
 }
 
+// Killed after a run's wear was added and before its outcome was recorded: the restart does not
+// count that run a second time; a run killed before its wear was added is counted at the restart.
+TEST(WearStore, ARunKilledAfterItsWearWasAddedIsNotCountedAgain) {
+  popcut::testing::TempDir dir("wear-crash");
+  JobStore s((dir.path() / "jobs.db").string());
+  const auto cutting = [&] {
+    const std::int64_t id = *s.insert({"k", "card", "a", "sim", "{}"}, 100);
+    EXPECT_EQ(s.claim_for_planning()->id, id);
+    s.set_planned(id, 8, 5.0);
+    EXPECT_EQ(s.claim_for_device("a", "sim")->id, id);
+    s.set_progress(id, 8);
+    return id;
+  };
+  const std::int64_t counted = cutting();
+  s.add_run_wear(counted, "a", {420, 0, 0, 8}, std::nullopt);
+  const std::int64_t uncounted = cutting();
+  const auto recovered = s.recover([](const Job&) { return Wear{420, 0, 0, 8}; });
+  EXPECT_EQ(recovered.interrupted, 2);
+  EXPECT_EQ(s.get(counted)->knife_down_strokes, 8) << "once, not twice";
+  EXPECT_EQ(s.get(uncounted)->knife_down_strokes, 8) << "counted at the restart";
+  EXPECT_EQ(s.device_wear("a").blade.knife_down_strokes, 16);
+  // A later run of the same job starts uncounted again.
+  ASSERT_EQ(s.resume(counted), ResumeResult::resumed);
+  ASSERT_EQ(s.claim_for_device("a", "sim")->id, counted);
+  s.recover([](const Job&) { return Wear{0, 0, 0, 1}; });
+  EXPECT_EQ(s.get(counted)->knife_down_strokes, 9) << "its second run, cut short, is counted";
+}
+
 }  // namespace
