@@ -1,4 +1,5 @@
-// The fixture popcutd's end-to-end tests share: a data directory, a daemon started on a config, the job calls, and the CLI.
+// The fixture popcutd's end-to-end tests share: a data directory, a daemon started on a config, the job calls, and the
+// CLI.
 #pragma once
 
 #include <gtest/gtest.h>
