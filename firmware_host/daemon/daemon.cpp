@@ -411,6 +411,19 @@ void Daemon::close_run(Worker& w, const Job& job, const SheetRun& sheet, const C
                                   ? std::optional<std::int64_t>(static_cast<std::int64_t>(*out.last_stroke_executed))
                                   : std::nullopt);
   if (out.kind == CutOutcome::Kind::complete) ++cuts_completed_;
+  bool user_cancel;
+  {
+    std::lock_guard lock(mutex_);
+    user_cancel = w.user_cancel;
+  }
+  if (out.kind == CutOutcome::Kind::complete && sheet.sheet + 1 < job.sheets() && user_cancel) {
+    // Cancelled as the sheet's last strokes went out: that sheet is whole, no other is cut.
+    store_.finish(job.id, JobState::cancelled, to_string(ApiError::cancelled),
+                  "cancelled during sheet " + std::to_string(sheet.sheet + 1) + " of " + std::to_string(job.sheets()) +
+                      ", which was cut whole; the sheets after it were not cut");
+    emit_outcome(job.id);
+    return;
+  }
   if (out.kind == CutOutcome::Kind::complete && sheet.sheet + 1 < job.sheets()) {
     // A full sheet and more to come: the job waits in its place for the next (device_loop's
     // sheet_after_job asks for a fresh one where sheets are confirmed).
@@ -418,11 +431,6 @@ void Daemon::close_run(Worker& w, const Job& job, const SheetRun& sheet, const C
     log_line("job ", job.id, ": sheet ", sheet.sheet + 1, " of ", job.sheets(), " cut on ", dev.name,
              dev.confirm_sheet ? "; its next sheet waits for a fresh one" : "");
     return;
-  }
-  bool user_cancel;
-  {
-    std::lock_guard lock(mutex_);
-    user_cancel = w.user_cancel;
   }
   record_outcome(store_, job, dev, user_cancel, out);
   if (out.kind == CutOutcome::Kind::paused) {

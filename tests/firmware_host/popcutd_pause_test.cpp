@@ -62,7 +62,9 @@ class PopcutdPause : public ::testing::Test {
 TEST_F(PopcutdPause, PauseMidCutSurvivesKillAndContinueCutsOnlyTheRest) {
   std::int64_t id = 0, box = 0, paused_after = 0, total = 0;
   {
-    const auto d = start(config(dir_, 1.0, 20.0));
+    // Slowed 8 times the castle takes about 270 s; a pause waits for the device to cut what its
+    // 1 KiB buffer holds (a third of the job), so it lands mid-cut and well within the wait below.
+    const auto d = start(config(dir_, 1.0, 8.0));
     httplib::Client c = d->client(kKiosk);
     id = submit(c, submission("voxel/castle.json", "castle"));
     ASSERT_TRUE(wait_until([&] {
@@ -74,7 +76,7 @@ TEST_F(PopcutdPause, PauseMidCutSurvivesKillAndContinueCutsOnlyTheRest) {
     EXPECT_EQ(act(c, id, "continue").status, 409) << "a cutting job is not paused: nothing to continue";
     const Reply p = act(c, id, "pause");
     EXPECT_EQ(p.status, 202) << p.body.dump();
-    ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "paused"; }, 120)) << d->log();
+    ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "paused"; }, 300)) << d->log();
     const json j = job(c, id);
     paused_after = j.value("strokes_sent", std::int64_t{0});
     total = j.value("strokes_total", std::int64_t{0});
