@@ -349,6 +349,40 @@ TEST_F(SerialPopcutd, AMaterialJobKilledMidCutResumesWithItsMaterialOnTheSameShe
     EXPECT_TRUE(after.count(setting)) << "the resumed run cuts with the settings the first one did: " << setting.first;
 }
 
+// Pause and continue over a real serial line: the cut stops after the stroke in flight once the
+// cutter has drained, the knife up; continue re-sends the init and goes on, and the plotter, one
+// session throughout (the same sheet), cut every stroke of the card exactly once.
+TEST_F(SerialPopcutd, PauseAndContinueOverASerialLineCutTheCardOnce) {
+  auto plot = plotter("paused", {"--slowdown", "0.3"});
+  const int hold = ::open(plot->port().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);  // one session: the same sheet
+  ASSERT_GE(hold, 0) << plot->port();
+  const auto d = start_on(*plot);
+  httplib::Client c = d->client(kKiosk);
+  const std::int64_t id = submit(c, submission(example("voxel/townhouse.json"), "device", "cutter", "paused"));
+  const std::string path = "/api/v1/jobs/" + std::to_string(id);
+  ASSERT_TRUE(wait_until([&] { return job(c, id)["state"] == "cutting" && job(c, id)["strokes_sent"] >= 5; }, 120))
+      << d->log();
+  ASSERT_EQ(post_json(c, path + "/pause", "").status, 202);
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)) || job(c, id)["state"] == "paused"; }, 120)) << d->log();
+  json j = job(c, id);
+  ASSERT_EQ(j["state"], "paused") << j.dump();
+  const std::int64_t after = j["strokes_sent"], total = j["strokes_total"];
+  EXPECT_LT(after, total) << "paused mid-cut";
+  EXPECT_EQ(j["strokes_executed"], after) << "the cutter drained: what it received, it cut";
+  ASSERT_EQ(post_json(c, path + "/continue", "").status, 200);
+  ASSERT_TRUE(wait_until([&] { return final_state(job(c, id)); }, 180)) << d->log();
+  j = job(c, id);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["resume_from"], after);
+  EXPECT_EQ(d->stop(SIGTERM), 0);
+  ::close(hold);
+  ASSERT_EQ(plot->wait(), 0) << plot->log();
+  const json report = plot->report();
+  EXPECT_EQ(report["overflow_bytes"], 0);
+  EXPECT_EQ(popcut::testing::sim_plotter_strokes(report), planned(id)) << "every stroke once, in order";
+  EXPECT_FALSE(report["knife_down_at_end"].get<bool>());
+}
+
 // The device's profile says XON/XOFF; the plotter never says XOFF (it is set up for ESC.B), so
 // its buffer overflows while every write succeeds. Its ESC.E answer fails the job for good: what
 // it cut is not the job, and a resume would only cut the rest of a spoiled sheet.
