@@ -223,11 +223,13 @@ std::string status_flow_profile(const std::string& shipped) {
   std::stringstream text;
   text << in.rdbuf();
   std::string t = text.str();
-  if (t.find("flow_control = \"status\"") != std::string::npos) return shipped;  // as the Cameo 4 ships
-  const std::string from = "flow_control = \"none\"";
-  const std::size_t at = t.find(from);
-  if (at == std::string::npos) throw std::runtime_error("transport_bench: " + shipped + " has no " + from);
-  t.replace(at, from.size(), "flow_control = \"status\"");
+  // Always a copy: the caller removes it afterwards. The Cameo 4 ships with status flow already.
+  if (t.find("flow_control = \"status\"") == std::string::npos) {
+    const std::string from = "flow_control = \"none\"";
+    const std::size_t at = t.find(from);
+    if (at == std::string::npos) throw std::runtime_error("transport_bench: " + shipped + " has no " + from);
+    t.replace(at, from.size(), "flow_control = \"status\"");
+  }
   const fs::path out = fs::temp_directory_path() / ("popcut-bench-" + std::to_string(::getpid()) + "-status.toml");
   std::ofstream(out) << t;
   return out.string();
