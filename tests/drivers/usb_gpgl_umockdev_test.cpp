@@ -18,6 +18,8 @@
 #include "popcut/drivers/ports.h"
 #include "popcut/drivers/sim_cutter.h"
 #include "popcut/io/model_io.h"
+#include "cut_job.h"
+#include "popcutd_process.h"
 #include "usb_mock.h"
 
 namespace {
@@ -189,6 +191,52 @@ TEST_F(SilhouetteUsb, PopcutDevicesListsTheCameoByItsProfilesName) {
   EXPECT_NE(text.find(std::string(kDevice) + "  bus 1 address 3  CAMEO 4  " + profile_.name + " (profile "),
             std::string::npos)
       << text;
+}
+
+// popcutd, a process of its own on the testbed, pauses the Cameo's cut over USB and continues it:
+// the pause drains the device and lifts the knife, continue re-sends the init, and the cutter (the
+// same one, the same sheet) cut every stroke of the card once.
+TEST_F(SilhouetteUsb, PopcutdPausesAndContinuesACutOverUsb) {
+  plug_in();
+  {
+    std::lock_guard<std::mutex> lock(device_.mutex);
+    device_.time_scale = 2;  // townhouse's 42 s of motion in about 21 s: time to pause mid-cut
+  }
+  popcut::testing::TempDir dir("popcutd-usb");
+  const std::string data = (dir.path() / "data").string();
+  const std::string cfg = dir.write(
+      "usb.toml", "[server]\ndata_dir = \"x\"\n[[device]]\nname = \"cameo\"\nprofile = \"" + kSource +
+                      "/configs/devices/silhouette-cameo4.toml\"\ntransport = \"" + kDevice +
+                      "\"\nconfirm_sheet = false\n[[token]]\nname = \"kiosk\"\ntoken = \"kiosk-0123456789abcdef\"\n");
+  popcut::testing::PopcutdProcess d(POPCUTD, cfg, data);
+  httplib::Client c = d.client("kiosk-0123456789abcdef");
+  const nlohmann::json body = {
+      {"device", "cameo"},
+      {"model", nlohmann::json::parse(popcut::testing::read_file(kSource + "/examples/voxel/townhouse.json"))}};
+  const popcut::testing::Reply r = popcut::testing::post_json(c, "/api/v1/jobs", body.dump());
+  ASSERT_EQ(r.status, 201) << r.body.dump();
+  const std::string path = "/api/v1/jobs/" + std::to_string(r.body["id"].get<std::int64_t>());
+  const auto job = [&] { return popcut::testing::get_json(c, path).body; };
+  ASSERT_TRUE(
+      popcut::testing::wait_until([&] { return job()["state"] == "cutting" && job()["strokes_sent"] >= 5; }, 60))
+      << d.log();
+  ASSERT_EQ(popcut::testing::post_json(c, path + "/pause", "").status, 202);
+  ASSERT_TRUE(popcut::testing::wait_until([&] { return job()["state"] != "cutting"; }, 120)) << d.log();
+  nlohmann::json j = job();
+  ASSERT_EQ(j["state"], "paused") << j.dump() << d.log();
+  const std::int64_t after = j["strokes_sent"];
+  EXPECT_LT(after, j["strokes_total"].get<std::int64_t>()) << "paused mid-cut";
+  EXPECT_EQ(j["strokes_executed"], after) << "the Cameo drained: what it received, it cut";
+  ASSERT_EQ(popcut::testing::post_json(c, path + "/continue", "").status, 200);
+  ASSERT_TRUE(
+      popcut::testing::wait_until([&] { return job()["state"] != "ready" && job()["state"] != "cutting"; }, 120))
+      << d.log();
+  j = job();
+  EXPECT_EQ(j["state"], "done") << j.dump() << d.log();
+  const std::string plan_path = data + "/jobs/" + std::to_string(j["id"].get<std::int64_t>()) + "/plan.json";
+  const StrokePlan plan = popcut::daemon::plan_from_json(popcut::testing::read_file(plan_path), plan_path);
+  EXPECT_FALSE(first_difference(plan_in_plotter_units(plan, profile_.dialect), cut()).has_value())
+      << "every stroke once, in order, across the pause";
 }
 
 }  // namespace
