@@ -234,6 +234,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.profile.empty()) items.push_back({"profile", s.profile, "", ""});
     if (!s.name.empty()) items.push_back({"name", s.name, "", ""});
     if (!s.material.empty()) items.push_back({"material", s.material, "", ""});
+    if (s.copies != 1) items.push_back({"copies", std::to_string(s.copies), "", ""});
     for (const auto& [option, value] : s.import_values) items.push_back({option, value, "", ""});
     job = c.post_form("/api/v1/jobs", items, job_shape_problem, key);
   } else {
@@ -255,6 +256,7 @@ int submit(const ClientCommands& s, Connection& c) {
     if (!s.profile.empty()) body["profile"] = s.profile;
     if (!s.name.empty()) body["name"] = s.name;
     if (!s.material.empty()) body["material"] = s.material;
+    if (s.copies != 1) body["copies"] = s.copies;
     job = c.request("POST", "/api/v1/jobs", job_shape_problem, body.dump(), key);
   }
   // Only the submission's answer has them; a job fetched again while waiting does not.
@@ -308,6 +310,10 @@ void add_submit_command(CLI::App& app, ClientCommands& s) {
       ->required();
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
+  s.submit
+      ->add_option("--copies", s.copies,
+                   "Cards to cut (1-1000): nested on the device's media, on as many sheets as they take")
+      ->check(CLI::Range(1, 1000));
   s.submit->add_option("--material", s.material,
                        "Material (popcutd's configs/materials/NAME.toml, e.g. card-220) for the device's family");
   s.submit->add_option("--name", s.name, "A label for the job (default: the model's name, or the mesh's file name)")

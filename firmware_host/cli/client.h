@@ -21,6 +21,7 @@ struct ClientCommands {
   CLI::App* continue_cmd = nullptr;
   std::string server, token, model_path, device, profile, name, material;
   std::string idempotency_key;                                     // submit: "" sends a new UUID
+  int copies = 1;                                                  // submit --copies
   std::string states, filter_device, since;                        // jobs' filters
   int priority = 0;                                                // move --priority
   long long before_id = 0;                                         // move --before

@@ -311,7 +311,9 @@ function drawDays(days) {
     }
     // Submitted: a black tick across the bar's slot, at its height.
     if (d.jobs) g.append(svg('line', { x1: x - 2, x2: x + w + 2, y1: H - bottom - d.jobs * scale, y2: H - bottom - d.jobs * scale, stroke: '#000', 'stroke-width': 3, class: 'submitted' }));
-    if (i % every === 0 || i === days.length - 1) g.append(svg('text', { x: x + w / 2, y: H - 8, 'text-anchor': 'middle', class: 'axis' }, d.date.slice(5)));
+    // Every `every`-th date and the last, but not one that would crowd the last's.
+    const last = days.length - 1;
+    if ((i % every === 0 && last - i >= every) || i === last) g.append(svg('text', { x: x + w / 2, y: H - 8, 'text-anchor': 'middle', class: 'axis' }, d.date.slice(5)));
     parts.push(g);
   });
   chart.replaceChildren(...parts);

@@ -1,8 +1,10 @@
 // Nested copies through popcutd end to end: killed half way through the sheet, resumed, every card cut once.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -125,6 +127,24 @@ TEST(PopcutdCopies, MoreCopiesThanOneSheetHoldsAreCutSheetAfterSheetEachOnAFresh
     EXPECT_NE(logs.find(run), std::string::npos) << run << "\n" << logs;
     EXPECT_EQ(logs.find(run), logs.rfind(run)) << "each sheet once: " << run;
   }
+}
+
+// popcut submit --copies sends them; 0 is refused before anything is sent.
+TEST(PopcutdCopies, PopcutSubmitSendsCopies) {
+  TempDir dir("popcutd-submit-copies");
+  PopcutdProcess d(POPCUTD, config(dir, 0), (dir.path() / "data").string());
+  const std::string out = (dir.path() / "out").string();
+  const std::string submit = std::string(POPCUT_CLI) + " submit " + kSrc + "/examples/voxel/box.json --device slow" +
+                             " --server http://127.0.0.1:" + std::to_string(d.port()) + " --token " + kKiosk;
+  ASSERT_EQ(WEXITSTATUS(std::system((submit + " --copies 3 --wait --json >" + out + " 2>&1").c_str())), 0)
+      << popcut::testing::read_file(out);
+  const json j = json::parse(popcut::testing::read_file(out));
+  EXPECT_EQ(j["copies"], 3);
+  EXPECT_EQ(j["sheets"], 1);
+  EXPECT_EQ(j["state"], "done");
+  EXPECT_EQ(j["strokes_total"], 24) << "three box cards of 8 strokes";
+  EXPECT_EQ(WEXITSTATUS(std::system((submit + " --copies 0 >" + out + " 2>&1").c_str())), 2);
+  EXPECT_NE(popcut::testing::read_file(out).find("--copies"), std::string::npos) << popcut::testing::read_file(out);
 }
 
 }  // namespace
