@@ -299,7 +299,9 @@ TEST_F(SerialPopcutd, AGpglCutterWithNoSheetLoadedKeepsTheJobInLineUntilOneIs) {
 // the material's forces and speeds, every planned stroke cut in order.
 TEST_F(SerialPopcutd, AMaterialJobKilledMidCutResumesWithItsMaterialOnTheSameSheet) {
   profile_ = dir_.write("cameo.toml", read_file(kSrc + "/configs/devices/silhouette-cameo4.toml"));
-  edit_profile("[transport]\n", "[transport]\nbaud = 115200\ntimeout_ms = 3000\nhold_timeout_ms = 8000\n");
+  // The resumed run waits (up to hold_timeout_ms) while the cutter still cuts what the killed run
+  // left in its 1 KiB buffer: ~10 s at this slowdown, more on a loaded machine.
+  edit_profile("[transport]\n", "[transport]\nbaud = 115200\ntimeout_ms = 3000\nhold_timeout_ms = 60000\n");
   // The Cameo's own 1 KiB (plotter() gives the HP-GL tests' 256 bytes, which the profile would overrun).
   auto plot = std::make_unique<popcut::testing::SimPlotterProcess>(
       POPCUT_CLI, std::vector<std::string>{"--profile", profile_, "--slowdown", "0.5"},
