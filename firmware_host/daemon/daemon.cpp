@@ -264,7 +264,7 @@ void Daemon::plan_one(const Job& job) {
     if (!text) throw Error(ErrorCode::internal, "job", "model", "the model is missing from the database");
     const Pattern pattern = checked_pattern(*text, "job " + std::to_string(job.id), config_.limits);
     // As `popcut cut` plans it; a sheet that does not fit the device is refused now, not at the cutter.
-    // More copies than a sheet holds go on as many sheets as they take (sheet_plan_path).
+    // More copies than a sheet holds go on as many sheets as they take (cut_job.h, sheet_run).
     const drivers::SheetPlans planned =
         drivers::plan_sheets_for_device(pattern, job_profile(*dev, job.material), dev->profile_path, {job.copies});
     const std::filesystem::path dir = job_dir(job.id);
