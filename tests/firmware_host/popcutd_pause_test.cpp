@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "popcutd_fixture.h"
 #include "popcutd_process.h"
 
 namespace {
@@ -39,23 +40,11 @@ std::string submission(const std::string& example, const std::string& name) {
       .dump();
 }
 
-class PopcutdPause : public ::testing::Test {
+// The shared end-to-end fixture (a data directory, start, job, submit) and a job's actions.
+class PopcutdPause : public popcut::testing::e2e::Popcutd {
  protected:
-  TempDir dir_{"popcutd-pause"};
-  std::string data_ = (dir_.path() / "data").string();
-  std::unique_ptr<PopcutdProcess> start(const std::string& cfg) {
-    return std::make_unique<PopcutdProcess>(POPCUTD, cfg, data_);
-  }
-  static json job(httplib::Client& c, std::int64_t id) {
-    return get_json(c, "/api/v1/jobs/" + std::to_string(id)).body;
-  }
   static Reply act(httplib::Client& c, std::int64_t id, const std::string& what) {
     return post_json(c, "/api/v1/jobs/" + std::to_string(id) + "/" + what, "");
-  }
-  static std::int64_t submit(httplib::Client& c, const std::string& body) {
-    const Reply r = post_json(c, "/api/v1/jobs", body);
-    EXPECT_EQ(r.status, 201) << r.body.dump();
-    return r.body.value("id", std::int64_t{0});
   }
 };
 
