@@ -1,0 +1,333 @@
+// Infers each region's plane from the folds (t_h − t_v = v), the centre fold's place, and checks the result.
+#include "popcut/pattern/card_from_sheet.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <unordered_map>
+
+#include "popcut/error.h"
+#include "popcut/pattern/face_pattern.h"
+#include "popcut/pattern/pattern.h"
+#include "popcut/text.h"
+
+namespace popcut {
+namespace {
+
+constexpr double kEps = 1e-6;  // mm: far below the 1e-4 mm of written files, far above rounding
+
+Point2 mid(const SheetEdge& e) { return {(e.a.x_mm + e.b.x_mm) / 2, (e.a.v_mm + e.b.v_mm) / 2}; }
+bool is_fold(DrawnKind k) { return k == DrawnKind::mountain || k == DrawnKind::valley || k == DrawnKind::fold; }
+
+// A region's plane while the centre fold's height c is unknown: t = a + b·c.
+struct Plane {
+  bool known = false;
+  FaceKind kind = FaceKind::vertical;
+  double a = 0;
+  int b = 0;
+};
+
+class Inference {
+ public:
+  Inference(const LineDrawing& d, const SheetMap& m) : d_(d), m_(m), planes_(m.regions.size()) {}
+  InferredCard run();
+
+ private:
+  void conflict(std::string what, Point2 at, std::vector<int> regions, int drawn = -1) {
+    out_.conflicts.push_back({std::move(what), at, std::move(regions),
+                              drawn >= 0 ? d_.lines[static_cast<std::size_t>(drawn)].where : std::string()});
+  }
+  Plane& plane(int region) { return planes_[static_cast<std::size_t>(region)]; }
+  bool sheet_is_rectangle();
+  void anchor_boards();
+  void check_edges();
+  void propagate();
+  void check_pieces();
+  void check_folds(double c);
+  std::optional<double> solve_centre();
+  void build_model(double c);
+  void compare_lines(const Pattern& card, double c);
+
+  const LineDrawing& d_;
+  const SheetMap& m_;
+  std::vector<Plane> planes_;
+  std::vector<std::vector<int>> folds_of_;  // region → indices of its fold edges
+  InferredCard out_;
+};
+
+bool Inference::sheet_is_rectangle() {
+  const Rect& r = m_.bounds;
+  const double box = (r.max.x_mm - r.min.x_mm) * (r.max.v_mm - r.min.v_mm);
+  const bool on_box = std::all_of(m_.outline.begin(), m_.outline.end(), [&](Point2 p) {
+    return std::abs(p.x_mm - r.min.x_mm) < kEps || std::abs(p.x_mm - r.max.x_mm) < kEps ||
+           std::abs(p.v_mm - r.min.v_mm) < kEps || std::abs(p.v_mm - r.max.v_mm) < kEps;
+  });
+  if (on_box && std::abs(signed_area_mm2(m_.outline) - box) < 1e-3) return true;
+  conflict("the sheet's edge is not a rectangle: an OA card folds a rectangular sheet (import it with --as sheet)",
+           m_.outline.front(), {});
+  return false;
+}
+
+// The back board is the region holding the most of the sheet's top edge, the floor the one
+// holding the most of its bottom edge; other regions on those edges hang from folds like any face
+// (the sheet's edge holds nothing, so a notch cut from it is a piece cut free).
+void Inference::anchor_boards() {
+  std::unordered_map<int, double> top, bottom;
+  for (const SheetEdge& e : m_.edges) {
+    if ((e.left >= 0) == (e.right >= 0)) continue;
+    const int inside = e.left >= 0 ? e.left : e.right;
+    const double len = std::abs(e.b.x_mm - e.a.x_mm);
+    const auto on = [&](double v) { return std::abs(e.a.v_mm - v) < kEps && std::abs(e.b.v_mm - v) < kEps; };
+    if (on(m_.bounds.max.v_mm)) top[inside] += len;
+    if (on(m_.bounds.min.v_mm)) bottom[inside] += len;
+  }
+  const auto most = [](const std::unordered_map<int, double>& m) {
+    int best = -1;
+    for (const auto& [r, len] : m)
+      if (best < 0 || len > m.at(best) || (len == m.at(best) && r < best)) best = r;
+    return best;
+  };
+  const int back = most(top), floor = most(bottom);
+  if (back < 0 || floor < 0) return;  // a rectangle always has both edges
+  if (back == floor) {
+    conflict("one region holds both the sheet's top and bottom edges: no fold separates the back board from the floor",
+             m_.regions[static_cast<std::size_t>(back)].label, {back});
+    return;
+  }
+  plane(back) = {true, FaceKind::vertical, 0, 0};
+  plane(floor) = {true, FaceKind::horizontal, 0, 0};
+}
+
+void Inference::check_edges() {
+  folds_of_.assign(m_.regions.size(), {});
+  for (std::size_t i = 0; i < m_.edges.size(); ++i) {
+    const SheetEdge& e = m_.edges[i];
+    if (e.left == e.right && e.left >= 0) {
+      conflict(std::string("a ") + to_string(e.kind) +
+                   " line ends inside one face (a slit): an OA card's face model has no slits",
+               mid(e), {e.left}, e.drawn);
+      continue;
+    }
+    if (!is_fold(e.kind)) continue;
+    if (std::abs(e.a.v_mm - e.b.v_mm) > kEps) {
+      conflict("a fold not parallel to the centre fold: every fold of an OA card runs along x", mid(e),
+               {e.left, e.right}, e.drawn);
+      continue;
+    }
+    folds_of_[static_cast<std::size_t>(e.left)].push_back(static_cast<int>(i));
+    folds_of_[static_cast<std::size_t>(e.right)].push_back(static_cast<int>(i));
+  }
+}
+
+// Walks the fold graph from the boards: across a fold at height v the other face is of the
+// other kind, and t_h − t_v = v − c.
+void Inference::propagate() {
+  std::deque<int> queue;
+  for (std::size_t r = 0; r < planes_.size(); ++r)
+    if (planes_[r].known) queue.push_back(static_cast<int>(r));
+  while (!queue.empty()) {
+    const int r = queue.front();
+    queue.pop_front();
+    const Plane from = plane(r);
+    for (const int ei : folds_of_[static_cast<std::size_t>(r)]) {
+      const SheetEdge& e = m_.edges[static_cast<std::size_t>(ei)];
+      const int other = e.left == r ? e.right : e.left;
+      if (plane(other).known) continue;
+      const double v = e.a.v_mm - m_.bounds.min.v_mm;
+      plane(other) = from.kind == FaceKind::vertical ? Plane{true, FaceKind::horizontal, from.a + v, from.b - 1}
+                                                     : Plane{true, FaceKind::vertical, from.a - v, from.b + 1};
+      queue.push_back(other);
+    }
+  }
+}
+
+std::optional<double> Inference::solve_centre() {
+  std::optional<double> c;
+  for (const SheetEdge& e : m_.edges) {  // the first fold whose residual depends on c fixes it
+    if (!is_fold(e.kind) || e.left == e.right || std::abs(e.a.v_mm - e.b.v_mm) > kEps) continue;
+    const Plane &u = plane(e.left), &l = plane(e.right);
+    if (!u.known || !l.known || u.kind == l.kind) continue;
+    const Plane &h = u.kind == FaceKind::horizontal ? u : l, &vf = u.kind == FaceKind::horizontal ? l : u;
+    const double alpha = h.a - vf.a - (e.a.v_mm - m_.bounds.min.v_mm);
+    const int beta = h.b - vf.b + 1;
+    if (beta != 0) {
+      c = -alpha / beta;
+      break;
+    }
+  }
+  if (!c) conflict("no fold joins the back board to the floor: the sheet has no centre fold", m_.outline.front(), {});
+  return c;
+}
+
+// Each fold once the planes are known: two kinds, planes that meet (t_h − t_v = v), and the
+// drawn direction where one was drawn.
+void Inference::check_folds(double c) {
+  for (const SheetEdge& e : m_.edges) {
+    if (!is_fold(e.kind) || e.left == e.right || std::abs(e.a.v_mm - e.b.v_mm) > kEps) continue;
+    const Plane &u = plane(e.left), &l = plane(e.right);
+    if (!u.known || !l.known) continue;
+    const double v = e.a.v_mm - m_.bounds.min.v_mm - c;
+    if (u.kind == l.kind) {
+      conflict(std::string("a fold between two ") + (u.kind == FaceKind::vertical ? "vertical" : "horizontal") +
+                   " faces: folds join a vertical and a horizontal face",
+               mid(e), {e.left, e.right}, e.drawn);
+      continue;
+    }
+    const double tu = u.a + u.b * c, tl = l.a + l.b * c;
+    const double th = u.kind == FaceKind::horizontal ? tu : tl, tv = u.kind == FaceKind::horizontal ? tl : tu;
+    if (std::abs(th - tv - v) > 1e-4) {
+      conflict("the faces around this fold disagree: the planes the other folds give them (t_h − t_v = " +
+                   format_decimal(th - tv, 3) + " mm) do not meet at the fold's height " + format_decimal(v, 3) + " mm",
+               mid(e), {e.left, e.right}, e.drawn);
+      continue;
+    }
+    const DrawnKind made = u.kind == FaceKind::vertical ? DrawnKind::valley : DrawnKind::mountain;
+    if (e.kind != DrawnKind::fold && e.kind != made)
+      conflict(std::string("drawn as a ") + to_string(e.kind) + " fold, but the card folds it " + to_string(made),
+               mid(e), {e.left, e.right}, e.drawn);
+  }
+}
+
+void Inference::check_pieces() {
+  for (std::size_t r = 0; r < planes_.size(); ++r) {
+    if (planes_[r].known) continue;
+    const SheetRegion& g = m_.regions[r];
+    conflict(folds_of_[r].empty()
+                 ? "a piece cut free of the sheet (" + format_decimal(g.area_mm2, 1) + " mm²): nothing holds it"
+                 : "a piece held by folds to nothing joined to the back board or floor (" +
+                       format_decimal(g.area_mm2, 1) + " mm²)",
+             g.label, {static_cast<int>(r)});
+  }
+}
+
+Ring shifted(const Ring& ring, Point2 origin) {
+  Ring out;
+  out.reserve(ring.size());
+  for (const Point2& p : ring) out.push_back({p.x_mm - origin.x_mm, p.v_mm - origin.v_mm});
+  return out;
+}
+
+void Inference::build_model(double c) {
+  const Rect& b = m_.bounds;
+  const Point2 origin{b.min.x_mm, b.min.v_mm + c};
+  const double width = b.max.x_mm - b.min.x_mm, back = b.max.v_mm - origin.v_mm, floor = c;
+  if (!(back > 0) || !(floor > 0)) {
+    conflict("the centre fold lies at " + format_decimal(c, 3) + " mm, outside the sheet", m_.outline.front(), {});
+    return;
+  }
+  std::vector<OAFace> faces;
+  for (std::size_t r = 0; r < planes_.size(); ++r) {
+    const SheetRegion& g = m_.regions[r];
+    OAFace f;
+    f.kind = planes_[r].kind;
+    f.t_mm = planes_[r].a + planes_[r].b * c;
+    if (std::abs(f.t_mm) < kEps) f.t_mm = 0;
+    f.polygon.outer = shifted(g.outer, origin);
+    for (const Ring& h : g.holes) f.polygon.holes.push_back(shifted(h, origin));
+    faces.push_back(std::move(f));
+  }
+  out_.model = FaceModel::from_faces(width, back, floor, faces, d_.source);
+  out_.centre_fold_v_mm = c;
+  compare_lines(make_pattern(*out_.model, d_.source), c);
+}
+
+// A drawn segment's kind on the card: folds drawn without a direction take the one inferred.
+struct Typed {
+  LineKind kind;
+  Point2 a, b;
+  int drawn;
+};
+
+// The first segment of `from` whose midpoint lies on no segment of `in` of the same kind.
+const Typed* unmatched(const std::vector<Typed>& from, const std::vector<Typed>& in, double cell) {
+  std::unordered_map<long long, std::vector<std::size_t>> grid;
+  const auto key = [&](double x, double v) {
+    return static_cast<long long>(std::floor(x / cell)) * 1000003LL + static_cast<long long>(std::floor(v / cell));
+  };
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const Typed& s = in[i];
+    const double len = std::hypot(s.b.x_mm - s.a.x_mm, s.b.v_mm - s.a.v_mm);
+    const int steps = static_cast<int>(std::ceil(len / (cell / 2))) + 1;
+    for (int k = 0; k <= steps; ++k) {
+      const double t = static_cast<double>(k) / steps;
+      auto& slot = grid[key(s.a.x_mm + (s.b.x_mm - s.a.x_mm) * t, s.a.v_mm + (s.b.v_mm - s.a.v_mm) * t)];
+      if (slot.empty() || slot.back() != i) slot.push_back(i);
+    }
+  }
+  for (const Typed& f : from) {
+    const Point2 m{(f.a.x_mm + f.b.x_mm) / 2, (f.a.v_mm + f.b.v_mm) / 2};
+    bool found = false;
+    for (int dx = -1; dx <= 1 && !found; ++dx)
+      for (int dv = -1; dv <= 1 && !found; ++dv) {
+        const auto it = grid.find(key(m.x_mm + dx * cell, m.v_mm + dv * cell));
+        if (it == grid.end()) continue;
+        for (const std::size_t i : it->second) {
+          const Typed& s = in[i];
+          const double dxs = s.b.x_mm - s.a.x_mm, dvs = s.b.v_mm - s.a.v_mm, len2 = dxs * dxs + dvs * dvs;
+          const double u = std::clamp(((m.x_mm - s.a.x_mm) * dxs + (m.v_mm - s.a.v_mm) * dvs) / len2, 0.0, 1.0);
+          if (s.kind == f.kind && std::hypot(m.x_mm - s.a.x_mm - u * dxs, m.v_mm - s.a.v_mm - u * dvs) < 1e-4) {
+            found = true;
+            break;
+          }
+        }
+      }
+    if (!found) return &f;
+  }
+  return nullptr;
+}
+
+void Inference::compare_lines(const Pattern& card, double c) {
+  std::vector<Typed> drawn, made;
+  for (const SheetEdge& e : m_.edges) {
+    if (e.left < 0 || e.right < 0) continue;
+    LineKind k = LineKind::cut;
+    if (is_fold(e.kind)) k = plane(e.left).kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
+    drawn.push_back({k, e.a, e.b, e.drawn});
+  }
+  const Point2 origin{m_.bounds.min.x_mm, m_.bounds.min.v_mm + c};
+  for (const Segment& s : card.lines)
+    made.push_back({s.kind,
+                    {s.a.x_mm + origin.x_mm, s.a.v_mm + origin.v_mm},
+                    {s.b.x_mm + origin.x_mm, s.b.v_mm + origin.v_mm},
+                    -1});
+  const double cell = std::max(1.0, (m_.bounds.max.x_mm - m_.bounds.min.x_mm) / 256);
+  if (const Typed* t = unmatched(drawn, made, cell)) {
+    const Point2 m{(t->a.x_mm + t->b.x_mm) / 2, (t->a.v_mm + t->b.v_mm) / 2};
+    conflict(std::string("a drawn ") + to_string(t->kind) +
+                 " line the card does not have: the faces on its two sides lie in one plane (a slit or a stray line)",
+             m, {}, t->drawn);
+  }
+  if (const Typed* t = unmatched(made, drawn, cell))
+    conflict(std::string("the card needs a ") + to_string(t->kind) + " line here that the drawing lacks",
+             {(t->a.x_mm + t->b.x_mm) / 2, (t->a.v_mm + t->b.v_mm) / 2}, {});
+}
+
+InferredCard Inference::run() {
+  if (!sheet_is_rectangle()) return std::move(out_);
+  anchor_boards();
+  check_edges();
+  propagate();
+  check_pieces();
+  const std::optional<double> c = solve_centre();
+  if (c) check_folds(*c);
+  if (c && out_.conflicts.empty()) build_model(*c);
+  if (!out_.conflicts.empty()) out_.model.reset();
+  return std::move(out_);
+}
+
+}  // namespace
+
+InferredCard infer_card(const LineDrawing& drawing, const SheetMap& map) { return Inference(drawing, map).run(); }
+
+std::string describe_conflicts(const InferredCard& card, std::size_t max) {
+  std::string out;
+  for (std::size_t i = 0; i < card.conflicts.size() && i < max; ++i) {
+    const CardConflict& c = card.conflicts[i];
+    out += (i ? "\n" : "") + std::string("at (") + format_decimal(c.at.x_mm, 3) + ", " + format_decimal(c.at.v_mm, 3) +
+           ") mm" + (c.drawn.empty() ? "" : ", " + c.drawn) + ": " + c.what;
+  }
+  if (card.conflicts.size() > max) out += "\n… and " + std::to_string(card.conflicts.size() - max) + " more";
+  return out;
+}
+
+}  // namespace popcut
