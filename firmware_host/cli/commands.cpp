@@ -13,6 +13,7 @@
 #include "cli/devices.h"
 #include "cli/fold.h"
 #include "cli/import.h"
+#include "cli/import_pattern.h"
 #include "cli/pattern.h"
 #include "cli/sim_plotter.h"
 #include "cli/calibrate.h"
@@ -27,6 +28,7 @@ struct CommandStates {
   PatternCommands pattern;
   FoldCommands fold;
   ImportCommand import;
+  ImportPatternCommand import_pattern;
   CutCommands cut;
   TestCutCommand test_cut;
   CalibrateCommand calibrate;
@@ -52,12 +54,13 @@ constexpr CommandGroup group(std::string_view unlisted = "") {
 
 // In the order popcut --help lists the subcommands.
 const CommandGroup kCommandGroups[] = {
-    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(),      // pattern, validate, repair
-    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(),               // fold, render
-    group<&CommandStates::import, add_import_command, run_import_command>(),           // import
-    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(),                  // plan, cut
-    group<&CommandStates::test_cut, add_test_cut_command, run_test_cut_command>(),     // test-cut
-    group<&CommandStates::calibrate, add_calibrate_command, run_calibrate_command>(),  // calibrate
+    group<&CommandStates::pattern, add_pattern_commands, run_pattern_commands>(),  // pattern, validate, repair
+    group<&CommandStates::fold, add_fold_commands, run_fold_commands>(),           // fold, render
+    group<&CommandStates::import, add_import_command, run_import_command>(),       // import
+    group<&CommandStates::import_pattern, add_import_pattern_command, run_import_pattern_command>(),  // import-pattern
+    group<&CommandStates::cut, add_cut_commands, run_cut_commands>(),                                 // plan, cut
+    group<&CommandStates::test_cut, add_test_cut_command, run_test_cut_command>(),                    // test-cut
+    group<&CommandStates::calibrate, add_calibrate_command, run_calibrate_command>(),                 // calibrate
     group<&CommandStates::client, add_client_commands, run_client_commands>(
         "resume"),  // submit, jobs, move, cancel, resume, sheet
     group<&CommandStates::devices, add_devices_command, run_devices_command>(),              // devices

@@ -11,6 +11,7 @@
 
 #include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
+#include "popcut/pattern/card_from_sheet.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/popup_check.h"
 #include "popcut/pattern/voxel_pattern.h"
@@ -25,6 +26,8 @@ CliError::CliError(int exit_code, ErrorCode code, std::string source, std::strin
 
 int exit_code_of(const Error& error) {
   if (const auto* cli = dynamic_cast<const CliError*>(&error)) return cli->exit_code();
+  // A drawing no card folds from is a design that does not pop up, not an unreadable file.
+  if (dynamic_cast<const CardConflictError*>(&error)) return kDoesNotPopUp;
   return error.code() == ErrorCode::internal ? kInternal : kBadInput;
 }
 

@@ -6,7 +6,9 @@
 #include "io/json_util.h"
 #include "io/readers.h"
 #include "popcut/error.h"
+#include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
+#include "popcut/pattern/card_from_sheet.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/voxel_pattern.h"
 
@@ -88,6 +90,11 @@ AnyModel parse_model(const std::string& text, const std::string& source) {
 }
 
 AnyModel load_model(const std::string& path) {
+  if (is_drawing_path(path)) {
+    CardImport imported = import_card(path);
+    if (!imported.card.model) throw CardConflictError(imported.drawing.source, imported.card);
+    return std::move(*imported.card.model);
+  }
   return parse_model(read_text_file(path), path == "-" ? "<stdin>" : path);
 }
 

@@ -319,6 +319,20 @@ InferredCard Inference::run() {
 
 InferredCard infer_card(const LineDrawing& drawing, const SheetMap& map) { return Inference(drawing, map).run(); }
 
+CardConflictError::CardConflictError(const std::string& source, const InferredCard& card)
+    : Error(ErrorCode::invalid_input, source, card.conflicts.empty() ? "" : card.conflicts.front().drawn,
+            "no OA card folds from this sheet:\n" + describe_conflicts(card)),
+      conflicts_(card.conflicts) {}
+
+CardImport import_card(const std::string& path, const DrawingOptions& drawing, const SheetMapOptions& map) {
+  CardImport out;
+  out.drawing = load_drawing(path, drawing);
+  if (path == "-") out.drawing.source = "<stdin>";
+  out.map = build_sheet_map(out.drawing, map);
+  out.card = infer_card(out.drawing, out.map);
+  return out;
+}
+
 std::string describe_conflicts(const InferredCard& card, std::size_t max) {
   std::string out;
   for (std::size_t i = 0; i < card.conflicts.size() && i < max; ++i) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "popcut/error.h"
 #include "popcut/model/face_model.h"
 #include "popcut/pattern/sheet_map.h"
 
@@ -32,6 +33,26 @@ struct InferredCard {
 // folds and cuts inside one region (slits), pieces cut free or held by nothing, folds whose
 // planes disagree around a cycle, and drawn lines the resulting card does not have (or lacks).
 InferredCard infer_card(const LineDrawing& drawing, const SheetMap& map);
+
+// No OA card folds from the drawing: the conflicts, one per line, in the message.
+class CardConflictError : public Error {
+ public:
+  CardConflictError(const std::string& source, const InferredCard& card);
+  const std::vector<CardConflict>& conflicts() const { return conflicts_; }
+
+ private:
+  std::vector<CardConflict> conflicts_;
+};
+
+struct CardImport {
+  LineDrawing drawing;
+  SheetMap map;
+  InferredCard card;
+};
+
+// Reads the drawing (by extension), builds its map and infers the card; conflicts are returned
+// in `card`, bad input throws popcut::Error.
+CardImport import_card(const std::string& path, const DrawingOptions& drawing = {}, const SheetMapOptions& map = {});
 
 // One line per conflict for people: "at (x, v) mm, <element>: what" (at most `max` of them).
 std::string describe_conflicts(const InferredCard& card, std::size_t max = 20);
