@@ -21,7 +21,8 @@ namespace {
 using nlohmann::json;
 
 int run_pattern(const PatternCommands& s) {
-  const std::string ext = s.out_path == "-" ? ".json" : require_extension(s.out_path, {".json", ".svg"}, "output type");
+  const std::string ext =
+      s.out_path == "-" ? ".json" : require_extension(s.out_path, {".json", ".svg", ".fold"}, "output type");
   if (s.shade && ext != ".svg") {
     throw Error(ErrorCode::invalid_input, "", "--shade", "shading applies to SVG output only");
   }
@@ -34,6 +35,8 @@ int run_pattern(const PatternCommands& s) {
   write_cli_output(s.out_path, [&](std::ostream& out) {
     if (ext == ".svg")
       write_pattern_svg(out, p, {s.shade});
+    else if (ext == ".fold")
+      write_pattern_fold(out, p);
     else
       write_pattern_json(out, p);
   });
@@ -98,7 +101,9 @@ void add_pattern_commands(CLI::App& app, PatternCommands& s) {
       ->add_option("MODEL", s.model_path,
                    "Model file (popcut.voxel.v1 or popcut.faces.v1 JSON), or - for standard input")
       ->required();
-  s.pattern->add_option("-o,--output", s.out_path, "Output: OUT.json, OUT.svg, or - for JSON on standard output")
+  s.pattern
+      ->add_option("-o,--output", s.out_path,
+                   "Output: OUT.json, OUT.svg, OUT.fold (crease pattern), or - for JSON on standard output")
       ->required();
   s.pattern->add_flag("--shade", s.shade, "SVG: shade VFaces and HFaces so the design reads at a glance");
   s.pattern->add_flag("--json", s.json_out, "Print a machine-readable summary (and errors) as JSON on standard output");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <sstream>
 
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
@@ -101,8 +102,16 @@ struct Imported {
   Pattern pattern;
 };
 
-Imported import_svg(const Pattern& p) {
-  const LineDrawing d = read_svg_drawing(to_pattern_svg(p), "round-trip.svg");
+std::string fold_text(const Pattern& p) {
+  std::ostringstream o;
+  write_pattern_fold(o, p);
+  return o.str();
+}
+
+// Through popcut's SVG, or its FOLD when `fold` is set.
+Imported import_svg(const Pattern& p, bool fold = false) {
+  const LineDrawing d =
+      fold ? read_fold_drawing(fold_text(p), "round-trip.fold") : read_svg_drawing(to_pattern_svg(p), "round-trip.svg");
   const SheetMap map = build_sheet_map(d);
   Imported out{infer_card(d, map), {}};
   if (out.card.model) out.pattern = make_pattern(*out.card.model, "imported");
@@ -114,11 +123,13 @@ TEST(CardFromSheet, EveryExampleImportsBackToItsCard) {
                            "examples/voxel/box.json", "examples/voxel/castle.json", "examples/voxel/pyramid.json",
                            "examples/voxel/townhouse.json"}) {
     const Pattern p = make_pattern(load_model(path), path);
-    const Imported got = import_svg(p);
-    ASSERT_TRUE(got.card.model) << path << ":\n" << describe_conflicts(got.card);
-    EXPECT_EQ(same_lines(p, got.pattern), "") << path;
-    EXPECT_EQ(same_planes(p, got.pattern), "") << path;
-    EXPECT_NEAR(got.card.centre_fold_v_mm, -p.sheet.min.v_mm, 1e-4) << path;
+    for (const bool fold : {false, true}) {
+      const Imported got = import_svg(p, fold);
+      ASSERT_TRUE(got.card.model) << path << (fold ? " (FOLD)" : " (SVG)") << ":\n" << describe_conflicts(got.card);
+      EXPECT_EQ(same_lines(p, got.pattern), "") << path << (fold ? " (FOLD)" : " (SVG)");
+      EXPECT_EQ(same_planes(p, got.pattern), "") << path << (fold ? " (FOLD)" : " (SVG)");
+      EXPECT_NEAR(got.card.centre_fold_v_mm, -p.sheet.min.v_mm, 1e-4) << path;
+    }
   }
 }
 
@@ -130,7 +141,7 @@ TEST(CardFromSheet, RandomFaceModelsImportBackToTheirCards) {
     spec.edits = 2 + static_cast<int>(rng() % 8);
     const FaceModel m = testing::random_face_model(rng, spec);
     const Pattern p = make_pattern(m);
-    const Imported got = import_svg(p);
+    const Imported got = import_svg(p, i % 2 == 1);
     if (!check_popup(p).loose_pieces.empty()) {
       // Edits that cut a piece free make a model popcut refuses to cut; the import must say so.
       ASSERT_FALSE(got.card.model) << "model " << i;
@@ -154,7 +165,7 @@ TEST(CardFromSheet, RandomVoxelModelsImportBackToTheirCards) {
     testing::RandomModelSpec spec;
     const VoxelModel m = testing::random_model(rng, spec);
     const Pattern p = make_pattern(m);
-    const Imported got = import_svg(p);
+    const Imported got = import_svg(p, i % 2 == 1);
     if (!got.card.model) {
       ASSERT_NE(describe_conflicts(got.card).find("piece"), std::string::npos) << "model " << i << ":\n"
                                                                                << describe_conflicts(got.card);

@@ -24,4 +24,8 @@ struct SvgOptions {
 void write_pattern_svg(std::ostream& out, const Pattern& pattern, const SvgOptions& options = {});
 std::string to_pattern_svg(const Pattern& pattern, const SvgOptions& options = {});
 
+// FOLD 1.1 crease pattern in mm (y up, origin at the sheet's lower left): edges split wherever
+// lines meet, assigned B (sheet edge), C (cut), M and V with the card's fold angles at 90° open.
+void write_pattern_fold(std::ostream& out, const Pattern& pattern);
+
 }  // namespace popcut
