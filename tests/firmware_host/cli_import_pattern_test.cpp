@@ -82,7 +82,7 @@ TEST_F(ImportPattern, BadDrawingsExitTwoNamingTheElement) {
   const CliRun layer = run("import-pattern " + example() + " --layer Knife=blade");
   EXPECT_EQ(layer.code, 2);
   EXPECT_NE(layer.err.find("--layer"), std::string::npos) << layer.err;
-  const CliRun folded = run("import-pattern ../shared/testdata/fold/box.fold");
+  const CliRun folded = run("import-pattern " + std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/box.fold");
   EXPECT_EQ(folded.code, 2);
   EXPECT_NE(folded.err.find("folded form"), std::string::npos) << folded.err;
 }

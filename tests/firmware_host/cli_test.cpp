@@ -77,7 +77,9 @@ TEST_F(Cli, UsageErrorsExit2) {
   // The command table (cli/commands.cpp) builds the list of commands; scripts may match its text.
   EXPECT_EQ(
       typo.err,
-      "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, plan, cut, "
+      "popcut: error: unknown command 'valdate' (expected pattern, validate, repair, fold, render, import, "
+      "import-pattern, "
+      "plan, cut, "
       "test-cut, calibrate, submit, jobs, move, cancel, sheet, pause, continue, devices or sim-plotter)\nRun 'popcut "
       "--help' for "
       "usage.\n");

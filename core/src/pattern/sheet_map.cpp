@@ -82,11 +82,11 @@ double distance_to(Point2 p, const Piece& s, double& u) {
   return std::hypot(p.x_mm - s.a.x_mm - u * dx, p.v_mm - s.a.v_mm - u * dv);
 }
 
-// An end that touches no other line but lies within the tolerance of one (a T-junction drawn a
-// hair short or long, or rounded in a file) splits that line there, so the two meet exactly.
+// An end within the tolerance of another line's inside (a T-junction drawn a hair short or
+// long, or rounded in a file) splits that line there, so the two meet exactly.
 int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
   if (tol <= 0 || pieces.empty()) return 0;
-  std::map<std::pair<double, double>, int> degree;
+  std::map<std::pair<double, double>, int> degree;  // every distinct end, once
   for (const Piece& p : pieces) {
     ++degree[{p.a.x_mm, p.a.v_mm}];
     ++degree[{p.b.x_mm, p.b.v_mm}];
@@ -106,7 +106,6 @@ int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
   std::vector<std::vector<std::pair<double, Point2>>> splits(pieces.size());
   int moved = 0;
   for (const auto& [end, count] : degree) {
-    if (count != 1) continue;
     const Point2 p{end.first, end.second};
     int best = -1;
     double best_d = tol, best_u = 0;
@@ -127,7 +126,7 @@ int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
           }
     if (best < 0) continue;
     splits[static_cast<std::size_t>(best)].push_back({best_u, p});
-    ++moved;
+    moved += best_d > 0;  // an end exactly on the line needs no snap, only the split (1 nm grid)
   }
   const std::size_t n = pieces.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -231,22 +230,27 @@ struct OutlineCheck {
   int drawn = -1;
 };
 
-// Every edge of the unbounded face must be the sheet's edge, and the edge one closed loop.
+// Every edge of the unbounded face must be the sheet's edge, and the edge one closed loop. An
+// outline left open is named first: every other complaint would follow from it.
 OutlineCheck check_outline(const LineDrawing& d, const Arrangement& arr, bool have_outline) {
   const auto outside = arr.unbounded_face();
-  if (outside->number_of_inner_ccbs() != 1)
-    return {false, std::to_string(outside->number_of_inner_ccbs()) + " separate sheets are drawn; popcut imports one",
-            -1};
+  for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e)
+    if (e->face() == outside && e->twin()->face() == outside && edge_kind(d, e) == DrawnKind::outline)
+      return {false, "the sheet's outline is not closed: it ends loose near " + place(rounded(e->source()->point())),
+              e->curve().data().front()};
   for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
     const bool out1 = e->face() == outside, out2 = e->twin()->face() == outside;
     if (!out1 && !out2) continue;
     const DrawnKind k = edge_kind(d, e);
     const int drawn = e->curve().data().front();
-    if (out1 && out2) return {false, "lies outside the sheet (it ends loose, enclosing nothing)", drawn};
     if (have_outline && k != DrawnKind::outline) return {false, "lies outside the sheet's outline", drawn};
+    if (out1 && out2) return {false, "lies outside the sheet (it ends loose, enclosing nothing)", drawn};
     if (k != DrawnKind::outline && k != DrawnKind::cut)
       return {false, std::string("a ") + to_string(k) + " line on the sheet's edge: the edge must be cut", drawn};
   }
+  if (outside->number_of_inner_ccbs() != 1)
+    return {false, std::to_string(outside->number_of_inner_ccbs()) + " separate sheets are drawn; popcut imports one",
+            -1};
   return {};
 }
 

@@ -107,7 +107,7 @@ TEST(SvgDrawing, CurvesFlattenWithinTheChordTolerance) {
 }
 
 TEST(SvgDrawing, PopcutsOwnSvgReadsBackLineForLine) {
-  const AnyModel m = load_model("examples/faces/pavilion.json");
+  const AnyModel m = load_model(std::string(POPCUT_SOURCE_DIR) + "/examples/faces/pavilion.json");
   const Pattern p = make_pattern(m, "pagoda");
   const LineDrawing d = read_svg_drawing(to_pattern_svg(p, {.shade_faces = true}), "pagoda.svg");
   std::vector<Segment> in_file_order;  // the writer groups valley, mountain, cut
@@ -179,7 +179,7 @@ std::string slurp(const std::string& path) {
 }
 
 TEST(FoldDrawing, TheSpecsCreasePatternExample) {
-  const std::string path = "../shared/testdata/fold/diagonal-cp.fold";
+  const std::string path = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/diagonal-cp.fold";
   const LineDrawing d = read_fold_drawing(slurp(path), path);
   int outline = 0, valley = 0;
   for (const DrawnLine& l : d.lines) {
@@ -193,7 +193,7 @@ TEST(FoldDrawing, TheSpecsCreasePatternExample) {
 
 TEST(FoldDrawing, FoldedFormsAreRefusedByName) {
   for (const char* name : {"box", "simple"}) {
-    const std::string path = std::string("../shared/testdata/fold/") + name + ".fold";
+    const std::string path = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/" + name + ".fold";
     const Error e = error_of([&] { read_fold_drawing(slurp(path), path); });
     EXPECT_NE(e.message().find("folded"), std::string::npos) << name << ": " << e.message();
   }

@@ -122,7 +122,7 @@ TEST(CardFromSheet, EveryExampleImportsBackToItsCard) {
   for (const char* path : {"examples/faces/openings.json", "examples/faces/pavilion.json", "examples/faces/porch.json",
                            "examples/voxel/box.json", "examples/voxel/castle.json", "examples/voxel/pyramid.json",
                            "examples/voxel/townhouse.json"}) {
-    const Pattern p = make_pattern(load_model(path), path);
+    const Pattern p = make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/" + path), path);
     for (const bool fold : {false, true}) {
       const Imported got = import_svg(p, fold);
       ASSERT_TRUE(got.card.model) << path << (fold ? " (FOLD)" : " (SVG)") << ":\n" << describe_conflicts(got.card);
