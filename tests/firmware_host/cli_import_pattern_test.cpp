@@ -82,6 +82,9 @@ TEST_F(ImportPattern, BadDrawingsExitTwoNamingTheElement) {
   const CliRun layer = run("import-pattern " + example() + " --layer Knife=blade");
   EXPECT_EQ(layer.code, 2);
   EXPECT_NE(layer.err.find("--layer"), std::string::npos) << layer.err;
+  const CliRun dxf = run("validate " + write("box.dxf", "0\nSECTION\n"));
+  EXPECT_EQ(dxf.code, 2);
+  EXPECT_NE(dxf.err.find("DXF drawings are not read yet"), std::string::npos) << dxf.err;
   const CliRun folded = run("import-pattern " + std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/box.fold");
   EXPECT_EQ(folded.code, 2);
   EXPECT_NE(folded.err.find("folded form"), std::string::npos) << folded.err;

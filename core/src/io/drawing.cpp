@@ -107,4 +107,12 @@ LineDrawing load_drawing(const std::string& path, const DrawingOptions& options)
   throw Error(ErrorCode::invalid_input, path, "", "not a drawing popcut reads: expected a .svg or .fold file");
 }
 
+void refuse_unread_drawing(const std::string& path) {
+  const std::string p = lower_ascii(path);
+  if (ends_with(p, ".dxf"))
+    throw Error(ErrorCode::invalid_input, path, "",
+                "DXF drawings are not read yet: save the drawing as SVG (Inkscape and every CAD program "
+                "export it) or FOLD");
+}
+
 }  // namespace popcut

@@ -61,6 +61,9 @@ LineDrawing read_fold_drawing(const std::string& text, const std::string& source
 
 // True for file names popcut reads as drawings (.svg, .fold), case-insensitively.
 bool is_drawing_path(const std::string& path);
+// Throws popcut::Error for drawing types popcut does not read yet (.dxf), so they are not taken
+// for JSON models.
+void refuse_unread_drawing(const std::string& path);
 // Reads the file and dispatches by its extension; throws popcut::Error naming the file.
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options = {});
 
