@@ -26,6 +26,7 @@ struct Context {
   std::string layer_why;
   std::string stroke;
   std::string dasharray;
+  std::string css_class;  // the nearest class attribute: a style sheet may set the stroke
   int depth = 0;
 };
 
@@ -149,6 +150,7 @@ class SvgReader {
   std::map<std::string, const XMLElement*> ids_;
   std::size_t points_ = 0;
   int ignored_text_ = 0, unstroked_ = 0;
+  bool styled_ = false;  // the document has a <style> sheet
 };
 
 double SvgReader::attr(const XMLElement& e, const char* key, double fallback, bool required) const {
@@ -198,7 +200,7 @@ void SvgReader::root(const XMLElement& svg) {
     else
       m = {kMmPerPx, 0, 0, kMmPerPx, 0, 0};
     if (w_mm > 0) out_.page = Rect{{0, 0}, {w_mm, h_mm}};
-    walk(svg, Context{m, std::nullopt, "", "", "", 0});
+    walk(svg, Context{m, std::nullopt, "", "", "", "", 0});
   } catch (const std::invalid_argument& e) {
     fail(svg, e.what());
   }
@@ -215,6 +217,7 @@ void SvgReader::walk(const XMLElement& e, Context c) {
     }
   }
   if (const std::string s = presentation(e, "stroke"); !s.empty()) c.stroke = s;
+  if (const char* cls = e.Attribute("class")) c.css_class = cls;
   if (const std::string s = presentation(e, "stroke-dasharray"); !s.empty()) c.dasharray = s;
   const std::string tag = e.Name();
   if (tag == "g" || tag == "svg" || tag == "a" || tag == "switch") {
@@ -326,6 +329,11 @@ void SvgReader::add(const XMLElement& e, const Context& c, const svg::Subpath& s
   if (c.layer) {
     line.kind = *c.layer;
     line.why = c.layer_why;
+  } else if (c.stroke.empty() && c.dasharray.empty() && !c.css_class.empty() && styled_) {
+    // Illustrator styles strokes by class from a <style> sheet, which popcut does not read:
+    // taking the SVG default (black, a cut) would be a guess.
+    line.kind = DrawnKind::unknown;
+    line.why = "styled by CSS class \"" + c.css_class + "\" from a <style> sheet, which popcut does not read";
   } else if (const auto kind = kind_of_style(c, options_, line.why)) {
     line.kind = *kind;
   } else {
@@ -335,10 +343,11 @@ void SvgReader::add(const XMLElement& e, const Context& c, const svg::Subpath& s
   out_.lines.push_back(std::move(line));
 }
 
-void index_ids(const XMLElement& e, std::map<std::string, const XMLElement*>& ids) {
+void index_ids(const XMLElement& e, std::map<std::string, const XMLElement*>& ids, bool& styled) {
   if (const char* id = e.Attribute("id")) ids.emplace(id, &e);
+  styled |= std::string(e.Name()) == "style";
   for (const XMLElement* child = e.FirstChildElement(); child; child = child->NextSiblingElement())
-    index_ids(*child, ids);
+    index_ids(*child, ids, styled);
 }
 
 LineDrawing SvgReader::read(const std::string& text) {
@@ -350,7 +359,7 @@ LineDrawing SvgReader::read(const std::string& text) {
   if (!svg || std::string(svg->Name()) != "svg")
     throw Error(ErrorCode::invalid_input, out_.source, svg ? "line " + std::to_string(svg->GetLineNum()) : "",
                 std::string("expected an <svg> document, got <") + (svg ? svg->Name() : "nothing") + ">");
-  index_ids(*svg, ids_);
+  index_ids(*svg, ids_, styled_);
   root(*svg);
   if (ignored_text_)
     out_.notes.push_back(std::to_string(ignored_text_) + " <text> element(s) ignored: text is not cut");

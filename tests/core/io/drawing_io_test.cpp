@@ -88,6 +88,19 @@ TEST(SvgDrawing, DashPatternsAndColoursByConvention) {
             DrawnKind::cut);
 }
 
+TEST(SvgDrawing, StrokesSetByAStyleSheetAreListedNotGuessed) {
+  // As Illustrator exports: classes styled from a <style> element.
+  const LineDrawing d = read_svg_drawing(
+      svg_doc("<defs><style>.cls-1{stroke:#ff0000}</style></defs>"
+              "<line class=\"cls-1\" x1=\"0\" y1=\"0\" x2=\"10\" y2=\"0\"/>"
+              "<g inkscape:label=\"Cut\"><line class=\"cls-1\" x1=\"0\" y1=\"1\" x2=\"9\" y2=\"1\"/></g>"),
+      "ai.svg");
+  ASSERT_EQ(d.lines.size(), 2u);
+  EXPECT_EQ(d.lines[0].kind, DrawnKind::unknown);
+  EXPECT_NE(d.lines[0].why.find("CSS class \"cls-1\""), std::string::npos) << d.lines[0].why;
+  EXPECT_EQ(d.lines[1].kind, DrawnKind::cut) << "a layer name still decides";
+}
+
 TEST(SvgDrawing, CurvesFlattenWithinTheChordTolerance) {
   DrawingOptions o;
   o.chord_tolerance_mm = 0.01;
