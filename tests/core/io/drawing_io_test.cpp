@@ -8,6 +8,7 @@
 
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
+#include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
 #include "popcut/io/pattern_io.h"
 
@@ -185,11 +186,8 @@ TEST(SvgDrawing, LayerNamesInManyLanguagesAndConfigured) {
   EXPECT_EQ(kind_of_layer_name("knife", custom), DrawnKind::cut);
 }
 
-std::string slurp(const std::string& path) {
-  std::ostringstream s;
-  s << std::ifstream(path).rdbuf();
-  return s.str();
-}
+// Throws naming the file when it is missing, so a test without its inputs says so.
+std::string slurp(const std::string& path) { return read_text_file(path); }
 
 TEST(FoldDrawing, TheSpecsCreasePatternExample) {
   const std::string path = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/diagonal-cp.fold";
