@@ -325,7 +325,10 @@ void SvgReader::add(const XMLElement& e, const Context& c, const svg::Subpath& s
   }
   if (line.closed && line.points.size() > 1 && line.points.front() == line.points.back()) line.points.pop_back();
   if (line.points.size() < 2) fail(e, "a zero-length line: every point of it is the same");
-  points_ += line.points.size();
+  // Circles and ellipses are flattened before any count: the limit holds over the whole drawing.
+  if ((points_ += line.points.size()) > kMaxDrawingSegments)
+    throw Error(ErrorCode::limit, out_.source, line.where,
+                "the drawing has more than " + std::to_string(kMaxDrawingSegments) + " segments, the documented limit");
   if (c.layer) {
     line.kind = *c.layer;
     line.why = c.layer_why;

@@ -171,6 +171,9 @@ TEST(SvgDrawing, BadInputNamesTheElement) {
   std::string many = "<path d=\"M0 0";
   for (int i = 0; i < 2'000'001; ++i) many += " L1 1";
   EXPECT_EQ(err(many + "\"/>").code(), ErrorCode::limit);
+  std::string circles;  // each flattens to about 3,000 chords: 700 of them pass the limit
+  for (int i = 0; i < 700; ++i) circles += "<circle cx=\"50\" cy=\"25\" r=\"90000\"/>";
+  EXPECT_EQ(err(circles).code(), ErrorCode::limit);
 }
 
 TEST(SvgDrawing, LayerNamesInManyLanguagesAndConfigured) {
