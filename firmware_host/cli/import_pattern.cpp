@@ -20,7 +20,7 @@ DrawingOptions drawing_options(const ImportPatternCommand& s) {
   DrawingOptions o;
   o.chord_tolerance_mm = s.chord_mm;
   o.red_is_cut = s.red_is_cut;
-  o.fold_unit_mm = s.fold_unit_mm;
+  o.unit_mm = s.unit_mm;
   for (const std::string& pair : s.layers) {
     const auto eq = pair.find('=');
     const auto kind = eq == std::string::npos ? std::nullopt : kDrawnKindNames.find(pair.substr(eq + 1));
@@ -91,21 +91,24 @@ int run(const ImportPatternCommand& s) {
 }  // namespace
 
 void add_import_pattern_command(CLI::App& app, ImportPatternCommand& s) {
-  s.app =
-      app.add_subcommand("import-pattern",
-                         "Read a pattern drawn elsewhere (SVG, FOLD) as an OA card and write its face model; exit 1 "
-                         "with the conflicts when no card folds from it.");
-  s.app->add_option("DRAWING", s.drawing_path, "Drawing: FILE.svg or FILE.fold")->required();
+  s.app = app.add_subcommand(
+      "import-pattern",
+      "Read a pattern drawn elsewhere (SVG, DXF, FOLD) as an OA card and write its face model; exit 1 "
+      "with the conflicts when no card folds from it.");
+  s.app->add_option("DRAWING", s.drawing_path, "Drawing: FILE.svg, FILE.dxf or FILE.fold")->required();
   s.app->add_option("-o,--output", s.out_path, "Write the card as a face model (popcut.faces.v1 JSON)");
   s.app->add_option("--layer", s.layers, "NAME=KIND: a layer or group name and the kind of its lines (repeatable)");
   s.app->add_option("--chord-mm", s.chord_mm, "Curves become chords within this distance (mm)")
       ->check(CLI::Range(0.001, 10.0));
   s.app->add_option("--snap-mm", s.snap_mm, "Line ends this close to another end or line join it (mm)")
       ->check(CLI::Range(0.0, 1.0));
-  s.app->add_option("--fold-unit-mm", s.fold_unit_mm, "FOLD files without a unit: what one unit measures (mm)")
+  s.app
+      ->add_option(
+          "--unit-mm,--fold-unit-mm", s.unit_mm,
+          "Drawings that state no unit (FOLD without frame_unit, DXF without $INSUNITS): what one unit measures (mm)")
       ->check(CLI::Range(1e-6, 1e5));
   s.app->add_flag("--red-is-cut", s.red_is_cut,
-                  "SVG: solid red strokes are cuts (the laser convention), not mountains");
+                  "SVG and DXF: solid red lines are cuts (the laser convention), not mountains");
   s.app->add_flag("--json", s.json_out, "Print the report as JSON (popcut.import-pattern.v1) on standard output");
 }
 

@@ -12,7 +12,7 @@ struct ImportPatternCommand {
   CLI::App* app = nullptr;
   std::string drawing_path, out_path;
   std::vector<std::string> layers;  // NAME=KIND
-  double chord_mm = 0.05, snap_mm = 0.01, fold_unit_mm = 1;
+  double chord_mm = 0.05, snap_mm = 0.01, unit_mm = 1;
   bool red_is_cut = false;
   bool json_out = false;
 };

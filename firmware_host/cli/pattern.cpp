@@ -22,7 +22,7 @@ using nlohmann::json;
 
 int run_pattern(const PatternCommands& s) {
   const std::string ext =
-      s.out_path == "-" ? ".json" : require_extension(s.out_path, {".json", ".svg", ".fold"}, "output type");
+      s.out_path == "-" ? ".json" : require_extension(s.out_path, {".json", ".svg", ".fold", ".dxf"}, "output type");
   if (s.shade && ext != ".svg") {
     throw Error(ErrorCode::invalid_input, "", "--shade", "shading applies to SVG output only");
   }
@@ -37,6 +37,8 @@ int run_pattern(const PatternCommands& s) {
       write_pattern_svg(out, p, {s.shade});
     else if (ext == ".fold")
       write_pattern_fold(out, p);
+    else if (ext == ".dxf")
+      write_pattern_dxf(out, p);
     else
       write_pattern_json(out, p);
   });
@@ -102,8 +104,9 @@ void add_pattern_commands(CLI::App& app, PatternCommands& s) {
                    "Model file (popcut.voxel.v1 or popcut.faces.v1 JSON), or - for standard input")
       ->required();
   s.pattern
-      ->add_option("-o,--output", s.out_path,
-                   "Output: OUT.json, OUT.svg, OUT.fold (crease pattern), or - for JSON on standard output")
+      ->add_option(
+          "-o,--output", s.out_path,
+          "Output: OUT.json, OUT.svg, OUT.fold (crease pattern), OUT.dxf (CAD), or - for JSON on standard output")
       ->required();
   s.pattern->add_flag("--shade", s.shade, "SVG: shade VFaces and HFaces so the design reads at a glance");
   s.pattern->add_flag("--json", s.json_out, "Print a machine-readable summary (and errors) as JSON on standard output");

@@ -82,12 +82,26 @@ TEST_F(ImportPattern, BadDrawingsExitTwoNamingTheElement) {
   const CliRun layer = run("import-pattern " + example() + " --layer Knife=blade");
   EXPECT_EQ(layer.code, 2);
   EXPECT_NE(layer.err.find("--layer"), std::string::npos) << layer.err;
-  const CliRun dxf = run("validate " + write("box.dxf", "0\nSECTION\n"));
+  const CliRun dxf = run("validate " + write("box.dxf", "0\nSECTION\n2\nENTITIES\n0\nLINE\n10\n1,5\n"));
   EXPECT_EQ(dxf.code, 2);
-  EXPECT_NE(dxf.err.find("DXF drawings are not read yet"), std::string::npos) << dxf.err;
+  EXPECT_NE(dxf.err.find("box.dxf: line 8: group code 10 expects a number, got \"1,5\""), std::string::npos) << dxf.err;
   const CliRun folded = run("import-pattern " + std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/box.fold");
   EXPECT_EQ(folded.code, 2);
   EXPECT_NE(folded.err.find("folded form"), std::string::npos) << folded.err;
+}
+
+// A card written as a DXF dieline (as CAD software gets it) reads back as the same card.
+TEST_F(ImportPattern, APatternWrittenAsDxfIsReadBackByEveryCommand) {
+  const std::string porch = std::string(POPCUT_SOURCE_DIR) + "/examples/faces/porch.json";
+  const CliRun w = run("pattern " + porch + " -o " + out("porch.dxf"));
+  ASSERT_EQ(w.code, 0) << w.err;
+  const CliRun want = run("validate " + porch + " --json");
+  const CliRun got = run("validate " + out("porch.dxf") + " --json");
+  ASSERT_EQ(got.code, 0) << got.err << got.out;
+  EXPECT_EQ(json::parse(got.out)["lines"], json::parse(want.out)["lines"]) << got.out;
+  const CliRun imported = run("import-pattern " + out("porch.dxf") + " --json -o " + out("porch-back.json"));
+  ASSERT_EQ(imported.code, 0) << imported.err << imported.out;
+  EXPECT_TRUE(fs::exists(out("porch-back.json")));
 }
 
 TEST_F(ImportPattern, ConfiguredLayerNames) {

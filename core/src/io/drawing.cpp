@@ -2,18 +2,13 @@
 #include <algorithm>
 #include <map>
 
+#include "io/ascii_case.h"
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
 
 namespace popcut {
 namespace {
-
-std::string lower_ascii(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return c < 128 ? static_cast<char>(std::tolower(c)) : static_cast<char>(c); });
-  return s;
-}
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -74,9 +69,9 @@ std::vector<std::string> words(const std::string& name) {
 const char* to_string(DrawnKind kind) { return kDrawnKindNames.name(kind).data(); }
 
 std::optional<DrawnKind> kind_of_layer_name(const std::string& name, const DrawingOptions& options) {
-  const std::string whole = lower_ascii(name);
+  const std::string whole = ascii_lower(name);
   for (const auto& [custom, kind] : options.layer_names)
-    if (lower_ascii(custom) == whole) return kind;
+    if (ascii_lower(custom) == whole) return kind;
   const auto& names = builtin_names();
   if (const auto it = names.find(whole); it != names.end()) return it->second;
   std::optional<DrawnKind> found;
@@ -96,23 +91,16 @@ std::optional<DrawnKind> kind_of_layer_name(const std::string& name, const Drawi
 }
 
 bool is_drawing_path(const std::string& path) {
-  const std::string p = lower_ascii(path);
-  return ends_with(p, ".svg") || ends_with(p, ".fold");
+  const std::string p = ascii_lower(path);
+  return ends_with(p, ".svg") || ends_with(p, ".dxf") || ends_with(p, ".fold");
 }
 
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options) {
   const std::string text = read_text_file(path, kMaxModelFileBytes * 4);
-  if (ends_with(lower_ascii(path), ".fold")) return read_fold_drawing(text, path, options);
-  if (ends_with(lower_ascii(path), ".svg")) return read_svg_drawing(text, path, options);
-  throw Error(ErrorCode::invalid_input, path, "", "not a drawing popcut reads: expected a .svg or .fold file");
-}
-
-void refuse_unread_drawing(const std::string& path) {
-  const std::string p = lower_ascii(path);
-  if (ends_with(p, ".dxf"))
-    throw Error(ErrorCode::invalid_input, path, "",
-                "DXF drawings are not read yet: save the drawing as SVG (Inkscape and every CAD program "
-                "export it) or FOLD");
+  if (ends_with(ascii_lower(path), ".fold")) return read_fold_drawing(text, path, options);
+  if (ends_with(ascii_lower(path), ".svg")) return read_svg_drawing(text, path, options);
+  if (ends_with(ascii_lower(path), ".dxf")) return read_dxf_drawing(text, path, options);
+  throw Error(ErrorCode::invalid_input, path, "", "not a drawing popcut reads: expected a .svg, .dxf or .fold file");
 }
 
 }  // namespace popcut

@@ -89,7 +89,7 @@ LineDrawing read_fold_drawing(const std::string& text, const std::string& source
   in.require_object(root, "document");
   std::string path;
   const json& frame = crease_frame(root, in, path);
-  const double mm = unit_mm(frame, in, path, options.fold_unit_mm);
+  const double mm = unit_mm(frame, in, path, options.unit_mm);
   LineDrawing out;
   out.source = source;
   const std::vector<Point2> vertices = read_vertices(frame, in, path, mm);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "io/svg_path.h"
+#include "io/ascii_case.h"
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/text.h"
@@ -30,11 +31,6 @@ struct Context {
   int depth = 0;
 };
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r\n"), e = s.find_last_not_of(" \t\r\n");
   return b == std::string::npos ? "" : s.substr(b, e - b + 1);
@@ -47,7 +43,8 @@ std::string presentation(const XMLElement& e, const char* name) {
     std::string decl;
     while (std::getline(in, decl, ';')) {
       const auto colon = decl.find(':');
-      if (colon != std::string::npos && lower(trim(decl.substr(0, colon))) == name) return trim(decl.substr(colon + 1));
+      if (colon != std::string::npos && ascii_lower(trim(decl.substr(0, colon))) == name)
+        return trim(decl.substr(colon + 1));
     }
   }
   const char* a = e.Attribute(name);
@@ -59,7 +56,7 @@ struct Rgb {
 };
 
 std::optional<Rgb> parse_colour(std::string c) {
-  c = lower(c);
+  c = ascii_lower(c);
   static const std::map<std::string, Rgb> named = {
       {"black", {0, 0, 0}},      {"red", {255, 0, 0}},      {"blue", {0, 0, 255}},     {"green", {0, 128, 0}},
       {"lime", {0, 255, 0}},     {"gray", {128, 128, 128}}, {"grey", {128, 128, 128}}, {"magenta", {255, 0, 255}},
@@ -78,7 +75,7 @@ std::optional<Rgb> parse_colour(std::string c) {
 // The kind a stroke's dash pattern and colour mean: dashed valley, dash-dot mountain; solid
 // black (or green, Origami Simulator's cut) cut, red mountain (or cut, laser convention), blue valley.
 std::optional<DrawnKind> kind_of_style(const Context& c, const DrawingOptions& options, std::string& why) {
-  if (!c.dasharray.empty() && lower(c.dasharray) != "none") {
+  if (!c.dasharray.empty() && ascii_lower(c.dasharray) != "none") {
     std::vector<double> dashes;
     try {
       dashes = svg::parse_number_list(c.dasharray);
@@ -112,7 +109,7 @@ double length_mm(const std::string& text, const std::string& what) {
   } catch (const std::exception&) {
     throw std::invalid_argument(what + ": expected a length such as 210mm, got \"" + text + "\"");
   }
-  const std::string unit = lower(trim(text.substr(end)));
+  const std::string unit = ascii_lower(trim(text.substr(end)));
   static const std::map<std::string, double> mm = {{"", kMmPerPx}, {"px", kMmPerPx},  {"mm", 1},        {"cm", 10},
                                                    {"in", 25.4},   {"pt", 25.4 / 72}, {"pc", 25.4 / 6}, {"q", 0.25}};
   const auto it = mm.find(unit);
@@ -160,7 +157,7 @@ double SvgReader::attr(const XMLElement& e, const char* key, double fallback, bo
     return fallback;
   }
   std::string s = trim(a);
-  if (s.size() > 2 && lower(s.substr(s.size() - 2)) == "px") s.resize(s.size() - 2);
+  if (s.size() > 2 && ascii_lower(s.substr(s.size() - 2)) == "px") s.resize(s.size() - 2);
   std::size_t end = 0;
   double v = 0;
   try {
@@ -208,7 +205,7 @@ void SvgReader::root(const XMLElement& svg) {
 
 void SvgReader::walk(const XMLElement& e, Context c) {
   if (++c.depth > kMaxDepth) fail(e, "elements nest deeper than " + std::to_string(kMaxDepth) + " (a <use> cycle?)");
-  if (lower(presentation(e, "display")) == "none") return;
+  if (ascii_lower(presentation(e, "display")) == "none") return;
   if (const char* t = e.Attribute("transform")) {
     try {
       c.to_page = svg::parse_transform(t).then(c.to_page);
@@ -293,7 +290,7 @@ std::vector<svg::Subpath> SvgReader::geometry(const XMLElement& e, double tol) {
 }
 
 void SvgReader::shape(const XMLElement& e, const Context& c) {
-  if (lower(c.stroke) == "none" || lower(c.stroke) == "transparent") {
+  if (ascii_lower(c.stroke) == "none" || ascii_lower(c.stroke) == "transparent") {
     ++unstroked_;
     return;
   }

@@ -1,4 +1,4 @@
-// Round trips: popcut's own pattern SVG of examples and random models imports back to the same card.
+// Round trips: popcut's own pattern SVG, FOLD and DXF of examples and random models imports back to the same card.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -108,10 +108,16 @@ std::string fold_text(const Pattern& p) {
   return o.str();
 }
 
-// Through popcut's SVG, or its FOLD when `fold` is set.
-Imported import_svg(const Pattern& p, bool fold = false) {
-  const LineDrawing d =
-      fold ? read_fold_drawing(fold_text(p), "round-trip.fold") : read_svg_drawing(to_pattern_svg(p), "round-trip.svg");
+enum class Via { svg, fold, dxf };
+const char* name(Via via) { return via == Via::svg ? " (SVG)" : via == Via::fold ? " (FOLD)" : " (DXF)"; }
+
+// Through popcut's SVG, FOLD or DXF.
+Imported import_svg(const Pattern& p, Via via = Via::svg) {
+  std::ostringstream dxf;
+  if (via == Via::dxf) write_pattern_dxf(dxf, p);
+  const LineDrawing d = via == Via::fold  ? read_fold_drawing(fold_text(p), "round-trip.fold")
+                        : via == Via::dxf ? read_dxf_drawing(dxf.str(), "round-trip.dxf")
+                                          : read_svg_drawing(to_pattern_svg(p), "round-trip.svg");
   const SheetMap map = build_sheet_map(d);
   Imported out{infer_card(d, map), {}};
   if (out.card.model) out.pattern = make_pattern(*out.card.model, "imported");
@@ -123,11 +129,11 @@ TEST(CardFromSheet, EveryExampleImportsBackToItsCard) {
                            "examples/voxel/box.json", "examples/voxel/castle.json", "examples/voxel/pyramid.json",
                            "examples/voxel/townhouse.json"}) {
     const Pattern p = make_pattern(load_model(std::string(POPCUT_SOURCE_DIR) + "/" + path), path);
-    for (const bool fold : {false, true}) {
-      const Imported got = import_svg(p, fold);
-      ASSERT_TRUE(got.card.model) << path << (fold ? " (FOLD)" : " (SVG)") << ":\n" << describe_conflicts(got.card);
-      EXPECT_EQ(same_lines(p, got.pattern), "") << path << (fold ? " (FOLD)" : " (SVG)");
-      EXPECT_EQ(same_planes(p, got.pattern), "") << path << (fold ? " (FOLD)" : " (SVG)");
+    for (const Via via : {Via::svg, Via::fold, Via::dxf}) {
+      const Imported got = import_svg(p, via);
+      ASSERT_TRUE(got.card.model) << path << name(via) << ":\n" << describe_conflicts(got.card);
+      EXPECT_EQ(same_lines(p, got.pattern), "") << path << name(via);
+      EXPECT_EQ(same_planes(p, got.pattern), "") << path << name(via);
       EXPECT_NEAR(got.card.centre_fold_v_mm, -p.sheet.min.v_mm, 1e-4) << path;
     }
   }
@@ -141,7 +147,7 @@ TEST(CardFromSheet, RandomFaceModelsImportBackToTheirCards) {
     spec.edits = 2 + static_cast<int>(rng() % 8);
     const FaceModel m = testing::random_face_model(rng, spec);
     const Pattern p = make_pattern(m);
-    const Imported got = import_svg(p, i % 2 == 1);
+    const Imported got = import_svg(p, static_cast<Via>(i % 3));
     if (!check_popup(p).loose_pieces.empty()) {
       // Edits that cut a piece free make a model popcut refuses to cut; the import must say so.
       ASSERT_FALSE(got.card.model) << "model " << i;
@@ -165,7 +171,7 @@ TEST(CardFromSheet, RandomVoxelModelsImportBackToTheirCards) {
     testing::RandomModelSpec spec;
     const VoxelModel m = testing::random_model(rng, spec);
     const Pattern p = make_pattern(m);
-    const Imported got = import_svg(p, i % 2 == 1);
+    const Imported got = import_svg(p, static_cast<Via>(i % 3));
     if (!got.card.model) {
       ASSERT_NE(describe_conflicts(got.card).find("piece"), std::string::npos) << "model " << i << ":\n"
                                                                                << describe_conflicts(got.card);

@@ -1,4 +1,4 @@
-// Patterns drawn elsewhere (SVG, FOLD): typed polylines in millimetres, each naming where it was drawn.
+// Patterns drawn elsewhere (SVG, DXF, FOLD): typed polylines in millimetres, each naming where it was drawn.
 #pragma once
 
 #include <cstddef>
@@ -53,17 +53,19 @@ struct DrawingOptions {
   // built-in names (cut, mountain, valley, score, crease, fold, outline, ... and translations).
   std::vector<std::pair<std::string, DrawnKind>> layer_names;
   bool red_is_cut = false;  // the laser-cutter convention: red cut; else red is mountain, black cut
-  double fold_unit_mm = 1;  // what one unit of a FOLD file without frame_unit (or "unit") measures
+  // What one unit measures in a drawing that does not say: a FOLD file without frame_unit (or
+  // "unit"), a DXF file without $INSUNITS (or 0, unitless).
+  double unit_mm = 1;
 };
 
 LineDrawing read_svg_drawing(const std::string& text, const std::string& source, const DrawingOptions& options = {});
 LineDrawing read_fold_drawing(const std::string& text, const std::string& source, const DrawingOptions& options = {});
+// ASCII DXF (R12 and later) through dxflib: LINE, LWPOLYLINE and POLYLINE with bulges, ARC,
+// CIRCLE, ELLIPSE, SPLINE and INSERT of blocks, in the units of $INSUNITS.
+LineDrawing read_dxf_drawing(const std::string& text, const std::string& source, const DrawingOptions& options = {});
 
-// True for file names popcut reads as drawings (.svg, .fold), case-insensitively.
+// True for file names popcut reads as drawings (.svg, .dxf, .fold), case-insensitively.
 bool is_drawing_path(const std::string& path);
-// Throws popcut::Error for drawing types popcut does not read yet (.dxf), so they are not taken
-// for JSON models.
-void refuse_unread_drawing(const std::string& path);
 // Reads the file and dispatches by its extension; throws popcut::Error naming the file.
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options = {});
 

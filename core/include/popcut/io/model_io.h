@@ -16,7 +16,7 @@ using AnyModel = std::variant<VoxelModel, FaceModel>;
 
 // Parses a popcut.voxel.v1 or popcut.faces.v1 document; errors name `source` and the field.
 AnyModel parse_model(const std::string& text, const std::string& source);
-// Drawings (.svg, .fold) read as OA cards; CardConflictError when no card folds from one.
+// Drawings (.svg, .dxf, .fold) read as OA cards; CardConflictError when no card folds from one.
 AnyModel load_model(const std::string& path);
 
 FaceModel parse_face_model(const std::string& text, const std::string& source);

@@ -28,4 +28,9 @@ std::string to_pattern_svg(const Pattern& pattern, const SvgOptions& options = {
 // lines meet, assigned B (sheet edge), C (cut), M and V with the card's fold angles at 90° open.
 void write_pattern_fold(std::ostream& out, const Pattern& pattern);
 
+// DXF (R2000, ASCII) in mm, y up, origin at the sheet's lower left: LINEs on layers CUT (colour
+// 7), MOUNTAIN (red, DASHDOT) and VALLEY (blue, DASHED), the sheet edge a closed LWPOLYLINE on
+// OUTLINE; written through dxflib.
+void write_pattern_dxf(std::ostream& out, const Pattern& pattern);
+
 }  // namespace popcut
