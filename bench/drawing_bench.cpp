@@ -1,10 +1,11 @@
-// Patterns drawn elsewhere: SVG read + sheet map + card inference for 1,000 to 10,000 segments (target < 200 ms at
-// 10,000).
+// Patterns drawn elsewhere: SVG and DXF read + sheet map + card inference for 1,000 to 10,000 segments (target < 200 ms
+// at 10,000).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
 #include <map>
 #include <random>
+#include <sstream>
 
 #include "bench_table.h"
 #include "popcut/io/drawing_io.h"
@@ -26,6 +27,19 @@ const std::string& staircase_svg(int width) {
   return svg;
 }
 
+// The same card as popcut's own DXF, as CAD software would get it.
+const std::string& staircase_dxf(int width) {
+  static std::map<int, std::string> made;
+  auto& dxf = made[width];
+  if (dxf.empty()) {
+    std::mt19937_64 rng(42);
+    std::ostringstream out;
+    popcut::write_pattern_dxf(out, popcut::make_pattern(popcut::testing::random_staircase(rng, width, 40, 40, 1.0)));
+    dxf = out.str();
+  }
+  return dxf;
+}
+
 double segments(const popcut::LineDrawing& d) {
   double n = 0;
   for (const auto& l : d.lines) n += static_cast<double>(l.points.size() - (l.closed ? 0 : 1));
@@ -36,6 +50,13 @@ void BM_ReadSvg(benchmark::State& state) {
   const std::string& svg = staircase_svg(static_cast<int>(state.range(0)));
   popcut::LineDrawing d;
   for (auto _ : state) benchmark::DoNotOptimize(d = popcut::read_svg_drawing(svg, "bench.svg"));
+  state.counters["segments"] = segments(d);
+}
+
+void BM_ReadDxf(benchmark::State& state) {
+  const std::string& dxf = staircase_dxf(static_cast<int>(state.range(0)));
+  popcut::LineDrawing d;
+  for (auto _ : state) benchmark::DoNotOptimize(d = popcut::read_dxf_drawing(dxf, "bench.dxf"));
   state.counters["segments"] = segments(d);
 }
 
@@ -66,6 +87,7 @@ void BM_ImportCard(benchmark::State& state) {
 }
 
 BENCHMARK(BM_ReadSvg)->Arg(8)->Arg(80)->Arg(720)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadDxf)->Arg(8)->Arg(80)->Arg(720)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SheetMap)->Arg(8)->Arg(80)->Arg(720)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InferCard)->Arg(8)->Arg(80)->Arg(720)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ImportCard)->Arg(8)->Arg(80)->Arg(720)->Unit(benchmark::kMillisecond);

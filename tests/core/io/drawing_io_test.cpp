@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "error_of.h"
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
@@ -15,21 +16,13 @@
 namespace popcut {
 namespace {
 
+using testing::error_of;
+
 std::string svg_doc(const std::string& body,
                     const std::string& size = "width=\"100mm\" height=\"50mm\" viewBox=\"0 0 100 50\"") {
   return "<?xml version=\"1.0\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
          "xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" " +
          size + ">\n" + body + "\n</svg>\n";
-}
-
-Error error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error";
-  return Error(ErrorCode::internal, "", "", "");
 }
 
 double length(const DrawnLine& l) {

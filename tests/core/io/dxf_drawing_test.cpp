@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "io/dxf_curves.h"
+#include "error_of.h"
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
@@ -19,6 +20,8 @@
 
 namespace popcut {
 namespace {
+
+using testing::error_of;
 
 namespace fs = std::filesystem;
 
@@ -43,17 +46,7 @@ double hausdorff(const std::vector<Point2>& a, bool a_closed, const std::vector<
   return d;
 }
 
-Error error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error";
-  return Error(ErrorCode::internal, "", "", "");
-}
-
-class EzdxfFiles : public testing::Test {
+class EzdxfFiles : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = fs::temp_directory_path() / ("popcut-ezdxf-" + std::to_string(::getpid()));

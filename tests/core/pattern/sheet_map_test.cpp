@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "error_of.h"
 #include "popcut/error.h"
 #include "popcut/pattern/card_from_sheet.h"
 #include "popcut/pattern/face_pattern.h"
@@ -31,13 +32,7 @@ LineDrawing step(DrawnKind top = DrawnKind::valley, DrawnKind edge = DrawnKind::
 }
 
 Error error_of(const LineDrawing& d) {
-  try {
-    build_sheet_map(d);
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error";
-  return Error(ErrorCode::internal, "", "", "");
+  return testing::error_of([&] { build_sheet_map(d); });
 }
 
 std::string conflicts(const LineDrawing& d) { return describe_conflicts(infer_card(d, build_sheet_map(d))); }
