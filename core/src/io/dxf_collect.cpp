@@ -18,6 +18,13 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// The counter-clockwise sweep from a start to an end angle, in (0, full]: equal angles are a
+// whole turn, as DXF draws them.
+double sweep(double difference, double full) {
+  const double d = std::fmod(difference, full);
+  return d <= 0 ? d + full : d;
+}
+
 // dxflib's callbacks, collecting shapes into the model or the block being defined.
 class Collector final : public DL_CreationAdapter {
  public:
@@ -29,8 +36,8 @@ class Collector final : public DL_CreationAdapter {
 
   void addLayer(const DL_LayerData& d) override {
     const DL_Attributes a = getAttributes();
-    out.layers[d.name] = {std::abs(a.getColor()), ascii_upper(a.getLinetype()),
-                          d.off || a.getColor() < 0 || (d.flags & 1)};
+    out.layers[ascii_upper(d.name)] = {std::abs(a.getColor()), ascii_upper(a.getLinetype()),
+                                       d.off || a.getColor() < 0 || (d.flags & 1)};
   }
   void addBlock(const DL_BlockData& d) override {
     block_ = &out.blocks[d.name];
@@ -46,9 +53,8 @@ class Collector final : public DL_CreationAdapter {
     Shape& s = start(Shape::Type::ellipse, "ARC", true);
     s.centre = {d.cx, d.cy};
     s.major = {d.radius, 0};
-    s.t0 = d.angle1 * kPi / 180;
-    s.t1 = d.angle2 * kPi / 180;
-    while (s.t1 <= s.t0) s.t1 += 2 * kPi;
+    s.t0 = std::fmod(d.angle1, 360) * kPi / 180;  // a huge angle keeps its precision
+    s.t1 = s.t0 + sweep(d.angle2 - d.angle1, 360) * kPi / 180;
   }
   void addCircle(const DL_CircleData& d) override {
     Shape& s = start(Shape::Type::ellipse, "CIRCLE", true);
@@ -62,9 +68,8 @@ class Collector final : public DL_CreationAdapter {
     s.centre = {d.cx, d.cy};
     s.major = {d.mx, d.my};
     s.ratio = d.ratio;
-    s.t0 = d.angle1;
-    s.t1 = d.angle2;
-    while (s.t1 <= s.t0) s.t1 += 2 * kPi;
+    s.t0 = std::fmod(d.angle1, 2 * kPi);
+    s.t1 = s.t0 + sweep(d.angle2 - d.angle1, 2 * kPi);
     s.closed = s.t1 - s.t0 > 2 * kPi - 1e-9;
   }
   void addPolyline(const DL_PolylineData& d) override {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 
+#include "io/ascii_case.h"
 #include "io/dxf_collect.h"
 #include "io/dxf_curves.h"
 #include "io/svg_path.h"
@@ -20,18 +21,41 @@ using dxf::Shape;
 using dxf::Style;
 using svg::Affine;
 constexpr int kMaxInsertDepth = 16;
+constexpr std::size_t kMaxVisits = 4'000'000;
 
 // $INSUNITS in millimetres; 0 or absent: the drawing states no unit.
 std::optional<double> insunits_mm(int code, const std::string& source) {
-  static const std::map<int, double> mm = {{1, 25.4},    {2, 304.8},  {4, 1},      {5, 10},    {6, 1000},
-                                           {8, 25.4e-6}, {9, 0.0254}, {10, 914.4}, {13, 1e-3}, {14, 100}};
+  // Every unit of the DXF reference; the far ones (miles, light years) fail the ±100 m check.
+  static const std::map<int, double> mm = {{1, 25.4},
+                                           {2, 304.8},
+                                           {3, 1609344},
+                                           {4, 1},
+                                           {5, 10},
+                                           {6, 1000},
+                                           {7, 1e6},
+                                           {8, 25.4e-6},
+                                           {9, 0.0254},
+                                           {10, 914.4},
+                                           {11, 1e-7},
+                                           {12, 1e-6},
+                                           {13, 1e-3},
+                                           {14, 100},
+                                           {15, 1e4},
+                                           {16, 1e5},
+                                           {17, 1e12},
+                                           {18, 1.495978707e14},
+                                           {19, 9.4607e18},
+                                           {20, 3.0857e19},
+                                           {21, 1200000.0 / 3937},
+                                           {22, 100000.0 / 3937},
+                                           {23, 3600000.0 / 3937},
+                                           {24, 6336000000.0 / 3937}};
   if (code == 0) return std::nullopt;
   const auto it = mm.find(code);
   if (it == mm.end())
-    throw Error(ErrorCode::invalid_input, source, "$INSUNITS",
-                "unknown units " + std::to_string(code) +
-                    ": expected 1 (inches), 2 (feet), 4 (mm), 5 (cm), 6 (m), 8 (microinches), 9 (mils), 10 "
-                    "(yards), 13 (microns), 14 (decimetres) or 0 (unitless)");
+    throw Error(
+        ErrorCode::invalid_input, source, "$INSUNITS",
+        "unknown units " + std::to_string(code) + ": expected 0 (unitless) to 24, as the DXF reference lists them");
   return it->second;
 }
 
@@ -80,7 +104,7 @@ class Expander {
   Style resolve(const Style& s, const Context* ctx) const {
     Style r = s;
     if (ctx && r.layer == "0") r.layer = ctx->style.layer;
-    const auto layer = c_.layers.find(r.layer);
+    const auto layer = c_.layers.find(ascii_upper(r.layer));  // DXF layer names ignore case
     const dxf::Layer l = layer == c_.layers.end() ? dxf::Layer{} : layer->second;
     if (r.colour == 0) r.colour = ctx ? ctx->style.colour : 7;
     if (r.colour == 256 || r.colour < 0) r.colour = l.colour;
@@ -90,11 +114,16 @@ class Expander {
   }
 
   bool hidden_layer(const std::string& layer) const {
-    const auto it = c_.layers.find(layer);
+    const auto it = c_.layers.find(ascii_upper(layer));
     return it != c_.layers.end() && it->second.hidden;
   }
 
   void emit(const Shape& s, const Affine& to_sheet, const Context* ctx) {
+    // Copies of empty or hidden blocks add no points; every visit counts, so nested arrays end.
+    if (++visits_ > kMaxVisits)
+      fail(where(s, ctx),
+           "the inserts expand to more than " + std::to_string(kMaxVisits) + " entities, the documented limit",
+           ErrorCode::limit);
     const Style style = resolve(s.style, ctx);
     if (hidden_layer(style.layer)) {
       ++hidden[style.layer];
@@ -225,6 +254,7 @@ class Expander {
   const DrawingOptions& options_;
   LineDrawing& out_;
   std::size_t points_ = 0;
+  std::size_t visits_ = 0;
 };
 
 std::string counted(const std::map<std::string, std::size_t>& m) {

@@ -151,6 +151,10 @@ class Scanner {
  private:
   void keep(const Record& r) {
     for (const Pair& p : r.pairs) {
+      // dxflib reads lines into a 1,024-byte buffer and would never get past a longer one.
+      if (p.value.size() > 1000)
+        in_.fail(p.line + 1,
+                 "a value of " + std::to_string(p.value.size()) + " characters: DXF values are at most 1000 here");
       out_.kept += std::to_string(p.code);
       out_.kept += '\n';
       out_.kept += p.value;
@@ -167,6 +171,9 @@ class Scanner {
   }
 
   void check_count(const Record& r, int count_code, int item_code, const char* what) {
+    if (r.count(count_code) > 1)
+      in_.fail(r.pairs.front().line,
+               r.type() + " gives its count of " + what + " (group " + std::to_string(count_code) + ") more than once");
     const Pair* declared = r.find(count_code);
     const std::size_t have = r.count(item_code);
     const long said = declared ? value_int(*declared) : 0;
@@ -184,6 +191,8 @@ class Scanner {
       return;
     }
     if ((type == "VERTEX" || type == "SEQEND") && in_polyline_) {
+      // A spline-fit polyline's frame (flag 16) is its control polygon, not part of the line.
+      if (const Pair* flags = r.find(70); type == "VERTEX" && flags && (value_int(*flags) & 16)) return;
       if (type == "VERTEX") count_points(1, r);
       in_polyline_ = type == "VERTEX";
       keep(r);
@@ -203,6 +212,8 @@ class Scanner {
         in_.fail(r.pairs.front().line, "SPLINE has more weights (group 41) than control points");
     }
     if (type == "LINE") count_points(2, r);
+    if (const Pair* name = r.find(2); type == "INSERT" && (!name || trim(name->value).empty()))
+      in_.fail(r.pairs.front().line, "an INSERT without a block name (group 2)");
     in_polyline_ = type == "POLYLINE";
     const Pair* handle = r.find(5);
     out_.entities.push_back({type, r.pairs.front().line, handle ? trim(handle->value) : ""});
@@ -212,7 +223,10 @@ class Scanner {
   // True at EOF.
   bool handle(const Record& r) {
     const std::string& type = r.type();
-    if (type == "EOF") return true;
+    if (type == "EOF") {
+      out_.kept += "0\nEOF\n";  // so dxflib ends the last entity even where ENDSEC is missing
+      return true;
+    }
     if (type == "SECTION") {
       const Pair* name = r.find(2);
       section_ = name ? trim(name->value) : "";
@@ -226,15 +240,17 @@ class Scanner {
       return false;
     }
     if (section_ == "HEADER") {
-      keep(r);
+      return false;  // its variables are all in the SECTION record; anything else is not a header
     } else if (section_ == "TABLES") {
       if (type == "TABLE") {
         const Pair* name = r.find(2);
         table_ = name ? trim(name->value) : "";
       }
-      if (table_ == "LAYER") keep(r);
+      if (table_ == "LAYER" && (type == "TABLE" || type == "LAYER" || type == "ENDTAB")) keep(r);
       if (type == "ENDTAB") table_.clear();
     } else if (section_ == "BLOCKS" && (type == "BLOCK" || type == "ENDBLK")) {
+      if (const Pair* name = r.find(2); type == "BLOCK" && (!name || trim(name->value).empty()))
+        in_.fail(r.pairs.front().line, "a BLOCK without a name (group 2)");
       in_polyline_ = false;
       keep(r);
     } else if (section_ == "BLOCKS" || section_ == "ENTITIES") {

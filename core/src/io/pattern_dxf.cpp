@@ -3,6 +3,7 @@
 #include <dl_dxf.h>
 #include <dl_writer_ascii.h>
 
+#include <algorithm>
 #include <charconv>
 #include <iomanip>
 #include <ostream>
@@ -92,7 +93,14 @@ void write_blocks(DL_Dxf& dxf, StreamWriter& dw) {
 void write_pattern_dxf(std::ostream& out, const Pattern& p) {
   DL_Dxf dxf;
   StreamWriter dw(out);
-  dxf.writeHeader(dw);
+  // dxflib's writeHeader fixes $HANDSEED at FFFF; a pattern of more lines than that would get
+  // handles past the seed, so the seed is set above every handle this file uses.
+  dw.dxfString(999, "popcut (dxflib)");
+  dw.sectionHeader();
+  dw.dxfString(9, "$ACADVER");
+  dw.dxfString(1, "AC1015");
+  dw.dxfString(9, "$HANDSEED");
+  dw.dxfHex(5, static_cast<int>(std::min<std::size_t>(0x10000 + 2 * p.lines.size(), 0x7fffffff)));
   dw.dxfString(9, "$INSUNITS");
   dw.dxfInt(70, 4);  // millimetres
   dw.dxfString(9, "$MEASUREMENT");

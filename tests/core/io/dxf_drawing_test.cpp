@@ -180,7 +180,7 @@ TEST(DxfDrawing, BadInputNamesTheLine) {
       << msg(dxf_doc(poly));
   const std::string huge = "0\nLWPOLYLINE\n8\nCUT\n90\n2000000000\n70\n0\n10\n0\n20\n0\n";
   EXPECT_NE(msg(dxf_doc(huge)).find("says 2000000000 vertices"), std::string::npos);
-  EXPECT_NE(msg(dxf_doc(kLine, "9\n$INSUNITS\n70\n3\n")).find("unknown units 3"), std::string::npos);
+  EXPECT_NE(msg(dxf_doc(kLine, "9\n$INSUNITS\n70\n25\n")).find("unknown units 25"), std::string::npos);
   EXPECT_NE(msg(dxf_doc("0\nLINE\n8\nCUT\n10\n1\n20\n1\n11\n1\n21\n1\n"))
                 .find("line 11, LINE on layer \"CUT\": a zero-length"),
             std::string::npos);
@@ -196,6 +196,29 @@ TEST(DxfDrawing, BadInputNamesTheLine) {
   const std::string fit = "0\nSPLINE\n71\n3\n72\n0\n73\n0\n74\n2\n11\n0\n21\n0\n11\n5\n21\n5\n";
   EXPECT_NE(msg(dxf_doc(fit)).find("fit points only"), std::string::npos) << msg(dxf_doc(fit));
   EXPECT_EQ(error_of([&] { read_dxf_drawing(dxf_doc(huge), "x"); }).code(), ErrorCode::invalid_input);
+  // Counts given twice (the library would allocate from the second), values longer than the
+  // library's line buffer, inserts and blocks without names.
+  const std::string twice = "0\nLWPOLYLINE\n90\n1\n90\n600000000\n10\n0\n20\n0\n";
+  EXPECT_NE(msg(dxf_doc(twice)).find("more than once"), std::string::npos) << msg(dxf_doc(twice));
+  EXPECT_NE(msg(dxf_doc("0\nLINE\n8\n" + std::string(5000, 'L') + "\n")).find("line 14: a value of 5000 characters"),
+            std::string::npos);
+  EXPECT_NE(msg(dxf_doc("0\nINSERT\n10\n0\n20\n0\n")).find("line 11: an INSERT without a block name"),
+            std::string::npos);
+}
+
+TEST(DxfDrawing, ArcsSweepCounterClockwiseModuloAFullTurn) {
+  // 30° to 400° is 10°, as CAD programs draw it; a huge angle neither hangs nor sweeps wrong.
+  const LineDrawing d = read_dxf_drawing(dxf_doc("0\nARC\n8\nCUT\n10\n0\n20\n0\n40\n10\n50\n30\n51\n400\n"
+                                                 "0\nARC\n8\nCUT\n10\n0\n20\n0\n40\n10\n50\n1e20\n51\n0\n"),
+                                         "arcs.dxf");
+  ASSERT_EQ(d.lines.size(), 2U);
+  const Point2 end = d.lines[0].points.back();
+  EXPECT_NEAR(std::atan2(end.v_mm, end.x_mm) * 180 / std::numbers::pi, 40, 1e-9);
+  EXPECT_NEAR(std::atan2(d.lines[0].points[0].v_mm, d.lines[0].points[0].x_mm) * 180 / std::numbers::pi, 30, 1e-9);
+  for (const Point2& p : d.lines[1].points) EXPECT_NEAR(std::hypot(p.x_mm, p.v_mm), 10, 1e-6);
+  // US survey feet: 1200/3937 m.
+  const LineDrawing survey = read_dxf_drawing(dxf_doc(kLine, "9\n$INSUNITS\n70\n21\n"), "survey.dxf");
+  EXPECT_NEAR(survey.lines[0].points[1].x_mm, 10 * 1200000.0 / 3937, 1e-9);
 }
 
 TEST(DxfDrawing, MoreSegmentsThanTheLimitAreRefusedBeforeReading) {
@@ -206,7 +229,9 @@ TEST(DxfDrawing, MoreSegmentsThanTheLimitAreRefusedBeforeReading) {
     entities += "0\nLINE\n10\n0\n20\n" + std::to_string(i % 1000) + "\n11\n1\n21\n0\n";
   const Error e = error_of([&] { read_dxf_drawing(dxf_doc(entities), "many.dxf"); });
   EXPECT_EQ(e.code(), ErrorCode::limit);
-  EXPECT_NE(std::string(e.what()).find("the documented limit"), std::string::npos) << e.what();
+  // The scanner's wording ("points"), not the flattening's ("segments"): refused before dxflib.
+  EXPECT_NE(std::string(e.what()).find("more than 2000000 points, the documented limit"), std::string::npos)
+      << e.what();
 }
 
 TEST(DxfCurves, ARationalQuarterCircleIsExactAndWithinTolerance) {
