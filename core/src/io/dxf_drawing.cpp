@@ -118,12 +118,17 @@ class Expander {
     return it != c_.layers.end() && it->second.hidden;
   }
 
-  void emit(const Shape& s, const Affine& to_sheet, const Context* ctx) {
-    // Copies of empty or hidden blocks add no points; every visit counts, so nested arrays end.
+  // Copies of empty or hidden blocks add no points; every entity and every copy counts, so
+  // nested arrays end.
+  void visit(const Shape& s, const Context* ctx) {
     if (++visits_ > kMaxVisits)
       fail(where(s, ctx),
            "the inserts expand to more than " + std::to_string(kMaxVisits) + " entities, the documented limit",
            ErrorCode::limit);
+  }
+
+  void emit(const Shape& s, const Affine& to_sheet, const Context* ctx) {
+    visit(s, ctx);
     const Style style = resolve(s.style, ctx);
     if (hidden_layer(style.layer)) {
       ++hidden[style.layer];
@@ -192,6 +197,7 @@ class Expander {
     const Affine outer = s.mirrored ? Affine{-1, 0, 0, 1, 0, 0}.then(to_sheet) : to_sheet;
     for (int r = 0; r < s.rows; ++r)
       for (int col = 0; col < s.columns; ++col) {
+        visit(s, ctx);
         const double ox = col * s.column_mm, oy = r * s.row_mm;
         const Affine copy = placed.then({1, 0, 0, 1, s.at.x_mm + cs * ox - sn * oy, s.at.v_mm + sn * ox + cs * oy});
         for (const Shape& child : block->second.shapes) emit(child, copy.then(outer), &inner);

@@ -206,6 +206,21 @@ TEST(DxfDrawing, BadInputNamesTheLine) {
             std::string::npos);
 }
 
+TEST(DxfDrawing, NestedArraysOfEmptyBlocksEndAtTheLimit) {
+  // 1,000 × 1,000 copies of a block holding 1,000 × 1,000 copies of an empty block: no point is
+  // ever drawn, so only the count of visits can stop it.
+  const std::string blocks =
+      "0\nSECTION\n2\nBLOCKS\n0\nBLOCK\n2\nEMPTY\n10\n0\n20\n0\n0\nENDBLK\n"
+      "0\nBLOCK\n2\nGRID\n10\n0\n20\n0\n0\nINSERT\n2\nEMPTY\n10\n0\n20\n0\n70\n1000\n71\n1000\n44\n1\n45\n1\n"
+      "0\nENDBLK\n0\nENDSEC\n";
+  const std::string text = blocks +
+                           "0\nSECTION\n2\nENTITIES\n0\nINSERT\n2\nGRID\n10\n0\n20\n0\n70\n1000\n71\n"
+                           "1000\n44\n1\n45\n1\n0\nENDSEC\n0\nEOF\n";
+  const Error e = error_of([&] { read_dxf_drawing(text, "nested.dxf"); });
+  EXPECT_EQ(e.code(), ErrorCode::limit);
+  EXPECT_NE(std::string(e.what()).find("more than 4000000 entities"), std::string::npos) << e.what();
+}
+
 TEST(DxfDrawing, ArcsSweepCounterClockwiseModuloAFullTurn) {
   // 30° to 400° is 10°, as CAD programs draw it; a huge angle neither hangs nor sweeps wrong.
   const LineDrawing d = read_dxf_drawing(dxf_doc("0\nARC\n8\nCUT\n10\n0\n20\n0\n40\n10\n50\n30\n51\n400\n"
