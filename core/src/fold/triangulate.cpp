@@ -59,11 +59,13 @@ void mark_depths(CDT& cdt) {
 
 }  // namespace
 
-std::vector<std::array<Point2, 3>> triangulate(const PatternFace& face) {
+std::vector<std::array<Point2, 3>> triangulate(const PatternFace& face) { return triangulate(face.outer, face.holes); }
+
+std::vector<std::array<Point2, 3>> triangulate(const Ring& outer, const std::vector<Ring>& holes) {
   try {
     CDT cdt;
-    insert_ring(cdt, face.outer);
-    for (const Ring& h : face.holes) insert_ring(cdt, h);
+    insert_ring(cdt, outer);
+    for (const Ring& h : holes) insert_ring(cdt, h);
     mark_depths(cdt);
     std::vector<std::array<Point2, 3>> out;
     for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {

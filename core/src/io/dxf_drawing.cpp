@@ -4,7 +4,6 @@
 #include <cmath>
 #include <map>
 #include <optional>
-#include <set>
 
 #include "io/ascii_case.h"
 #include "io/dxf_collect.h"

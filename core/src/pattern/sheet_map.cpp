@@ -30,8 +30,6 @@ struct Piece {
   int drawn;
 };
 
-std::string place(Point2 p) { return "(" + format_decimal(p.x_mm, 3) + ", " + format_decimal(p.v_mm, 3) + ") mm"; }
-
 // Cells of the snapping grid, keyed by integer coordinates.
 struct Grid {
   double cell;
@@ -170,7 +168,7 @@ void require_classified(const LineDrawing& d) {
   for (const DrawnLine& l : d.lines) {
     if (l.kind != DrawnKind::unknown) continue;
     if (!first) first = &l;
-    if (++count <= 10) list += "\n  " + l.where + " at " + place(l.points[0]) + ": " + l.why;
+    if (++count <= 10) list += "\n  " + l.where + " at " + describe_place(l.points[0]) + ": " + l.why;
   }
   if (!first) return;
   throw Error(ErrorCode::invalid_input, d.source, first->where,
@@ -208,8 +206,9 @@ DrawnKind edge_kind(const LineDrawing& d, Arrangement::Halfedge_const_handle h) 
     }
     const DrawnLine& other = d.lines[static_cast<std::size_t>(data.front())];
     throw Error(ErrorCode::invalid_input, d.source, l.where,
-                std::string("drawn over ") + other.where + " at " + place(rounded(h->source()->point())) + " as " +
-                    to_string(l.kind) + " where that line is " + to_string(other.kind) + ": one line, one kind");
+                std::string("drawn over ") + other.where + " at " + describe_place(rounded(h->source()->point())) +
+                    " as " + to_string(l.kind) + " where that line is " + to_string(other.kind) +
+                    ": one line, one kind");
   }
   return kind;
 }
@@ -236,7 +235,8 @@ OutlineCheck check_outline(const LineDrawing& d, const Arrangement& arr, bool ha
   const auto outside = arr.unbounded_face();
   for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e)
     if (e->face() == outside && e->twin()->face() == outside && edge_kind(d, e) == DrawnKind::outline)
-      return {false, "the sheet's outline is not closed: it ends loose near " + place(rounded(e->source()->point())),
+      return {false,
+              "the sheet's outline is not closed: it ends loose near " + describe_place(rounded(e->source()->point())),
               e->curve().data().front()};
   for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
     const bool out1 = e->face() == outside, out2 = e->twin()->face() == outside;
@@ -302,6 +302,10 @@ void fill_map(const LineDrawing& d, const Arrangement& arr, SheetMap& map) {
 }
 
 }  // namespace
+
+std::string describe_place(Point2 p) {
+  return "(" + format_decimal(p.x_mm, 3) + ", " + format_decimal(p.v_mm, 3) + ") mm";
+}
 
 SheetMap build_sheet_map(const LineDrawing& d, const SheetMapOptions& options) {
   require_classified(d);

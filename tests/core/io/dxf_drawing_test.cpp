@@ -11,6 +11,7 @@
 #include "io/dxf_curves.h"
 #include "error_of.h"
 #include "popcut/error.h"
+#include "popcut/fold/sheet_fold.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
@@ -60,6 +61,28 @@ class EzdxfFiles : public ::testing::Test {
   static fs::path dir_;
 };
 fs::path EzdxfFiles::dir_;
+
+// A box dieline from CAD, in inches: it folds as a sheet into the same closed 80 × 60 × 30 mm box
+// as examples/drawn/box.svg, its tabs turned in after the walls.
+TEST_F(EzdxfFiles, ACadBoxDielineFoldsShut) {
+  const LineDrawing d = load_drawing(file("box-in.dxf"));
+  FoldableSheet s = make_foldable_sheet(d, build_sheet_map(d));
+  ASSERT_EQ(s.map.regions.size(), 11u);
+  ASSERT_EQ(s.hinges.size(), 10u);
+  // The tabs are the four hinges shortest of all (26 mm): stage 2.
+  for (SheetHinge& h : s.hinges)
+    if (std::hypot(h.b.x_mm - h.a.x_mm, h.b.v_mm - h.a.v_mm) < 27) h.stage = 2;
+  EXPECT_TRUE(check_sheet_motion(s, 13).ok());
+  const CardMesh m = sheet_mesh(s, fold_sheet(s, 1));
+  Point3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  for (const Point3& p : m.vertices) {
+    lo = {std::min(lo.x_mm, p.x_mm), std::min(lo.y_mm, p.y_mm), std::min(lo.z_mm, p.z_mm)};
+    hi = {std::max(hi.x_mm, p.x_mm), std::max(hi.y_mm, p.y_mm), std::max(hi.z_mm, p.z_mm)};
+  }
+  EXPECT_NEAR(hi.x_mm - lo.x_mm, 80, 1e-6);
+  EXPECT_NEAR(hi.y_mm - lo.y_mm, 60, 1e-6);
+  EXPECT_NEAR(hi.z_mm - lo.z_mm, 30, 1e-6);
+}
 
 TEST_F(EzdxfFiles, EveryEntityFollowsEzdxfsOwnFlattening) {
   const LineDrawing d = load_drawing(file("shapes.dxf"));

@@ -103,6 +103,27 @@ def step(out_dir, units, scale):
     return doc
 
 
+def box(out_dir):
+    """The tuck-lid box of examples/drawn/box.svg as a CAD dieline in inches, y up: CUT and CREASE layers."""
+    doc = ezdxf.new("R2000")
+    doc.units = ezdxf.units.IN
+    for name in ["CUT", "CREASE"]:
+        doc.layers.add(name)
+    msp = doc.modelspace()
+    def p(x, y):
+        return (x / 25.4, (195 - y) / 25.4)
+    outline = [(32, 0), (108, 0), (110, 15), (110, 77), (122, 80), (122, 100), (110, 103), (110, 105), (140, 105),
+               (140, 165), (110, 165), (110, 167), (122, 170), (122, 190), (110, 193), (110, 195), (30, 195),
+               (30, 193), (18, 190), (18, 170), (30, 167), (30, 165), (0, 165), (0, 105), (30, 105), (30, 103),
+               (18, 100), (18, 80), (30, 77), (30, 15)]
+    msp.add_lwpolyline([p(*q) for q in outline], close=True, dxfattribs={"layer": "CUT"})
+    for a, b in [((30, 15), (110, 15)), ((30, 75), (110, 75)), ((30, 105), (110, 105)), ((30, 165), (110, 165)),
+                 ((30, 105), (30, 165)), ((110, 105), (110, 165)), ((30, 77), (30, 103)), ((110, 77), (110, 103)),
+                 ((30, 167), (30, 193)), ((110, 167), (110, 193))]:
+        msp.add_line(p(*a), p(*b), dxfattribs={"layer": "CREASE"})
+    doc.saveas(f"{out_dir}/box-in.dxf")
+
+
 def cyclic(out_dir):
     doc = ezdxf.new("R2000")
     a = doc.blocks.new("A")
@@ -137,3 +158,4 @@ if __name__ == "__main__":
     unitless.header["$INSUNITS"] = 0
     unitless.saveas(f"{out}/step-unitless.dxf")
     cyclic(out)
+    box(out)

@@ -17,6 +17,7 @@ Point3 fold_point(Point3 at_90, double angle_deg);
 
 // Triangles covering a face (outer ring minus holes), counter-clockwise in (x, v).
 std::vector<std::array<Point2, 3>> triangulate(const PatternFace& face);
+std::vector<std::array<Point2, 3>> triangulate(const Ring& outer, const std::vector<Ring>& holes);
 
 // The card at a fold angle: each face triangulated in the pattern, mapped to 3D (eq. 2, 3),
 // then moved by eq. 7. Triangles run counter-clockwise seen from the sheet's printed side.

@@ -44,6 +44,9 @@ struct SheetMapOptions {
   double snap_tolerance_mm = 0.01;  // ends this close to another end, or to a line, join it
 };
 
+// "(12.5, 40) mm": a place on the drawn sheet as every report about it writes one.
+std::string describe_place(Point2 p);
+
 // Builds the map with CGAL's arrangement (exact): snaps ends, splits at crossings and
 // T-junctions, finds the regions with their holes. The sheet's edge is the `outline` lines,
 // else the outer boundary of the cut lines, else the SVG page. Throws popcut::Error (naming the
