@@ -18,6 +18,7 @@
 #include "cli/import.h"
 #include "cli/client_answers.h"
 #include "popcut/error.h"
+#include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
 #include "popcut/mesh/mesh_import.h"
 
@@ -245,7 +246,10 @@ int submit(const ClientCommands& s, Connection& c) {
     }
     json model;
     try {
-      model = parse_shallow(read_text_file(s.model_path), kBadInput, s.model_path);
+      // A drawing is read here, as every command reads one, and goes as the model it makes.
+      const std::string text =
+          is_drawing_path(s.model_path) ? drawing_job_model(s.model_path, s.read_as) : read_text_file(s.model_path);
+      model = parse_shallow(text, kBadInput, s.model_path);
     } catch (const json::exception& e) {
       throw ClientFailure{kBadInput, s.model_path + ": not JSON: " + e.what()};
     } catch (const Error& e) {
@@ -305,9 +309,10 @@ void add_submit_command(CLI::App& app, ClientCommands& s) {
       "finish), 4 if popcutd failed inside.");
   s.submit
       ->add_option("MODEL", s.model_path,
-                   "Model file (popcut.voxel.v1 or popcut.faces.v1), or a mesh (.obj, .stl, .off, .ply) that popcutd "
-                   "imports with the options below")
+                   "Model file (popcut.voxel.v1 or popcut.faces.v1), a drawing (.svg, .dxf, .fold), or a mesh (.obj, "
+                   ".stl, .off, .ply) that popcutd imports with the options below")
       ->required();
+  add_read_as_options(s.submit, s.read_as, false);
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
   s.submit

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "cli/read_as.h"
+
 namespace popcut::cli {
 
 struct ClientCommands {
@@ -29,6 +31,7 @@ struct ClientCommands {
   std::string resume_from = "received";                            // resume --from: received or executed
   std::vector<std::pair<std::string, std::string>> import_values;  // popcut import's options, for a mesh
   long long job_id = 0;
+  ReadAs read_as;  // submit: how a drawing is read
   bool json_out = false, wait = false, all = false;
 };
 

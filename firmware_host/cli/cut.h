@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli/cut_device.h"
+#include "cli/read_as.h"
 
 namespace popcut::cli {
 
@@ -13,6 +14,7 @@ struct CutCommands {
   CLI::App* plan = nullptr;
   CLI::App* cut = nullptr;
   std::string model_path, profile_path, out_path, report_path, device, out_dir;  // device empty: the profile's
+  ReadAs read_as;
   std::string material;  // configs/materials/NAME.toml; empty: the profile's own forces and speeds
   bool json_out = false, no_progress = false;
   SimFaultArgs faults;

@@ -12,6 +12,7 @@
 #include "popcut/fold/fold.h"
 #include "popcut/fold/render.h"
 #include "popcut/io/mesh_io.h"
+#include "popcut/text.h"
 
 namespace popcut::cli {
 namespace {
@@ -22,21 +23,46 @@ double checked_angle(double angle_deg) {
   return angle_deg + 0.0;
 }
 
-int run_fold(const FoldCommands& s) {
-  const double angle_deg = checked_angle(s.angle_deg);
-  const std::string ext = require_extension(s.out_path, {".obj", ".gltf"}, "3D format");
-  const Pattern p = load_cli_pattern(s.model_path);
-  const CardMesh mesh = fold_card(p, angle_deg);
+// A card opens to --angle; a sheet's creases each have their own, so --angle would mislead.
+void refuse_angle_for_sheet(const FoldCommands& s, const CLI::App* command) {
+  if (s.read_as.sheet() && command->count("--angle") > 0)
+    throw CliError(kBadInput, ErrorCode::invalid_input, "", "--angle",
+                   "--angle opens a card; a sheet's creases turn by --crease-angle, --fold LINE=DEGREES or the "
+                   "drawing's own angles (FOLD edges_foldAngle)");
+}
+
+}  // namespace
+
+CardMesh folded_sheet(const FoldableSheet& sheet, double fraction) {
+  const SheetState state = fold_sheet(sheet, fraction);
+  for (const SheetProblem& p : state.open_cycles) std::cerr << "popcut: warning: " << p.what << "\n";
+  return sheet_mesh(sheet, state);
+}
+
+std::string write_folded_mesh(const std::string& out_path, const CardMesh& mesh) {
+  const std::string ext = require_extension(out_path, {".obj", ".gltf"}, "3D format");
   if (ext == ".gltf") {
-    write_cli_output(s.out_path, [&](std::ostream& out) { write_gltf(out, mesh); });
-    std::cerr << "wrote " << s.out_path;
-  } else {
-    const std::filesystem::path mtl = std::filesystem::path(s.out_path).replace_extension(".mtl");
-    write_cli_output(s.out_path, [&](std::ostream& out) { write_obj(out, mesh, mtl.filename().string()); });
-    write_cli_output(mtl.string(), [&](std::ostream& out) { write_mtl(out); });
-    std::cerr << "wrote " << s.out_path << " and " << mtl.string();
+    write_cli_output(out_path, [&](std::ostream& out) { write_gltf(out, mesh); });
+    return out_path;
   }
-  std::cerr << " (" << mesh.triangles.size() << " triangles per side, folded to " << angle_deg << "°)\n";
+  const std::filesystem::path mtl = std::filesystem::path(out_path).replace_extension(".mtl");
+  write_cli_output(out_path, [&](std::ostream& out) { write_obj(out, mesh, mtl.filename().string()); });
+  write_cli_output(mtl.string(), [&](std::ostream& out) { write_mtl(out); });
+  return out_path + " and " + mtl.string();
+}
+
+namespace {
+
+int run_fold(const FoldCommands& s) {
+  refuse_angle_for_sheet(s, s.fold);
+  const double angle_deg = checked_angle(s.angle_deg);
+  require_extension(s.out_path, {".obj", ".gltf"}, "3D format");  // before the work
+  const CardMesh mesh = s.read_as.sheet() ? folded_sheet(load_cli_sheet(s.model_path, s.read_as), 1)
+                                          : fold_card(load_cli_pattern(s.model_path), angle_deg);
+  std::cerr << "wrote " << write_folded_mesh(s.out_path, mesh) << " (" << mesh.triangles.size()
+            << " triangles per side, folded to "
+            << (s.read_as.sheet() ? std::string("each crease's angle") : format_significant(angle_deg, 6) + "°")
+            << ")\n";
   return kOk;
 }
 
@@ -47,16 +73,27 @@ std::string frame_path(const std::filesystem::path& out, std::size_t i, const st
   return (out.parent_path() / (out.stem().string() + suffix + ext)).string();
 }
 
+// A card's frames open it from closed (180°) to --angle; a sheet's fold it from flat to folded.
+std::vector<CardMesh> render_meshes(const FoldCommands& s, double angle_deg) {
+  std::vector<CardMesh> meshes;
+  const int frames = s.frames;
+  if (s.read_as.sheet()) {
+    const FoldableSheet sheet = load_cli_sheet(s.model_path, s.read_as);
+    for (int i = 0; i < frames; ++i) meshes.push_back(folded_sheet(sheet, frames == 1 ? 1.0 : 1.0 * i / (frames - 1)));
+    return meshes;
+  }
+  const Pattern p = load_cli_pattern(s.model_path);
+  for (int i = 0; i < frames; ++i)
+    meshes.push_back(fold_card_for_picture(p, frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1)));
+  return meshes;
+}
+
 int run_render(const FoldCommands& s) {
+  refuse_angle_for_sheet(s, s.render);
   const double angle_deg = checked_angle(s.angle_deg);  // every frame's angle lies between 180 and it
   const int frames = s.frames;
   const std::string ext = require_extension(s.out_path, {".svg", ".png"}, "picture format");
-  const Pattern p = load_cli_pattern(s.model_path);
-  std::vector<double> angles;
-  for (int i = 0; i < frames; ++i)
-    angles.push_back(frames == 1 ? angle_deg : 180 + (angle_deg - 180) * i / (frames - 1));
-  std::vector<CardMesh> meshes;
-  for (double a : angles) meshes.push_back(fold_card_for_picture(p, a));
+  const std::vector<CardMesh> meshes = render_meshes(s, angle_deg);
   const ViewBox box = view_box(meshes);  // one frame for every picture, so the animation holds still
   const bool progress_on_tty = ::isatty(STDERR_FILENO) != 0;
   const std::filesystem::path out(s.out_path);
@@ -75,7 +112,9 @@ int run_render(const FoldCommands& s) {
   if (frames > 1 && progress_on_tty) std::cerr << "\n";
   std::cerr << "wrote "
             << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : s.out_path)
-            << " (folded to " << angle_deg << "°)\n";
+            << (s.read_as.sheet() ? std::string(" (folded from flat)")
+                                  : " (folded to " + format_significant(angle_deg, 6) + "°)")
+            << "\n";
   return kOk;
 }
 
@@ -96,6 +135,7 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
       ->check(decimal_degrees)
       ->capture_default_str();
   s.fold->add_option("-o,--output", s.out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
+  add_read_as_options(s.fold, s.read_as, true);
 
   s.render = app.add_subcommand("render",
                                 "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
@@ -105,7 +145,10 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
       ->capture_default_str();
   s.render->add_option("-o,--output", s.out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")
       ->required();
-  s.render->add_option("--frames", s.frames, "Frames of an opening animation from closed (180°) to --angle")
+  add_read_as_options(s.render, s.read_as, true);
+  s.render
+      ->add_option("--frames", s.frames,
+                   "Frames of an opening animation from closed (180°) to --angle; --as sheet: from flat to folded")
       ->check(CLI::Range(1, 360))
       ->capture_default_str();
   s.render->add_option("--width", s.width_px, "Picture width in pixels")

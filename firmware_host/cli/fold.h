@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "cli/read_as.h"
+
 namespace popcut::cli {
 
 struct FoldCommands {
@@ -14,7 +16,15 @@ struct FoldCommands {
   double angle_deg = 90;
   int frames = 1;      // render --frames
   int width_px = 800;  // render --width
+  ReadAs read_as;
 };
+
+// The sheet folded to `fraction` of its motion; cycles that cannot close are warned about on stderr.
+CardMesh folded_sheet(const FoldableSheet& sheet, double fraction);
+
+// Writes OUT.obj (and OUT.mtl) or OUT.gltf, by the extension (else exit 2 naming -o); returns what
+// was written, for the "wrote" line.
+std::string write_folded_mesh(const std::string& out_path, const CardMesh& mesh);
 
 // Adds fold and render to the app; `state` receives the parsed options.
 void add_fold_commands(CLI::App& app, FoldCommands& state);

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli/common.h"
+#include "cli/fold.h"
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/card_from_sheet.h"
 #include "popcut/pattern/face_pattern.h"
@@ -72,7 +73,31 @@ void print_report(const ImportPatternCommand& s, const CardImport& r) {
   if (!s.out_path.empty()) std::cout << "wrote " << s.out_path << "\n";
 }
 
+// --as sheet: the sheet's check, and with -o its report (JSON) or the folded sheet (OBJ, glTF).
+int run_sheet(const ImportPatternCommand& s) {
+  const std::string ext =
+      s.out_path.empty() ? "" : require_extension(s.out_path, {".json", ".obj", ".gltf"}, "output type");
+  const FoldableSheet sheet = load_cli_sheet(s.drawing_path, s.read_as, drawing_options(s), {s.snap_mm});
+  const SheetMotionReport r = check_sheet_motion(sheet, s.frames);
+  const nlohmann::json report = sheet_check_json(shown(s.drawing_path), sheet, r);
+  std::string wrote;
+  if (ext == ".json") {
+    write_cli_output(s.out_path, [&](std::ostream& o) { o << report.dump(2) << "\n"; });
+    wrote = s.out_path;
+  } else if (!ext.empty()) {
+    wrote = write_folded_mesh(s.out_path, folded_sheet(sheet, 1));
+  }
+  if (s.json_out) {
+    print_json_line(report);
+  } else {
+    print_sheet_check(std::cout, shown(s.drawing_path), sheet, r);
+    if (!wrote.empty()) std::cout << "wrote " << wrote << "\n";
+  }
+  return sheet_check_exit(sheet, r);
+}
+
 int run(const ImportPatternCommand& s) {
+  if (s.read_as.sheet()) return run_sheet(s);
   SheetMapOptions map;
   map.snap_tolerance_mm = s.snap_mm;
   const CardImport r = import_card(s.drawing_path, drawing_options(s), map);
@@ -93,10 +118,16 @@ int run(const ImportPatternCommand& s) {
 void add_import_pattern_command(CLI::App& app, ImportPatternCommand& s) {
   s.app = app.add_subcommand(
       "import-pattern",
-      "Read a pattern drawn elsewhere (SVG, DXF, FOLD) as an OA card and write its face model; exit 1 "
-      "with the conflicts when no card folds from it.");
+      "Read a pattern drawn elsewhere (SVG, DXF, FOLD) as an OA card and write its face model, or (--as sheet) "
+      "as a sheet that folds rigidly and check its motion; exit 1 with the conflicts when it does not fold.");
   s.app->add_option("DRAWING", s.drawing_path, "Drawing: FILE.svg, FILE.dxf or FILE.fold")->required();
-  s.app->add_option("-o,--output", s.out_path, "Write the card as a face model (popcut.faces.v1 JSON)");
+  s.app->add_option("-o,--output", s.out_path,
+                    "Write the card as a face model (popcut.faces.v1 JSON); --as sheet: the check report "
+                    "(popcut.sheet-check.v1, OUT.json) or the folded sheet (OUT.obj, OUT.gltf)");
+  add_read_as_options(s.app, s.read_as, true);
+  s.app->add_option("--frames", s.frames, "--as sheet: steps of the motion from flat to folded that are checked")
+      ->check(CLI::Range(2, 720))
+      ->capture_default_str();
   s.app->add_option("--layer", s.layers, "NAME=KIND: a layer or group name and the kind of its lines (repeatable)");
   s.app->add_option("--chord-mm", s.chord_mm, "Curves become chords within this distance (mm)")
       ->check(CLI::Range(0.001, 10.0));

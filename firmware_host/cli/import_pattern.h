@@ -1,10 +1,12 @@
-// popcut import-pattern: a pattern drawn elsewhere (SVG, FOLD) read as an OA card and written as a face model.
+// popcut import-pattern: a pattern drawn elsewhere (SVG, DXF, FOLD) read as an OA card or as a folding sheet.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "cli/read_as.h"
 
 namespace popcut::cli {
 
@@ -15,6 +17,8 @@ struct ImportPatternCommand {
   double chord_mm = 0.05, snap_mm = 0.01, unit_mm = 1;
   bool red_is_cut = false;
   bool json_out = false;
+  int frames = 24;  // --as sheet: steps of the motion checked
+  ReadAs read_as;
 };
 
 void add_import_pattern_command(CLI::App& app, ImportPatternCommand& state);

@@ -30,8 +30,9 @@ int run_pattern(const PatternCommands& s) {
     throw Error(ErrorCode::invalid_input, "", "--json",
                 "cannot print a summary when the pattern itself goes to standard output");
   }
-  const Pattern p = load_cli_pattern(s.model_path);
-  const PopupReport report = check_popup(p);
+  const Pattern p = load_cli_pattern(s.model_path, s.read_as);
+  // A sheet's pattern is its drawn lines; the pop-up check is a card's.
+  const PopupReport report = s.read_as.sheet() ? PopupReport{} : check_popup(p);
   write_cli_output(s.out_path, [&](std::ostream& out) {
     if (ext == ".svg")
       write_pattern_svg(out, p, {s.shade});
@@ -42,7 +43,13 @@ int run_pattern(const PatternCommands& s) {
     else
       write_pattern_json(out, p);
   });
-  if (s.json_out) {
+  if (s.json_out && s.read_as.sheet()) {
+    const LineCounts c = count_lines(p);
+    print_json_line({{"source", shown(s.model_path)},
+                     {"output", s.out_path},
+                     {"lines", {{"cut", c.cut}, {"mountain", c.mountain}, {"valley", c.valley}}},
+                     {"length_mm", {{"cut", c.cut_mm}, {"mountain", c.mountain_mm}, {"valley", c.valley_mm}}}});
+  } else if (s.json_out) {
     json j = validation_json(shown(s.model_path), p, report);
     j["output"] = s.out_path;
     print_json_line(j);
@@ -60,7 +67,18 @@ int run_pattern(const PatternCommands& s) {
   return kOk;
 }
 
+int run_validate_sheet(const PatternCommands& s) {
+  const FoldableSheet sheet = load_cli_sheet(s.model_path, s.read_as);
+  const SheetMotionReport r = check_sheet_motion(sheet, s.frames);
+  if (s.json_out)
+    print_json_line(sheet_check_json(shown(s.model_path), sheet, r));
+  else
+    print_sheet_check(std::cout, shown(s.model_path), sheet, r);
+  return sheet_check_exit(sheet, r);
+}
+
 int run_validate(const PatternCommands& s) {
+  if (s.read_as.sheet()) return run_validate_sheet(s);
   const Pattern p = load_cli_pattern(s.model_path);
   const PopupReport report = check_popup(p);
   if (s.json_out)
@@ -108,12 +126,21 @@ void add_pattern_commands(CLI::App& app, PatternCommands& s) {
           "-o,--output", s.out_path,
           "Output: OUT.json, OUT.svg, OUT.fold (crease pattern), OUT.dxf (CAD), or - for JSON on standard output")
       ->required();
+  add_read_as_options(s.pattern, s.read_as, true);
   s.pattern->add_flag("--shade", s.shade, "SVG: shade VFaces and HFaces so the design reads at a glance");
   s.pattern->add_flag("--json", s.json_out, "Print a machine-readable summary (and errors) as JSON on standard output");
 
-  s.validate = app.add_subcommand("validate", "Check that a model makes a card that pops up; exit 1 if not.");
+  s.validate = app.add_subcommand(
+      "validate",
+      "Check that a model makes a card that pops up (or, --as sheet, that a drawn sheet folds without an open "
+      "cycle or a collision); exit 1 if not.");
   s.validate->add_option("MODEL", s.model_path, "Model file, or - for standard input")->required();
-  s.validate->add_flag("--json", s.json_out, "Print the report as JSON (popcut.validation.v1) on standard output");
+  s.validate->add_flag("--json", s.json_out,
+                       "Print the report as JSON (popcut.validation.v1; popcut.sheet-check.v1 with --as sheet)");
+  add_read_as_options(s.validate, s.read_as, true);
+  s.validate->add_option("--frames", s.frames, "--as sheet: steps of the motion from flat to folded that are checked")
+      ->check(CLI::Range(2, 720))
+      ->capture_default_str();
 
   s.repair = app.add_subcommand("repair",
                                 "Fill a model so no column is taller than the one behind it (the staircase rule), as "

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "cli/read_as.h"
+
 namespace popcut::cli {
 
 struct PatternCommands {
@@ -15,6 +17,8 @@ struct PatternCommands {
   bool json_out = false;
   bool shade = false;    // pattern --shade
   bool windows = false;  // repair --windows
+  int frames = 24;       // validate --as sheet: steps of the motion checked
+  ReadAs read_as;
 };
 
 // Adds pattern, validate and repair to the app; `state` receives the parsed options.

@@ -195,7 +195,8 @@ void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
   if (body.contains("copies")) nj.copies = copies_field(body["copies"]);
   if (!body.contains("model")) fail(ApiError::bad_request, "missing field 'model'", "model");
   if (!body["model"].is_object())
-    fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1 or popcut.faces.v1 object", "model");
+    fail(ApiError::bad_request, "'model' must be a popcut.voxel.v1, popcut.faces.v1 or popcut.pattern.v1 object",
+         "model");
   nj.name = string_field(body, "name", false);
   const bool named = body.contains("name") && !body["name"].is_null();
   if (named && nj.name.empty())

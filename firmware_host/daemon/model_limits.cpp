@@ -1,7 +1,10 @@
 // Size limits on submitted models, checked before any geometry work, and the pattern they make.
 #include "model_limits.h"
 
+#include <nlohmann/json.hpp>
+
 #include "popcut/error.h"
+#include "popcut/io/pattern_io.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/popup_check.h"
 
@@ -28,7 +31,27 @@ AnyModel checked_model(const std::string& text, const std::string& source, const
   return m;
 }
 
+namespace {
+
+// A popcut.pattern.v1 document (a drawn sheet's lines, from `popcut submit --as sheet`): cut as it is.
+bool is_pattern_document(const std::string& text) {
+  const nlohmann::json root = nlohmann::json::parse(text, nullptr, false);
+  return root.is_object() && root.contains("format") && root["format"] == kPatternFormat;
+}
+
+}  // namespace
+
 Pattern checked_pattern(const std::string& text, const std::string& source, const Limits& limits) {
+  if (is_pattern_document(text)) {
+    Pattern p = parse_pattern(text, source);
+    const std::size_t max_lines = static_cast<std::size_t>(limits.pattern_faces) * kPatternLinesPerFace;
+    if (p.lines.size() > max_lines)
+      throw Error(ErrorCode::limit, source, "model",
+                  "the pattern has " + std::to_string(p.lines.size()) + " lines; this daemon takes at most " +
+                      std::to_string(max_lines) + " (" + std::to_string(kPatternLinesPerFace) +
+                      " × [limits] pattern_faces)");
+    return p;
+  }
   const AnyModel m = checked_model(text, source, limits);
   Pattern p = make_pattern(m, source);
   if (p.faces.size() > static_cast<std::size_t>(limits.pattern_faces)) {

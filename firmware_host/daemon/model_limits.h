@@ -12,7 +12,12 @@ namespace popcut::daemon {
 // throws popcut::Error (invalid_input naming the field, or limit).
 AnyModel checked_model(const std::string& json_text, const std::string& source, const Limits& limits);
 
-// The model's pattern, as the CLI makes it: a face model with a piece cut free is bad input.
+// A submitted pattern may hold this many lines per [limits] pattern_faces.
+inline constexpr int kPatternLinesPerFace = 4;
+
+// The model's pattern, as the CLI makes it: a face model with a piece cut free is bad input. A
+// popcut.pattern.v1 document (a sheet's own lines) is the pattern itself, its lines held to
+// kPatternLinesPerFace × pattern_faces.
 Pattern checked_pattern(const std::string& json_text, const std::string& source, const Limits& limits);
 
 }  // namespace popcut::daemon

@@ -756,6 +756,28 @@ TEST_F(PopcutClient, SubmitsAMeshWithImportOptions) {
   EXPECT_NE(r.err.find("--resolution is an import option"), std::string::npos) << "said so: " << r.err;
 }
 
+// Drawings go through submit as every command reads them: a card as its face model, a sheet
+// (--as sheet) as its own lines; both are cut on the simulated cutter.
+TEST_F(PopcutClient, SubmitsDrawingsAsCardsAndAsSheets) {
+  const auto d = start(slow_config(dir_, 0, 1));
+  const std::string server = "--server http://127.0.0.1:" + std::to_string(d->port()) + " --token " + kKiosk;
+  CliRun r = cli("submit " + kSrc + "/examples/drawn/step.svg --device slow --wait --json " + server);
+  ASSERT_EQ(r.code, 0) << "a drawn card is cut: " << r.err;
+  EXPECT_EQ(json::parse(r.out)["state"], "done") << r.out;
+  r = cli("submit " + kSrc + "/examples/drawn/box.svg --as sheet --device slow --wait --json " + server);
+  ASSERT_EQ(r.code, 0) << "a drawn sheet is cut: " << r.err;
+  const json box = json::parse(r.out);
+  EXPECT_EQ(box["state"], "done") << r.out;
+  httplib::Client c = d->client(kKiosk);
+  const json job = Popcutd::job(c, box["id"].get<std::int64_t>());
+  EXPECT_NE(job.dump().find("cut"), std::string::npos) << job.dump();
+  r = cli("submit " + kSrc + "/examples/drawn/box.svg --device slow " + server);
+  EXPECT_EQ(r.code, 2) << "the box is no card: refused before it is sent";
+  EXPECT_NE(r.err.find("--as sheet"), std::string::npos) << "and told how to send it: " << r.err;
+  r = cli("submit " + kSrc + "/examples/drawn/box.svg --as paper --device slow " + server);
+  EXPECT_EQ(r.code, 2) << "--as takes card or sheet";
+}
+
 // Something answers at --server, but not popcutd: exit 3 (cannot get the job through), not a crash.
 TEST_F(PopcutClient, NonJsonAnswerExitsThree) {
   httplib::Server other;

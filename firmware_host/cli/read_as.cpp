@@ -1,0 +1,154 @@
+// --as card|sheet for every command that reads a model, and validate --as sheet's report.
+#include "cli/read_as.h"
+
+#include <filesystem>
+#include <optional>
+#include <ostream>
+
+#include "cli/common.h"
+#include "popcut/io/drawing_io.h"
+#include "popcut/io/model_io.h"
+#include "popcut/io/pattern_io.h"
+#include "popcut/text.h"
+
+namespace popcut::cli {
+namespace {
+
+using nlohmann::json;
+
+// "90", "-45@2": degrees, then the stage after '@'; nullopt unless the whole text is read.
+std::optional<CreaseAngle> parse_turn(const std::string& selector, const std::string& text) {
+  const auto at = text.find('@');
+  try {
+    std::size_t used = 0;
+    CreaseAngle c{selector, std::stod(text.substr(0, at), &used), 1};
+    if (used != text.substr(0, at).size()) return std::nullopt;
+    if (at != std::string::npos) {
+      const std::string stage = text.substr(at + 1);
+      if (stage.empty() || stage.find_first_not_of("0123456789") != std::string::npos || stage.size() > 4)
+        return std::nullopt;
+      c.stage = std::stoi(stage);
+    }
+    return c;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+SheetFoldOptions fold_options(const ReadAs& r) {
+  SheetFoldOptions o;
+  o.angle_deg = r.crease_deg;
+  o.fixed_region = r.fixed;
+  for (const std::string& pair : r.folds) {
+    const auto eq = pair.rfind('=');
+    const auto turn =
+        eq == std::string::npos || eq == 0 ? std::nullopt : parse_turn(pair.substr(0, eq), pair.substr(eq + 1));
+    if (!turn)
+      throw CliError(kBadInput, ErrorCode::invalid_input, "", "--fold",
+                     "expected LINE=DEGREES or LINE=DEGREES@STAGE (LINE a line's id, DXF handle or FOLD edge, ids "
+                     "by prefix such as tab-*, or mountain, valley or fold; degrees from -180 to 180), got \"" +
+                         pair + "\"");
+    o.angles.push_back(*turn);
+  }
+  return o;
+}
+
+json place(Point2 p) { return json::array({p.x_mm, p.v_mm}); }
+
+json problem_json(const SheetProblem& p) {
+  return {{"what", p.what}, {"at", place(p.at)}, {"regions", p.regions}, {"hinges", p.hinges}};
+}
+
+json timed_json(const SheetMotionReport::Timed& t) {
+  json j = problem_json(t.problem);
+  j["fraction"] = t.fraction;
+  return j;
+}
+
+}  // namespace
+
+void add_read_as_options(CLI::App* command, ReadAs& r, bool folds) {
+  command
+      ->add_option("--as", r.as,
+                   "Read a drawing (SVG, DXF, FOLD) as an OA card, or as a general sheet that folds rigidly along "
+                   "its creases (boxes, kirigami, origami with cuts)")
+      ->check(CLI::IsMember({"card", "sheet"}))
+      ->capture_default_str();
+  if (!folds) return;
+  command->add_option("--fold", r.folds,
+                      "--as sheet: LINE=DEGREES[@STAGE] turns the line (its SVG id, DXF handle, FOLD edge such as "
+                      "edges[3]), the ids starting so (tab-*), or every line of a kind (mountain, valley, fold) by "
+                      "that angle, in that stage of the motion (1 first); repeatable, the last wins");
+  command
+      ->add_option("--crease-angle", r.crease_deg,
+                   "--as sheet: the turn of creases that give none, in degrees (mountains turn down, valleys and "
+                   "scores up)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  command->add_option("--fixed", r.fixed, "--as sheet: the region that stays flat (default: each piece's largest)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+FoldableSheet load_cli_sheet(const std::string& path, const ReadAs& r, const DrawingOptions& drawing,
+                             const SheetMapOptions& map) {
+  if (!is_drawing_path(path))
+    throw CliError(kBadInput, ErrorCode::invalid_input, shown(path), "--as",
+                   "--as sheet reads drawings (FILE.svg, FILE.dxf, FILE.fold); a model file is a card already");
+  const LineDrawing d = load_drawing(path, drawing);
+  return make_foldable_sheet(d, build_sheet_map(d, map), fold_options(r));
+}
+
+Pattern load_cli_pattern(const std::string& path, const ReadAs& r) {
+  return r.sheet() ? sheet_pattern(load_cli_sheet(path, r)) : load_cli_pattern(path);
+}
+
+std::string drawing_job_model(const std::string& path, const ReadAs& r) {
+  if (r.sheet()) return to_pattern_json(sheet_pattern(load_cli_sheet(path, r)));
+  const AnyModel model = load_model(path);
+  return to_face_json(std::get<FaceModel>(model), std::filesystem::path(path).stem().string());
+}
+
+json sheet_check_json(const std::string& source, const FoldableSheet& s, const SheetMotionReport& r) {
+  json hinges = json::array(), problems = json::array(), cycles = json::array(), collisions = json::array();
+  for (const SheetHinge& h : s.hinges)
+    hinges.push_back({{"regions", {h.left, h.right}},
+                      {"a", place(h.a)},
+                      {"b", place(h.b)},
+                      {"kind", to_string(h.kind)},
+                      {"angle_deg", h.angle_deg},
+                      {"drawn", h.where}});
+  for (const SheetProblem& p : s.problems) problems.push_back(problem_json(p));
+  for (const auto& c : r.open_cycles) cycles.push_back(timed_json(c));
+  for (const auto& c : r.collisions) collisions.push_back(timed_json(c));
+  return {{"format", "popcut.sheet-check.v1"},
+          {"source", source},
+          {"folds", sheet_check_exit(s, r) == kOk},
+          {"regions", s.map.regions.size()},
+          {"pieces", s.piece_fixed.size()},
+          {"fixed_regions", s.piece_fixed},
+          {"hinges", hinges},
+          {"frames", r.frames},
+          {"problems", problems},
+          {"open_cycles", cycles},
+          {"collisions", collisions},
+          {"notes", s.notes}};
+}
+
+void print_sheet_check(std::ostream& out, const std::string& source, const FoldableSheet& s,
+                       const SheetMotionReport& r) {
+  out << source << ": " << (sheet_check_exit(s, r) == kOk ? "folds" : "does not fold as drawn") << " ("
+      << s.map.regions.size() << " regions, " << s.hinges.size() << " hinges, " << s.piece_fixed.size()
+      << (s.piece_fixed.size() == 1 ? " piece" : " pieces") << "; motion checked in " << r.frames << " frames)\n";
+  for (const std::string& n : s.map.notes) out << "  note: " << n << "\n";
+  for (const std::string& n : s.notes) out << "  note: " << n << "\n";
+  for (const auto& c : r.open_cycles)
+    out << "  open cycle at " << describe_place(c.problem.at) << ": " << c.problem.what << "\n";
+  for (const SheetProblem& p : s.problems) out << "  cannot fold at " << describe_place(p.at) << ": " << p.what << "\n";
+  for (const auto& c : r.collisions) out << "  collision: " << c.problem.what << "\n";
+}
+
+int sheet_check_exit(const FoldableSheet& s, const SheetMotionReport& r) {
+  return r.ok() && s.problems.empty() ? kOk : kDoesNotPopUp;
+}
+
+}  // namespace popcut::cli

@@ -1,0 +1,138 @@
+// --as sheet from the command line: a box dieline checked, folded, drawn and cut; FOLD's diagonal; bad options.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_run.h"
+
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using popcut::testing::CliRun;
+
+class SheetCli : public popcut::testing::CliFixture {
+ protected:
+  SheetCli() : CliFixture("popcut-sheet") {}
+  std::string out(const std::string& name) { return (dir_ / name).string(); }
+  static std::string box() { return std::string(POPCUT_SOURCE_DIR) + "/examples/drawn/box.svg"; }
+};
+
+// The extent of an OBJ's vertices along each axis.
+std::array<double, 3> obj_extent(const std::string& path) {
+  std::ifstream in(path);
+  std::array<double, 3> lo{}, hi{};
+  lo.fill(std::numeric_limits<double>::max());
+  hi.fill(std::numeric_limits<double>::lowest());
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("v ", 0) != 0) continue;
+    std::istringstream ss(l.substr(2));
+    for (std::size_t k = 0; k < 3; ++k) {
+      double v = 0;
+      ss >> v;
+      lo[k] = std::min(lo[k], v);
+      hi[k] = std::max(hi[k], v);
+    }
+  }
+  return {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+}
+
+TEST_F(SheetCli, TheBoxsTabsCollideUnlessTheyFoldAfterTheWalls) {
+  const CliRun at_once = run("validate " + box() + " --as sheet --json");
+  ASSERT_EQ(at_once.code, 1) << at_once.err << at_once.out;
+  const json j = json::parse(at_once.out);
+  EXPECT_EQ(j["format"], "popcut.sheet-check.v1");
+  EXPECT_EQ(j["regions"], 11);
+  EXPECT_EQ(j["hinges"].size(), 10u);
+  EXPECT_EQ(j["pieces"], 1);
+  ASSERT_EQ(j["collisions"].size(), 4u);
+  EXPECT_GT(j["collisions"][0]["fraction"].get<double>(), 0.3);
+  EXPECT_EQ(j["collisions"][0]["regions"].size(), 2u);
+  const CliRun staged = run("validate " + box() + " --as sheet --fold 'tab-*=90@2'");
+  EXPECT_EQ(staged.code, 0) << staged.err << staged.out;
+  EXPECT_NE(staged.out.find("folds (11 regions, 10 hinges, 1 piece"), std::string::npos) << staged.out;
+}
+
+TEST_F(SheetCli, TheFoldedBoxIsEightyBySixtyByThirty) {
+  const CliRun f = run("fold " + box() + " --as sheet -o " + out("box.obj"));
+  ASSERT_EQ(f.code, 0) << f.err;
+  const auto e = obj_extent(out("box.obj"));
+  // OBJ is Y-up: (x, height, depth).
+  EXPECT_NEAR(e[0], 80, 1e-6);
+  EXPECT_NEAR(e[1], 30, 1e-6);
+  EXPECT_NEAR(e[2], 60, 1e-6);
+  EXPECT_TRUE(fs::exists(out("box.mtl")));
+  // Every crease at 45°: the walls lean out, so the box is wider than its base.
+  ASSERT_EQ(run("fold " + box() + " --as sheet --crease-angle 45 -o " + out("half.gltf")).code, 0);
+  EXPECT_GT(fs::file_size(out("half.gltf")), 1000u);
+}
+
+TEST_F(SheetCli, RenderDrawsTheMotionFromFlatToFolded) {
+  const CliRun r = run("render " + box() + " --as sheet --fold 'tab-*=90@2' --frames 3 -o " + out("box.png"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"box-000.png", "box-001.png", "box-002.png"}) EXPECT_GT(fs::file_size(out(f)), 1000u) << f;
+  EXPECT_NE(r.err.find("folded from flat"), std::string::npos) << r.err;
+}
+
+TEST_F(SheetCli, TheDielineIsCutWithItsOutlineAndScoredOnItsCreases) {
+  const CliRun c = run("cut " + box() + " --as sheet --device sim --out " + out("cut"));
+  ASSERT_EQ(c.code, 0) << c.err;
+  const json report = json::parse(popcut::testing::slurp(out("cut/report.json")));
+  const CliRun p = run("pattern " + box() + " --as sheet -o " + out("box.dxf") + " --json");
+  ASSERT_EQ(p.code, 0) << p.err;
+  const json lines = json::parse(p.out);
+  EXPECT_EQ(lines["lines"]["cut"], 32);
+  EXPECT_EQ(lines["lines"]["valley"], 10);
+  EXPECT_NEAR(lines["length_mm"]["valley"].get<double>(), 4 * 80 + 2 * 60 + 4 * 26, 1e-6);
+  EXPECT_NE(report.dump().find("cut_mm"), std::string::npos);
+  // The card reading of the same file says why it is no card, and what to do.
+  const CliRun card = run("validate " + box());
+  EXPECT_EQ(card.code, 1);
+  EXPECT_NE(card.err.find("--as sheet"), std::string::npos) << card.err;
+}
+
+TEST_F(SheetCli, ImportPatternWritesTheReportOrTheFoldedSheet) {
+  const CliRun r = run("import-pattern " + box() + " --as sheet --fold 'tab-*=90@2' -o " + out("box.json"));
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  EXPECT_EQ(json::parse(popcut::testing::slurp(out("box.json")))["format"], "popcut.sheet-check.v1");
+  ASSERT_EQ(run("import-pattern " + box() + " --as sheet -o " + out("box.gltf")).code, 1);  // written, with collisions
+  EXPECT_GT(fs::file_size(out("box.gltf")), 1000u);
+}
+
+// The FOLD specification's diagonal crease pattern folds flat: its two layers stack, no collision.
+TEST_F(SheetCli, FoldSpecsDiagonalFoldsFlat) {
+  const std::string cp = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/diagonal-cp.fold";
+  ASSERT_TRUE(fs::exists(cp)) << "missing " << cp;
+  const CliRun r = run("validate " + cp + " --as sheet --json");
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["hinges"].size(), 1u);
+  EXPECT_DOUBLE_EQ(j["hinges"][0]["angle_deg"].get<double>(), 180);
+}
+
+TEST_F(SheetCli, BadOptionsAreExitTwoNamingTheOption) {
+  const std::string model = std::string(POPCUT_SOURCE_DIR) + "/examples/faces/porch.json";
+  const CliRun m = run("validate " + model + " --as sheet");
+  EXPECT_EQ(m.code, 2);
+  EXPECT_NE(m.err.find("--as sheet reads drawings"), std::string::npos) << m.err;
+  const CliRun a = run("fold " + box() + " --as sheet --angle 30 -o " + out("x.obj"));
+  EXPECT_EQ(a.code, 2);
+  EXPECT_NE(a.err.find("--angle opens a card"), std::string::npos) << a.err;
+  const CliRun f = run("validate " + box() + " --as sheet --fold lid");
+  EXPECT_EQ(f.code, 2);
+  EXPECT_NE(f.err.find("expected LINE=DEGREES"), std::string::npos) << f.err;
+  const CliRun n = run("validate " + box() + " --as sheet --fold nosuch=10 --json");
+  EXPECT_EQ(n.code, 2);
+  EXPECT_EQ(json::parse(n.out)["error"]["location"], "--fold");
+  EXPECT_EQ(run("validate " + box() + " --as paper").code, 2);
+  const CliRun fixed = run("validate " + box() + " --as sheet --fixed 11");
+  EXPECT_EQ(fixed.code, 2);
+  EXPECT_NE(fixed.err.find("0 to 10"), std::string::npos) << fixed.err;
+  EXPECT_EQ(run("render " + box() + " --as sheet --fold 'lid=30@0' -o " + out("x.png")).code, 2);
+}
+
+}  // namespace
