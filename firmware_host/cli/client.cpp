@@ -220,6 +220,8 @@ int submit(const ClientCommands& s, Connection& c) {
     throw ClientFailure{kBadInput, "name exactly one of --device NAME or --profile PROFILE"};
   const httplib::Headers key = {{"Idempotency-Key", s.idempotency_key.empty() ? random_uuid() : s.idempotency_key}};
   json job;
+  if (is_mesh_path(s.model_path) && s.read_as.sheet())
+    throw ClientFailure{kBadInput, "--as sheet reads drawings (.svg, .dxf, .fold), not a mesh: " + s.model_path};
   if (is_mesh_path(s.model_path)) {
     // The mesh goes as it is, with popcut import's options: popcutd imports it with the same code
     // and answers its errors (422 bad_model naming the option) like any other refusal.
@@ -246,6 +248,10 @@ int submit(const ClientCommands& s, Connection& c) {
     }
     json model;
     try {
+      check_read_as(s.read_as);
+      if (s.read_as.sheet() && !is_drawing_path(s.model_path))
+        throw Error(ErrorCode::invalid_input, s.model_path, "--as",
+                    "--as sheet reads drawings (FILE.svg, FILE.dxf, FILE.fold); a model file is a card already");
       // A drawing is read here, as every command reads one, and goes as the model it makes.
       const std::string text =
           is_drawing_path(s.model_path) ? drawing_job_model(s.model_path, s.read_as) : read_text_file(s.model_path);
@@ -312,7 +318,7 @@ void add_submit_command(CLI::App& app, ClientCommands& s) {
                    "Model file (popcut.voxel.v1 or popcut.faces.v1), a drawing (.svg, .dxf, .fold), or a mesh (.obj, "
                    ".stl, .off, .ply) that popcutd imports with the options below")
       ->required();
-  add_read_as_options(s.submit, s.read_as, false);
+  add_read_as_options(s.submit, s.read_as, true);
   s.submit->add_option("--device", s.device, "The cutter's name in popcutd.toml");
   s.submit->add_option("--profile", s.profile, "Any device with this profile (e.g. sim)");
   s.submit

@@ -239,7 +239,7 @@ void add_copies_options(CLI::App* sub, CutCommands& s) {
 void add_cut_commands(CLI::App& app, CutCommands& s) {
   s.plan = app.add_subcommand("plan", "Plan the knife's strokes for a device and write the HP-GL job (and a report).");
   s.plan->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
-  add_read_as_options(s.plan, s.read_as, false);
+  add_read_as_options(s.plan, s.read_as, true);
   s.plan->add_option("--profile", s.profile_path, "Device profile, e.g. configs/devices/generic-hpgl.toml")->required();
   s.plan->add_option("-o,--output", s.out_path, "Where to write the HP-GL job, or - for standard output")->required();
   s.plan->add_option("--material", s.material, kMaterialHelp);
@@ -264,7 +264,7 @@ void add_cut_commands(CLI::App& app, CutCommands& s) {
       "device may still cut from its buffer (bytes and strokes). If the device holds the line, popcut\n"
       "says it is waiting for it to take the abort; a second Ctrl-C (or SIGTERM) gives up the wait.");
   s.cut->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
-  add_read_as_options(s.cut, s.read_as, false);
+  add_read_as_options(s.cut, s.read_as, true);
   s.cut->add_option(
       "--device", s.device,
       "sim, file:PATH (a .hpgl file or a printer-port node), serial:/dev/PORT, serial:VID:PID[:SERIAL] or\n"

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -25,6 +26,7 @@ double checked_angle(double angle_deg) {
 
 // A card opens to --angle; a sheet's creases each have their own, so --angle would mislead.
 void refuse_angle_for_sheet(const FoldCommands& s, const CLI::App* command) {
+  check_read_as(s.read_as);
   if (s.read_as.sheet() && command->count("--angle") > 0)
     throw CliError(kBadInput, ErrorCode::invalid_input, "", "--angle",
                    "--angle opens a card; a sheet's creases turn by --crease-angle, --fold LINE=DEGREES or the "
@@ -33,9 +35,13 @@ void refuse_angle_for_sheet(const FoldCommands& s, const CLI::App* command) {
 
 }  // namespace
 
-CardMesh folded_sheet(const FoldableSheet& sheet, double fraction) {
+CardMesh folded_sheet(const FoldableSheet& sheet, double fraction, std::set<std::vector<int>>* warned) {
   const SheetState state = fold_sheet(sheet, fraction);
-  for (const SheetProblem& p : state.open_cycles) std::cerr << "popcut: warning: " << p.what << "\n";
+  for (const SheetProblem& p : state.open_cycles) {
+    std::vector<int> key = p.hinges;
+    std::sort(key.begin(), key.end());
+    if (!warned || warned->insert(key).second) std::cerr << "popcut: warning: " << p.what << "\n";
+  }
   return sheet_mesh(sheet, state);
 }
 
@@ -79,7 +85,9 @@ std::vector<CardMesh> render_meshes(const FoldCommands& s, double angle_deg) {
   const int frames = s.frames;
   if (s.read_as.sheet()) {
     const FoldableSheet sheet = load_cli_sheet(s.model_path, s.read_as);
-    for (int i = 0; i < frames; ++i) meshes.push_back(folded_sheet(sheet, frames == 1 ? 1.0 : 1.0 * i / (frames - 1)));
+    std::set<std::vector<int>> warned;
+    for (int i = 0; i < frames; ++i)
+      meshes.push_back(folded_sheet(sheet, frames == 1 ? 1.0 : 1.0 * i / (frames - 1), &warned));
     return meshes;
   }
   const Pattern p = load_cli_pattern(s.model_path);
@@ -124,9 +132,8 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
   // Degrees as people write them, in decimal: CLI11 alone would take "0x10" as 16.
   const CLI::Validator decimal_degrees(
       [](std::string& text) -> std::string {
-        const bool ok = !text.empty() && text.find_first_not_of("0123456789.+-eE") == std::string::npos &&
-                        text.find_first_of("0123456789") != std::string::npos;
-        return ok ? std::string() : "'" + text + "' is not a number of degrees (a decimal number from 0 to 180)";
+        return is_decimal_text(text) ? std::string()
+                                     : "'" + text + "' is not a number of degrees (a decimal number from 0 to 180)";
       },
       "DEGREES");
   s.fold = app.add_subcommand("fold", "Write the card folded to an angle as a 3D model (OBJ + MTL, or glTF).");

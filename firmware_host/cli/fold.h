@@ -3,7 +3,9 @@
 
 #include <CLI/CLI.hpp>
 #include <optional>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "cli/read_as.h"
 
@@ -19,8 +21,9 @@ struct FoldCommands {
   ReadAs read_as;
 };
 
-// The sheet folded to `fraction` of its motion; cycles that cannot close are warned about on stderr.
-CardMesh folded_sheet(const FoldableSheet& sheet, double fraction);
+// The sheet folded to `fraction` of its motion; cycles that cannot close are warned about on
+// stderr, each once over the frames that share `warned`.
+CardMesh folded_sheet(const FoldableSheet& sheet, double fraction, std::set<std::vector<int>>* warned = nullptr);
 
 // Writes OUT.obj (and OUT.mtl) or OUT.gltf, by the extension (else exit 2 naming -o); returns what
 // was written, for the "wrote" line.

@@ -97,6 +97,7 @@ int run_sheet(const ImportPatternCommand& s) {
 }
 
 int run(const ImportPatternCommand& s) {
+  check_read_as(s.read_as);
   if (s.read_as.sheet()) return run_sheet(s);
   SheetMapOptions map;
   map.snap_tolerance_mm = s.snap_mm;

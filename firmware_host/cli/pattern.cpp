@@ -78,6 +78,7 @@ int run_validate_sheet(const PatternCommands& s) {
 }
 
 int run_validate(const PatternCommands& s) {
+  check_read_as(s.read_as);
   if (s.read_as.sheet()) return run_validate_sheet(s);
   const Pattern p = load_cli_pattern(s.model_path);
   const PopupReport report = check_popup(p);

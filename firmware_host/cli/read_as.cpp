@@ -19,6 +19,7 @@ using nlohmann::json;
 // "90", "-45@2": degrees, then the stage after '@'; nullopt unless the whole text is read.
 std::optional<CreaseAngle> parse_turn(const std::string& selector, const std::string& text) {
   const auto at = text.find('@');
+  if (!is_decimal_text(text.substr(0, at))) return std::nullopt;
   try {
     std::size_t used = 0;
     CreaseAngle c{selector, std::stod(text.substr(0, at), &used), 1};
@@ -67,6 +68,22 @@ json timed_json(const SheetMotionReport::Timed& t) {
 
 }  // namespace
 
+bool is_decimal_text(const std::string& text) {
+  return !text.empty() && text.find_first_not_of("0123456789.+-eE") == std::string::npos &&
+         text.find_first_of("0123456789") != std::string::npos;
+}
+
+void check_read_as(const ReadAs& r) {
+  if (r.sheet()) return;
+  const char* option = !r.folds.empty() ? "--fold"
+                       : r.crease_given ? "--crease-angle"
+                       : r.fixed >= 0   ? "--fixed"
+                                        : nullptr;
+  if (option)
+    throw CliError(kBadInput, ErrorCode::invalid_input, "", option,
+                   std::string(option) + " folds a sheet: it needs --as sheet (a card opens by --angle)");
+}
+
 void add_read_as_options(CLI::App* command, ReadAs& r, bool folds) {
   command
       ->add_option("--as", r.as,
@@ -83,7 +100,14 @@ void add_read_as_options(CLI::App* command, ReadAs& r, bool folds) {
       ->add_option("--crease-angle", r.crease_deg,
                    "--as sheet: the turn of creases that give none, in degrees (mountains turn down, valleys and "
                    "scores up)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return is_decimal_text(text) ? std::string()
+                                         : "'" + text + "' is not a number of degrees (a decimal number from 0 to 180)";
+          },
+          "DEGREES"))
       ->check(CLI::Range(0.0, 180.0))
+      ->each([&r](const std::string&) { r.crease_given = true; })
       ->capture_default_str();
   command->add_option("--fixed", r.fixed, "--as sheet: the region that stays flat (default: each piece's largest)")
       ->check(CLI::NonNegativeNumber);
@@ -99,6 +123,7 @@ FoldableSheet load_cli_sheet(const std::string& path, const ReadAs& r, const Dra
 }
 
 Pattern load_cli_pattern(const std::string& path, const ReadAs& r) {
+  check_read_as(r);
   return r.sheet() ? sheet_pattern(load_cli_sheet(path, r)) : load_cli_pattern(path);
 }
 
@@ -116,14 +141,23 @@ json sheet_check_json(const std::string& source, const FoldableSheet& s, const S
                       {"b", place(h.b)},
                       {"kind", to_string(h.kind)},
                       {"angle_deg", h.angle_deg},
+                      {"stage", h.stage},
                       {"drawn", h.where}});
+  json regions = json::array();
+  for (std::size_t i = 0; i < s.map.regions.size(); ++i)
+    regions.push_back({{"at", place(s.map.regions[i].label)},
+                       {"area_mm2", s.map.regions[i].area_mm2},
+                       {"piece", s.piece_of[i]},
+                       {"cut_out", static_cast<bool>(s.cut_out[i])}});
+  json notes = s.map.notes;
+  for (const std::string& n : s.notes) notes.push_back(n);
   for (const SheetProblem& p : s.problems) problems.push_back(problem_json(p));
   for (const auto& c : r.open_cycles) cycles.push_back(timed_json(c));
   for (const auto& c : r.collisions) collisions.push_back(timed_json(c));
   return {{"format", "popcut.sheet-check.v1"},
           {"source", source},
           {"folds", sheet_check_exit(s, r) == kOk},
-          {"regions", s.map.regions.size()},
+          {"regions", regions},
           {"pieces", s.piece_fixed.size()},
           {"fixed_regions", s.piece_fixed},
           {"hinges", hinges},
@@ -131,7 +165,7 @@ json sheet_check_json(const std::string& source, const FoldableSheet& s, const S
           {"problems", problems},
           {"open_cycles", cycles},
           {"collisions", collisions},
-          {"notes", s.notes}};
+          {"notes", notes}};
 }
 
 void print_sheet_check(std::ostream& out, const std::string& source, const FoldableSheet& s,

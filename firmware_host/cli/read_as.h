@@ -17,8 +17,17 @@ struct ReadAs {
   std::vector<std::string> folds;  // --fold SELECTOR=DEGREES
   double crease_deg = 90;          // --crease-angle
   int fixed = -1;                  // --fixed REGION
+  bool crease_given = false;       // --crease-angle was on the command line
   bool sheet() const { return as == "sheet"; }
 };
+
+// Decimal text as people write degrees ("90", "-45.5", "1e2"): CLI11 and std::stod alone would
+// also take "0x5A", "inf" and "nan".
+bool is_decimal_text(const std::string& text);
+
+// Exit 2 naming the option when --fold, --crease-angle or --fixed come without --as sheet: they
+// would change nothing, and silence would let a user think they did.
+void check_read_as(const ReadAs& read_as);
 
 // --as, and (when the command folds) --fold, --crease-angle and --fixed.
 void add_read_as_options(CLI::App* command, ReadAs& read_as, bool folds);

@@ -45,6 +45,10 @@ Pattern checked_pattern(const std::string& text, const std::string& source, cons
   if (is_pattern_document(text)) {
     Pattern p = parse_pattern(text, source);
     const std::size_t max_lines = static_cast<std::size_t>(limits.pattern_faces) * kPatternLinesPerFace;
+    if (p.faces.size() > static_cast<std::size_t>(limits.pattern_faces))
+      throw Error(ErrorCode::limit, source, "model",
+                  "the pattern has " + std::to_string(p.faces.size()) + " faces; this daemon takes at most " +
+                      std::to_string(limits.pattern_faces) + " ([limits] pattern_faces)");
     if (p.lines.size() > max_lines)
       throw Error(ErrorCode::limit, source, "model",
                   "the pattern has " + std::to_string(p.lines.size()) + " lines; this daemon takes at most " +

@@ -770,7 +770,11 @@ TEST_F(PopcutClient, SubmitsDrawingsAsCardsAndAsSheets) {
   EXPECT_EQ(box["state"], "done") << r.out;
   httplib::Client c = d->client(kKiosk);
   const json job = Popcutd::job(c, box["id"].get<std::int64_t>());
-  EXPECT_NE(job.dump().find("cut"), std::string::npos) << job.dump();
+  // The dieline's own cuts and scores, as `popcut cut box.svg --as sheet` plans them: 741 mm of
+  // cut outline and 544 mm of creases.
+  EXPECT_GT(job["strokes_total"].get<int>(), 10) << job.dump();
+  EXPECT_EQ(job["strokes_sent"], job["strokes_total"]) << job.dump();
+  EXPECT_GT(job["cut_mm"].get<double>(), 741 + 544 - 100) << job.dump();
   r = cli("submit " + kSrc + "/examples/drawn/box.svg --device slow " + server);
   EXPECT_EQ(r.code, 2) << "the box is no card: refused before it is sent";
   EXPECT_NE(r.err.find("--as sheet"), std::string::npos) << "and told how to send it: " << r.err;

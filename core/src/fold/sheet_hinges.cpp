@@ -3,7 +3,10 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
+#include <tuple>
 
+#include "io/ascii_case.h"
 #include "popcut/error.h"
 #include "popcut/fold/sheet_fold.h"
 #include "popcut/text.h"
@@ -14,6 +17,7 @@ namespace {
 // Map edges within this of a hinge's line lie on it (the map rounds its points far finer).
 constexpr double kOnLineMm = 1e-3;
 constexpr int kMaxStages = 100;
+constexpr std::size_t kMaxPieceNotes = 20;
 
 bool is_crease(DrawnKind k) { return k == DrawnKind::mountain || k == DrawnKind::valley || k == DrawnKind::fold; }
 
@@ -26,17 +30,18 @@ double line_distance(Point2 a, Point2 b, Point2 p) {
 
 Point2 midpoint(Point2 a, Point2 b) { return {(a.x_mm + b.x_mm) / 2, (a.v_mm + b.v_mm) / 2}; }
 
-// Does the selector name this drawn line: its SVG id, its DXF handle or its FOLD edge, or with
-// a trailing '*' any id that starts so?
+// Does the selector name this drawn line: its SVG id (or, with a trailing '*', any SVG id that
+// starts so), its DXF handle (hexadecimal, either case) or its FOLD edge ("edges[7]")?
 bool names_line(const std::string& selector, const DrawnLine& line) {
   const std::string& w = line.where;
+  if (w == selector) return true;
   if (!selector.empty() && selector.back() == '*')
     return w.find("id=\"" + selector.substr(0, selector.size() - 1)) != std::string::npos;
   if (w.find("id=\"" + selector + "\"") != std::string::npos) return true;
-  if (w.rfind(selector, 0) == 0 && (w.size() == selector.size() || w[selector.size()] == ' ')) return true;
-  const auto handle = w.find("#" + selector);
-  const auto after = handle + selector.size() + 1;
-  return handle != std::string::npos && (after == w.size() || w[after] == ' ');
+  const std::string upper = ascii_upper(w), handle = "#" + ascii_upper(selector);
+  const auto at = upper.find(handle);
+  const auto after = at + handle.size();
+  return at != std::string::npos && (after == upper.size() || upper[after] == ' ');
 }
 
 struct Turn {
@@ -47,25 +52,22 @@ struct Turn {
 // How a drawn crease turns: by its own angle (FOLD), else the default; then as any selector
 // naming it says, the last winning. Mountains turn negative, valleys positive.
 Turn crease_turn(const DrawnLine& line, const SheetFoldOptions& o, std::vector<bool>& used) {
-  Turn turn{line.fold_angle_deg.value_or(line.kind == DrawnKind::mountain ? -o.angle_deg : o.angle_deg), 1};
-  bool signed_by_user = line.fold_angle_deg.has_value();
+  Turn turn{line.fold_angle_deg.value_or(o.angle_deg), 1};
   for (std::size_t i = 0; i < o.angles.size(); ++i) {
     const CreaseAngle& c = o.angles[i];
     const auto kind = kDrawnKindNames.find(c.selector);
     if (kind ? *kind != line.kind : !names_line(c.selector, line)) continue;
     used[i] = true;
     turn = {c.angle_deg, c.stage};
-    signed_by_user = true;
   }
-  if (line.kind == DrawnKind::mountain && (!signed_by_user || turn.angle_deg > 0))
-    turn.angle_deg = -std::abs(turn.angle_deg);
+  if (line.kind == DrawnKind::mountain) turn.angle_deg = -std::abs(turn.angle_deg);
   if (line.kind == DrawnKind::valley) turn.angle_deg = std::abs(turn.angle_deg);
   return turn;
 }
 
 void check_options(const LineDrawing& d, const SheetFoldOptions& o, const SheetMap& map) {
   if (!(o.angle_deg >= 0 && o.angle_deg <= 180))
-    throw Error(ErrorCode::invalid_input, d.source, "--angle",
+    throw Error(ErrorCode::invalid_input, d.source, "--crease-angle",
                 "the crease angle must be from 0 to 180 degrees, not " + format_significant(o.angle_deg, 15));
   for (const CreaseAngle& c : o.angles) {
     if (!(std::abs(c.angle_deg) <= 180))
@@ -77,24 +79,24 @@ void check_options(const LineDrawing& d, const SheetFoldOptions& o, const SheetM
                   "\"" + c.selector + "\": the stage must be from 1 to " + std::to_string(kMaxStages) + ", not " +
                       std::to_string(c.stage));
   }
-  if (o.fixed_region >= static_cast<int>(map.regions.size()))
+  if (o.fixed_region < -1 || o.fixed_region >= static_cast<int>(map.regions.size()))
     throw Error(ErrorCode::invalid_input, d.source, "--fixed",
                 "region " + std::to_string(o.fixed_region) + " does not exist: the sheet has " +
                     std::to_string(map.regions.size()) + " regions (0 to " + std::to_string(map.regions.size() - 1) +
                     ")");
 }
 
+// The hinges of each pair of regions (lower index first), so an edge finds its own at once.
+using HingesByPair = std::map<std::pair<int, int>, std::vector<std::size_t>>;
+
 // Adds the edge to the hinge of its two regions whose line it lies on, or starts one.
-void add_to_hinge(FoldableSheet& s, int edge_index, const DrawnLine* line, Turn turn) {
+void add_to_hinge(FoldableSheet& s, HingesByPair& by_pair, int edge_index, const DrawnLine* line, Turn turn) {
   const double angle = turn.angle_deg;
   const SheetEdge& e = s.map.edges[static_cast<std::size_t>(edge_index)];
-  for (std::size_t h = 0; h < s.hinges.size(); ++h) {
+  std::vector<std::size_t>& mine = by_pair[{std::min(e.left, e.right), std::max(e.left, e.right)}];
+  for (const std::size_t h : mine) {
     SheetHinge& hinge = s.hinges[h];
-    const bool same_pair =
-        (hinge.left == e.left && hinge.right == e.right) || (hinge.left == e.right && hinge.right == e.left);
-    if (!same_pair || line_distance(hinge.a, hinge.b, e.a) > kOnLineMm ||
-        line_distance(hinge.a, hinge.b, e.b) > kOnLineMm)
-      continue;
+    if (line_distance(hinge.a, hinge.b, e.a) > kOnLineMm || line_distance(hinge.a, hinge.b, e.b) > kOnLineMm) continue;
     hinge.edges.push_back(edge_index);
     if (std::abs(hinge.angle_deg - angle) > 1e-9 || hinge.kind != e.kind || hinge.stage != turn.stage)
       s.problems.push_back({"one hinge is drawn with two kinds or angles (" + std::string(to_string(hinge.kind)) + " " +
@@ -114,6 +116,7 @@ void add_to_hinge(FoldableSheet& s, int edge_index, const DrawnLine* line, Turn 
     }
     return;
   }
+  mine.push_back(s.hinges.size());
   s.hinges.push_back({e.left, e.right, e.a, e.b, e.kind, angle, turn.stage, {edge_index}, line ? line->where : ""});
 }
 
@@ -127,21 +130,25 @@ void find_hinges(const LineDrawing& d, const SheetFoldOptions& o, FoldableSheet&
   });
   std::vector<bool> used(o.angles.size(), false);
   std::vector<bool> reported(d.lines.size(), false);
+  std::vector<std::optional<Turn>> turns(d.lines.size());  // selectors matched once per drawn line
+  HingesByPair by_pair;
   for (int i : order) {
     const SheetEdge& e = s.map.edges[static_cast<std::size_t>(i)];
-    if (!is_crease(e.kind)) continue;
+    // A sliver where creases nearly meet has no direction to turn about; its neighbours carry the hinge.
+    if (!is_crease(e.kind) || length(e.a, e.b) <= kOnLineMm) continue;
     const bool drawn = e.drawn >= 0 && e.drawn < static_cast<int>(d.lines.size());
     const DrawnLine* line = drawn ? &d.lines[static_cast<std::size_t>(e.drawn)] : nullptr;
-    const Turn turn = line ? crease_turn(*line, o, used) : Turn{};
+    if (line && !turns[static_cast<std::size_t>(e.drawn)])
+      turns[static_cast<std::size_t>(e.drawn)] = crease_turn(*line, o, used);
+    const Turn turn = line ? *turns[static_cast<std::size_t>(e.drawn)] : Turn{o.angle_deg, 1};
     if (e.left >= 0 && e.right >= 0 && e.left != e.right) {
-      add_to_hinge(s, i, line, turn);
+      add_to_hinge(s, by_pair, i, line, turn);
     } else if (turn.angle_deg != 0 && !(drawn && reported[static_cast<std::size_t>(e.drawn)])) {
       if (drawn) reported[static_cast<std::size_t>(e.drawn)] = true;
       const int r = std::max(e.left, e.right);
-      s.problems.push_back({std::string(line ? line->where : "a crease") + ": the crease ends inside region " +
-                                std::to_string(r) +
-                                " (it does not cross it from edge to edge), so the region cannot turn about it; it "
-                                "stays flat",
+      s.problems.push_back({std::string(line ? line->where : "a crease") + ": region " + std::to_string(r) +
+                                " lies on both sides of the crease (it ends inside the region, or runs to a hole): "
+                                "the paper is joined around it, so nothing can turn about it; it stays flat",
                             midpoint(e.a, e.b),
                             {r},
                             {}});
@@ -154,7 +161,36 @@ void find_hinges(const LineDrawing& d, const SheetFoldOptions& o, FoldableSheet&
                       "FOLD edge such as edges[3], ids by prefix such as tab-*, or mountain, valley or fold)");
 }
 
-// Pieces: regions joined through hinges; each piece's fixed region is the asked one or its largest.
+// The piece's fixed region: the asked one, else the largest, ties to the one with most hinges
+// (a box's base over its lid), then the lowest index, so the choice never depends on the walk.
+int fixed_of(const std::vector<int>& members, const SheetFoldOptions& o, const FoldableSheet& s,
+             const std::vector<std::vector<int>>& next) {
+  int fixed = members.front();
+  const auto rank = [&](int r) {
+    return std::tuple(s.map.regions[static_cast<std::size_t>(r)].area_mm2, next[static_cast<std::size_t>(r)].size(),
+                      -r);
+  };
+  for (int r : members) {
+    if (r == o.fixed_region) return r;
+    if (rank(r) > rank(fixed)) fixed = r;
+  }
+  return fixed;
+}
+
+// A region with no hinge that exactly fills another region's hole is what a closed cut takes
+// out (a window's waste, FOLD's hole): it falls out of the sheet, so it neither shows nor collides.
+bool is_cut_out(const FoldableSheet& s, int r, const std::vector<std::vector<int>>& next) {
+  if (!next[static_cast<std::size_t>(r)].empty() || s.map.regions.size() == 1) return false;
+  const SheetRegion& me = s.map.regions[static_cast<std::size_t>(r)];
+  const Rect box = bounds(me.outer);
+  for (const SheetRegion& other : s.map.regions)
+    for (const Ring& hole : other.holes)
+      if (bounds(hole) == box && std::abs(std::abs(signed_area_mm2(hole)) - me.area_mm2) <= 1e-9 * me.area_mm2)
+        return true;
+  return false;
+}
+
+// Pieces: regions joined through hinges, each with its fixed region; cut-outs fall out.
 void find_pieces(const SheetFoldOptions& o, FoldableSheet& s) {
   const int n = static_cast<int>(s.map.regions.size());
   std::vector<std::vector<int>> next(static_cast<std::size_t>(n));
@@ -163,35 +199,43 @@ void find_pieces(const SheetFoldOptions& o, FoldableSheet& s) {
     next[static_cast<std::size_t>(h.right)].push_back(h.left);
   }
   s.piece_of.assign(static_cast<std::size_t>(n), -1);
+  std::vector<double> piece_area;
+  int cut_outs = 0;
   for (int start = 0; start < n; ++start) {
     if (s.piece_of[static_cast<std::size_t>(start)] >= 0) continue;
     const int piece = static_cast<int>(s.piece_fixed.size());
-    std::vector<int> stack{start};
+    std::vector<int> members{start};
     s.piece_of[static_cast<std::size_t>(start)] = piece;
-    int fixed = start;
-    while (!stack.empty()) {
-      const int r = stack.back();
-      stack.pop_back();
-      const auto area = [&](int k) { return s.map.regions[static_cast<std::size_t>(k)].area_mm2; };
-      if (r == o.fixed_region || (fixed != o.fixed_region && area(r) > area(fixed))) fixed = r;
-      for (int m : next[static_cast<std::size_t>(r)])
+    for (std::size_t k = 0; k < members.size(); ++k)
+      for (int m : next[static_cast<std::size_t>(members[k])])
         if (s.piece_of[static_cast<std::size_t>(m)] < 0) {
           s.piece_of[static_cast<std::size_t>(m)] = piece;
-          stack.push_back(m);
+          members.push_back(m);
         }
+    double area = 0;
+    for (int r : members) area += s.map.regions[static_cast<std::size_t>(r)].area_mm2;
+    s.piece_fixed.push_back(fixed_of(members, o, s, next));
+    piece_area.push_back(area);
+    if (members.size() == 1 && is_cut_out(s, start, next)) {
+      s.cut_out[static_cast<std::size_t>(start)] = true;
+      ++cut_outs;
     }
-    s.piece_fixed.push_back(fixed);
   }
-  if (s.piece_fixed.size() > 1) {
-    for (std::size_t p = 0; p < s.piece_fixed.size(); ++p) {
-      double area = 0;
-      for (int r = 0; r < n; ++r)
-        if (s.piece_of[static_cast<std::size_t>(r)] == static_cast<int>(p))
-          area += s.map.regions[static_cast<std::size_t>(r)].area_mm2;
-      const SheetRegion& fixed = s.map.regions[static_cast<std::size_t>(s.piece_fixed[p])];
-      s.notes.push_back("piece " + std::to_string(p) + " (" + format_decimal(area, 1) + " mm², around " +
-                        describe_place(fixed.label) + ") is cut free of the others and folds on its own");
+  if (cut_outs)
+    s.notes.push_back(std::to_string(cut_outs) + " cut-out(s) fall out of the sheet (the inside of a closed cut)");
+  const std::size_t pieces = s.piece_fixed.size() - static_cast<std::size_t>(cut_outs);
+  if (pieces < 2) return;
+  std::size_t noted = 0;
+  for (std::size_t p = 0; p < s.piece_fixed.size(); ++p) {
+    const int fixed = s.piece_fixed[p];
+    if (s.cut_out[static_cast<std::size_t>(fixed)]) continue;
+    if (++noted > kMaxPieceNotes) {
+      s.notes.push_back("... and " + std::to_string(pieces - kMaxPieceNotes) + " more pieces cut free");
+      break;
     }
+    s.notes.push_back("piece " + std::to_string(p) + " (" + format_decimal(piece_area[p], 1) + " mm², around " +
+                      describe_place(s.map.regions[static_cast<std::size_t>(fixed)].label) +
+                      ") is cut free of the others and folds on its own");
   }
 }
 
@@ -202,9 +246,12 @@ FoldableSheet make_foldable_sheet(const LineDrawing& d, SheetMap map, const Shee
   FoldableSheet s;
   s.source = d.source;
   s.map = std::move(map);
+  s.cut_out.assign(s.map.regions.size(), false);
   find_hinges(d, o, s);
   find_pieces(o, s);
-  for (const SheetRegion& r : s.map.regions) s.triangles.push_back(triangulate(r.outer, r.holes));
+  for (std::size_t r = 0; r < s.map.regions.size(); ++r)
+    s.triangles.push_back(s.cut_out[r] ? std::vector<std::array<Point2, 3>>{}
+                                       : triangulate(s.map.regions[r].outer, s.map.regions[r].holes));
   return s;
 }
 

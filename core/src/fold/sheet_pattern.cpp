@@ -56,8 +56,13 @@ std::vector<Segment> maximal(std::vector<Segment> pieces) {
 // shape (a dieline's contour given as FOLD's boundary) must be cut.
 bool blank_is_rectangle(const SheetMap& m) {
   const Rect b = m.bounds;
-  for (const Point2& p : m.outline)
-    if ((p.x_mm != b.min.x_mm && p.x_mm != b.max.x_mm) || (p.v_mm != b.min.v_mm && p.v_mm != b.max.v_mm)) return false;
+  // Every stretch of the outline runs along a side of its bounding box.
+  for (std::size_t i = 0; i < m.outline.size(); ++i) {
+    const Point2 p = m.outline[i], q = m.outline[(i + 1) % m.outline.size()];
+    const bool upright = p.x_mm == q.x_mm && (p.x_mm == b.min.x_mm || p.x_mm == b.max.x_mm);
+    const bool level = p.v_mm == q.v_mm && (p.v_mm == b.min.v_mm || p.v_mm == b.max.v_mm);
+    if (!upright && !level) return false;
+  }
   return true;
 }
 
@@ -73,7 +78,9 @@ Pattern sheet_pattern(const FoldableSheet& s) {
   std::vector<Segment> pieces;
   for (std::size_t i = 0; i < s.map.edges.size(); ++i) {
     const SheetEdge& e = s.map.edges[i];
-    if ((e.kind == DrawnKind::outline && !keep_outline) || e.kind == DrawnKind::flat) continue;
+    // An outline edge inside the sheet (a hole's edge, FOLD's "B" around it) is always cut.
+    const bool blank_edge = e.kind == DrawnKind::outline && (e.left < 0 || e.right < 0) && !keep_outline;
+    if (blank_edge || e.kind == DrawnKind::flat || e.a == e.b) continue;
     LineKind k = LineKind::cut;
     if (e.kind == DrawnKind::mountain) k = LineKind::mountain;
     if (e.kind == DrawnKind::valley) k = LineKind::valley;

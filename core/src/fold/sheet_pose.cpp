@@ -12,6 +12,8 @@ namespace {
 
 using Mat = std::array<double, 9>;
 
+constexpr int kMaxMotionFrames = 10000;
+
 Mat multiply(const Mat& a, const Mat& b) {
   Mat m{};
   for (int i = 0; i < 3; ++i)
@@ -194,7 +196,7 @@ CardMesh sheet_mesh(const FoldableSheet& s, const SheetState& state) {
 SheetMotionReport check_sheet_motion(const FoldableSheet& s, int frames) {
   const int stages = stage_count(s);
   SheetMotionReport report;
-  report.frames = std::max(frames, 2);
+  report.frames = std::clamp(frames, 2, kMaxMotionFrames);
   std::set<std::vector<int>> seen_cycles;
   std::set<std::pair<int, int>> seen_pairs;
   const auto region = [&](int r) {

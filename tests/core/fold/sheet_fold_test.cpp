@@ -232,7 +232,38 @@ TEST(SheetFold, ACreaseEndingInsideARegionIsReported) {
   const FoldableSheet s = foldable(d);
   ASSERT_EQ(s.problems.size(), 1u);
   EXPECT_NE(s.problems[0].what.find("stub"), std::string::npos) << s.problems[0].what;
-  EXPECT_NE(s.problems[0].what.find("ends inside region"), std::string::npos);
+  EXPECT_NE(s.problems[0].what.find("lies on both sides of the crease"), std::string::npos);
+}
+
+// A window cut in a flap: its inside falls out (no triangles, no collisions), the flap folds,
+// and a hole drawn as the sheet's edge (FOLD's boundary around it) is cut all the same.
+TEST(SheetFold, AWindowsInsideFallsOutAndItsEdgeIsCut) {
+  for (DrawnKind edge : {DrawnKind::cut, DrawnKind::outline}) {
+    LineDrawing d = flaps(15);
+    d.lines.push_back(line(edge, {{20, 10}, {30, 10}, {30, 20}, {20, 20}}, "<rect id=\"window\">", true));
+    const FoldableSheet s = foldable(d);
+    int inside = -1;
+    for (std::size_t r = 0; r < s.map.regions.size(); ++r)
+      if (bounds(s.map.regions[r].outer) == Rect{{20, 10}, {30, 20}}) inside = static_cast<int>(r);
+    ASSERT_GE(inside, 0);
+    EXPECT_TRUE(s.cut_out[static_cast<std::size_t>(inside)]);
+    EXPECT_EQ(region_at(s, {25, 15}), -1);  // no triangles: nothing is drawn there
+    EXPECT_GE(region_at(s, {35, 15}), 0);
+    ASSERT_FALSE(s.notes.empty());
+    EXPECT_NE(s.notes[0].find("1 cut-out(s) fall out"), std::string::npos) << s.notes[0];
+    const LineCounts c = count_lines(sheet_pattern(s));
+    EXPECT_NEAR(c.cut_mm, 40, 1e-9) << to_string(edge);  // the window, and not the rectangular blank
+  }
+}
+
+// Equal regions: the fixed one is the one with most hinges, whatever order the map lists them in.
+TEST(SheetFold, TheBoxStandsOnItsBaseNotItsEqualLid) {
+  LineDrawing d = box();
+  d.lines.push_back(line(DrawnKind::fold, {{20, 70}, {60, 70}}, "<line id=\"lid\">"));
+  d.lines[0].points[14] = {60, 100};  // the back wall's top edge becomes a lid 40 × 30, as large as the base
+  d.lines[0].points[15] = {20, 100};
+  const FoldableSheet s = foldable(d);
+  EXPECT_EQ(s.piece_fixed[0], region_at(s, {40, 35}));
 }
 
 TEST(SheetFold, BadOptionsNameTheOption) {
@@ -252,7 +283,7 @@ TEST(SheetFold, BadOptionsNameTheOption) {
   EXPECT_NE(e.message().find("0 to 8"), std::string::npos) << e.message();
   o = {};
   o.angle_deg = std::nan("");
-  EXPECT_EQ(error_of([&] { foldable(box(), o); }).location(), "--angle");
+  EXPECT_EQ(error_of([&] { foldable(box(), o); }).location(), "--crease-angle");
 }
 
 TEST(SheetFold, TheDielineCutsItsOutlineAndScoresItsCreases) {

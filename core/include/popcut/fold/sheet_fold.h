@@ -41,8 +41,9 @@ struct FoldableSheet {
   std::string source;
   SheetMap map;
   std::vector<SheetHinge> hinges;
-  std::vector<int> piece_of;                                  // per region
-  std::vector<int> piece_fixed;                               // per piece: its fixed region
+  std::vector<int> piece_of;     // per region
+  std::vector<int> piece_fixed;  // per piece: its fixed region
+  std::vector<bool> cut_out;     // per region: the inside of a closed cut, which falls out (no triangles)
   std::vector<std::vector<std::array<Point2, 3>>> triangles;  // per region, counter-clockwise
   std::vector<SheetProblem> problems;  // creases that cannot fold (inside one region, two angles on one hinge)
   std::vector<std::string> notes;
@@ -109,8 +110,9 @@ struct SheetCollision {
 std::vector<SheetCollision> find_collisions(const FoldableSheet& sheet, const SheetState& state,
                                             double inset_mm = 0.05);
 
-// The whole motion from flat to folded in `frames` steps (fractions 0, 1/(frames−1), ..., 1):
-// the first fraction at which each cycle fails to close and each pair of regions collides.
+// The whole motion from flat to folded in `frames` steps (fractions 0, 1/(frames−1), ..., 1;
+// 2 to 10,000 of them): the first fraction at which each cycle fails to close and each pair of
+// regions collides. A crossing that begins and ends between two steps is not seen.
 struct SheetMotionReport {
   struct Timed {
     SheetProblem problem;
