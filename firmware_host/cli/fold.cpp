@@ -18,6 +18,10 @@
 namespace popcut::cli {
 namespace {
 
+// Layers folded flat lie in one plane; pictures set them this far apart (a tenth of a pixel at
+// the default width for a card-sized sheet) so the top one shows instead of a speckle of both.
+constexpr double kPictureLayerGapMm = 0.02;
+
 // The --angle after its range check; "-0" is 0, and says so.
 double checked_angle(double angle_deg) {
   check_fold_angle(angle_deg, "--angle");
@@ -35,14 +39,15 @@ void refuse_angle_for_sheet(const FoldCommands& s, const CLI::App* command) {
 
 }  // namespace
 
-CardMesh folded_sheet(const FoldableSheet& sheet, double fraction, std::set<std::vector<int>>* warned) {
+CardMesh folded_sheet(const FoldableSheet& sheet, double fraction, std::set<std::vector<int>>* warned,
+                      double layer_gap_mm) {
   const SheetState state = fold_sheet(sheet, fraction);
   for (const SheetProblem& p : state.open_cycles) {
     std::vector<int> key = p.hinges;
     std::sort(key.begin(), key.end());
     if (!warned || warned->insert(key).second) std::cerr << "popcut: warning: " << p.what << "\n";
   }
-  return sheet_mesh(sheet, state);
+  return sheet_mesh(sheet, state, layer_gap_mm);
 }
 
 std::string write_folded_mesh(const std::string& out_path, const CardMesh& mesh) {
@@ -87,7 +92,7 @@ std::vector<CardMesh> render_meshes(const FoldCommands& s, double angle_deg) {
     const FoldableSheet sheet = load_cli_sheet(s.model_path, s.read_as);
     std::set<std::vector<int>> warned;
     for (int i = 0; i < frames; ++i)
-      meshes.push_back(folded_sheet(sheet, frames == 1 ? 1.0 : 1.0 * i / (frames - 1), &warned));
+      meshes.push_back(folded_sheet(sheet, frames == 1 ? 1.0 : 1.0 * i / (frames - 1), &warned, kPictureLayerGapMm));
     return meshes;
   }
   const Pattern p = load_cli_pattern(s.model_path);

@@ -23,7 +23,9 @@ struct FoldCommands {
 
 // The sheet folded to `fraction` of its motion; cycles that cannot close are warned about on
 // stderr, each once over the frames that share `warned`.
-CardMesh folded_sheet(const FoldableSheet& sheet, double fraction, std::set<std::vector<int>>* warned = nullptr);
+// `layer_gap_mm` as sheet_mesh takes it (pictures only).
+CardMesh folded_sheet(const FoldableSheet& sheet, double fraction, std::set<std::vector<int>>* warned = nullptr,
+                      double layer_gap_mm = 0);
 
 // Writes OUT.obj (and OUT.mtl) or OUT.gltf, by the extension (else exit 2 naming -o); returns what
 // was written, for the "wrote" line.

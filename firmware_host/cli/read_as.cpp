@@ -1,6 +1,7 @@
 // --as card|sheet for every command that reads a model, and validate --as sheet's report.
 #include "cli/read_as.h"
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <ostream>
@@ -54,6 +55,29 @@ SheetFoldOptions fold_options(const ReadAs& r) {
   return o;
 }
 
+// "X1,V1,X2,V2" or "...,under": four decimal numbers (mm), then how the side turns.
+LineFoldStep parse_fold_line(const std::string& text) {
+  std::vector<std::string> parts;
+  std::size_t from = 0;
+  for (std::size_t comma; (comma = text.find(',', from)) != std::string::npos; from = comma + 1)
+    parts.push_back(text.substr(from, comma - from));
+  parts.push_back(text.substr(from));
+  const bool under = parts.size() == 5 && (parts[4] == "under" || parts[4] == "over");
+  bool ok = parts.size() == 4 || under;
+  double v[4] = {0, 0, 0, 0};
+  for (std::size_t i = 0; ok && i < 4; ++i) {
+    ok = is_decimal_text(parts[i]);
+    if (ok) v[i] = std::stod(parts[i]);
+    ok = ok && std::abs(v[i]) <= kMaxDrawingCoordinateMm;
+  }
+  if (!ok)
+    throw CliError(kBadInput, ErrorCode::invalid_input, "", "--fold-line",
+                   "expected X1,V1,X2,V2 or X1,V1,X2,V2,under (mm on the folded sheet, the side left of the first "
+                   "point to the second turning over), got \"" +
+                       text + "\"");
+  return {{v[0], v[1]}, {v[2], v[3]}, under && parts[4] == "under"};
+}
+
 json place(Point2 p) { return json::array({p.x_mm, p.v_mm}); }
 
 json problem_json(const SheetProblem& p) {
@@ -75,10 +99,11 @@ bool is_decimal_text(const std::string& text) {
 
 void check_read_as(const ReadAs& r) {
   if (r.sheet()) return;
-  const char* option = !r.folds.empty() ? "--fold"
-                       : r.crease_given ? "--crease-angle"
-                       : r.fixed >= 0   ? "--fixed"
-                                        : nullptr;
+  const char* option = !r.folds.empty()        ? "--fold"
+                       : !r.fold_lines.empty() ? "--fold-line"
+                       : r.crease_given        ? "--crease-angle"
+                       : r.fixed >= 0          ? "--fixed"
+                                               : nullptr;
   if (option)
     throw CliError(kBadInput, ErrorCode::invalid_input, "", option,
                    std::string(option) + " folds a sheet: it needs --as sheet (a card opens by --angle)");
@@ -109,6 +134,11 @@ void add_read_as_options(CLI::App* command, ReadAs& r, bool folds) {
       ->check(CLI::Range(0.0, 180.0))
       ->each([&r](const std::string&) { r.crease_given = true; })
       ->capture_default_str();
+  command->add_option("--fold-line", r.fold_lines,
+                      "--as sheet: X1,V1,X2,V2[,under] folds the sheet, once folded flat, along that line (mm, in the "
+                      "plane where the fixed region lies as drawn) through every layer it crosses: the side left of "
+                      "the first point to the second turns over onto the rest (or under it); repeatable, in order, "
+                      "each a stage of the motion after the drawing's own creases");
   command->add_option("--fixed", r.fixed, "--as sheet: the region that stays flat (default: each piece's largest)")
       ->check(CLI::NonNegativeNumber);
 }
@@ -118,8 +148,14 @@ FoldableSheet load_cli_sheet(const std::string& path, const ReadAs& r, const Dra
   if (!is_drawing_path(path))
     throw CliError(kBadInput, ErrorCode::invalid_input, shown(path), "--as",
                    "--as sheet reads drawings (FILE.svg, FILE.dxf, FILE.fold); a model file is a card already");
-  const LineDrawing d = load_drawing(path, drawing);
-  return make_foldable_sheet(d, build_sheet_map(d, map), fold_options(r));
+  LineDrawing d = load_drawing(path, drawing);
+  FoldableSheet sheet = make_foldable_sheet(d, build_sheet_map(d, map), fold_options(r));
+  for (const std::string& text : r.fold_lines) {
+    SheetLineFold next = fold_along_line(d, sheet, parse_fold_line(text), map);
+    d = std::move(next.drawing);
+    sheet = std::move(next.sheet);
+  }
+  return sheet;
 }
 
 Pattern load_cli_pattern(const std::string& path, const ReadAs& r) {
@@ -148,7 +184,8 @@ json sheet_check_json(const std::string& source, const FoldableSheet& s, const S
     regions.push_back({{"at", place(s.map.regions[i].label)},
                        {"area_mm2", s.map.regions[i].area_mm2},
                        {"piece", s.piece_of[i]},
-                       {"cut_out", static_cast<bool>(s.cut_out[i])}});
+                       {"cut_out", static_cast<bool>(s.cut_out[i])},
+                       {"layer", i < s.layer.size() ? s.layer[i] : 0}});
   json notes = s.map.notes;
   for (const std::string& n : s.notes) notes.push_back(n);
   for (const SheetProblem& p : s.problems) problems.push_back(problem_json(p));

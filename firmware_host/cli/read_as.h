@@ -14,10 +14,11 @@ namespace popcut::cli {
 
 struct ReadAs {
   std::string as = "card";
-  std::vector<std::string> folds;  // --fold SELECTOR=DEGREES
-  double crease_deg = 90;          // --crease-angle
-  int fixed = -1;                  // --fixed REGION
-  bool crease_given = false;       // --crease-angle was on the command line
+  std::vector<std::string> folds;       // --fold SELECTOR=DEGREES
+  std::vector<std::string> fold_lines;  // --fold-line X1,V1,X2,V2[,under], in order
+  double crease_deg = 90;               // --crease-angle
+  int fixed = -1;                       // --fixed REGION
+  bool crease_given = false;            // --crease-angle was on the command line
   bool sheet() const { return as == "sheet"; }
 };
 

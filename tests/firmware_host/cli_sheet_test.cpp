@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "cli_run.h"
@@ -124,6 +125,31 @@ TEST_F(SheetCli, FoldSpecsDiagonalFoldsFlat) {
   const json j = json::parse(r.out);
   ASSERT_EQ(j["hinges"].size(), 1u);
   EXPECT_DOUBLE_EQ(j["hinges"][0]["angle_deg"].get<double>(), 180);
+}
+
+// A square of paper folded in half and in half again along lines, from the command line: three
+// creases, the last two through both layers, and four layers in the report.
+TEST_F(SheetCli, FoldLinesFoldEveryLayer) {
+  std::ofstream(out("paper.svg"))
+      << R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+<rect id="edge" x="0" y="0" width="100" height="100" style="fill:none;stroke:#000"/></svg>)";
+  const CliRun r =
+      run("validate " + out("paper.svg") + " --as sheet --fold-line 50,0,50,100 --fold-line 100,50,50,50 --json");
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["hinges"].size(), 4u);  // the second fold crosses both layers: two creases, each split at the first
+  std::set<int> layers;
+  for (const json& g : j["regions"]) layers.insert(g["layer"].get<int>());
+  EXPECT_EQ(layers.size(), 4u) << r.out;
+  const CliRun png =
+      run("render " + out("paper.svg") + " --as sheet --fold-line 50,0,50,100 --frames 3 -o " + out("p.png"));
+  EXPECT_EQ(png.code, 0) << png.err;
+  const CliRun bad = run("validate " + out("paper.svg") + " --as sheet --fold-line 1,2,3");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("expected X1,V1,X2,V2"), std::string::npos) << bad.err;
+  const CliRun miss = run("validate " + out("paper.svg") + " --as sheet --fold-line 500,0,500,100");
+  EXPECT_EQ(miss.code, 2);
+  EXPECT_NE(miss.err.find("crosses no layer"), std::string::npos) << miss.err;
 }
 
 TEST_F(SheetCli, BadOptionsAreExitTwoNamingTheOption) {

@@ -173,17 +173,26 @@ SheetState fold_sheet(const FoldableSheet& s, double fraction, double closure_to
   return state;
 }
 
-CardMesh sheet_mesh(const FoldableSheet& s, const SheetState& state) {
+CardMesh sheet_mesh(const FoldableSheet& s, const SheetState& state, double layer_gap_mm) {
   CardMesh mesh;
   mesh.face_kind.assign(s.map.regions.size(), FaceKind::horizontal);
+  // Up the stack is +z in the flat-folded end state: a region turned over there lifts along −normal.
+  const bool layered = layer_gap_mm > 0 && s.layer.size() == s.triangles.size();
+  const SheetState end = layered ? fold_sheet(s, 1) : SheetState{};
   for (std::size_t r = 0; r < s.triangles.size(); ++r) {
+    Point3 lift{};
+    if (layered) {
+      const double k = layer_gap_mm * s.layer[r] * (end.poses[r].r[8] > 0 ? 1 : -1);
+      const Pose& p = state.poses[r];
+      lift = {k * p.r[2], k * p.r[5], k * p.r[8]};
+    }
     for (const auto& tri : s.triangles[r]) {
       std::array<std::uint32_t, 3> idx{};
       for (std::size_t k = 0; k < 3; ++k) {
         idx[k] = static_cast<std::uint32_t>(mesh.vertices.size());
         // Card coordinates, as for a card at 0° (y = −v): the writers' and the renderer's frame.
         const Point3 q = apply(state.poses[r], tri[k]);
-        mesh.vertices.push_back({q.x_mm, -q.y_mm, q.z_mm});
+        mesh.vertices.push_back({q.x_mm + lift.x_mm, -(q.y_mm + lift.y_mm), q.z_mm + lift.z_mm});
         mesh.pattern_points.push_back(tri[k]);
       }
       mesh.triangles.push_back(idx);

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -264,6 +265,50 @@ TEST(SheetFold, TheBoxStandsOnItsBaseNotItsEqualLid) {
   d.lines[0].points[15] = {20, 100};
   const FoldableSheet s = foldable(d);
   EXPECT_EQ(s.piece_fixed[0], region_at(s, {40, 35}));
+}
+
+// A strip folded in half and in half again, as a person folds paper: the second fold goes
+// through both layers, valley on the one facing up and mountain on the one turned over, and the
+// stack's order is the paper's.
+TEST(SheetFold, FoldingAlongALineFoldsEveryLayerItCrosses) {
+  LineDrawing d;
+  d.source = "strip";
+  d.lines = {line(DrawnKind::outline, {{0, 0}, {100, 0}, {100, 20}, {0, 20}}, "edge", true)};
+  const FoldableSheet flat = foldable(d);
+  const SheetLineFold half = fold_along_line(d, flat, {{50, 0}, {50, 20}});
+  ASSERT_EQ(half.sheet.hinges.size(), 1u);
+  EXPECT_DOUBLE_EQ(half.sheet.hinges[0].angle_deg, 180);
+  const SheetLineFold quarter = fold_along_line(half.drawing, half.sheet, {{75, 0}, {75, 20}});
+  const FoldableSheet& s = quarter.sheet;
+  ASSERT_EQ(s.map.regions.size(), 4u);
+  ASSERT_EQ(s.hinges.size(), 3u);
+  std::map<double, std::pair<double, int>> creases;  // x on the sheet → angle, stage
+  for (const SheetHinge& h : s.hinges) creases[h.a.x_mm] = {h.angle_deg, h.stage};
+  EXPECT_EQ(creases[50], std::pair(180.0, 1));
+  EXPECT_EQ(creases[75], std::pair(180.0, 2));   // on the layer facing up: valley
+  EXPECT_EQ(creases[25], std::pair(-180.0, 2));  // on the layer turned over: mountain
+  // Everything lands on world [75, 100], rigidly, with the cycle-free motion closing.
+  const SheetState st = fold_sheet(s, 1);
+  EXPECT_TRUE(st.open_cycles.empty());
+  const Point3 ref = at(s, st, {90, 10});
+  for (double x : {60.0, 10.0, 40.0}) expect_near(at(s, st, {x, 10}), ref, 1e-9, "x " + std::to_string(x));
+  // Bottom up: [75, 100] as it lay, [0, 25], [25, 50], and on top [50, 75].
+  const auto layer = [&](double x) { return s.layer[static_cast<std::size_t>(region_at(s, {x, 10}))]; };
+  EXPECT_LT(layer(90), layer(10));
+  EXPECT_LT(layer(10), layer(40));
+  EXPECT_LT(layer(40), layer(60));
+  // The stack moves as one in stage 2: no layer passes through another.
+  EXPECT_TRUE(check_sheet_motion(s, 25).ok());
+  // Under instead of over: the folded half goes beneath, so its crease turns the other way.
+  const SheetLineFold under = fold_along_line(d, flat, {{50, 0}, {50, 20}, true});
+  EXPECT_DOUBLE_EQ(under.sheet.hinges[0].angle_deg, -180);
+  // A line that misses the sheet, or a sheet that is not flat, is refused with the option named.
+  EXPECT_EQ(error_of([&] { fold_along_line(d, flat, {{200, 0}, {200, 20}}); }).location(), "--fold-line");
+  SheetFoldOptions o;
+  o.angles = {{"front", 90}};
+  const LineDrawing b = box();
+  const Error e = error_of([&] { fold_along_line(b, foldable(b, o), {{0, 10}, {80, 10}}); });
+  EXPECT_NE(e.message().find("needs the sheet folded flat"), std::string::npos) << e.message();
 }
 
 TEST(SheetFold, BadOptionsNameTheOption) {

@@ -45,6 +45,7 @@ struct FoldableSheet {
   std::vector<int> piece_fixed;  // per piece: its fixed region
   std::vector<bool> cut_out;     // per region: the inside of a closed cut, which falls out (no triangles)
   std::vector<std::vector<std::array<Point2, 3>>> triangles;  // per region, counter-clockwise
+  std::vector<int> layer;              // per region, bottom up, once folded flat along lines (empty: one layer)
   std::vector<SheetProblem> problems;  // creases that cannot fold (inside one region, two angles on one hinge)
   std::vector<std::string> notes;
 };
@@ -96,8 +97,10 @@ SheetState fold_sheet(const FoldableSheet& sheet, double fraction, double closur
 
 // The folded sheet as triangles (region index in triangle_face) in card coordinates, (x, −y, z)
 // of the sheet's frame as a card at 0° lies, for the OBJ, glTF, SVG and PNG writers; the
-// drawing's side is the printed side.
-CardMesh sheet_mesh(const FoldableSheet& sheet, const SheetState& state);
+// drawing's side is the printed side. With `layer_gap_mm`, each region of a stack folded flat
+// along lines sits that far per layer above the one below (along its own normal, so it stays
+// rigid): for pictures, where coincident layers would speckle.
+CardMesh sheet_mesh(const FoldableSheet& sheet, const SheetState& state, double layer_gap_mm = 0);
 
 // Two regions passing through each other: triangles of different regions, each shrunk by
 // `inset_mm` from its edges (so regions meeting along a hinge or at a corner do not count),
@@ -124,6 +127,25 @@ struct SheetMotionReport {
   bool ok() const { return open_cycles.empty() && collisions.empty(); }
 };
 SheetMotionReport check_sheet_motion(const FoldableSheet& sheet, int frames);
+
+// One fold of a flat-folded sheet along a line of its plane (the sheet's frame at z = 0, where the
+// fixed region lies as drawn): everything left of a → b turns over onto the rest, or beneath it
+// with `under`, through every layer the line crosses, as the cut-and-fold paper's multi-layer fold.
+struct LineFoldStep {
+  Point2 a, b;
+  bool under = false;
+};
+
+// The drawing with the new creases (valley on layers facing up, mountain on those turned over,
+// each ±180° in the next stage of the motion) and its sheet, whose `layer` keeps the stack's
+// order: the moving stack lands on top (or beneath), reversed. Throws popcut::Error
+// (invalid_input, "--fold-line") unless the sheet lies folded flat and the line crosses it.
+struct SheetLineFold {
+  LineDrawing drawing;
+  FoldableSheet sheet;
+};
+SheetLineFold fold_along_line(const LineDrawing& drawing, const FoldableSheet& sheet, const LineFoldStep& step,
+                              const SheetMapOptions& map = {});
 
 // The sheet's lines as a pattern for the planner: cuts (the outer contour too, a dieline's shape)
 // and creases as mountain/valley scores. A drawn sheet edge (outline lines, FOLD's boundary) is
