@@ -1,6 +1,7 @@
 // FaceModel::from_faces: faces given as final, each checked, then checked together to partition the sheet (eq. 4).
 #include <CGAL/Boolean_set_operations_2.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "model/exact_faces.h"
@@ -11,6 +12,27 @@ namespace popcut {
 using namespace detail;
 
 namespace {
+
+// True when some vertex of `ring` appears twice (exact comparison, O(n log n)).
+bool has_repeated_vertex(const ExactPolygon& ring) {
+  std::vector<ExactPoint> points(ring.vertices_begin(), ring.vertices_end());
+  std::sort(points.begin(), points.end());
+  return std::adjacent_find(points.begin(), points.end()) != points.end();
+}
+
+// CGAL's validity test for a polygon with holes, without its quadratic crossover test when the
+// outer ring repeats no vertex: that test (naive point location per vertex) only finds a ring that
+// passes through one vertex twice, which a relatively simple ring without repeats cannot do.
+bool valid_polygon_with_holes(const ExactPolygonWithHoles& pwh) {
+  const CGAL::Gps_segment_traits_2<Kernel> traits;
+  if (has_repeated_vertex(pwh.outer_boundary())) return CGAL::is_valid_polygon_with_holes(pwh, traits);
+  if (!CGAL::is_closed_polygon_with_holes(pwh, traits) || !CGAL::is_relatively_simple_polygon_with_holes(pwh, traits) ||
+      !CGAL::has_valid_orientation_polygon_with_holes(pwh, traits))
+    return false;
+  if (pwh.number_of_holes() == 0) return true;
+  auto mutable_traits = traits;
+  return CGAL::are_holes_and_boundary_pairwise_disjoint(pwh, mutable_traits);
+}
 
 // One face as given: its rings oriented and split at pinches, exact, on the sheet, holes inside.
 std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelState& sheet, const std::string& source,
@@ -45,7 +67,7 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
     hole.reverse_orientation();  // holes run clockwise
     pwh.add_hole(std::move(hole));
   }
-  if (!CGAL::is_valid_polygon_with_holes(pwh, CGAL::Gps_segment_traits_2<Kernel>())) {
+  if (!valid_polygon_with_holes(pwh)) {
     fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
   }
   return make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh));
@@ -54,13 +76,25 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
 // Eq. 4: no two faces overlap, and together they cover the sheet exactly. One aggregated
 // union (a sweep, O(n log n)) proves both: its area equals the sum of the faces' areas only
 // when nothing overlaps. Only on failure are pairs searched, to name the two faces.
-void check_partition(const ExactFaces& given, const FaceModelState& sheet, const std::string& source) {
+FT total_area(const ExactFaces& given) {
   FT area = 0;
-  std::vector<ExactPolygonWithHoles> polygons;
-  for (const auto& fp : given) {
-    area += polygon_area(fp->polygon);
-    polygons.push_back(fp->polygon);
+  for (const auto& fp : given) area += polygon_area(fp->polygon);
+  return area;
+}
+
+void check_cover(const FT& area, const FaceModelState& sheet, const std::string& source) {
+  const FT sheet_area = (sheet.max_x - sheet.min_x) * (sheet.max_v - sheet.min_v);
+  if (area != sheet_area) {
+    fail(source, "faces",
+         "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
+             format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
   }
+}
+
+void check_partition(const ExactFaces& given, const FaceModelState& sheet, const std::string& source) {
+  const FT area = total_area(given);
+  std::vector<ExactPolygonWithHoles> polygons;
+  for (const auto& fp : given) polygons.push_back(fp->polygon);
   PolygonSet all;
   all.join(polygons.begin(), polygons.end());
   std::vector<ExactPolygonWithHoles> united;
@@ -76,18 +110,23 @@ void check_partition(const ExactFaces& given, const FaceModelState& sheet, const
     });
     fail(source, "faces", "overlap: faces must not overlap (eq. 4)");
   }
-  const FT sheet_area = (sheet.max_x - sheet.min_x) * (sheet.max_v - sheet.min_v);
-  if (area != sheet_area) {
-    fail(source, "faces",
-         "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
-             format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
-  }
+  check_cover(area, sheet, source);
 }
 
 }  // namespace
 
 FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                                 const std::string& source) {
+  return from_given(width_mm, back_mm, floor_mm, faces, source, true);
+}
+
+FaceModel FaceModel::from_subdivision(double width_mm, double back_mm, double floor_mm,
+                                      const std::vector<OAFace>& faces, const std::string& source) {
+  return from_given(width_mm, back_mm, floor_mm, faces, source, false);
+}
+
+FaceModel FaceModel::from_given(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
+                                const std::string& source, bool may_overlap) {
   auto s = initial_state(width_mm, back_mm, floor_mm);
   if (faces.size() > kMaxFaces)
     fail(source, "faces", "has " + std::to_string(faces.size()) + " faces; the limit is " + std::to_string(kMaxFaces));
@@ -95,9 +134,13 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
   guarded(source, "faces", [&] {
     for (std::size_t i = 0; i < faces.size(); ++i)
       given.push_back(given_face(faces[i], *s, source, "faces[" + std::to_string(i) + "]"));
-    check_partition(given, *s, source);
+    if (may_overlap)
+      check_partition(given, *s, source);
+    else
+      check_cover(total_area(given), *s, source);
     return 0;
   });
+
   FaceModel m;
   m.sheet_ = std::move(s);
   m.drawn_ = std::move(given);

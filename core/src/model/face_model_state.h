@@ -23,12 +23,15 @@ using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 
 // Input lengths snap to a 1 nm grid and become exact rationals there, so the decimals people
 // write (0.1, 1.1) and products like 3 × 0.3 = 0.8999999999999999 compare as intended
-// (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found). 1 nm is far below any cutter's step;
-// 100 m in nanometres fits easily in 64 bits.
+// (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found). 1 nm is far below any cutter's step.
 inline FT exact_decimal(double value_mm) {
-  using ET = FT::ET;
-  const long long nm = std::llround(value_mm * 1e6);  // 1 nm = 1e-6 mm
-  return FT(ET(ET(std::to_string(nm)) / ET(std::string("1000000"))));
+  // Built from integers, not strings; the exact rational (not a lazy quotient) keeps to_double
+  // of every input the nearest double, so equal decimals give equal points downstream.
+  static_assert(sizeof(long) >= 8, "nanometre counts need a 64-bit long");
+  const long nm = std::lround(value_mm * 1e6);  // 1 nm = 1e-6 mm
+  FT::ET q(nm, 1000000L);
+  q.canonicalize();
+  return FT(q);
 }
 
 struct ExactFace {

@@ -182,6 +182,8 @@ Arrangement arrange(const std::vector<Piece>& pieces) {
   std::vector<Traits::Curve_2> curves;
   curves.reserve(pieces.size());
   for (const Piece& p : pieces) {
+    // On the 1 nm decimal grid, as faces are: ends a rounding apart meet, and decimal points that
+    // are collinear (0.1, 0.2, 0.3) stay so, as they would not as doubles.
     const ExactPoint a(exact_decimal(p.a.x_mm), exact_decimal(p.a.v_mm)),
         b(exact_decimal(p.b.x_mm), exact_decimal(p.b.v_mm));
     if (a != b) curves.emplace_back(SegmentTraits::Curve_2(a, b), p.drawn);

@@ -309,6 +309,24 @@ TEST(FaceModel, FacesThatDoNotTileAreRejected) {
   }
   const std::vector<OAFace> hole_out = {{FaceKind::vertical, 0, {rect(0, 0, 10, 10), {rect(5, 5, 20, 6)}}}};
   EXPECT_THROW(FaceModel::from_faces(10, 10, 10, hole_out, "h.json"), Error) << "a hole outside its face";
+  // Regions of one subdivision are only summed; a gap or a bad ring is still refused.
+  EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, gap, "g.json"), Error) << "a gap";
+  EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, hole_out, "h.json"), Error) << "a hole outside its face";
+}
+
+TEST(FaceModel, ASubdivisionBuildsTheSameModelAsGivenFaces) {
+  // A wall with a slanted top, its floor, and a hole with a pinch: every check that stays.
+  const std::vector<OAFace> faces = {
+      {FaceKind::vertical, 0, {{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, {}}},
+      {FaceKind::horizontal, 0, {{{0, -10}, {10, -10}, {10, 0}, {0, 0}}, {{{2, -8}, {2, -2}, {8, -2}, {8, -8}}}}},
+      {FaceKind::horizontal, 0.5, {{{2, -8}, {8, -8}, {8, -2}, {2, -2}}, {}}}};
+  const FaceModel given = FaceModel::from_faces(10, 10, 10, faces, "f.json");
+  const FaceModel sub = FaceModel::from_subdivision(10, 10, 10, faces, "f.json");
+  ASSERT_EQ(sub.face_count(), given.face_count());
+  for (std::size_t i = 0; i < given.faces().size(); ++i) {
+    EXPECT_EQ(sub.faces()[i].polygon.outer, given.faces()[i].polygon.outer) << i;
+    EXPECT_EQ(sub.faces()[i].t_mm, given.faces()[i].t_mm) << i;
+  }
 }
 
 }  // namespace

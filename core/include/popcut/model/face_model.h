@@ -74,6 +74,11 @@ class FaceModel {
   // malformed, leaves the sheet, or the faces overlap or leave a gap.
   static FaceModel from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                               const std::string& source = "");
+  // The same for faces that are the regions of one planar subdivision (so none can overlap
+  // another): only their areas are summed to prove they cover the sheet, which skips the
+  // Boolean union that dominates from_faces on large patterns.
+  static FaceModel from_subdivision(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
+                                    const std::string& source = "");
 
   // Applies an edit; on error (popcut::Error naming `where`, e.g. "edits[3]") nothing changes.
   void apply(const FaceEdit& edit, const std::string& source = "", const std::string& where = "edit");
@@ -95,6 +100,8 @@ class FaceModel {
 
  private:
   using Drawn = std::vector<std::shared_ptr<const detail::ExactFace>>;
+  static FaceModel from_given(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
+                              const std::string& source, bool may_overlap);
   FaceModel() = default;
   void changed();
   static void keep(std::vector<std::shared_ptr<detail::FaceCache>>& stack, std::shared_ptr<detail::FaceCache> cache);
