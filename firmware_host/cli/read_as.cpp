@@ -17,39 +17,15 @@ namespace {
 
 using nlohmann::json;
 
-// "90", "-45@2": degrees, then the stage after '@'; nullopt unless the whole text is read.
-std::optional<CreaseAngle> parse_turn(const std::string& selector, const std::string& text) {
-  const auto at = text.find('@');
-  if (!is_decimal_text(text.substr(0, at))) return std::nullopt;
-  try {
-    std::size_t used = 0;
-    CreaseAngle c{selector, std::stod(text.substr(0, at), &used), 1};
-    if (used != text.substr(0, at).size()) return std::nullopt;
-    if (at != std::string::npos) {
-      const std::string stage = text.substr(at + 1);
-      if (stage.empty() || stage.find_first_not_of("0123456789") != std::string::npos || stage.size() > 4)
-        return std::nullopt;
-      c.stage = std::stoi(stage);
-    }
-    return c;
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-}
-
 SheetFoldOptions fold_options(const ReadAs& r) {
   SheetFoldOptions o;
   o.angle_deg = r.crease_deg;
   o.fixed_region = r.fixed;
   for (const std::string& pair : r.folds) {
-    const auto eq = pair.rfind('=');
-    const auto turn =
-        eq == std::string::npos || eq == 0 ? std::nullopt : parse_turn(pair.substr(0, eq), pair.substr(eq + 1));
+    const auto turn = parse_crease_angle(pair);
     if (!turn)
       throw CliError(kBadInput, ErrorCode::invalid_input, "", "--fold",
-                     "expected LINE=DEGREES or LINE=DEGREES@STAGE (LINE a line's id, DXF handle or FOLD edge, ids "
-                     "by prefix such as tab-*, or mountain, valley or fold; degrees from -180 to 180), got \"" +
-                         pair + "\"");
+                     std::string("expected ") + kCreaseAngleSyntax + ", got \"" + pair + "\"");
     o.angles.push_back(*turn);
   }
   return o;
@@ -91,11 +67,6 @@ json timed_json(const SheetMotionReport::Timed& t) {
 }
 
 }  // namespace
-
-bool is_decimal_text(const std::string& text) {
-  return !text.empty() && text.find_first_not_of("0123456789.+-eE") == std::string::npos &&
-         text.find_first_of("0123456789") != std::string::npos;
-}
 
 void check_read_as(const ReadAs& r) {
   if (r.sheet()) return;

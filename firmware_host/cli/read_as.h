@@ -9,6 +9,7 @@
 
 #include "popcut/fold/sheet_fold.h"
 #include "popcut/pattern/pattern.h"
+#include "popcut/text.h"  // is_decimal_text
 
 namespace popcut::cli {
 
@@ -21,10 +22,6 @@ struct ReadAs {
   bool crease_given = false;            // --crease-angle was on the command line
   bool sheet() const { return as == "sheet"; }
 };
-
-// Decimal text as people write degrees ("90", "-45.5", "1e2"): CLI11 and std::stod alone would
-// also take "0x5A", "inf" and "nan".
-bool is_decimal_text(const std::string& text);
 
 // Exit 2 naming the option when --fold, --crease-angle or --fixed come without --as sheet: they
 // would change nothing, and silence would let a user think they did.

@@ -37,4 +37,11 @@ inline std::string format_significant(double value, int digits = 6) {
   return buf;
 }
 
+// Decimal text as people write numbers ("90", "-45.5", "1e2"): std::stod alone would also take
+// "0x5A", "inf" and "nan".
+inline bool is_decimal_text(const std::string& text) {
+  return !text.empty() && text.find_first_not_of("0123456789.+-eE") == std::string::npos &&
+         text.find_first_of("0123456789") != std::string::npos;
+}
+
 }  // namespace popcut

@@ -241,6 +241,29 @@ void find_pieces(const SheetFoldOptions& o, FoldableSheet& s) {
 
 }  // namespace
 
+std::optional<CreaseAngle> parse_crease_angle(const std::string& text) {
+  const auto eq = text.rfind('=');
+  if (eq == std::string::npos || eq == 0) return std::nullopt;
+  const std::string turn = text.substr(eq + 1);
+  const auto at = turn.find('@');
+  const std::string degrees = turn.substr(0, at);
+  if (!is_decimal_text(degrees)) return std::nullopt;
+  try {
+    std::size_t used = 0;
+    CreaseAngle c{text.substr(0, eq), std::stod(degrees, &used), 1};
+    if (used != degrees.size()) return std::nullopt;
+    if (at != std::string::npos) {
+      const std::string stage = turn.substr(at + 1);
+      if (stage.empty() || stage.find_first_not_of("0123456789") != std::string::npos || stage.size() > 4)
+        return std::nullopt;
+      c.stage = std::stoi(stage);
+    }
+    return c;
+  } catch (const std::exception&) {
+    return std::nullopt;  // out of double's range
+  }
+}
+
 FoldableSheet make_foldable_sheet(const LineDrawing& d, SheetMap map, const SheetFoldOptions& o) {
   check_options(d, o, map);
   FoldableSheet s;

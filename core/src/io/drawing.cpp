@@ -95,12 +95,17 @@ bool is_drawing_path(const std::string& path) {
   return ends_with(p, ".svg") || ends_with(p, ".dxf") || ends_with(p, ".fold");
 }
 
+LineDrawing read_drawing(const std::string& text, const std::string& source, const DrawingOptions& options) {
+  const std::string name = ascii_lower(source);
+  if (ends_with(name, ".fold")) return read_fold_drawing(text, source, options);
+  if (ends_with(name, ".svg")) return read_svg_drawing(text, source, options);
+  if (ends_with(name, ".dxf")) return read_dxf_drawing(text, source, options);
+  throw Error(ErrorCode::invalid_input, source, "", "not a drawing popcut reads: expected a .svg, .dxf or .fold file");
+}
+
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options) {
-  const std::string text = read_text_file(path, kMaxModelFileBytes * 4);
-  if (ends_with(ascii_lower(path), ".fold")) return read_fold_drawing(text, path, options);
-  if (ends_with(ascii_lower(path), ".svg")) return read_svg_drawing(text, path, options);
-  if (ends_with(ascii_lower(path), ".dxf")) return read_dxf_drawing(text, path, options);
-  throw Error(ErrorCode::invalid_input, path, "", "not a drawing popcut reads: expected a .svg, .dxf or .fold file");
+  if (!is_drawing_path(path)) return read_drawing("", path, options);  // the message, before reading
+  return read_drawing(read_text_file(path, kMaxModelFileBytes * 4), path, options);
 }
 
 }  // namespace popcut

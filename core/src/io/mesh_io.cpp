@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "io/json_util.h"
+#include "popcut/io/base64.h"
 
 namespace popcut {
 namespace {
@@ -38,21 +39,6 @@ constexpr Rgb kFront{0.96, 0.93, 0.84};  // cream card stock
 constexpr Rgb kBack{0.55, 0.62, 0.72};   // the back, clearly another colour
 
 std::string rgb_text(Rgb c) { return number_text(c.r) + " " + number_text(c.g) + " " + number_text(c.b); }
-
-std::string base64(const std::vector<unsigned char>& data) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((data.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    const unsigned v = (unsigned{data[i]} << 16) | (i + 1 < data.size() ? unsigned{data[i + 1]} << 8 : 0u) |
-                       (i + 2 < data.size() ? unsigned{data[i + 2]} : 0u);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += i + 1 < data.size() ? table[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? table[v & 63] : '=';
-  }
-  return out;
-}
 
 void put_float(std::vector<unsigned char>& buf, double v) {
   const float f = static_cast<float>(v);
@@ -146,22 +132,24 @@ void write_gltf(std::ostream& out, const CardMesh& m) {
                           {"mode", 4}});
   }
   const auto rgba = [](Rgb c) { return json::array({c.r, c.g, c.b, 1.0}); };
-  const json doc = {
-      {"asset", {{"version", "2.0"}, {"generator", "popcut"}}},
-      {"scene", 0},
-      {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"mesh", 0}, {"name", "card"}}}},
-      {"meshes", {{{"name", "card"}, {"primitives", primitives}}}},
-      {"materials",
-       {{{"name", "front"},
-         {"pbrMetallicRoughness",
-          {{"baseColorFactor", rgba(kFront)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}},
-        {{"name", "back"},
-         {"pbrMetallicRoughness",
-          {{"baseColorFactor", rgba(kBack)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}}}},
-      {"accessors", accessors},
-      {"bufferViews", views},
-      {"buffers", {{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}}}};
+  const json doc = {{"asset", {{"version", "2.0"}, {"generator", "popcut"}}},
+                    {"scene", 0},
+                    {"scenes", {{{"nodes", {0}}}}},
+                    {"nodes", {{{"mesh", 0}, {"name", "card"}}}},
+                    {"meshes", {{{"name", "card"}, {"primitives", primitives}}}},
+                    {"materials",
+                     {{{"name", "front"},
+                       {"pbrMetallicRoughness",
+                        {{"baseColorFactor", rgba(kFront)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}},
+                      {{"name", "back"},
+                       {"pbrMetallicRoughness",
+                        {{"baseColorFactor", rgba(kBack)}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.9}}}}}},
+                    {"accessors", accessors},
+                    {"bufferViews", views},
+                    {"buffers",
+                     {{{"byteLength", buf.size()},
+                       {"uri", "data:application/octet-stream;base64," +
+                                   base64(std::string_view(reinterpret_cast<const char*>(buf.data()), buf.size()))}}}}};
   out << doc.dump(1) << "\n";
 }
 

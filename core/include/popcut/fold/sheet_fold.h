@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,13 @@ struct CreaseAngle {
   double angle_deg = 0;
   int stage = 1;
 };
+
+// "SELECTOR=DEGREES" or "SELECTOR=DEGREES@STAGE" (--fold, popcutd's fold field); nullopt unless
+// the whole text reads so. The angle's range is checked where the sheet is made.
+std::optional<CreaseAngle> parse_crease_angle(const std::string& text);
+inline constexpr const char* kCreaseAngleSyntax =
+    "LINE=DEGREES or LINE=DEGREES@STAGE (LINE a line's id, DXF handle or FOLD edge, ids by prefix such as tab-*, or "
+    "mountain, valley or fold; degrees from -180 to 180)";
 
 struct SheetFoldOptions {
   double angle_deg = 90;            // the turn of creases that give none (FOLD's edges_foldAngle gives one)

@@ -66,6 +66,9 @@ LineDrawing read_dxf_drawing(const std::string& text, const std::string& source,
 
 // True for file names popcut reads as drawings (.svg, .dxf, .fold), case-insensitively.
 bool is_drawing_path(const std::string& path);
+// The drawing in `text`, read as its name's extension says (.svg, .dxf, .fold); throws
+// popcut::Error naming `source`.
+LineDrawing read_drawing(const std::string& text, const std::string& source, const DrawingOptions& options = {});
 // Reads the file and dispatches by its extension; throws popcut::Error naming the file.
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options = {});
 
