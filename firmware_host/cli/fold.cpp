@@ -35,6 +35,9 @@ void refuse_angle_for_sheet(const FoldCommands& s, const CLI::App* command) {
     throw CliError(kBadInput, ErrorCode::invalid_input, "", "--angle",
                    "--angle opens a card; a sheet's creases turn by --crease-angle, --fold LINE=DEGREES or the "
                    "drawing's own angles (FOLD edges_foldAngle)");
+  if (!s.read_as.sheet() && command->count("--at") > 0)
+    throw CliError(kBadInput, ErrorCode::invalid_input, "", "--at",
+                   "--at is how far a sheet's motion has gone (--as sheet); a card opens to --angle");
 }
 
 }  // namespace
@@ -68,11 +71,13 @@ int run_fold(const FoldCommands& s) {
   refuse_angle_for_sheet(s, s.fold);
   const double angle_deg = checked_angle(s.angle_deg);
   require_extension(s.out_path, {".obj", ".gltf"}, "3D format");  // before the work
-  const CardMesh mesh = s.read_as.sheet() ? folded_sheet(load_cli_sheet(s.model_path, s.read_as), 1)
+  const CardMesh mesh = s.read_as.sheet() ? folded_sheet(load_cli_sheet(s.model_path, s.read_as), s.at)
                                           : fold_card(load_cli_pattern(s.model_path), angle_deg);
   std::cerr << "wrote " << write_folded_mesh(s.out_path, mesh) << " (" << mesh.triangles.size()
             << " triangles per side, folded to "
-            << (s.read_as.sheet() ? std::string("each crease's angle") : format_significant(angle_deg, 6) + "°")
+            << (!s.read_as.sheet() ? format_significant(angle_deg, 6) + "°"
+                : s.at == 1        ? std::string("each crease's angle")
+                                   : format_significant(100 * s.at, 4) + "% of each crease's angle")
             << ")\n";
   return kOk;
 }
@@ -92,7 +97,7 @@ std::vector<CardMesh> render_meshes(const FoldCommands& s, double angle_deg) {
     const FoldableSheet sheet = load_cli_sheet(s.model_path, s.read_as);
     std::set<std::vector<int>> warned;
     for (int i = 0; i < frames; ++i)
-      meshes.push_back(folded_sheet(sheet, frames == 1 ? 1.0 : 1.0 * i / (frames - 1), &warned, kPictureLayerGapMm));
+      meshes.push_back(folded_sheet(sheet, frames == 1 ? s.at : s.at * i / (frames - 1), &warned, kPictureLayerGapMm));
     return meshes;
   }
   const Pattern p = load_cli_pattern(s.model_path);
@@ -134,13 +139,17 @@ int run_render(const FoldCommands& s) {
 }  // namespace
 
 void add_fold_commands(CLI::App& app, FoldCommands& s) {
-  // Degrees as people write them, in decimal: CLI11 alone would take "0x10" as 16.
-  const CLI::Validator decimal_degrees(
-      [](std::string& text) -> std::string {
-        return is_decimal_text(text) ? std::string()
-                                     : "'" + text + "' is not a number of degrees (a decimal number from 0 to 180)";
-      },
-      "DEGREES");
+  // Numbers as people write them, in decimal: CLI11 alone would take "0x10" as 16.
+  const auto decimal = [](const std::string& what, const std::string& name) {
+    return CLI::Validator(
+        [what](std::string& text) -> std::string {
+          return is_decimal_text(text) ? std::string() : "'" + text + "' is not " + what;
+        },
+        name);
+  };
+  const CLI::Validator decimal_degrees = decimal("a number of degrees (a decimal number from 0 to 180)", "DEGREES");
+  const CLI::Validator decimal_fraction =
+      decimal("a fraction of the motion (a decimal number from 0 to 1)", "FRACTION");
   s.fold = app.add_subcommand("fold", "Write the card folded to an angle as a 3D model (OBJ + MTL, or glTF).");
   s.fold->add_option("MODEL", s.model_path, "Model file (voxel or face model), or - for standard input")->required();
   s.fold->add_option("--angle", s.angle_deg, "Fold angle in degrees: 0 flat, 90 standing, 180 closed")
@@ -148,6 +157,11 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
       ->capture_default_str();
   s.fold->add_option("-o,--output", s.out_path, "OUT.obj (writes OUT.mtl beside it) or OUT.gltf")->required();
   add_read_as_options(s.fold, s.read_as, true);
+  const auto at_help = "--as sheet: how far the motion from flat (0) to folded (1) has gone";
+  s.fold->add_option("--at", s.at, at_help)
+      ->check(decimal_fraction)
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
 
   s.render = app.add_subcommand("render",
                                 "Draw the card in a 3/4 view at a fold angle (SVG or PNG), or an opening animation.");
@@ -158,6 +172,10 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
   s.render->add_option("-o,--output", s.out_path, "OUT.svg or OUT.png; with --frames, OUT-000.svg, OUT-001.svg, ...")
       ->required();
   add_read_as_options(s.render, s.read_as, true);
+  s.render->add_option("--at", s.at, std::string(at_help) + "; with --frames, where the frames end")
+      ->check(decimal_fraction)
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   s.render
       ->add_option("--frames", s.frames,
                    "Frames of an opening animation from closed (180°) to --angle; --as sheet: from flat to folded")

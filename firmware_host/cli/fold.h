@@ -16,6 +16,7 @@ struct FoldCommands {
   CLI::App* render = nullptr;
   std::string model_path, out_path;
   double angle_deg = 90;
+  double at = 1;       // --as sheet: the share of the motion from flat (0) to folded (1)
   int frames = 1;      // render --frames
   int width_px = 800;  // render --width
   ReadAs read_as;

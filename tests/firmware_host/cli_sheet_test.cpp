@@ -73,6 +73,12 @@ TEST_F(SheetCli, TheFoldedBoxIsEightyBySixtyByThirty) {
   ASSERT_EQ(run("fold " + box() + " --as sheet --crease-angle 45 -o " + out("half.obj")).code, 0);
   const auto half = obj_extent(out("half.obj"));
   EXPECT_NEAR(half[0], 80 + 2 * 30 * std::cos(M_PI / 4), 1e-6);
+  // Halfway through the motion every 90° crease has turned 45°: the same box.
+  const CliRun at = run("fold " + box() + " --as sheet --at 0.5 -o " + out("halfway.obj"));
+  ASSERT_EQ(at.code, 0) << at.err;
+  EXPECT_NE(at.err.find("50% of each crease's angle"), std::string::npos) << at.err;
+  EXPECT_NEAR(obj_extent(out("halfway.obj"))[0], half[0], 1e-6);
+  EXPECT_NEAR(obj_extent(out("halfway.obj"))[1], half[1], 1e-6);
   ASSERT_EQ(run("fold " + box() + " --as sheet -o " + out("box.gltf")).code, 0);
   EXPECT_GT(fs::file_size(out("box.gltf")), 1000u);
 }
@@ -160,6 +166,11 @@ TEST_F(SheetCli, BadOptionsAreExitTwoNamingTheOption) {
   const CliRun a = run("fold " + box() + " --as sheet --angle 30 -o " + out("x.obj"));
   EXPECT_EQ(a.code, 2);
   EXPECT_NE(a.err.find("--angle opens a card"), std::string::npos) << a.err;
+  for (const char* at : {"1.5", "0x1", "-0.1"})
+    EXPECT_EQ(run("fold " + box() + " --as sheet --at " + at + " -o " + out("x.obj")).code, 2) << at;
+  const CliRun card_at = run("fold " + model + " --at 0.5 -o " + out("x.obj"));
+  EXPECT_EQ(card_at.code, 2);
+  EXPECT_NE(card_at.err.find("--at is how far a sheet's motion"), std::string::npos) << card_at.err;
   const CliRun f = run("validate " + box() + " --as sheet --fold lid");
   EXPECT_EQ(f.code, 2);
   EXPECT_NE(f.err.find("expected LINE=DEGREES"), std::string::npos) << f.err;
