@@ -51,5 +51,7 @@ void get_example(ApiContext& api, const Caller& caller, const Req& req, Res& res
 void render_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void render_preview(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void import_model(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+// drawing_upload.cpp: a drawing (SVG, DXF, FOLD) read as a card or a folding sheet for the kiosk.
+void import_drawing(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 }  // namespace popcut::daemon

@@ -47,6 +47,7 @@ std::vector<Route> api_routes() {
       {Method::post, "/api/v1/render/pattern.svg", Access::token, takes_none(), render_pattern},
       {Method::post, "/api/v1/render/preview.png", Access::token, takes({"angle"}), render_preview},
       {Method::post, "/api/v1/import", Access::token, takes_none(), import_model},
+      {Method::post, "/api/v1/import/drawing", Access::token, takes_none(), import_drawing},
   };
 }
 

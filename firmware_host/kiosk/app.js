@@ -7,6 +7,8 @@ const token = localStorage.getItem('popcut-token') || '';
 const $ = (id) => document.getElementById(id);
 let model = null;        // the chosen model's JSON text
 let mesh = null;         // an uploaded mesh file, imported by popcutd with the options shown
+let drawing = null;      // an uploaded drawing (SVG, DXF, FOLD), read by popcutd as a card or a sheet
+let foldedPicture = null;  // a sheet's folded picture (a data URL): sheets have no opening angle
 let previewTimer = null;
 let current = 0;         // bumped whenever the model changes: answers about an older one are dropped
 const urls = {};         // object URLs in use, freed when replaced
@@ -65,6 +67,8 @@ function clearModel(text) {
     delete urls[id];
     $(id).src = BLANK;
   }
+  foldedPicture = null;
+  showSheetPreview(false);
   $('model-name').textContent = text;
   $('name').value = '';
   showError('model-error', null);
@@ -78,8 +82,11 @@ function failModel(label, err) {
   showError('model-error', err);
 }
 
-async function useModel(text, label, shown) {
+// `picture`: a sheet's folded picture, shown instead of a preview at the slider's angle.
+async function useModel(text, label, shown, picture) {
   const mine = clearModel('Loading ' + label + ' ...');
+  foldedPicture = picture || null;
+  showSheetPreview(!!picture);
   try {
     JSON.parse(text);
   } catch (e) {
@@ -103,8 +110,19 @@ async function useModel(text, label, shown) {
   }
 }
 
+// A card's preview opens to the slider's angle; a sheet's shows it folded as drawn.
+function showSheetPreview(on) {
+  $('angle').hidden = on;
+  $('opened').hidden = on;
+  $('folded').hidden = !on;
+}
+
 async function renderPreview() {
   if (!model) return;
+  if (foldedPicture) {
+    $('preview').src = foldedPicture;
+    return;
+  }
   const mine = current;
   const angle = $('angle').value;
   $('angle-value').textContent = angle;
@@ -115,6 +133,21 @@ async function renderPreview() {
     // 503 busy: every render slot is taken; the picture stays and the next move asks again.
     if (mine === current && !/\(busy\)$/.test(e.message)) showError('model-error', e);
   }
+}
+
+const mm = (v) => String(Math.round(v));
+
+// An upload's answer, or null when popcutd refused it (the model is then cleared and why shows)
+// or another model was chosen meanwhile.
+async function postUpload(path, form, file, mine) {
+  let r;
+  try {
+    r = await api('POST', path, form);
+  } catch (e) {
+    if (mine === current) failModel(file.name, e);
+    return null;
+  }
+  return mine === current ? r : null;
 }
 
 // The mesh goes to popcutd's importer (popcut import's code and options); its model comes back.
@@ -129,19 +162,37 @@ async function importMesh() {
   // Sizes only when asked for: empty, the importer's default (120 mm across).
   for (const id of ['height-mm', 'fit-mm']) if ($(id).value.trim()) form.append(id, $(id).value.trim());
   form.append('faces', $('faces').checked ? 'true' : 'false');
-  let r;
-  try {
-    r = await api('POST', '/api/v1/import', form);
-  } catch (e) {
-    if (mine === current) failModel(file.name, e);
-    return;
-  }
-  if (mine !== current) return;
-  const mm = (v) => String(Math.round(v));
+  const r = await postUpload('/api/v1/import', form, file, mine);
+  if (!r) return;
   const made = file.name + ': ' + r.grid.width + ' x ' + r.grid.depth + ' x ' + r.grid.height + ' voxels, sheet ' +
                mm(r.sheet_mm.width) + ' x ' + mm(r.sheet_mm.height) + ' mm';
   // Named like the API names it: house.
   if (await useModel(JSON.stringify(r.model), file.name.replace(/\.[^.]*$/, ''), made)) showError('model-warning', r.warnings.join('; '));
+}
+
+// A drawing goes to popcutd's reader (popcut import-pattern's code): the card it folds into, or
+// the sheet's own lines and a picture of it folded, come back; a drawing that folds into no card
+// comes back with the conflicting faces and folds named.
+async function importDrawing() {
+  if (!drawing) return;
+  const file = drawing;
+  const as = $('read-as').value;
+  const mine = clearModel('Reading ' + file.name + ' ...');
+  const form = new FormData();
+  form.append('drawing', file, file.name);
+  form.append('as', as);
+  form.append('name', jobLabel(file.name.replace(/\.[^.]*$/, '')) || 'drawing');
+  form.append('red-is-cut', $('red-is-cut').checked ? 'true' : 'false');
+  if (as === 'sheet' && $('fold').value.trim()) form.append('fold', $('fold').value.trim());
+  const r = await postUpload('/api/v1/import/drawing', form, file, mine);
+  if (!r) return;
+  const size = 'sheet ' + mm(r.sheet_mm.width) + ' x ' + mm(r.sheet_mm.height) + ' mm';
+  const made = as === 'card' ? file.name + ': a pop-up card of ' + r.faces + ' faces, ' + size
+                             : file.name + ': a sheet of ' + r.regions + ' panels and ' + r.hinges + ' folds, ' + size;
+  const text = JSON.stringify(r.model);
+  if (!(await useModel(text, file.name.replace(/\.[^.]*$/, ''), made, as === 'sheet' ? r.folded_png : null))) return;
+  const warnings = r.warnings.concat(r.problems ? r.problems.map((p) => p.what) : []);
+  showError('model-warning', warnings.join('; '));
 }
 
 async function loadChoices() {
@@ -232,7 +283,9 @@ $('example').addEventListener('change', async () => {
   const label = $('example').selectedOptions[0].textContent;
   $('upload').value = '';
   $('import').hidden = true;
+  $('drawing').hidden = true;
   mesh = null;
+  drawing = null;
   const mine = clearModel('Loading ' + label + ' ...');
   let text;
   try {
@@ -248,12 +301,18 @@ $('upload').addEventListener('change', async () => {
   if (!f) return;
   $('example').value = '';
   const isMesh = /\.(obj|stl|off|ply)$/i.test(f.name);
+  const isDrawing = /\.(svg|dxf|fold)$/i.test(f.name);
   $('import').hidden = !isMesh;
+  $('drawing').hidden = !isDrawing;
   mesh = isMesh ? f : null;
+  drawing = isDrawing ? f : null;
   if (isMesh) importMesh();
+  else if (isDrawing) importDrawing();
   else useModel(await f.text(), f.name.replace(/\.json$/i, ''));
 });
 $('reimport').addEventListener('click', (e) => { e.preventDefault(); importMesh(); });
+$('reread').addEventListener('click', (e) => { e.preventDefault(); importDrawing(); });
+$('read-as').addEventListener('change', () => importDrawing());
 $('angle').addEventListener('input', () => {
   $('angle-value').textContent = $('angle').value;
   clearTimeout(previewTimer);
