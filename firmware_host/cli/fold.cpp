@@ -77,7 +77,7 @@ int run_fold(const FoldCommands& s) {
             << " triangles per side, folded to "
             << (!s.read_as.sheet() ? format_significant(angle_deg, 6) + "°"
                 : s.at == 1        ? std::string("each crease's angle")
-                                   : format_significant(100 * s.at, 4) + "% of each crease's angle")
+                                   : format_significant(100 * s.at, 4) + "% of the motion")
             << ")\n";
   return kOk;
 }
@@ -130,8 +130,10 @@ int run_render(const FoldCommands& s) {
   if (frames > 1 && progress_on_tty) std::cerr << "\n";
   std::cerr << "wrote "
             << (frames > 1 ? std::to_string(frames) + " frames like " + out.stem().string() + "-000" + ext : s.out_path)
-            << (s.read_as.sheet() ? std::string(" (folded from flat)")
-                                  : " (folded to " + format_significant(angle_deg, 6) + "°)")
+            << (s.read_as.sheet()
+                    ? (s.at == 1 ? std::string(" (folded from flat)")
+                                 : " (from flat to " + format_significant(100 * s.at, 4) + "% of the motion)")
+                    : " (folded to " + format_significant(angle_deg, 6) + "°)")
             << "\n";
   return kOk;
 }
@@ -178,7 +180,8 @@ void add_fold_commands(CLI::App& app, FoldCommands& s) {
       ->capture_default_str();
   s.render
       ->add_option("--frames", s.frames,
-                   "Frames of an opening animation from closed (180°) to --angle; --as sheet: from flat to folded")
+                   "Frames of an opening animation from closed (180°) to --angle; --as sheet: from flat to folded "
+                   "(or to --at)")
       ->check(CLI::Range(1, 360))
       ->capture_default_str();
   s.render->add_option("--width", s.width_px, "Picture width in pixels")

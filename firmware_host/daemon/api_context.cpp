@@ -179,14 +179,19 @@ Job ApiContext::visible_job(const httplib::Request& req, const Caller& caller) c
   return *j;
 }
 
-std::string ApiContext::preview(const std::string& key, int angle, const std::function<Pattern()>& pattern) {
-  if (std::optional<std::string> png = previews_.get(key)) return *png;
+void ApiContext::in_render_slot(const std::function<void()>& work) {
   if (!render_slots_.try_take()) fail(ApiError::busy, "every preview slot is rendering; retry in a moment");
   struct Give {
     RenderSlots& slots;
     ~Give() { slots.give(); }
   } give{render_slots_};
-  std::string png = preview_png(pattern(), angle);
+  work();
+}
+
+std::string ApiContext::preview(const std::string& key, int angle, const std::function<Pattern()>& pattern) {
+  if (std::optional<std::string> png = previews_.get(key)) return *png;
+  std::string png;
+  in_render_slot([&] { png = preview_png(pattern(), angle); });
   previews_.put(key, png);
   return png;
 }

@@ -83,6 +83,9 @@ class ApiContext {
   const std::vector<NamedMedia>& media() const { return media_; }
   // The PNG preview of `pattern()` folded to `angle`, from the cache under `key` when there.
   std::string preview(const std::string& key, int angle, const std::function<Pattern()>& pattern);
+  // Runs `work` (a render, a drawing's inference) in one of the render slots; throws ApiFailure
+  // busy at once when none is free.
+  void in_render_slot(const std::function<void()>& work);
   // A number no other upload of this run has: temporary files' names.
   std::uint64_t next_upload() { return ++upload_counter_; }
 

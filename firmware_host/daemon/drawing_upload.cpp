@@ -76,7 +76,7 @@ double number_field(const DrawingForm& f, const std::string& key, double lo, dou
   if (it == f.values.end()) return fallback;
   const std::string& text = it->second;
   char* end = nullptr;
-  const double v = text.empty() ? NAN : std::strtod(text.c_str(), &end);
+  const double v = is_decimal_text(text) ? std::strtod(text.c_str(), &end) : NAN;  // no hex, no spaces
   if (!std::isfinite(v) || end != text.c_str() + text.size() || v < lo || v > hi)
     fail(ApiError::bad_request,
          "'" + key + "' must be a number from " + format_significant(lo) + " to " + format_significant(hi) +
@@ -181,8 +181,12 @@ Made sheet_answer(const LineDrawing& d, SheetMap map, const SheetFoldOptions& fo
 void import_drawing(ApiContext& api, const Caller&, const Req& req, Res& res) {
   const DrawingForm f = sort_parts(req);
   const std::string as = choice_field(f, "as", {"card", "sheet"});
-  const auto name = f.values.count("name") ? f.values.at("name") : fs::path(f.drawing->filename).stem().string();
-  if (!is_job_label(name)) fail(ApiError::bad_name, "'name' must be a job name (1 to 64 characters of text)", "name");
+  std::string name = job_label_from(fs::path(f.drawing->filename).stem().string());
+  if (f.values.count("name")) {
+    name = f.values.at("name");
+    if (!is_job_label(name)) fail(ApiError::bad_name, "'name' must be a job name (1 to 64 characters of text)", "name");
+  }
+  if (name.empty()) name = "drawing";
   const Limits& limits = api.daemon().config().limits;
   if (as == "card") {
     for (const char* key : {"fold", "crease-angle"})
@@ -190,20 +194,25 @@ void import_drawing(ApiContext& api, const Caller&, const Req& req, Res& res) {
         fail(ApiError::bad_request, std::string("'") + key + "' folds a sheet: send it with as=sheet", key);
   }
   const SheetFoldOptions folds = fold_fields(f);
+  SheetMapOptions map_options;
+  map_options.snap_tolerance_mm = number_field(f, "snap-mm", 0, 1, map_options.snap_tolerance_mm);
   Made made;
   try {
-    SheetMapOptions map_options;
-    map_options.snap_tolerance_mm = number_field(f, "snap-mm", 0, 1, map_options.snap_tolerance_mm);
-    const LineDrawing d = read_form_drawing(f, limits);
-    SheetMap map = build_sheet_map(d, map_options);
-    json notes = d.notes;
-    for (const std::string& n : map.notes) notes.push_back(n);
-    made = as == "card" ? card_answer(d, map, name, limits) : sheet_answer(d, std::move(map), folds, limits);
-    made.answer["notes"] = notes;
-    made.answer["lines"] = d.lines.size();
+    // The map, the inference, the motion check and the picture are a render's work: one slot.
+    api.in_render_slot([&] {
+      const LineDrawing d = read_form_drawing(f, limits);
+      SheetMap map = build_sheet_map(d, map_options);
+      json notes = d.notes;
+      for (const std::string& n : map.notes) notes.push_back(n);
+      made = as == "card" ? card_answer(d, map, name, limits) : sheet_answer(d, std::move(map), folds, limits);
+      made.answer["notes"] = notes;
+      made.answer["lines"] = d.lines.size();
+    });
   } catch (const Error& e) {
     if (e.code() == ErrorCode::io || e.code() == ErrorCode::internal) throw;
-    // The reader's or the inference's own message, naming the element or the conflicting faces.
+    // A crease the 'fold' field names badly (located "--fold", as the CLI's flag) is a bad field;
+    // else the reader's or the inference's own message, naming the element or the conflicting faces.
+    if (e.location() == "--fold") fail(ApiError::bad_request, e.what(), "fold");
     fail(e.code() == ErrorCode::limit ? ApiError::model_too_complex : ApiError::bad_model, e.what(), "drawing");
   }
   const Rect& sheet = made.sheet;

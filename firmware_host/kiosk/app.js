@@ -306,13 +306,18 @@ $('upload').addEventListener('change', async () => {
   $('drawing').hidden = !isDrawing;
   mesh = isMesh ? f : null;
   drawing = isDrawing ? f : null;
+  $('fold').value = '';  // another drawing's line names would name nothing in this one
   if (isMesh) importMesh();
   else if (isDrawing) importDrawing();
   else useModel(await f.text(), f.name.replace(/\.json$/i, ''));
 });
 $('reimport').addEventListener('click', (e) => { e.preventDefault(); importMesh(); });
 $('reread').addEventListener('click', (e) => { e.preventDefault(); importDrawing(); });
-$('read-as').addEventListener('change', () => importDrawing());
+// Crease angles fold a sheet; a card folds at its own angles.
+$('read-as').addEventListener('change', () => {
+  $('fold-label').hidden = $('read-as').value !== 'sheet';
+  importDrawing();
+});
 $('angle').addEventListener('input', () => {
   $('angle-value').textContent = $('angle').value;
   clearTimeout(previewTimer);

@@ -143,6 +143,8 @@ TEST(KioskDrawing, TheDrawingRouteRefusesBadInputByName) {
        400,
        "fold",
        "LINE=DEGREES"},
+      {{{"drawing", svg, "a.svg", ""}, {"as", "sheet", "", ""}, {"fold", "nosuch=90", "", ""}}, 400, "fold", "nosuch"},
+      {{{"drawing", svg, "a.svg", ""}, {"snap-mm", "0x1", "", ""}}, 400, "snap-mm", "a number from"},
       {{{"drawing", svg, "a.svg", ""}, {"colour", "red", "", ""}}, 400, "colour", "unknown field"},
       {{{"drawing", svg, "a.svg", ""}, {"as", "card", "", ""}, {"as", "sheet", "", ""}}, 400, "as", "given twice"},
       {{{"drawing", "<svg><g>", "a.svg", ""}}, 422, "drawing", "a.svg"},

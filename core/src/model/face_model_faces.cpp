@@ -1,4 +1,4 @@
-// FaceModel::from_faces: faces given as final, each checked, then checked together to partition the sheet (eq. 4).
+// FaceModel::from_faces and from_subdivision: faces given as final, each checked, then together to partition the sheet.
 #include <CGAL/Boolean_set_operations_2.h>
 
 #include <algorithm>
@@ -73,9 +73,6 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
   return make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh));
 }
 
-// Eq. 4: no two faces overlap, and together they cover the sheet exactly. One aggregated
-// union (a sweep, O(n log n)) proves both: its area equals the sum of the faces' areas only
-// when nothing overlaps. Only on failure are pairs searched, to name the two faces.
 FT total_area(const ExactFaces& given) {
   FT area = 0;
   for (const auto& fp : given) area += polygon_area(fp->polygon);
@@ -91,6 +88,9 @@ void check_cover(const FT& area, const FaceModelState& sheet, const std::string&
   }
 }
 
+// Eq. 4: no two faces overlap, and together they cover the sheet exactly. One aggregated
+// union (a sweep, O(n log n)) proves both: its area equals the sum of the faces' areas only
+// when nothing overlaps. Only on failure are pairs searched, to name the two faces.
 void check_partition(const ExactFaces& given, const FaceModelState& sheet, const std::string& source) {
   const FT area = total_area(given);
   std::vector<ExactPolygonWithHoles> polygons;
@@ -113,6 +113,20 @@ void check_partition(const ExactFaces& given, const FaceModelState& sheet, const
   check_cover(area, sheet, source);
 }
 
+// True when every vertex is the nearest double to its 1 nm decimal: snapping then moves no vertex
+// by more than a rounding, so regions of one subdivision stay disjoint. A crossing of slanted lines
+// lies off the grid, and its faces get the full overlap check.
+bool on_nm_grid(const std::vector<OAFace>& faces) {
+  const auto on = [](const Ring& ring) {
+    return std::all_of(ring.begin(), ring.end(), [](Point2 p) {
+      return CGAL::to_double(exact_decimal(p.x_mm)) == p.x_mm && CGAL::to_double(exact_decimal(p.v_mm)) == p.v_mm;
+    });
+  };
+  return std::all_of(faces.begin(), faces.end(), [&](const OAFace& f) {
+    return on(f.polygon.outer) && std::all_of(f.polygon.holes.begin(), f.polygon.holes.end(), on);
+  });
+}
+
 }  // namespace
 
 FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
@@ -122,7 +136,7 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
 
 FaceModel FaceModel::from_subdivision(double width_mm, double back_mm, double floor_mm,
                                       const std::vector<OAFace>& faces, const std::string& source) {
-  return from_given(width_mm, back_mm, floor_mm, faces, source, false);
+  return from_given(width_mm, back_mm, floor_mm, faces, source, !on_nm_grid(faces));
 }
 
 FaceModel FaceModel::from_given(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,

@@ -25,8 +25,8 @@ using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 // write (0.1, 1.1) and products like 3 × 0.3 = 0.8999999999999999 compare as intended
 // (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found). 1 nm is far below any cutter's step.
 inline FT exact_decimal(double value_mm) {
-  // Built from integers, not strings; the exact rational (not a lazy quotient) keeps to_double
-  // of every input the nearest double, so equal decimals give equal points downstream.
+  // The rational itself (not a lazy quotient): to_double of it is then the nearest double, so
+  // equal decimals give equal points downstream.
   static_assert(sizeof(long) >= 8, "nanometre counts need a 64-bit long");
   const long nm = std::lround(value_mm * 1e6);  // 1 nm = 1e-6 mm
   FT::ET q(nm, 1000000L);

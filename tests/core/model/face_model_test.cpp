@@ -315,7 +315,8 @@ TEST(FaceModel, FacesThatDoNotTileAreRejected) {
 }
 
 TEST(FaceModel, ASubdivisionBuildsTheSameModelAsGivenFaces) {
-  // A wall with a slanted top, its floor, and a hole with a pinch: every check that stays.
+  // A wall, a floor with a hole and the face filling it; then a slanted edge, off the 1 nm grid,
+  // which takes the full overlap check.
   const std::vector<OAFace> faces = {
       {FaceKind::vertical, 0, {{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, {}}},
       {FaceKind::horizontal, 0, {{{0, -10}, {10, -10}, {10, 0}, {0, 0}}, {{{2, -8}, {2, -2}, {8, -2}, {8, -8}}}}},
@@ -326,6 +327,18 @@ TEST(FaceModel, ASubdivisionBuildsTheSameModelAsGivenFaces) {
   for (std::size_t i = 0; i < given.faces().size(); ++i) {
     EXPECT_EQ(sub.faces()[i].polygon.outer, given.faces()[i].polygon.outer) << i;
     EXPECT_EQ(sub.faces()[i].t_mm, given.faces()[i].t_mm) << i;
+  }
+  const double third = 10.0 / 3;
+  const std::vector<OAFace> slanted = {
+      {FaceKind::vertical, 0, {{{0, 0}, {10, 0}, {10, third}, {0, 10}}, {}}},
+      {FaceKind::vertical, 2, {{{0, 10}, {10, third}, {10, 10}}, {}}},
+      {FaceKind::horizontal, 0, {{{0, -10}, {10, -10}, {10, 0}, {0, 0}}, {{{2, -8}, {8, -2}, {8, -8}}}}},
+      {FaceKind::horizontal, 1, {{{1, -7}, {7, -1}, {1, -1}}, {}}}};  // as large as the hole, not in it
+  try {
+    FaceModel::from_subdivision(10, 10, 10, slanted, "s.json");
+    FAIL() << "the last face overlaps the floor though the areas add up";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("overlaps"), std::string::npos) << e.what();
   }
 }
 
