@@ -143,7 +143,8 @@ Made card_answer(const LineDrawing& d, const SheetMap& map, const std::string& n
   const InferredCard card = infer_card(d, map);
   if (!card.model) throw CardConflictError(d.source, card);
   const std::string model = to_face_json(*card.model, name);
-  const Pattern p = checked_pattern(model, d.source, limits);  // a piece cut free is refused as for a submission
+  const Pattern p =
+      checked_face_pattern(*card.model, d.source, limits);  // a piece cut free is refused as for a submission
   return {{{"as", "card"},
            {"format", kFacesFormat},
            {"model", json::parse(model)},

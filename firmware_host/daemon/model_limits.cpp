@@ -39,6 +39,15 @@ bool is_pattern_document(const std::string& text) {
   return root.is_object() && root.contains("format") && root["format"] == kPatternFormat;
 }
 
+Pattern checked_pattern_size(Pattern p, const std::string& source, const Limits& limits) {
+  if (p.faces.size() > static_cast<std::size_t>(limits.pattern_faces)) {
+    throw Error(ErrorCode::limit, source, "model",
+                "the pattern has " + std::to_string(p.faces.size()) + " faces; this daemon takes at most " +
+                    std::to_string(limits.pattern_faces));
+  }
+  return p;
+}
+
 }  // namespace
 
 Pattern checked_pattern(const std::string& text, const std::string& source, const Limits& limits) {
@@ -57,13 +66,13 @@ Pattern checked_pattern(const std::string& text, const std::string& source, cons
     return p;
   }
   const AnyModel m = checked_model(text, source, limits);
-  Pattern p = make_pattern(m, source);
-  if (p.faces.size() > static_cast<std::size_t>(limits.pattern_faces)) {
-    throw Error(ErrorCode::limit, source, "model",
-                "the pattern has " + std::to_string(p.faces.size()) + " faces; this daemon takes at most " +
-                    std::to_string(limits.pattern_faces));
-  }
-  if (const FaceModel* f = std::get_if<FaceModel>(&m)) require_attached(*f, p, check_popup(p), source);
+  if (const FaceModel* f = std::get_if<FaceModel>(&m)) return checked_face_pattern(*f, source, limits);
+  return checked_pattern_size(make_pattern(m, source), source, limits);
+}
+
+Pattern checked_face_pattern(const FaceModel& model, const std::string& source, const Limits& limits) {
+  Pattern p = checked_pattern_size(make_pattern(model, source), source, limits);
+  require_attached(model, p, check_popup(p), source);
   return p;
 }
 

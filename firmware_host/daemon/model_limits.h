@@ -19,5 +19,7 @@ inline constexpr int kPatternLinesPerFace = 4;
 // popcut.pattern.v1 document (a sheet's own lines) is the pattern itself, its lines held to
 // kPatternLinesPerFace × pattern_faces.
 Pattern checked_pattern(const std::string& json_text, const std::string& source, const Limits& limits);
+// The same for a face model already built (a card inferred from a drawing): no second parse.
+Pattern checked_face_pattern(const FaceModel& model, const std::string& source, const Limits& limits);
 
 }  // namespace popcut::daemon
