@@ -1,4 +1,5 @@
-// The shared geometry's functions: the face map to 3D, ring areas, bounds and splitting at repeated vertices.
+// The shared geometry's functions: the face map to 3D, ring areas, inside points, bounds and splitting at repeated
+// vertices.
 #include "popcut/geometry.h"
 
 #include <algorithm>
@@ -44,9 +45,53 @@ void split_into(const Ring& ring, std::vector<Ring>& out) {
 }  // namespace
 
 std::vector<Ring> split_at_repeated_vertices(const Ring& ring) {
+  // Most rings repeat nothing: one sort says so, without a map node per vertex.
+  Ring sorted = ring;
+  std::sort(sorted.begin(), sorted.end(),
+            [](Point2 a, Point2 b) { return a.x_mm < b.x_mm || (a.x_mm == b.x_mm && a.v_mm < b.v_mm); });
+  if (std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) return {ring};
   std::vector<Ring> out;
   split_into(ring, out);
   return out;
+}
+
+Point2 interior_point(const Ring& outer, const std::vector<Ring>& holes) {
+  std::vector<double> heights;
+  const auto add = [&](const Ring& r) {
+    for (const Point2& p : r) heights.push_back(p.v_mm);
+  };
+  add(outer);
+  for (const Ring& h : holes) add(h);
+  std::sort(heights.begin(), heights.end());
+  heights.erase(std::unique(heights.begin(), heights.end()), heights.end());
+  // Halfway across the tallest band between vertex heights: the stretch found there is as far
+  // from the edges above and below it as any horizontal line can be.
+  double v = heights[0], tallest = 0;
+  for (std::size_t i = 1; i < heights.size(); ++i)
+    if (heights[i] - heights[i - 1] > tallest) {
+      tallest = heights[i] - heights[i - 1];
+      v = (heights[i] + heights[i - 1]) / 2;
+    }
+  std::vector<double> xs;
+  const auto cross = [&](const Ring& r) {
+    for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
+      const Point2& a = r[i];
+      const Point2& b = r[j];
+      if ((a.v_mm > v) != (b.v_mm > v)) xs.push_back(a.x_mm + (v - a.v_mm) * (b.x_mm - a.x_mm) / (b.v_mm - a.v_mm));
+    }
+  };
+  cross(outer);
+  for (const Ring& h : holes) cross(h);
+  std::sort(xs.begin(), xs.end());
+  Point2 best = outer.front();
+  double width = -1;
+  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) {
+    if (xs[i + 1] - xs[i] > width) {
+      width = xs[i + 1] - xs[i];
+      best = {(xs[i] + xs[i + 1]) / 2, v};
+    }
+  }
+  return best;
 }
 
 Rect bounds(const Ring& ring) {

@@ -57,4 +57,9 @@ double signed_area_mm2(const Ring& ring);
 std::vector<Ring> split_at_repeated_vertices(const Ring& ring);
 Rect bounds(const Ring& ring);
 
+// A point inside a polygon with holes, for labels and reports: the middle of the widest inside
+// stretch of a horizontal line halfway across the tallest band between vertex heights (never
+// through a vertex). O(n log n), unlike a triangulation.
+Point2 interior_point(const Ring& outer, const std::vector<Ring>& holes);
+
 }  // namespace popcut

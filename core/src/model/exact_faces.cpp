@@ -3,8 +3,12 @@
 
 #include <CGAL/Boolean_set_operations_2.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <map>
+#include <numeric>
 
 #include "popcut/text.h"
 
@@ -22,12 +26,33 @@ double checked_size(double value, const char* what) {
 
 }  // namespace
 
+FT exact_decimal(double value_mm) {
+  // The rational itself (not a lazy quotient): to_double of it is then the nearest double, so
+  // equal decimals give equal points downstream. Building it (and its interval, through MPFR)
+  // costs thousands of instructions, and a drawing or card repeats few coordinates many times
+  // (a grid's rows and columns), so each thread keeps the last rational per hash slot.
+  static_assert(sizeof(long) >= 8, "nanometre counts need a 64-bit long");
+  struct Slot {
+    double value_mm = 0;
+    bool used = false;
+    FT exact;
+  };
+  thread_local std::vector<Slot> cache(std::size_t{1} << 12);
+  Slot& slot = cache[(std::bit_cast<std::uint64_t>(value_mm) * 0x9E3779B97F4A7C15ULL) >> 52];
+  if (slot.used && slot.value_mm == value_mm) return slot.exact;
+  const long nm = std::lround(value_mm * 1e6);  // 1 nm = 1e-6 mm
+  FT::ET q(nm, 1000000L);
+  q.canonicalize();
+  slot = {value_mm, true, FT(q)};
+  return slot.exact;
+}
+
 [[noreturn]] void fail(const std::string& source, const std::string& where, const std::string& message) {
   throw Error(ErrorCode::invalid_input, source, where, message);
 }
 
 ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where,
-                           std::vector<ExactPoint> exact) {
+                           std::vector<ExactPoint> exact, bool known_simple) {
   if (ring.size() > kMaxOutlinePoints) {
     fail(source, where,
          "has " + std::to_string(ring.size()) + " points; the limit is " + std::to_string(kMaxOutlinePoints));
@@ -48,16 +73,39 @@ ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const st
   const bool collinear =
       std::all_of(pts.begin() + 2, pts.end(), [&](const ExactPoint& p) { return CGAL::collinear(pts[0], pts[1], p); });
   if (collinear) fail(source, where, "has zero area: all its points lie on one line");
-  if (!poly.is_simple()) fail(source, where, "crosses or touches itself: an outline must be a simple polygon");
+  if (!known_simple && !poly.is_simple())
+    fail(source, where, "crosses or touches itself: an outline must be a simple polygon");
   if (poly.is_clockwise_oriented()) poly.reverse_orientation();
   return poly;
 }
 
 bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s) {
-  for (const ExactPoint& p : poly.vertices()) {
-    if (p.x() < s.min_x || p.x() > s.max_x || p.y() < s.min_v || p.y() > s.max_v) return false;
+  // Predicates on points, not coordinates: reading p.x() of a lazy point builds a number.
+  const ExactPoint lo(s.min_x, s.min_v), hi(s.max_x, s.max_v);
+  return std::none_of(poly.vertices_begin(), poly.vertices_end(), [&](const ExactPoint& p) {
+    return CGAL::compare_x(p, lo) == CGAL::SMALLER || CGAL::compare_x(p, hi) == CGAL::LARGER ||
+           CGAL::compare_y(p, lo) == CGAL::SMALLER || CGAL::compare_y(p, hi) == CGAL::LARGER;
+  });
+}
+
+Ring to_ring(const ExactPolygon& poly) {
+  const auto& v = poly.container();
+  const std::size_t n = v.size();
+  // Pinches found by one sort of the vertices (a map of exact points costs a node per vertex).
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t i, std::size_t j) { return CGAL::compare_xy(v[i], v[j]) == CGAL::SMALLER; });
+  std::vector<char> pinch(n, 0);
+  for (std::size_t k = 1; k < n; ++k)
+    if (v[order[k]] == v[order[k - 1]]) pinch[order[k]] = pinch[order[k - 1]] = 1;
+  Ring r;
+  r.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (n > 3 && !pinch[i] && CGAL::collinear(v[(i + n - 1) % n], v[i], v[(i + 1) % n])) continue;
+    r.push_back(to_point2(v[i]));
   }
-  return true;
+  return r;
 }
 
 std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh) {
@@ -132,9 +180,10 @@ std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet
                                                      std::size_t given) {
   return guarded("", "faces", [&] {
     std::vector<std::vector<std::size_t>> above(drawn.size());
-    for_overlapping_boxes(drawn, [&](std::size_t i, std::size_t j) {
-      if (j >= given) above[i].push_back(j);  // faces given as final are disjoint already
-    });
+    if (given < drawn.size())  // faces given as final are disjoint already
+      for_overlapping_boxes(drawn, [&](std::size_t i, std::size_t j) {
+        if (j >= given) above[i].push_back(j);
+      });
     auto s = std::make_shared<FaceModelState>();
     s->min_x = sheet.min_x;
     s->max_x = sheet.max_x;

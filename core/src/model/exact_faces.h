@@ -22,8 +22,10 @@ using ExactFaces = std::vector<std::shared_ptr<const ExactFace>>;  // FaceModel:
 
 // An exact, simple, counter-clockwise polygon from pattern points, or an error naming `where`.
 // `exact` holds the same points exactly; when empty they are read from `ring` as decimals.
+// `known_simple` skips the simplicity sweep for a ring that is simple by construction (a loop
+// of a planar map, its vertices exact).
 ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where,
-                           std::vector<ExactPoint> exact = {});
+                           std::vector<ExactPoint> exact = {}, bool known_simple = false);
 
 // Every vertex lies on the sheet (its edge included).
 bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s);

@@ -23,20 +23,24 @@ bool has_repeated_vertex(const ExactPolygon& ring) {
 // CGAL's validity test for a polygon with holes, without its quadratic crossover test when the
 // outer ring repeats no vertex: that test (naive point location per vertex) only finds a ring that
 // passes through one vertex twice, which a relatively simple ring without repeats cannot do.
+// Without holes there is nothing left to test: exact_polygon made the outer ring simple and
+// counter-clockwise.
 bool valid_polygon_with_holes(const ExactPolygonWithHoles& pwh) {
+  if (pwh.number_of_holes() == 0) return true;
   const CGAL::Gps_segment_traits_2<Kernel> traits;
   if (has_repeated_vertex(pwh.outer_boundary())) return CGAL::is_valid_polygon_with_holes(pwh, traits);
   if (!CGAL::is_closed_polygon_with_holes(pwh, traits) || !CGAL::is_relatively_simple_polygon_with_holes(pwh, traits) ||
       !CGAL::has_valid_orientation_polygon_with_holes(pwh, traits))
     return false;
-  if (pwh.number_of_holes() == 0) return true;
   auto mutable_traits = traits;
   return CGAL::are_holes_and_boundary_pairwise_disjoint(pwh, mutable_traits);
 }
 
 // One face as given: its rings oriented and split at pinches, exact, on the sheet, holes inside.
+// A region of a subdivision on the nm grid (`of_subdivision`) has simple rings with its holes
+// inside by construction; only the cheap checks run on it.
 std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelState& sheet, const std::string& source,
-                                            const std::string& where) {
+                                            const std::string& where, bool of_subdivision) {
   if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm)
     fail(source, where + ".t", "must be from 0 to 100000 mm");
   // A region may touch itself at a corner: its rings then split into one counter-clockwise
@@ -51,7 +55,7 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
   std::vector<ExactPolygon> outers, holes;
   for (std::size_t k = 0; k < loops.size(); ++k) {
     const bool ccw = signed_area_mm2(loops[k]) > 0;
-    ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? ".outer" : ".holes"));
+    ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? ".outer" : ".holes"), {}, of_subdivision);
     if (ccw)
       outers.push_back(std::move(poly));
     else
@@ -67,7 +71,7 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
     hole.reverse_orientation();  // holes run clockwise
     pwh.add_hole(std::move(hole));
   }
-  if (!valid_polygon_with_holes(pwh)) {
+  if (!of_subdivision && !valid_polygon_with_holes(pwh)) {
     fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
   }
   return make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh));
@@ -147,7 +151,7 @@ FaceModel FaceModel::from_given(double width_mm, double back_mm, double floor_mm
   Drawn given;
   guarded(source, "faces", [&] {
     for (std::size_t i = 0; i < faces.size(); ++i)
-      given.push_back(given_face(faces[i], *s, source, "faces[" + std::to_string(i) + "]"));
+      given.push_back(given_face(faces[i], *s, source, "faces[" + std::to_string(i) + "]", !may_overlap));
     if (may_overlap)
       check_partition(given, *s, source);
     else

@@ -5,8 +5,6 @@
 #include <CGAL/Polygon_2.h>
 #include <CGAL/Polygon_with_holes_2.h>
 
-#include <cmath>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,15 +22,7 @@ using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 // Input lengths snap to a 1 nm grid and become exact rationals there, so the decimals people
 // write (0.1, 1.1) and products like 3 × 0.3 = 0.8999999999999999 compare as intended
 // (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found). 1 nm is far below any cutter's step.
-inline FT exact_decimal(double value_mm) {
-  // The rational itself (not a lazy quotient): to_double of it is then the nearest double, so
-  // equal decimals give equal points downstream.
-  static_assert(sizeof(long) >= 8, "nanometre counts need a 64-bit long");
-  const long nm = std::lround(value_mm * 1e6);  // 1 nm = 1e-6 mm
-  FT::ET q(nm, 1000000L);
-  q.canonicalize();
-  return FT(q);
-}
+FT exact_decimal(double value_mm);
 
 struct ExactFace {
   FaceKind kind = FaceKind::vertical;
@@ -51,18 +41,14 @@ struct FaceModelState {
 // A ring in doubles for output, without the vertices where an exact Boolean left three
 // points collinear (they carry no shape, only the history of other faces' edges). A point the
 // ring passes twice (a pinch) stays, or an edge would run through it.
-inline Ring to_ring(const ExactPolygon& poly) {
-  const auto& v = poly.container();
-  const std::size_t n = v.size();
-  std::map<ExactPoint, int> visits;
-  for (const ExactPoint& p : v) ++visits[p];
-  Ring r;
-  r.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (n > 3 && visits[v[i]] == 1 && CGAL::collinear(v[(i + n - 1) % n], v[i], v[(i + 1) % n])) continue;
-    r.push_back({CGAL::to_double(v[i].x()), CGAL::to_double(v[i].y())});
-  }
-  return r;
+Ring to_ring(const ExactPolygon& poly);
+
+// An exact point in doubles, read from its interval where that is exact (no lazy coordinate is
+// built), else rounded from the exact value.
+inline Point2 to_point2(const ExactPoint& p) {
+  const auto& a = p.approx();
+  return {a.x().is_point() ? a.x().inf() : CGAL::to_double(p.x()),
+          a.y().is_point() ? a.y().inf() : CGAL::to_double(p.y())};
 }
 
 }  // namespace popcut::detail

@@ -6,6 +6,7 @@
 #include <deque>
 #include <unordered_map>
 
+#include "pattern/segment_grid.h"
 #include "popcut/error.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/pattern.h"
@@ -240,37 +241,20 @@ struct Typed {
 
 // The first segment of `from` whose midpoint lies on no segment of `in` of the same kind.
 const Typed* unmatched(const std::vector<Typed>& from, const std::vector<Typed>& in, double cell) {
-  std::unordered_map<long long, std::vector<std::size_t>> grid;
-  const auto key = [&](double x, double v) {
-    return static_cast<long long>(std::floor(x / cell)) * 1000003LL + static_cast<long long>(std::floor(v / cell));
-  };
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    const Typed& s = in[i];
-    const double len = std::hypot(s.b.x_mm - s.a.x_mm, s.b.v_mm - s.a.v_mm);
-    const int steps = static_cast<int>(std::ceil(len / (cell / 2))) + 1;
-    for (int k = 0; k <= steps; ++k) {
-      const double t = static_cast<double>(k) / steps;
-      auto& slot = grid[key(s.a.x_mm + (s.b.x_mm - s.a.x_mm) * t, s.a.v_mm + (s.b.v_mm - s.a.v_mm) * t)];
-      if (slot.empty() || slot.back() != i) slot.push_back(i);
-    }
-  }
+  std::vector<std::pair<Point2, Point2>> segments;
+  segments.reserve(in.size());
+  for (const Typed& s : in) segments.emplace_back(s.a, s.b);
+  const detail::SegmentGrid grid(segments, cell);
   for (const Typed& f : from) {
     const Point2 m{(f.a.x_mm + f.b.x_mm) / 2, (f.a.v_mm + f.b.v_mm) / 2};
     bool found = false;
-    for (int dx = -1; dx <= 1 && !found; ++dx)
-      for (int dv = -1; dv <= 1 && !found; ++dv) {
-        const auto it = grid.find(key(m.x_mm + dx * cell, m.v_mm + dv * cell));
-        if (it == grid.end()) continue;
-        for (const std::size_t i : it->second) {
-          const Typed& s = in[i];
-          const double dxs = s.b.x_mm - s.a.x_mm, dvs = s.b.v_mm - s.a.v_mm, len2 = dxs * dxs + dvs * dvs;
-          const double u = std::clamp(((m.x_mm - s.a.x_mm) * dxs + (m.v_mm - s.a.v_mm) * dvs) / len2, 0.0, 1.0);
-          if (s.kind == f.kind && std::hypot(m.x_mm - s.a.x_mm - u * dxs, m.v_mm - s.a.v_mm - u * dvs) < 1e-4) {
-            found = true;
-            break;
-          }
-        }
-      }
+    grid.near(m, [&](std::size_t i) {
+      const Typed& s = in[i];
+      if (found || s.kind != f.kind) return;
+      const double dxs = s.b.x_mm - s.a.x_mm, dvs = s.b.v_mm - s.a.v_mm, len2 = dxs * dxs + dvs * dvs;
+      const double u = std::clamp(((m.x_mm - s.a.x_mm) * dxs + (m.v_mm - s.a.v_mm) * dvs) / len2, 0.0, 1.0);
+      found = std::hypot(m.x_mm - s.a.x_mm - u * dxs, m.v_mm - s.a.v_mm - u * dvs) < 1e-4;
+    });
     if (!found) return &f;
   }
   return nullptr;

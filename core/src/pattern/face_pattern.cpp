@@ -5,6 +5,7 @@
 #include <CGAL/Polygon_set_2.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <map>
 
@@ -21,40 +22,6 @@ namespace {
 
 using PolygonSet = CGAL::Polygon_set_2<Kernel>;
 
-// A point inside a polygon with holes: the middle of the widest inside stretch of a horizontal
-// line halfway between the two lowest distinct vertex heights (never through a vertex).
-Point2 interior_point(const PatternFace& f) {
-  std::vector<double> heights;
-  const auto add = [&](const Ring& r) {
-    for (const Point2& p : r) heights.push_back(p.v_mm);
-  };
-  add(f.outer);
-  for (const Ring& h : f.holes) add(h);
-  std::sort(heights.begin(), heights.end());
-  heights.erase(std::unique(heights.begin(), heights.end()), heights.end());
-  const double v = heights.size() > 1 ? (heights[0] + heights[1]) / 2 : heights[0];
-  std::vector<double> xs;
-  const auto cross = [&](const Ring& r) {
-    for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
-      const Point2& a = r[i];
-      const Point2& b = r[j];
-      if ((a.v_mm > v) != (b.v_mm > v)) xs.push_back(a.x_mm + (v - a.v_mm) * (b.x_mm - a.x_mm) / (b.v_mm - a.v_mm));
-    }
-  };
-  cross(f.outer);
-  for (const Ring& h : f.holes) cross(h);
-  std::sort(xs.begin(), xs.end());
-  Point2 best = f.outer.front();
-  double width = -1;
-  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) {
-    if (xs[i + 1] - xs[i] > width) {
-      width = xs[i + 1] - xs[i];
-      best = {(xs[i] + xs[i + 1]) / 2, v};
-    }
-  }
-  return best;
-}
-
 // One stretch of boundary between consecutive vertices on a line, with the face on each side.
 struct Piece {
   ExactPoint a, b;       // a before b in (x, v) order
@@ -66,23 +33,19 @@ struct Piece {
   FT key;
 };
 
-// Polygon paper Fig. 10: a boundary edge that another face's edge shares only in part is split
-// at that edge's endpoints. Faces that partition the sheet never cross (eq. 4), so every vertex
-// of the map lies on a line through collinear edges; splitting each supporting line at all the
-// endpoints on it gives exactly the edges of the arrangement of all face boundaries, each with
-// its two faces (the half-edge pair of ../shared/seeds/003 §3), without a general intersection sweep.
-std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces,
-                                      const std::string& source) {
-  struct Edge {
-    ExactPoint lo, hi;
-    int face;
-    bool face_left;  // face lies left of lo→hi
-    int dir;         // 0: v constant, 1: x constant, 2: slanted
-    FT key, key2;    // v, x, or slope and intercept
-  };
+// One edge of a face's ring, ends in (x, v) order, with the line it lies on as keys.
+struct Edge {
+  ExactPoint lo, hi;
+  int face;
+  bool face_left;  // face lies left of lo→hi
+  int dir;         // 0: v constant, 1: x constant, 2: slanted
+  FT key, key2;    // v, x, or slope and intercept
+};
+
+// Every ring edge of every face. Vertices are read in place and coordinates taken once per edge:
+// with lazy exact numbers, every constructed segment or coordinate is an allocation.
+std::vector<Edge> face_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces) {
   std::vector<Edge> edges;
-  // Vertices are read in place and coordinates taken once per edge: with lazy exact numbers,
-  // every constructed segment or coordinate is an allocation.
   for (std::size_t i = 0; i < faces.size(); ++i) {
     const auto add_ring = [&](const ExactPolygon& ring) {
       const auto& v = ring.container();
@@ -107,14 +70,52 @@ std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const Ex
     add_ring(faces[i]->polygon.outer_boundary());
     for (const ExactPolygon& h : faces[i]->polygon.holes()) add_ring(h);
   }
+  return edges;
+}
+
+// Edges of one line made consecutive. Sorted by index (an Edge is four lazy handles to move) on
+// keys kept beside it: where a key's interval is one double that double is its exact value, and
+// two such compare without touching the lazy numbers at all.
+void sort_by_line(std::vector<Edge>& edges) {
+  struct SortKey {
+    int dir;
+    bool exact;  // both keys are doubles exactly
+    double key, key2;
+  };
+  std::vector<SortKey> keys;
+  keys.reserve(edges.size());
+  for (const Edge& e : edges) {
+    const auto &k = e.key.approx(), &k2 = e.key2.approx();
+    keys.push_back({e.dir, k.is_point() && k2.is_point(), k.inf(), k2.inf()});
+  }
+  std::vector<std::size_t> order(edges.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
+    const SortKey& a = keys[i];
+    const SortKey& b = keys[j];
+    if (a.dir != b.dir) return a.dir < b.dir;
+    if (a.exact && b.exact) return a.key != b.key ? a.key < b.key : a.key2 < b.key2;
+    const CGAL::Comparison_result c = CGAL::compare(edges[i].key, edges[j].key);
+    return c != CGAL::EQUAL ? c == CGAL::SMALLER : CGAL::compare(edges[i].key2, edges[j].key2) == CGAL::SMALLER;
+  });
+  std::vector<Edge> sorted;
+  sorted.reserve(edges.size());
+  for (const std::size_t i : order) sorted.push_back(std::move(edges[i]));
+  edges = std::move(sorted);
+}
+
+// Polygon paper Fig. 10: a boundary edge that another face's edge shares only in part is split
+// at that edge's endpoints. Faces that partition the sheet never cross (eq. 4), so every vertex
+// of the map lies on a line through collinear edges; splitting each supporting line at all the
+// endpoints on it gives exactly the edges of the arrangement of all face boundaries, each with
+// its two faces (the half-edge pair of ../shared/seeds/003 §3), without a general intersection sweep.
+std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces,
+                                      const std::string& source) {
+  std::vector<Edge> edges = face_edges(faces);
+  sort_by_line(edges);
   const auto same_line = [](const Edge& a, const Edge& b) {
     return a.dir == b.dir && a.key == b.key && a.key2 == b.key2;
   };
-  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
-    if (a.dir != b.dir) return a.dir < b.dir;
-    if (a.key != b.key) return a.key < b.key;
-    return a.key2 < b.key2;
-  });
   std::vector<Piece> pieces;
   std::vector<ExactPoint> stops;
   const auto before = [](const ExactPoint& p, const ExactPoint& q) { return CGAL::compare_xy(p, q) == CGAL::SMALLER; };
@@ -240,9 +241,7 @@ void add_maximal_lines(const std::vector<Piece>& pieces, Pattern& p) {
       }
       const ExactPoint& lo = start.a;
       const ExactPoint& hi = pieces[end - 1].b;
-      p.lines.push_back({static_cast<LineKind>(start.kind),
-                         {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
-                         {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
+      p.lines.push_back({static_cast<LineKind>(start.kind), to_point2(lo), to_point2(hi)});
     }
     k = end;
   }
@@ -276,7 +275,7 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       const ExactFace& f = *fp;
       PatternFace pf{f.kind, CGAL::to_double(f.t), to_ring(f.polygon.outer_boundary()), {}, {}};
       for (const ExactPolygon& h : f.polygon.holes()) pf.holes.push_back(to_ring(h));
-      pf.label = interior_point(pf);
+      pf.label = interior_point(pf.outer, pf.holes);
       p.faces.push_back(std::move(pf));
     }
     const EdgeLengths edges = type_pieces(pieces, groups, faces, s, p, source);

@@ -12,8 +12,8 @@
 #include <unordered_map>
 
 #include "model/face_model_state.h"
+#include "pattern/segment_grid.h"
 #include "popcut/error.h"
-#include "popcut/fold/fold.h"
 #include "popcut/text.h"
 
 namespace popcut {
@@ -21,6 +21,7 @@ namespace {
 
 using detail::exact_decimal;
 using detail::ExactPoint;
+using detail::to_point2;
 using SegmentTraits = CGAL::Arr_segment_traits_2<detail::Kernel>;
 using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, int>;  // data: drawn line index
 using Arrangement = CGAL::Arrangement_2<Traits>;
@@ -84,44 +85,35 @@ double distance_to(Point2 p, const Piece& s, double& u) {
 // long, or rounded in a file) splits that line there, so the two meet exactly.
 int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
   if (tol <= 0 || pieces.empty()) return 0;
-  std::map<std::pair<double, double>, int> degree;  // every distinct end, once
+  std::vector<Point2> ends;  // every distinct end, once
+  std::vector<std::pair<Point2, Point2>> segments;
+  ends.reserve(pieces.size() * 2);
+  segments.reserve(pieces.size());
   for (const Piece& p : pieces) {
-    ++degree[{p.a.x_mm, p.a.v_mm}];
-    ++degree[{p.b.x_mm, p.b.v_mm}];
+    ends.push_back(p.a);
+    ends.push_back(p.b);
+    segments.emplace_back(p.a, p.b);
   }
-  Grid grid{std::max(1.0, 4 * tol), {}};
-  for (std::size_t i = 0; i < pieces.size(); ++i) {
-    const Piece& s = pieces[i];
-    const double len = std::hypot(s.b.x_mm - s.a.x_mm, s.b.v_mm - s.a.v_mm);
-    const int steps = static_cast<int>(std::ceil(len / (grid.cell / 2))) + 1;
-    for (int k = 0; k <= steps; ++k) {
-      const double t = static_cast<double>(k) / steps;
-      auto& slot = grid.cells[grid.key(grid.ci(s.a.x_mm + (s.b.x_mm - s.a.x_mm) * t),
-                                       grid.ci(s.a.v_mm + (s.b.v_mm - s.a.v_mm) * t))];
-      if (slot.empty() || slot.back() != static_cast<int>(i)) slot.push_back(static_cast<int>(i));
-    }
-  }
+  std::sort(ends.begin(), ends.end(),
+            [](Point2 a, Point2 b) { return a.x_mm < b.x_mm || (a.x_mm == b.x_mm && a.v_mm < b.v_mm); });
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  const detail::SegmentGrid grid(segments, std::max(1.0, 4 * tol));
   std::vector<std::vector<std::pair<double, Point2>>> splits(pieces.size());
   int moved = 0;
-  for (const auto& [end, count] : degree) {
-    const Point2 p{end.first, end.second};
+  for (const Point2 p : ends) {
     int best = -1;
     double best_d = tol, best_u = 0;
-    for (long long di = -1; di <= 1; ++di)
-      for (long long dj = -1; dj <= 1; ++dj)
-        if (const auto it = grid.cells.find(grid.key(grid.ci(p.x_mm) + di, grid.ci(p.v_mm) + dj));
-            it != grid.cells.end())
-          for (const int c : it->second) {
-            const Piece& s = pieces[static_cast<std::size_t>(c)];
-            if (s.a == p || s.b == p) continue;
-            double u = 0;
-            const double dist = distance_to(p, s, u);
-            if (dist <= best_d && u > 0 && u < 1) {
-              best = c;
-              best_d = dist;
-              best_u = u;
-            }
-          }
+    grid.near(p, [&](std::size_t c) {
+      const Piece& s = pieces[c];
+      if (s.a == p || s.b == p) return;
+      double u = 0;
+      const double dist = distance_to(p, s, u);
+      if (dist <= best_d && u > 0 && u < 1) {
+        best = static_cast<int>(c);
+        best_d = dist;
+        best_u = u;
+      }
+    });
     if (best < 0) continue;
     splits[static_cast<std::size_t>(best)].push_back({best_u, p});
     moved += best_d > 0;  // an end exactly on the line needs no snap, only the split (1 nm grid)
@@ -193,8 +185,6 @@ Arrangement arrange(const std::vector<Piece>& pieces) {
   return arr;
 }
 
-Point2 rounded(const ExactPoint& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
-
 // The kind of an edge drawn by one or more lines; two different kinds over each other are an error.
 DrawnKind edge_kind(const LineDrawing& d, Arrangement::Halfedge_const_handle h) {
   const auto& data = h->curve().data();
@@ -208,7 +198,7 @@ DrawnKind edge_kind(const LineDrawing& d, Arrangement::Halfedge_const_handle h) 
     }
     const DrawnLine& other = d.lines[static_cast<std::size_t>(data.front())];
     throw Error(ErrorCode::invalid_input, d.source, l.where,
-                std::string("drawn over ") + other.where + " at " + describe_place(rounded(h->source()->point())) +
+                std::string("drawn over ") + other.where + " at " + describe_place(to_point2(h->source()->point())) +
                     " as " + to_string(l.kind) + " where that line is " + to_string(other.kind) +
                     ": one line, one kind");
   }
@@ -220,7 +210,7 @@ Ring ring_of(Arrangement::Ccb_halfedge_const_circulator first) {
   Ring ring;
   auto h = first;
   do {
-    if (h->face() != h->twin()->face()) ring.push_back(rounded(h->source()->point()));
+    if (h->face() != h->twin()->face()) ring.push_back(to_point2(h->source()->point()));
   } while (++h != first);
   return ring;
 }
@@ -237,9 +227,10 @@ OutlineCheck check_outline(const LineDrawing& d, const Arrangement& arr, bool ha
   const auto outside = arr.unbounded_face();
   for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e)
     if (e->face() == outside && e->twin()->face() == outside && edge_kind(d, e) == DrawnKind::outline)
-      return {false,
-              "the sheet's outline is not closed: it ends loose near " + describe_place(rounded(e->source()->point())),
-              e->curve().data().front()};
+      return {
+          false,
+          "the sheet's outline is not closed: it ends loose near " + describe_place(to_point2(e->source()->point())),
+          e->curve().data().front()};
   for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
     const bool out1 = e->face() == outside, out2 = e->twin()->face() == outside;
     if (!out1 && !out2) continue;
@@ -256,23 +247,6 @@ OutlineCheck check_outline(const LineDrawing& d, const Arrangement& arr, bool ha
   return {};
 }
 
-Point2 inside_point(const SheetRegion& r) {
-  PatternFace f;
-  f.outer = r.outer;
-  f.holes = r.holes;
-  double best = -1;
-  Point2 label = r.outer.front();
-  for (const auto& t : triangulate(f)) {
-    const double a =
-        std::abs((t[1].x_mm - t[0].x_mm) * (t[2].v_mm - t[0].v_mm) - (t[2].x_mm - t[0].x_mm) * (t[1].v_mm - t[0].v_mm));
-    if (a > best) {
-      best = a;
-      label = {(t[0].x_mm + t[1].x_mm + t[2].x_mm) / 3, (t[0].v_mm + t[1].v_mm + t[2].v_mm) / 3};
-    }
-  }
-  return label;
-}
-
 void fill_map(const LineDrawing& d, const Arrangement& arr, SheetMap& map) {
   std::unordered_map<const void*, int> index;
   for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
@@ -283,21 +257,21 @@ void fill_map(const LineDrawing& d, const Arrangement& arr, SheetMap& map) {
       if (Ring hole = ring_of(*h); hole.size() >= 3) r.holes.push_back(std::move(hole));
     r.area_mm2 = signed_area_mm2(r.outer);
     for (const Ring& h : r.holes) r.area_mm2 += signed_area_mm2(h);
-    r.label = inside_point(r);
+    r.label = interior_point(r.outer, r.holes);
     index[&*f] = static_cast<int>(map.regions.size());
     map.regions.push_back(std::move(r));
   }
   const auto region = [&](Arrangement::Face_const_handle f) { return f->is_unbounded() ? -1 : index.at(&*f); };
   for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
     auto h = e->source()->point() < e->target()->point() ? Arrangement::Halfedge_const_handle(e) : e->twin();
-    map.edges.push_back({edge_kind(d, h), rounded(h->source()->point()), rounded(h->target()->point()),
+    map.edges.push_back({edge_kind(d, h), to_point2(h->source()->point()), to_point2(h->target()->point()),
                          region(h->face()), region(h->twin()->face()), h->curve().data().front()});
     map.overlaps_merged += h->curve().data().size() > 1;
   }
   const auto outside = arr.unbounded_face();
   Ring outline;
   for (auto h = *outside->inner_ccbs_begin(); outline.empty() || h != *outside->inner_ccbs_begin(); ++h)
-    outline.push_back(rounded(h->twin()->target()->point()));
+    outline.push_back(to_point2(h->twin()->target()->point()));
   std::reverse(outline.begin(), outline.end());  // the inner CCB of the outside runs clockwise
   map.outline = outline;
   map.bounds = bounds(outline);

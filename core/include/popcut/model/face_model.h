@@ -76,8 +76,9 @@ class FaceModel {
                               const std::string& source = "");
   // The same for faces that are the regions of one planar subdivision: when every vertex lies on
   // the 1 nm grid (none can then cross another face), only their areas are summed to prove they
-  // cover the sheet, skipping the Boolean union that dominates from_faces on large patterns.
-  // Faces that are not such regions must go to from_faces.
+  // cover the sheet, skipping the Boolean union that dominates from_faces on large patterns, and
+  // their rings are not swept for self-crossings (a region's loops cannot cross). Faces that are
+  // not such regions must go to from_faces.
   static FaceModel from_subdivision(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                                     const std::string& source = "");
 
