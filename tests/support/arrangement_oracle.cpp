@@ -91,8 +91,8 @@ Pattern arrangement_lines(const FaceModel& model) {
                                 (a.x() == b.x() && (a.x() == s.min_x || a.x() == s.max_x));
         if (!on_outline) {
           throw Error(ErrorCode::invalid_input, source, "faces",
-                      "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
-                          std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
+                      "no face covers the sheet beside (" + std::to_string(to_point2(a).x_mm) + ", " +
+                          std::to_string(to_point2(a).v_mm) + "): faces must cover the sheet (eq. 4)");
         }
         continue;
       }
@@ -103,7 +103,7 @@ Pattern arrangement_lines(const FaceModel& model) {
       if (kind != LineKind::cut) {
         auto [it, fresh] = link_index.emplace(std::make_pair(ei.left, ei.right), p.folds.size());
         if (fresh) p.folds.push_back({ei.left, ei.right, kind, 0});
-        p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
+        p.folds[it->second].length_mm += to_mm(b.x() - a.x());
       }
     }
 
@@ -145,9 +145,7 @@ Pattern arrangement_lines(const FaceModel& model) {
       Arrangement::Vertex_const_handle vr = e->source()->point() == lo0 ? e->target() : e->source();
       extend(vl, lo, hi0);
       extend(vr, hi, lo);
-      p.lines.push_back({static_cast<LineKind>(ei.kind),
-                         {CGAL::to_double(lo.x()), CGAL::to_double(lo.y())},
-                         {CGAL::to_double(hi.x()), CGAL::to_double(hi.y())}});
+      p.lines.push_back({static_cast<LineKind>(ei.kind), to_point2(lo), to_point2(hi)});
     }
     sort_lines_and_folds(p);
 

@@ -4,9 +4,7 @@
 #include <CGAL/Boolean_set_operations_2.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <map>
 #include <numeric>
 
@@ -26,27 +24,6 @@ double checked_size(double value, const char* what) {
 
 }  // namespace
 
-FT exact_decimal(double value_mm) {
-  // The rational itself (not a lazy quotient): to_double of it is then the nearest double, so
-  // equal decimals give equal points downstream. Building it (and its interval, through MPFR)
-  // costs thousands of instructions, and a drawing or card repeats few coordinates many times
-  // (a grid's rows and columns), so each thread keeps the last rational per hash slot.
-  static_assert(sizeof(long) >= 8, "nanometre counts need a 64-bit long");
-  struct Slot {
-    double value_mm = 0;
-    bool used = false;
-    FT exact;
-  };
-  thread_local std::vector<Slot> cache(std::size_t{1} << 12);
-  Slot& slot = cache[(std::bit_cast<std::uint64_t>(value_mm) * 0x9E3779B97F4A7C15ULL) >> 52];
-  if (slot.used && slot.value_mm == value_mm) return slot.exact;
-  const long nm = std::lround(value_mm * 1e6);  // 1 nm = 1e-6 mm
-  FT::ET q(nm, 1000000L);
-  q.canonicalize();
-  slot = {value_mm, true, FT(q)};
-  return slot.exact;
-}
-
 [[noreturn]] void fail(const std::string& source, const std::string& where, const std::string& message) {
   throw Error(ErrorCode::invalid_input, source, where, message);
 }
@@ -64,7 +41,7 @@ ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const st
         std::abs(p.v_mm) > kMaxFaceCoordinateMm) {
       fail(source, where, "point " + point_text(p.x_mm, p.v_mm) + " is not a finite coordinate within ±100000 mm");
     }
-    const ExactPoint q = exact.empty() ? ExactPoint(exact_decimal(p.x_mm), exact_decimal(p.v_mm)) : exact[i];
+    const ExactPoint q = exact.empty() ? ExactPoint(exact_nm(p.x_mm), exact_nm(p.v_mm)) : exact[i];
     if (pts.empty() || pts.back() != q) pts.push_back(q);
   }
   while (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
@@ -170,9 +147,9 @@ FT polygon_area(const ExactPolygonWithHoles& p) {
 std::shared_ptr<FaceModelState> initial_state(double width_mm, double back_mm, double floor_mm) {
   auto s = std::make_shared<FaceModelState>();
   s->min_x = 0;
-  s->max_x = exact_decimal(checked_size(width_mm, "width"));
-  s->max_v = exact_decimal(checked_size(back_mm, "back"));
-  s->min_v = -exact_decimal(checked_size(floor_mm, "floor"));
+  s->max_x = exact_nm(checked_size(width_mm, "width"));
+  s->max_v = exact_nm(checked_size(back_mm, "back"));
+  s->min_v = -exact_nm(checked_size(floor_mm, "floor"));
   return s;
 }
 

@@ -37,8 +37,8 @@ PatternOutline pattern_outline(const FaceEdit& edit, bool vertical_plane, const 
     out.ring.push_back({x, vertical_plane ? second - edit.t_mm : edit.t_mm - second});
     if (std::isfinite(x) && std::isfinite(second) && std::abs(x) <= kMaxFaceCoordinateMm &&
         std::abs(second) <= kMaxFaceCoordinateMm) {
-      const FT s2 = exact_decimal(second);
-      out.exact.emplace_back(exact_decimal(x), vertical_plane ? s2 - t_exact : t_exact - s2);
+      const FT s2 = exact_nm(second);
+      out.exact.emplace_back(exact_nm(x), vertical_plane ? s2 - t_exact : t_exact - s2);
     }
     out.min_second = i == 0 ? second : std::min(out.min_second, second);
   }
@@ -114,7 +114,7 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
          "must be from 0 to 100000 mm (a depth in front of the back wall or a height above the floor)");
   }
   const bool vertical_plane = edit.op == EditOp::add_vface || edit.op == EditOp::add_vhole;
-  const FT t_exact = exact_decimal(edit.t_mm);
+  const FT t_exact = exact_nm(edit.t_mm);
   const PatternOutline outline = pattern_outline(edit, vertical_plane, t_exact, source, where);
   Drawn added;
   guarded(source, where, [&] {
@@ -128,7 +128,7 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
       // (in an HFace), with the same pattern polygon.
       check_hole_inside(q, kind, t, drawn_, edit, source, where);
       kind = vertical_plane ? FaceKind::horizontal : FaceKind::vertical;
-      t = exact_decimal(outline.min_second);
+      t = exact_nm(outline.min_second);
     }
     added = placed_faces(q, kind, t, from_hole, *sheet_);
     return 0;
@@ -202,10 +202,12 @@ const FaceModelState& FaceModel::state() const {
 }
 
 std::string FaceModel::drawn_by(Point2 p) const {
-  const ExactPoint q(p.x_mm, p.v_mm);  // doubles convert exactly
+  const FT nm_per_mm(kNmPerMm);
+  const ExactPoint q(FT(p.x_mm) * nm_per_mm, FT(p.v_mm) * nm_per_mm);  // doubles convert exactly
+  const double x_nm = p.x_mm * kNmPerMm, v_nm = p.v_mm * kNmPerMm;     // for the boxes only
   for (std::size_t j = drawn_.size(); j-- > 0;) {
     const ExactFace& d = *drawn_[j];
-    if (p.x_mm < d.bbox.xmin() || p.x_mm > d.bbox.xmax() || p.v_mm < d.bbox.ymin() || p.v_mm > d.bbox.ymax()) continue;
+    if (x_nm < d.bbox.xmin() || x_nm > d.bbox.xmax() || v_nm < d.bbox.ymin() || v_nm > d.bbox.ymax()) continue;
     if (d.polygon.outer_boundary().bounded_side(q) == CGAL::ON_UNBOUNDED_SIDE) continue;
     if (std::any_of(d.polygon.holes_begin(), d.polygon.holes_end(),
                     [&](const ExactPolygon& h) { return h.bounded_side(q) != CGAL::ON_UNBOUNDED_SIDE; })) {
@@ -222,8 +224,7 @@ std::string FaceModel::drawn_by(Point2 p) const {
 }
 
 Rect FaceModel::sheet() const {
-  return {{CGAL::to_double(sheet_->min_x), CGAL::to_double(sheet_->min_v)},
-          {CGAL::to_double(sheet_->max_x), CGAL::to_double(sheet_->max_v)}};
+  return {{to_mm(sheet_->min_x), to_mm(sheet_->min_v)}, {to_mm(sheet_->max_x), to_mm(sheet_->max_v)}};
 }
 
 std::size_t FaceModel::face_count() const { return state().faces.size(); }
@@ -232,7 +233,7 @@ std::vector<OAFace> FaceModel::faces() const {
   std::vector<OAFace> out;
   out.reserve(state().faces.size());
   for (const auto& f : state().faces) {
-    OAFace o{f->kind, CGAL::to_double(f->t), {to_ring(f->polygon.outer_boundary()), {}}};
+    OAFace o{f->kind, to_mm(f->t), {to_ring(f->polygon.outer_boundary()), {}}};
     for (const ExactPolygon& h : f->polygon.holes()) o.polygon.holes.push_back(to_ring(h));
     out.push_back(std::move(o));
   }

@@ -74,7 +74,7 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
   if (!of_subdivision && !valid_polygon_with_holes(pwh)) {
     fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
   }
-  return make_face(f.kind, exact_decimal(f.t_mm), std::move(pwh));
+  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh));
 }
 
 FT total_area(const ExactFaces& given) {
@@ -87,8 +87,9 @@ void check_cover(const FT& area, const FaceModelState& sheet, const std::string&
   const FT sheet_area = (sheet.max_x - sheet.min_x) * (sheet.max_v - sheet.min_v);
   if (area != sheet_area) {
     fail(source, "faces",
-         "cover " + format_decimal(CGAL::to_double(area), 2) + " mm² of a " +
-             format_decimal(CGAL::to_double(sheet_area), 2) + " mm² sheet: faces must cover it exactly (eq. 4)");
+         "cover " + format_decimal(CGAL::to_double(area) / (kNmPerMm * kNmPerMm), 2) + " mm² of a " +
+             format_decimal(CGAL::to_double(sheet_area) / (kNmPerMm * kNmPerMm), 2) +
+             " mm² sheet: faces must cover it exactly (eq. 4)");
   }
 }
 
@@ -117,13 +118,16 @@ void check_partition(const ExactFaces& given, const FaceModelState& sheet, const
   check_cover(area, sheet, source);
 }
 
-// True when every vertex is the nearest double to its 1 nm decimal: snapping then moves no vertex
-// by more than a rounding, so regions of one subdivision stay disjoint. A crossing of slanted lines
-// lies off the grid, and its faces get the full overlap check.
+// True when every vertex lies within 1 pm of the 1 nm grid (a rounding from an exact grid point,
+// such as the card's shift by its centre fold in doubles): snapping then moves every copy of a
+// vertex alike and by less than any gap between lines, so regions of one subdivision stay
+// disjoint. A crossing of slanted lines lies off the grid, and its faces get the full overlap check.
 bool on_nm_grid(const std::vector<OAFace>& faces) {
   const auto on = [](const Ring& ring) {
     return std::all_of(ring.begin(), ring.end(), [](Point2 p) {
-      return CGAL::to_double(exact_decimal(p.x_mm)) == p.x_mm && CGAL::to_double(exact_decimal(p.v_mm)) == p.v_mm;
+      constexpr double kPicometreMm = 1e-9;
+      return std::abs(to_mm(exact_nm(p.x_mm)) - p.x_mm) <= kPicometreMm &&
+             std::abs(to_mm(exact_nm(p.v_mm)) - p.v_mm) <= kPicometreMm;
     });
   };
   return std::all_of(faces.begin(), faces.end(), [&](const OAFace& f) {

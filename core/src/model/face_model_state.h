@@ -5,6 +5,7 @@
 #include <CGAL/Polygon_2.h>
 #include <CGAL/Polygon_with_holes_2.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,10 +20,21 @@ using ExactPoint = Kernel::Point_2;
 using ExactPolygon = CGAL::Polygon_2<Kernel>;
 using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 
-// Input lengths snap to a 1 nm grid and become exact rationals there, so the decimals people
-// write (0.1, 1.1) and products like 3 × 0.3 = 0.8999999999999999 compare as intended
-// (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found). 1 nm is far below any cutter's step.
-FT exact_decimal(double value_mm);
+// Exact coordinates count nanometres. Input lengths in mm snap to the 1 nm grid, so the decimals
+// people write (0.1, 1.1) and products like 3 × 0.3 = 0.8999999999999999 compare as intended
+// (1.1 - 0.1 == 1 exactly, and a fold at v = 1 is found), and the count is an integer, exact as a
+// double: the kernel's interval filter then decides comparisons of grid points alone, where in mm
+// a decimal like 0.7 (no double) sends every equality test to rationals. 1 nm is far below any
+// cutter's step; |count| <= 1e11 (kMaxFaceCoordinateMm) < 2^53.
+inline constexpr double kNmPerMm = 1e6;
+
+inline FT exact_nm(double value_mm) { return FT(static_cast<double>(std::llround(value_mm * kNmPerMm))); }
+
+// A length held in nm, as the nearest double in mm (read from the interval where that is exact).
+inline double to_mm(const FT& nm) {
+  const auto& a = nm.approx();
+  return (a.is_point() ? a.inf() : CGAL::to_double(nm)) / kNmPerMm;
+}
 
 struct ExactFace {
   FaceKind kind = FaceKind::vertical;
@@ -43,12 +55,12 @@ struct FaceModelState {
 // ring passes twice (a pinch) stays, or an edge would run through it.
 Ring to_ring(const ExactPolygon& poly);
 
-// An exact point in doubles, read from its interval where that is exact (no lazy coordinate is
-// built), else rounded from the exact value.
+// An exact point (nm) in doubles (mm), read from its interval where that is exact (no lazy
+// coordinate is built), else rounded from the exact value.
 inline Point2 to_point2(const ExactPoint& p) {
   const auto& a = p.approx();
-  return {a.x().is_point() ? a.x().inf() : CGAL::to_double(p.x()),
-          a.y().is_point() ? a.y().inf() : CGAL::to_double(p.y())};
+  return {(a.x().is_point() ? a.x().inf() : CGAL::to_double(p.x())) / kNmPerMm,
+          (a.y().is_point() ? a.y().inf() : CGAL::to_double(p.y())) / kNmPerMm};
 }
 
 }  // namespace popcut::detail

@@ -209,8 +209,8 @@ EdgeLengths type_pieces(std::vector<Piece>& pieces, CoplanarGroups& groups,
                               (pc.dir == 1 && (pc.key == s.min_x || pc.key == s.max_x));
       if (!on_outline) {
         throw Error(ErrorCode::invalid_input, source, "faces",
-                    "no face covers the sheet beside (" + std::to_string(CGAL::to_double(a.x())) + ", " +
-                        std::to_string(CGAL::to_double(a.y())) + "): faces must cover the sheet (eq. 4)");
+                    "no face covers the sheet beside (" + std::to_string(to_point2(a).x_mm) + ", " +
+                        std::to_string(to_point2(a).v_mm) + "): faces must cover the sheet (eq. 4)");
       }
       if (horizontal && pc.key == s.max_v && pc.right >= 0) edges.top[pc.right] += b.x() - a.x();
       if (horizontal && pc.key == s.min_v && pc.left >= 0) edges.bottom[pc.left] += b.x() - a.x();
@@ -223,7 +223,7 @@ EdgeLengths type_pieces(std::vector<Piece>& pieces, CoplanarGroups& groups,
     if (kind != LineKind::cut) {
       auto [it, fresh] = link_index.emplace(std::make_pair(pc.left, pc.right), p.folds.size());
       if (fresh) p.folds.push_back({pc.left, pc.right, kind, 0});
-      p.folds[it->second].length_mm += CGAL::to_double(b.x() - a.x());
+      p.folds[it->second].length_mm += to_mm(b.x() - a.x());
     }
   }
   return edges;
@@ -273,7 +273,7 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
     p.sheet = model.sheet();
     for (const auto& fp : faces) {
       const ExactFace& f = *fp;
-      PatternFace pf{f.kind, CGAL::to_double(f.t), to_ring(f.polygon.outer_boundary()), {}, {}};
+      PatternFace pf{f.kind, to_mm(f.t), to_ring(f.polygon.outer_boundary()), {}, {}};
       for (const ExactPolygon& h : f.polygon.holes()) pf.holes.push_back(to_ring(h));
       pf.label = interior_point(pf.outer, pf.holes);
       p.faces.push_back(std::move(pf));
