@@ -42,11 +42,7 @@ const std::string& staircase_dxf(int width) {
   return dxf;
 }
 
-double segments(const popcut::LineDrawing& d) {
-  double n = 0;
-  for (const auto& l : d.lines) n += static_cast<double>(l.points.size() - (l.closed ? 0 : 1));
-  return n;
-}
+double segments(const popcut::LineDrawing& d) { return static_cast<double>(popcut::segment_count(d)); }
 
 void BM_ReadSvg(benchmark::State& state) {
   const std::string& svg = staircase_svg(static_cast<int>(state.range(0)));

@@ -120,8 +120,7 @@ LineDrawing read_form_drawing(const DrawingForm& f, const Limits& limits) {
   o.unit_mm = number_field(f, "unit-mm", 1e-6, 1e5, o.unit_mm);
   o.chord_tolerance_mm = number_field(f, "chord-mm", 0.001, 10, o.chord_tolerance_mm);
   LineDrawing d = read_drawing(f.drawing->content, f.drawing->filename, o);
-  std::size_t segments = 0;
-  for (const DrawnLine& l : d.lines) segments += l.points.size() - (l.closed ? 0 : 1);
+  const std::size_t segments = segment_count(d);
   const std::size_t max_lines = static_cast<std::size_t>(limits.pattern_faces) * kPatternLinesPerFace;
   if (segments > max_lines)
     throw Error(ErrorCode::limit, d.source, "drawing",

@@ -95,17 +95,30 @@ bool is_drawing_path(const std::string& path) {
   return ends_with(p, ".svg") || ends_with(p, ".dxf") || ends_with(p, ".fold");
 }
 
+namespace {
+[[noreturn]] void not_a_drawing(const std::string& source) {
+  throw Error(ErrorCode::invalid_input, source, "", "not a drawing popcut reads: expected a .svg, .dxf or .fold file");
+}
+}  // namespace
+
 LineDrawing read_drawing(const std::string& text, const std::string& source, const DrawingOptions& options) {
   const std::string name = ascii_lower(source);
   if (ends_with(name, ".fold")) return read_fold_drawing(text, source, options);
   if (ends_with(name, ".svg")) return read_svg_drawing(text, source, options);
   if (ends_with(name, ".dxf")) return read_dxf_drawing(text, source, options);
-  throw Error(ErrorCode::invalid_input, source, "", "not a drawing popcut reads: expected a .svg, .dxf or .fold file");
+  not_a_drawing(source);
 }
 
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options) {
-  if (!is_drawing_path(path)) return read_drawing("", path, options);  // the message, before reading
+  if (!is_drawing_path(path)) not_a_drawing(path);  // before reading the file
   return read_drawing(read_text_file(path, kMaxModelFileBytes * 4), path, options);
+}
+
+std::size_t segment_count(const LineDrawing& drawing) {
+  std::size_t n = 0;
+  for (const DrawnLine& l : drawing.lines)
+    if (!l.points.empty()) n += l.points.size() - (l.closed ? 0 : 1);
+  return n;
 }
 
 }  // namespace popcut

@@ -72,6 +72,10 @@ LineDrawing read_drawing(const std::string& text, const std::string& source, con
 // Reads the file and dispatches by its extension; throws popcut::Error naming the file.
 LineDrawing load_drawing(const std::string& path, const DrawingOptions& options = {});
 
+// The straight segments of the drawing's lines (a closed line's closing segment counted), the
+// measure of its size that limits and benchmarks use.
+std::size_t segment_count(const LineDrawing& drawing);
+
 // The kind a layer or group name means under the built-in names and `options.layer_names`.
 std::optional<DrawnKind> kind_of_layer_name(const std::string& name, const DrawingOptions& options);
 
