@@ -162,7 +162,7 @@ std::vector<std::string> check_for_device(ApiContext& api, const NewJob& nj, con
   } catch (const Error& e) {
     if (e.code() != ErrorCode::invalid_input) throw;
     fail(ApiError::bad_model,
-         "the card does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
+         "the pattern does not fit " + (nj.target_device.empty() ? "profile " + nj.target_profile : nj.target_device) +
              ": " + e.message(),
          "model");
   }
