@@ -41,7 +41,7 @@ ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const st
         std::abs(p.v_mm) > kMaxFaceCoordinateMm) {
       fail(source, where, "point " + point_text(p.x_mm, p.v_mm) + " is not a finite coordinate within ±100000 mm");
     }
-    const ExactPoint q = exact.empty() ? ExactPoint(exact_nm(p.x_mm), exact_nm(p.v_mm)) : exact[i];
+    const ExactPoint q = exact.empty() ? exact_point_nm(p) : exact[i];
     if (pts.empty() || pts.back() != q) pts.push_back(q);
   }
   while (pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();

@@ -28,7 +28,10 @@ using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 // cutter's step; |count| <= 1e11 (kMaxFaceCoordinateMm) < 2^53.
 inline constexpr double kNmPerMm = 1e6;
 
-inline FT exact_nm(double value_mm) { return FT(static_cast<double>(std::llround(value_mm * kNmPerMm))); }
+inline double nm_count(double value_mm) { return static_cast<double>(std::llround(value_mm * kNmPerMm)); }
+inline FT exact_nm(double value_mm) { return FT(nm_count(value_mm)); }
+// A point in mm on the grid: built from the two counts at once (one lazy node, not three).
+inline ExactPoint exact_point_nm(Point2 p) { return ExactPoint(nm_count(p.x_mm), nm_count(p.v_mm)); }
 
 // A length held in nm, as the nearest double in mm (read from the interval where that is exact).
 inline double to_mm(const FT& nm) {

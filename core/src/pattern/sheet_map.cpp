@@ -19,7 +19,6 @@
 namespace popcut {
 namespace {
 
-using detail::exact_nm;
 using detail::ExactPoint;
 using detail::to_point2;
 using SegmentTraits = CGAL::Arr_segment_traits_2<detail::Kernel>;
@@ -176,7 +175,7 @@ Arrangement arrange(const std::vector<Piece>& pieces) {
   for (const Piece& p : pieces) {
     // On the 1 nm decimal grid, as faces are: ends a rounding apart meet, and decimal points that
     // are collinear (0.1, 0.2, 0.3) stay so, as they would not as doubles.
-    const ExactPoint a(exact_nm(p.a.x_mm), exact_nm(p.a.v_mm)), b(exact_nm(p.b.x_mm), exact_nm(p.b.v_mm));
+    const ExactPoint a = detail::exact_point_nm(p.a), b = detail::exact_point_nm(p.b);
     if (a != b) curves.emplace_back(SegmentTraits::Curve_2(a, b), p.drawn);
   }
   Arrangement arr;
