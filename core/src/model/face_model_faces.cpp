@@ -126,8 +126,8 @@ bool on_nm_grid(const std::vector<OAFace>& faces) {
   const auto on = [](const Ring& ring) {
     return std::all_of(ring.begin(), ring.end(), [](Point2 p) {
       constexpr double kPicometreMm = 1e-9;
-      return std::abs(to_mm(exact_nm(p.x_mm)) - p.x_mm) <= kPicometreMm &&
-             std::abs(to_mm(exact_nm(p.v_mm)) - p.v_mm) <= kPicometreMm;
+      return std::abs(nm_count(p.x_mm) / kNmPerMm - p.x_mm) <= kPicometreMm &&
+             std::abs(nm_count(p.v_mm) / kNmPerMm - p.v_mm) <= kPicometreMm;
     });
   };
   return std::all_of(faces.begin(), faces.end(), [&](const OAFace& f) {
