@@ -60,7 +60,9 @@ class Receiver {
   std::vector<json> bodies_;
 };
 
-// sim-a waits for sheets; box.json plans 6.8 s, so sim_time_scale 0.3 cuts it in about 2 s.
+// sim-a waits for sheets; box.json plans 6.8 s, cut at sim_time_scale times that. The 409 test
+// runs while a job cuts, so it takes the full 6.8 s: under a loaded CI machine a 2 s cut could
+// end between seeing "cutting" and asking for a sheet.
 std::string config(const TempDir& dir, int hook_port, double time_scale) {
   return dir.write("popcutd.toml",
                    "[server]\ndata_dir = \"" + (dir.path() / "data").string() +
@@ -112,7 +114,7 @@ const std::string kAwaiting = "popcut_device_awaiting_sheet{device=\"sim-a\"}";
 TEST(PopcutdSheets, EachJobWaitsForAConfirmedSheetAnd409WhileCutting) {
   TempDir dir("popcutd-sheets");
   Receiver rx;
-  PopcutdProcess d(POPCUTD, config(dir, rx.port(), 0.3), (dir.path() / "data").string());
+  PopcutdProcess d(POPCUTD, config(dir, rx.port(), 1.0), (dir.path() / "data").string());
   httplib::Client kiosk = d.client(kKiosk), other = d.client(kOther), admin = d.client(kAdmin);
   const json dev = get_json(kiosk, "/api/v1/devices").body["devices"][0];
   EXPECT_EQ(dev["sheet"], "loaded") << dev.dump();
