@@ -1,5 +1,4 @@
-// The shared geometry's functions: the face map to 3D, ring areas, inside points, bounds and splitting at repeated
-// vertices.
+// The shared geometry: the face map to 3D, ring areas, inside points, bounds, splits at repeated vertices.
 #include "popcut/geometry.h"
 
 #include <algorithm>
@@ -64,8 +63,8 @@ Point2 interior_point(const Ring& outer, const std::vector<Ring>& holes) {
   for (const Ring& h : holes) add(h);
   std::sort(heights.begin(), heights.end());
   heights.erase(std::unique(heights.begin(), heights.end()), heights.end());
-  // Halfway across the tallest band between vertex heights: the stretch found there is as far
-  // from the edges above and below it as any horizontal line can be.
+  // Halfway across the tallest band between vertex heights: the line passes through no vertex and
+  // keeps as far from them as a horizontal line can.
   double v = heights[0], tallest = 0;
   for (std::size_t i = 1; i < heights.size(); ++i)
     if (heights[i] - heights[i - 1] > tallest) {

@@ -77,7 +77,10 @@ MeshUpload import_upload(ApiContext& api, const httplib::Request& req, const std
                  ("upload-" + std::to_string(api.next_upload()) + fs::path(u.filename).extension().string())};
     fs::create_directories(tmp.path.parent_path());
     write_text_file(tmp.path.string(), [&](std::ostream& o) { o << mesh.content; });
-    u.imported = import_mesh_file(tmp.path.string(), request, u.filename, config.limits.mesh_triangles);
+    // A large mesh costs seconds of CGAL work: it takes a preview slot, so imports and renders
+    // together never run more at once than the slots allow (503 busy beyond).
+    api.in_render_slot(
+        [&] { u.imported = import_mesh_file(tmp.path.string(), request, u.filename, config.limits.mesh_triangles); });
   } catch (const Error& e) {
     if (e.code() == ErrorCode::io || e.code() == ErrorCode::internal) throw;
     // The importer's own message; the field is the option at fault, as named in the form: a bad

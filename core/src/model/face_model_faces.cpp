@@ -118,16 +118,15 @@ void check_partition(const ExactFaces& given, const FaceModelState& sheet, const
   check_cover(area, sheet, source);
 }
 
-// True when every vertex lies within 1 pm of the 1 nm grid (a rounding from an exact grid point,
-// such as the card's shift by its centre fold in doubles): snapping then moves every copy of a
-// vertex alike and by less than any gap between lines, so regions of one subdivision stay
-// disjoint. A crossing of slanted lines lies off the grid, and its faces get the full overlap check.
+// True when every vertex is within a rounding of the 1 nm grid (the card's shift by its centre
+// fold, in doubles, errs by an ulp of the sheet's size: at most about 2e-11 mm), so snapping
+// moves every copy of a vertex back to the exact map vertex it came from.
 bool on_nm_grid(const std::vector<OAFace>& faces) {
   const auto on = [](const Ring& ring) {
     return std::all_of(ring.begin(), ring.end(), [](Point2 p) {
-      constexpr double kPicometreMm = 1e-9;
-      return std::abs(nm_count(p.x_mm) / kNmPerMm - p.x_mm) <= kPicometreMm &&
-             std::abs(nm_count(p.v_mm) / kNmPerMm - p.v_mm) <= kPicometreMm;
+      constexpr double kRoundingMm = 1e-10;
+      return std::abs(nm_count(p.x_mm) / kNmPerMm - p.x_mm) <= kRoundingMm &&
+             std::abs(nm_count(p.v_mm) / kNmPerMm - p.v_mm) <= kRoundingMm;
     });
   };
   return std::all_of(faces.begin(), faces.end(), [&](const OAFace& f) {
@@ -143,8 +142,9 @@ FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm
 }
 
 FaceModel FaceModel::from_subdivision(double width_mm, double back_mm, double floor_mm,
-                                      const std::vector<OAFace>& faces, const std::string& source) {
-  return from_given(width_mm, back_mm, floor_mm, faces, source, !on_nm_grid(faces));
+                                      const std::vector<OAFace>& faces, const std::string& source,
+                                      bool vertices_on_grid) {
+  return from_given(width_mm, back_mm, floor_mm, faces, source, !(vertices_on_grid && on_nm_grid(faces)));
 }
 
 FaceModel FaceModel::from_given(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,

@@ -33,7 +33,8 @@ inline FT exact_nm(double value_mm) { return FT(nm_count(value_mm)); }
 // A point in mm on the grid: built from the two counts at once (one lazy node, not three).
 inline ExactPoint exact_point_nm(Point2 p) { return ExactPoint(nm_count(p.x_mm), nm_count(p.v_mm)); }
 
-// A length held in nm, as the nearest double in mm (read from the interval where that is exact).
+// A length held in nm, in mm: the nearest double for a grid value (read from its interval), within
+// an ulp of it otherwise (rounded once to a double, once in the division).
 inline double to_mm(const FT& nm) {
   const auto& a = nm.approx();
   return (a.is_point() ? a.inf() : CGAL::to_double(nm)) / kNmPerMm;

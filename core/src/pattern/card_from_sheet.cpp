@@ -227,7 +227,7 @@ void Inference::build_model(double c) {
     for (const Ring& h : g.holes) f.polygon.holes.push_back(shifted(h, origin));
     faces.push_back(std::move(f));
   }
-  out_.model = FaceModel::from_subdivision(width, back, floor, faces, d_.source);  // the map's regions
+  out_.model = FaceModel::from_subdivision(width, back, floor, faces, d_.source, m_.vertices_on_grid);
   out_.centre_fold_v_mm = c;
   compare_lines(make_pattern(*out_.model, d_.source), c);
 }

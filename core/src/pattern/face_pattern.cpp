@@ -315,7 +315,7 @@ FaceModel to_face_model(const VoxelModel& model, const std::string& source) {
   // size with endless decimals (120/42 mm) would snap t_h, t_v and v apart and lose folds;
   // rebuilding each length from its voxel count and one snapped voxel size keeps them exact.
   const double voxel = model.voxel_mm;
-  const double snapped = std::round(voxel * 1e6) / 1e6;
+  const double snapped = std::round(voxel * kNmPerMm) / kNmPerMm;
   const auto whole = [&](double mm) { return std::round(mm / voxel) * snapped; };
   const auto ring = [&](const Ring& r) {
     Ring out;

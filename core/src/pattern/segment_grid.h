@@ -12,8 +12,9 @@ namespace popcut::detail {
 
 class SegmentGrid {
  public:
-  // A query looks at the 3 × 3 cells around its point, so `cell_mm` must be at least the
-  // distance it asks about.
+  // A query looks at the 3 × 3 cells around its point, and a segment is sampled every half cell,
+  // so a segment within 3/4 of a cell of the point is always visited: `cell_mm` must be at least
+  // 4/3 of the distance asked about.
   SegmentGrid(const std::vector<std::pair<Point2, Point2>>& segments, double cell_mm);
 
   // Calls visit(i) for every segment i that passes a cell next to p's (some more than once).

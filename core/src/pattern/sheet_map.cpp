@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <numeric>
 #include <unordered_map>
 
 #include "model/face_model_state.h"
@@ -246,6 +244,12 @@ OutlineCheck check_outline(const LineDrawing& d, const Arrangement& arr, bool ha
 }
 
 void fill_map(const LineDrawing& d, const Arrangement& arr, SheetMap& map) {
+  for (auto v = arr.vertices_begin(); v != arr.vertices_end() && map.vertices_on_grid; ++v) {
+    // Counts of nm are whole doubles exactly; a crossing between them has a wider interval.
+    const auto& a = v->point().approx();
+    map.vertices_on_grid = a.x().is_point() && a.y().is_point() && std::floor(a.x().inf()) == a.x().inf() &&
+                           std::floor(a.y().inf()) == a.y().inf();
+  }
   std::unordered_map<const void*, int> index;
   for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
     if (f->is_unbounded()) continue;

@@ -309,9 +309,17 @@ TEST(FaceModel, FacesThatDoNotTileAreRejected) {
   }
   const std::vector<OAFace> hole_out = {{FaceKind::vertical, 0, {rect(0, 0, 10, 10), {rect(5, 5, 20, 6)}}}};
   EXPECT_THROW(FaceModel::from_faces(10, 10, 10, hole_out, "h.json"), Error) << "a hole outside its face";
-  // Regions of one subdivision are only summed; a gap or a bad ring is still refused.
-  EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, gap, "g.json"), Error) << "a gap";
+  // Regions of a subdivision on the grid are only summed: a gap is still refused. Without the
+  // caller's word that they are its loops, a bowtie or a clockwise hole leaving its face is too.
+  EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, gap, "g.json", true), Error) << "a gap";
   EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, hole_out, "h.json"), Error) << "a hole outside its face";
+  const std::vector<OAFace> hole_out_cw = {
+      {FaceKind::vertical, 0, {rect(0, 0, 10, 10), {{{5, 5}, {5, 6}, {20, 6}, {20, 5}}}}},
+      {FaceKind::horizontal, 0, {rect(0, -10, 10, 0), {}}}};
+  EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, hole_out_cw, "h.json"), Error) << "a clockwise hole outside";
+  const std::vector<OAFace> bowtie = {{FaceKind::vertical, 0, {{{0, 0}, {10, 10}, {10, 0}, {0, 10}}, {}}},
+                                      {FaceKind::horizontal, 0, {rect(0, -10, 10, 0), {}}}};
+  EXPECT_THROW(FaceModel::from_subdivision(10, 10, 10, bowtie, "b.json"), Error) << "a self-crossing outline";
 }
 
 TEST(FaceModel, ASubdivisionBuildsTheSameModelAsGivenFaces) {
@@ -322,7 +330,7 @@ TEST(FaceModel, ASubdivisionBuildsTheSameModelAsGivenFaces) {
       {FaceKind::horizontal, 0, {{{0, -10}, {10, -10}, {10, 0}, {0, 0}}, {{{2, -8}, {2, -2}, {8, -2}, {8, -8}}}}},
       {FaceKind::horizontal, 0.5, {{{2, -8}, {8, -8}, {8, -2}, {2, -2}}, {}}}};
   const FaceModel given = FaceModel::from_faces(10, 10, 10, faces, "f.json");
-  const FaceModel sub = FaceModel::from_subdivision(10, 10, 10, faces, "f.json");
+  const FaceModel sub = FaceModel::from_subdivision(10, 10, 10, faces, "f.json", true);
   ASSERT_EQ(sub.face_count(), given.face_count());
   for (std::size_t i = 0; i < given.faces().size(); ++i) {
     EXPECT_EQ(sub.faces()[i].polygon.outer, given.faces()[i].polygon.outer) << i;
@@ -335,7 +343,7 @@ TEST(FaceModel, ASubdivisionBuildsTheSameModelAsGivenFaces) {
       {FaceKind::horizontal, 0, {{{0, -10}, {10, -10}, {10, 0}, {0, 0}}, {{{2, -8}, {8, -2}, {8, -8}}}}},
       {FaceKind::horizontal, 1, {{{1, -7}, {7, -1}, {1, -1}}, {}}}};  // as large as the hole, not in it
   try {
-    FaceModel::from_subdivision(10, 10, 10, slanted, "s.json");
+    FaceModel::from_subdivision(10, 10, 10, slanted, "s.json", true);
     FAIL() << "the last face overlaps the floor though the areas add up";
   } catch (const Error& e) {
     EXPECT_NE(e.message().find("overlaps"), std::string::npos) << e.what();

@@ -74,13 +74,14 @@ class FaceModel {
   // malformed, leaves the sheet, or the faces overlap or leave a gap.
   static FaceModel from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                               const std::string& source = "");
-  // The same for faces that are the regions of one planar subdivision: when every vertex lies on
-  // the 1 nm grid (none can then cross another face), only their areas are summed to prove they
-  // cover the sheet, skipping the Boolean union that dominates from_faces on large patterns, and
-  // their rings are not swept for self-crossings (a region's loops cannot cross). Faces that are
-  // not such regions must go to from_faces.
+  // The same for faces that are the regions of one planar subdivision. When the caller's exact
+  // map put every vertex on the 1 nm grid (`vertices_on_grid`), and the rings given are within a
+  // rounding of it, no face can cross another and the rings are that map's loops: only their
+  // areas are summed to prove they cover the sheet, skipping the Boolean union that dominates
+  // from_faces on large patterns, and the rings are not swept for self-crossings. Otherwise every
+  // check of from_faces runs. Faces that are not such regions must go to from_faces.
   static FaceModel from_subdivision(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
-                                    const std::string& source = "");
+                                    const std::string& source = "", bool vertices_on_grid = false);
 
   // Applies an edit; on error (popcut::Error naming `where`, e.g. "edits[3]") nothing changes.
   void apply(const FaceEdit& edit, const std::string& source = "", const std::string& where = "edit");

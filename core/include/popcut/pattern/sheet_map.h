@@ -35,8 +35,9 @@ struct SheetMap {
   Rect bounds;
   std::vector<SheetRegion> regions;
   std::vector<SheetEdge> edges;
-  int snapped_ends = 0;     // line ends moved onto a nearby end or line (within the tolerance)
-  int overlaps_merged = 0;  // edges drawn more than once (a self-overlapping path, two layers)
+  int snapped_ends = 0;          // line ends moved onto a nearby end or line (within the tolerance)
+  int overlaps_merged = 0;       // edges drawn more than once (a self-overlapping path, two layers)
+  bool vertices_on_grid = true;  // every vertex exactly on the 1 nm grid (no crossing of slanted lines between)
   std::vector<std::string> notes;
 };
 
