@@ -36,8 +36,9 @@ TEST(SegmentGrid, VisitsEverySegmentNearAPoint) {
       const auto& [a, b] = segs[i];
       const double dx = b.x_mm - a.x_mm, dv = b.v_mm - a.v_mm, l2 = dx * dx + dv * dv;
       const double u = l2 > 0 ? std::clamp(((p.x_mm - a.x_mm) * dx + (p.v_mm - a.v_mm) * dv) / l2, 0.0, 1.0) : 0;
-      if (std::hypot(p.x_mm - a.x_mm - u * dx, p.v_mm - a.v_mm - u * dv) < reach)
+      if (std::hypot(p.x_mm - a.x_mm - u * dx, p.v_mm - a.v_mm - u * dv) < reach) {
         EXPECT_TRUE(seen.count(i)) << "segment " << i << " near (" << p.x_mm << ", " << p.v_mm << ")";
+      }
     }
   }
 }
