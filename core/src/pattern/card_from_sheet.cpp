@@ -6,10 +6,7 @@
 #include <deque>
 #include <unordered_map>
 
-#include "pattern/segment_grid.h"
 #include "popcut/error.h"
-#include "popcut/pattern/face_pattern.h"
-#include "popcut/pattern/pattern.h"
 #include "popcut/text.h"
 
 namespace popcut {
@@ -39,6 +36,11 @@ class Inference {
                               drawn >= 0 ? d_.lines[static_cast<std::size_t>(drawn)].where : std::string()});
   }
   Plane& plane(int region) { return planes_[static_cast<std::size_t>(region)]; }
+  // A region's offset once the centre fold lies at c: a rounding from zero is zero.
+  double offset_mm(int region, double c) {
+    const double t = plane(region).a + plane(region).b * c;
+    return std::abs(t) < kEps ? 0 : t;
+  }
   bool sheet_is_rectangle();
   void anchor_boards();
   void check_edges();
@@ -47,7 +49,7 @@ class Inference {
   void check_folds(double c);
   std::optional<double> solve_centre();
   void build_model(double c);
-  void compare_lines(const Pattern& card, double c);
+  void compare_lines(double c);
 
   const LineDrawing& d_;
   const SheetMap& m_;
@@ -221,69 +223,52 @@ void Inference::build_model(double c) {
     const SheetRegion& g = m_.regions[r];
     OAFace f;
     f.kind = planes_[r].kind;
-    f.t_mm = planes_[r].a + planes_[r].b * c;
-    if (std::abs(f.t_mm) < kEps) f.t_mm = 0;
+    f.t_mm = offset_mm(static_cast<int>(r), c);
     f.polygon.outer = shifted(g.outer, origin);
     for (const Ring& h : g.holes) f.polygon.holes.push_back(shifted(h, origin));
     faces.push_back(std::move(f));
   }
   out_.model = FaceModel::from_subdivision(width, back, floor, faces, d_.source, m_.vertices_on_grid);
   out_.centre_fold_v_mm = c;
-  compare_lines(make_pattern(*out_.model, d_.source), c);
+  compare_lines(c);
 }
 
-// A drawn segment's kind on the card: folds drawn without a direction take the one inferred.
-struct Typed {
-  LineKind kind;
-  Point2 a, b;
-  int drawn;
-};
+// Whole nanometres, as FaceModel holds every coordinate and offset (from_subdivision rounds so).
+long long nm(double mm) { return std::llround(mm * 1e6); }
 
-// The first segment of `from` whose midpoint lies on no segment of `in` of the same kind.
-const Typed* unmatched(const std::vector<Typed>& from, const std::vector<Typed>& in, double cell) {
-  std::vector<std::pair<Point2, Point2>> segments;
-  segments.reserve(in.size());
-  for (const Typed& s : in) segments.emplace_back(s.a, s.b);
-  const detail::SegmentGrid grid(segments, cell);
-  for (const Typed& f : from) {
-    const Point2 m{(f.a.x_mm + f.b.x_mm) / 2, (f.a.v_mm + f.b.v_mm) / 2};
-    bool found = false;
-    grid.near(m, [&](std::size_t i) {
-      const Typed& s = in[i];
-      if (found || s.kind != f.kind) return;
-      const double dxs = s.b.x_mm - s.a.x_mm, dvs = s.b.v_mm - s.a.v_mm, len2 = dxs * dxs + dvs * dvs;
-      const double u = std::clamp(((m.x_mm - s.a.x_mm) * dxs + (m.v_mm - s.a.v_mm) * dvs) / len2, 0.0, 1.0);
-      found = std::hypot(m.x_mm - s.a.x_mm - u * dxs, m.v_mm - s.a.v_mm - u * dvs) < 1e-4;
-    });
-    if (!found) return &f;
-  }
-  return nullptr;
-}
-
-void Inference::compare_lines(const Pattern& card, double c) {
-  std::vector<Typed> drawn, made;
+// Each drawn line between two regions against the line the card has there, typed by the rule
+// make_pattern types a face model's lines with, on the nanometre values the model holds: no line
+// inside one plane (the paper is one piece there), a fold where a vertical and a horizontal face
+// meet along x at the edge's height (t_h − t_v = v exactly: a fold the drawing's 1e-4 mm let pass
+// but the model's planes miss is a cut), else a cut. The map's edges are the model's face
+// boundaries, so this is the model's pattern, compared edge by edge without making it.
+void Inference::compare_lines(double c) {
+  const double origin_v = m_.bounds.min.v_mm + c;
   for (const SheetEdge& e : m_.edges) {
-    if (e.left < 0 || e.right < 0) continue;
-    LineKind k = LineKind::cut;
-    if (is_fold(e.kind)) k = plane(e.left).kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
-    drawn.push_back({k, e.a, e.b, e.drawn});
+    if (e.left < 0 || e.right < 0 || e.left == e.right) continue;
+    const Plane &u = plane(e.left), &l = plane(e.right);
+    const long long tu = nm(offset_mm(e.left, c)), tl = nm(offset_mm(e.right, c));
+    const long long v = nm(e.a.v_mm - origin_v);
+    const bool along_x = v == nm(e.b.v_mm - origin_v);
+    const long long th = u.kind == FaceKind::horizontal ? tu : tl, tv = u.kind == FaceKind::horizontal ? tl : tu;
+    const LineKind upper = u.kind == FaceKind::vertical ? LineKind::valley : LineKind::mountain;
+    const bool one_plane = u.kind == l.kind && tu == tl;
+    const LineKind card = along_x && u.kind != l.kind && th - tv == v ? upper : LineKind::cut;
+    const LineKind drawn = is_fold(e.kind) ? upper : LineKind::cut;
+    if (one_plane)
+      conflict(std::string("a drawn ") + to_string(drawn) +
+                   " line the card does not have: the faces on its two sides lie in one plane (a slit or a stray line)",
+               mid(e), {e.left, e.right}, e.drawn);
+    else if (card != drawn && card == LineKind::cut)
+      conflict(std::string("a drawn ") + to_string(drawn) +
+                   " fold the card cuts: its faces' planes miss each other by " +
+                   std::to_string(std::llabs(th - tv - v)) + " nm at its height",
+               mid(e), {e.left, e.right}, e.drawn);
+    else if (card != drawn)
+      conflict(
+          std::string("the card needs a ") + to_string(card) + " line here that the drawing lacks (drawn as a cut)",
+          mid(e), {e.left, e.right}, e.drawn);
   }
-  const Point2 origin{m_.bounds.min.x_mm, m_.bounds.min.v_mm + c};
-  for (const Segment& s : card.lines)
-    made.push_back({s.kind,
-                    {s.a.x_mm + origin.x_mm, s.a.v_mm + origin.v_mm},
-                    {s.b.x_mm + origin.x_mm, s.b.v_mm + origin.v_mm},
-                    -1});
-  const double cell = std::max(1.0, (m_.bounds.max.x_mm - m_.bounds.min.x_mm) / 256);
-  if (const Typed* t = unmatched(drawn, made, cell)) {
-    const Point2 m{(t->a.x_mm + t->b.x_mm) / 2, (t->a.v_mm + t->b.v_mm) / 2};
-    conflict(std::string("a drawn ") + to_string(t->kind) +
-                 " line the card does not have: the faces on its two sides lie in one plane (a slit or a stray line)",
-             m, {}, t->drawn);
-  }
-  if (const Typed* t = unmatched(made, drawn, cell))
-    conflict(std::string("the card needs a ") + to_string(t->kind) + " line here that the drawing lacks",
-             {(t->a.x_mm + t->b.x_mm) / 2, (t->a.v_mm + t->b.v_mm) / 2}, {});
 }
 
 InferredCard Inference::run() {

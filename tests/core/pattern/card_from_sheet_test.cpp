@@ -184,5 +184,33 @@ TEST(CardFromSheet, RandomVoxelModelsImportBackToTheirCards) {
   EXPECT_GT(imported, 100);
 }
 
+// A drawing changed by one line (a fold drawn as a cut, an x-parallel cut drawn as a fold) is
+// either refused or, when a card still comes out, that card's own pattern has exactly the drawn
+// lines: the import never hands on a card that cuts or folds other than the drawing says.
+TEST(CardFromSheet, ADrawingWithOneLineChangedIsRefusedOrFoldsAsDrawn) {
+  std::mt19937_64 rng(20261207);
+  int line_conflicts = 0, imported = 0;
+  for (int i = 0; i < 300; ++i) {
+    testing::RandomFaceSpec spec;
+    spec.edits = 2 + static_cast<int>(rng() % 8);
+    Pattern p = make_pattern(testing::random_face_model(rng, spec));
+    std::vector<std::size_t> along_x;
+    for (std::size_t k = 0; k < p.lines.size(); ++k)
+      if (p.lines[k].a.v_mm == p.lines[k].b.v_mm && p.lines[k].a.v_mm != 0) along_x.push_back(k);
+    if (along_x.empty()) continue;
+    Segment& changed = p.lines[along_x[rng() % along_x.size()]];
+    changed.kind = changed.kind == LineKind::cut ? (rng() % 2 ? LineKind::valley : LineKind::mountain) : LineKind::cut;
+    const Imported got = import_svg(p, static_cast<Via>(i % 3));
+    if (!got.card.model) {
+      const std::string why = describe_conflicts(got.card);
+      line_conflicts += why.find("line") != std::string::npos || why.find("fold") != std::string::npos;
+      continue;
+    }
+    ASSERT_EQ(same_lines(p, got.pattern), "") << "model " << i << ": a card came out that differs from its drawing";
+    ++imported;
+  }
+  EXPECT_GE(line_conflicts, 50) << "changed lines named as line or fold conflicts (" << imported << " imported)";
+}
+
 }  // namespace
 }  // namespace popcut

@@ -129,6 +129,17 @@ TEST(SheetMap, EachKindOfConflictIsNamed) {
   slit.lines.push_back(line(DrawnKind::cut, {{10, 90}, {20, 100}}, "slit"));
   const std::string why = conflicts(slit);
   EXPECT_NE(why.find("at (15, 95) mm, slit: a cut line ends inside one face"), std::string::npos) << why;
+  LineDrawing lacks = step(DrawnKind::valley, DrawnKind::cut);  // the step's front edge drawn as a cut
+  EXPECT_NE(
+      conflicts(lacks).find("at (50, 60) mm, step edge: the card needs a mountain line here that the drawing lacks"),
+      std::string::npos)
+      << conflicts(lacks);
+  LineDrawing stray = step();  // a cut from the top edge down to the centre fold parts the back board
+  stray.lines.push_back(line(DrawnKind::cut, {{15, 60}, {15, 120}}, "stray"));
+  EXPECT_NE(conflicts(stray).find(
+                "stray: a drawn cut line the card does not have: the faces on its two sides lie in one plane"),
+            std::string::npos)
+      << conflicts(stray);
   LineDrawing skew = step();
   skew.lines[0].points.insert(skew.lines[0].points.begin() + 3, Point2{50, 130});  // a gable on the top edge
   EXPECT_NE(conflicts(skew).find("not a rectangle"), std::string::npos) << conflicts(skew);
