@@ -10,8 +10,8 @@
 #include <unordered_map>
 
 #include "model/face_model_state.h"
-#include "pattern/segment_grid.h"
 #include "popcut/error.h"
+#include "popcut/spatial_grid.h"
 #include "popcut/text.h"
 
 namespace popcut {
@@ -83,26 +83,26 @@ double distance_to(Point2 p, const Piece& s, double& u) {
 int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
   if (tol <= 0 || pieces.empty()) return 0;
   std::vector<Point2> ends;  // every distinct end, once
-  std::vector<std::pair<Point2, Point2>> segments;
   ends.reserve(pieces.size() * 2);
-  segments.reserve(pieces.size());
   for (const Piece& p : pieces) {
     ends.push_back(p.a);
     ends.push_back(p.b);
-    segments.emplace_back(p.a, p.b);
   }
   std::sort(ends.begin(), ends.end(),
             [](Point2 a, Point2 b) { return a.x_mm < b.x_mm || (a.x_mm == b.x_mm && a.v_mm < b.v_mm); });
   ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-  const detail::SegmentGrid grid(segments, std::max(1.0, 4 * tol));
+  // Each line in the cells within tol of it: the cell of an end then holds every line it may snap to.
+  SpatialGrid grid(bounds(ends), pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+    grid.insert_segment(static_cast<int>(i), pieces[i].a, pieces[i].b, tol);
   std::vector<std::vector<std::pair<double, Point2>>> splits(pieces.size());
   int moved = 0;
   for (const Point2 p : ends) {
     int best = -1;
     double best_d = tol, best_u = 0;
-    grid.near(p, [&](std::size_t c) {
-      const Piece& s = pieces[c];
-      if (s.a == p || s.b == p) return;
+    for (const int c : grid.at(p)) {
+      const Piece& s = pieces[static_cast<std::size_t>(c)];
+      if (s.a == p || s.b == p) continue;
       double u = 0;
       const double dist = distance_to(p, s, u);
       if (dist <= best_d && u > 0 && u < 1) {
@@ -110,7 +110,7 @@ int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
         best_d = dist;
         best_u = u;
       }
-    });
+    }
     if (best < 0) continue;
     splits[static_cast<std::size_t>(best)].push_back({best_u, p});
     moved += best_d > 0;  // an end exactly on the line needs no snap, only the split (1 nm grid)

@@ -8,7 +8,7 @@
 
 #include "plan/line_graph.h"
 #include "plan/path_geometry.h"
-#include "popcut/plan/spatial_grid.h"
+#include "popcut/spatial_grid.h"
 
 namespace popcut {
 

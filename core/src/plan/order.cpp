@@ -5,7 +5,7 @@
 
 #include "plan/path_geometry.h"
 #include "plan/tour_search.h"
-#include "popcut/plan/spatial_grid.h"
+#include "popcut/spatial_grid.h"
 
 namespace popcut {
 

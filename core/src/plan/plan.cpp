@@ -7,7 +7,7 @@
 
 #include "plan/fold_clearance.h"
 #include "plan/path_geometry.h"
-#include "popcut/plan/spatial_grid.h"
+#include "popcut/spatial_grid.h"
 
 namespace popcut {
 

@@ -6,7 +6,7 @@
 #include <numeric>
 #include <utility>
 
-#include "popcut/plan/spatial_grid.h"
+#include "popcut/spatial_grid.h"
 
 namespace popcut::plan_detail {
 

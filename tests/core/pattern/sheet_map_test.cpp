@@ -6,7 +6,6 @@
 #include <set>
 
 #include "error_of.h"
-#include "pattern/segment_grid.h"
 #include "popcut/error.h"
 #include "popcut/pattern/card_from_sheet.h"
 #include "popcut/pattern/face_pattern.h"
@@ -14,34 +13,6 @@
 
 namespace popcut {
 namespace {
-
-// SegmentGrid against a brute-force search: every segment within 3/4 of a cell of a point is
-// visited, for random segments of every length and direction.
-TEST(SegmentGrid, VisitsEverySegmentNearAPoint) {
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> at(-50, 50), len(0, 30), angle(0, 2 * M_PI);
-  std::vector<std::pair<Point2, Point2>> segs;
-  for (int i = 0; i < 400; ++i) {
-    const Point2 a{at(rng), at(rng)};
-    const double l = len(rng), t = angle(rng);
-    segs.emplace_back(a, Point2{a.x_mm + l * std::cos(t), a.v_mm + l * std::sin(t)});
-  }
-  const double cell = 2, reach = 0.75 * cell;
-  const detail::SegmentGrid grid(segs, cell);
-  for (int q = 0; q < 2000; ++q) {
-    const Point2 p{at(rng), at(rng)};
-    std::set<std::size_t> seen;
-    grid.near(p, [&](std::size_t i) { seen.insert(i); });
-    for (std::size_t i = 0; i < segs.size(); ++i) {
-      const auto& [a, b] = segs[i];
-      const double dx = b.x_mm - a.x_mm, dv = b.v_mm - a.v_mm, l2 = dx * dx + dv * dv;
-      const double u = l2 > 0 ? std::clamp(((p.x_mm - a.x_mm) * dx + (p.v_mm - a.v_mm) * dv) / l2, 0.0, 1.0) : 0;
-      if (std::hypot(p.x_mm - a.x_mm - u * dx, p.v_mm - a.v_mm - u * dv) < reach) {
-        EXPECT_TRUE(seen.count(i)) << "segment " << i << " near (" << p.x_mm << ", " << p.v_mm << ")";
-      }
-    }
-  }
-}
 
 DrawnLine line(DrawnKind kind, std::vector<Point2> points, const std::string& where, bool closed = false) {
   return {kind, std::move(points), closed, where, "test", {}};

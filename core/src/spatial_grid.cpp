@@ -1,15 +1,11 @@
-// The uniform grid behind junction splitting, fold gaps, the greedy order and the tour search's neighbours.
-#include "popcut/plan/spatial_grid.h"
+// The uniform grid behind junction splitting, fold gaps, the tour's neighbours, and snapping a drawing's ends.
+#include "popcut/spatial_grid.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include "plan/path_geometry.h"
-
 namespace popcut {
-
-using plan_detail::dist;
 
 SpatialGrid::SpatialGrid(Rect box, std::size_t items) {
   const double w = std::max(box.max.x_mm - box.min.x_mm, 1e-3), h = std::max(box.max.v_mm - box.min.v_mm, 1e-3);
@@ -25,6 +21,12 @@ SpatialGrid::SpatialGrid(Rect box, std::size_t items) {
 
 namespace {
 
+// Not std::hypot: its overflow care costs several times more, and millimetres never overflow.
+double dist(Point2 a, Point2 b) {
+  const double dx = a.x_mm - b.x_mm, dv = a.v_mm - b.v_mm;
+  return std::sqrt(dx * dx + dv * dv);
+}
+
 // The cell index of an offset, clamped to [0, n - 1] before the cast: a NaN, an infinity or a far
 // point then lands in an edge cell instead of an undefined conversion.
 long cell_index(double offset_cells, long n) {
@@ -38,15 +40,36 @@ long cell_index(double offset_cells, long n) {
 long SpatialGrid::cx(double x) const { return cell_index((x - origin_.x_mm) / cell_mm_, nx_); }
 long SpatialGrid::cv(double v) const { return cell_index((v - origin_.v_mm) / cell_mm_, nv_); }
 
-void SpatialGrid::insert(int id, Point2 lo, Point2 hi) {
+void SpatialGrid::mark(int id) {
   if (seen_.size() <= static_cast<std::size_t>(id)) seen_.resize(static_cast<std::size_t>(id) + 1, 0);
+}
+
+void SpatialGrid::insert(int id, Point2 lo, Point2 hi) {
+  mark(id);
   for (long v = cv(lo.v_mm); v <= cv(hi.v_mm); ++v)
     for (long x = cx(lo.x_mm); x <= cx(hi.x_mm); ++x) cell(x, v).push_back(id);
 }
 
 void SpatialGrid::insert_segment(int id, Point2 a, Point2 b, double pad_mm) {
-  insert(id, {std::min(a.x_mm, b.x_mm) - pad_mm, std::min(a.v_mm, b.v_mm) - pad_mm},
-         {std::max(a.x_mm, b.x_mm) + pad_mm, std::max(a.v_mm, b.v_mm) + pad_mm});
+  mark(id);
+  if (a.v_mm > b.v_mm) std::swap(a, b);
+  const double dv = b.v_mm - a.v_mm;
+  // A hair more than pad_mm, so a rounding in the clip below can never drop a cell.
+  const double pad = pad_mm + 1e-9 * (1 + std::abs(a.x_mm) + std::abs(b.x_mm));
+  const long last = cv(b.v_mm + pad);
+  for (long v = cv(a.v_mm - pad); v <= last; ++v) {
+    // The part of ab whose points come within pad of this row (the edge rows reach to infinity,
+    // as cv() clamps to them), then its x extent widened by pad.
+    double t0 = 0, t1 = 1;
+    if (dv > 0) {
+      const double row_lo = origin_.v_mm + static_cast<double>(v) * cell_mm_ - pad;
+      const double row_hi = row_lo + cell_mm_ + 2 * pad;
+      if (v > 0) t0 = std::clamp((row_lo - a.v_mm) / dv, 0.0, 1.0);
+      if (v < nv_ - 1) t1 = std::clamp((row_hi - a.v_mm) / dv, 0.0, 1.0);
+    }
+    const double x0 = a.x_mm + (b.x_mm - a.x_mm) * t0, x1 = a.x_mm + (b.x_mm - a.x_mm) * t1;
+    for (long x = cx(std::min(x0, x1) - pad); x <= cx(std::max(x0, x1) + pad); ++x) cell(x, v).push_back(id);
+  }
 }
 
 void SpatialGrid::insert(int id, Point2 at, int group) {

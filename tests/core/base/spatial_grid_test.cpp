@@ -1,5 +1,5 @@
-// The planning grid against brute force: k-nearest (ties, duplicates, groups, erased points, far
-// queries, capped grids) and box queries.
+// The spatial grid against brute force: k-nearest (ties, duplicates, groups, erased points, far
+// queries, capped grids), box queries and segments near a point.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <set>
 #include <string>
 
-#include "popcut/plan/spatial_grid.h"
+#include "popcut/spatial_grid.h"
 
 namespace popcut {
 namespace {
@@ -146,6 +146,50 @@ TEST(SpatialGrid, BoxQueriesFindEveryOverlappingBoxOnce) {
       }
     }
   }
+}
+
+// A segment is in the cell of every point within its pad, for segments of every length and
+// direction, points inside and outside the grid's box, and grids of few or many cells.
+TEST(SpatialGrid, SegmentsAreInTheCellOfEveryPointWithinTheirPad) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> at(-50, 50), len(0, 60), angle(0, 2 * M_PI), query(-70, 70);
+  for (int trial = 0; trial < 12; ++trial) {
+    std::vector<std::pair<Point2, Point2>> segs;
+    const std::size_t n = trial % 3 == 0 ? 3 : 400;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point2 a{at(rng), at(rng)};
+      const double l = trial % 4 == 1 ? 0 : len(rng), t = trial % 4 == 2 ? 0 : angle(rng);
+      segs.emplace_back(a, Point2{a.x_mm + l * std::cos(t), a.v_mm + l * std::sin(t)});
+    }
+    const double pad = 0.01 * (trial + 1) * (trial + 1);
+    SpatialGrid grid({{-40, -40}, {40, 40}}, n);  // segments and queries also lie outside it
+    for (std::size_t i = 0; i < n; ++i) grid.insert_segment(static_cast<int>(i), segs[i].first, segs[i].second, pad);
+    for (int q = 0; q < 2000; ++q) {
+      const Point2 p{query(rng), query(rng)};
+      const std::vector<int>& cell = grid.at(p);
+      const std::set<int> seen(cell.begin(), cell.end());
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto& [a, b] = segs[i];
+        const double dx = b.x_mm - a.x_mm, dv = b.v_mm - a.v_mm, l2 = dx * dx + dv * dv;
+        const double u = l2 > 0 ? std::clamp(((p.x_mm - a.x_mm) * dx + (p.v_mm - a.v_mm) * dv) / l2, 0.0, 1.0) : 0;
+        if (std::hypot(p.x_mm - a.x_mm - u * dx, p.v_mm - a.v_mm - u * dv) <= pad) {
+          ASSERT_TRUE(seen.count(static_cast<int>(i)))
+              << "trial " << trial << ": segment " << i << " passes within " << pad << " mm of (" << p.x_mm << ", "
+              << p.v_mm << ") but is not in its cell";
+        }
+      }
+    }
+  }
+}
+
+// A long slanted segment fills a band of cells along it, not its whole box: the far corners of
+// its box are left empty.
+TEST(SpatialGrid, ASlantedSegmentLeavesTheCornersOfItsBoxEmpty) {
+  SpatialGrid grid({{0, 0}, {100, 100}}, 10000);
+  grid.insert_segment(0, {0, 0}, {100, 100}, 0.01);
+  EXPECT_EQ(grid.at({50, 50}).size(), 1u) << "the segment's own cell holds it";
+  EXPECT_TRUE(grid.at({95, 5}).empty()) << "a corner of the diagonal's box, 64 mm from it, holds nothing";
+  EXPECT_TRUE(grid.at({5, 95}).empty()) << "the other corner holds nothing";
 }
 
 }  // namespace

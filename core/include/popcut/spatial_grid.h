@@ -1,12 +1,12 @@
-// A uniform grid over points and boxes: the one spatial index planning uses, for junctions, fold
-// gaps and nearest path ends.
+// A uniform grid over points, boxes and segments: the one spatial index, for planning's junctions,
+// fold gaps and nearest path ends, and a drawing's snapped ends and line comparisons.
 #pragma once
 
 #include <cstddef>
 #include <utility>
 #include <vector>
 
-#include "popcut/pattern/pattern.h"
+#include "popcut/geometry.h"
 
 namespace popcut {
 
@@ -18,8 +18,10 @@ class SpatialGrid {
  public:
   SpatialGrid(Rect box, std::size_t items);
 
-  void insert(int id, Point2 lo, Point2 hi);                       // a box: every cell it overlaps
-  void insert_segment(int id, Point2 a, Point2 b, double pad_mm);  // the box of ab, pad_mm wider each way
+  void insert(int id, Point2 lo, Point2 hi);  // a box: every cell it overlaps
+  // The cells within pad_mm of segment ab (each row of cells only as wide as the segment passes
+  // it, so a long slanted segment fills a band of cells, not its whole box).
+  void insert_segment(int id, Point2 a, Point2 b, double pad_mm);
   // A point; nearest() skips the points of the query's `group` (a path's own ends).
   void insert(int id, Point2 at, int group = 0);
   void erase(int id, Point2 at);  // a point inserted before: nearest() no longer finds it
@@ -43,6 +45,7 @@ class SpatialGrid {
   };
   long cx(double x) const;
   long cv(double v) const;
+  void mark(int id);
   std::vector<int>& cell(long x, long v) { return cells_[static_cast<std::size_t>(v * nx_ + x)]; }
   const std::vector<int>& cell(long x, long v) const { return cells_[static_cast<std::size_t>(v * nx_ + x)]; }
   void gather_ring(Point2 at, long r, std::size_t k, int skip_group, std::vector<std::pair<double, int>>& found) const;
