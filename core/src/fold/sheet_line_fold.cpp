@@ -4,6 +4,7 @@
 
 #include "popcut/error.h"
 #include "popcut/fold/sheet_fold.h"
+#include "popcut/spatial_grid.h"
 #include "popcut/text.h"
 
 namespace popcut {
@@ -77,16 +78,28 @@ bool inside(const Ring& ring, Point2 p) {
   return in;
 }
 
-// The region of `s` holding sheet point p, or -1.
-int region_holding(const FoldableSheet& s, Point2 p) {
-  for (std::size_t r = 0; r < s.map.regions.size(); ++r) {
-    const SheetRegion& g = s.map.regions[r];
-    if (!inside(g.outer, p)) continue;
-    if (std::none_of(g.holes.begin(), g.holes.end(), [&](const Ring& h) { return inside(h, p); }))
-      return static_cast<int>(r);
+// The region of a sheet holding a sheet point: candidates by their boxes, then the exact test.
+class RegionFinder {
+ public:
+  explicit RegionFinder(const SheetMap& map) : map_(map), grid_(map.bounds, map.regions.size()) {
+    for (std::size_t r = 0; r < map.regions.size(); ++r) {
+      const Rect box = bounds(map.regions[r].outer);
+      grid_.insert(static_cast<int>(r), box.min, box.max);
+    }
   }
-  return -1;
-}
+  int holding(Point2 p) const {  // -1 for none
+    for (const int r : grid_.at(p)) {
+      const SheetRegion& g = map_.regions[static_cast<std::size_t>(r)];
+      if (!inside(g.outer, p)) continue;
+      if (std::none_of(g.holes.begin(), g.holes.end(), [&](const Ring& h) { return inside(h, p); })) return r;
+    }
+    return -1;
+  }
+
+ private:
+  const SheetMap& map_;
+  SpatialGrid grid_;
+};
 
 // Every crease of the drawing with the angle and stage its hinge turned by, so the new sheet keeps them.
 std::vector<CreaseAngle> kept_turns(const LineDrawing& d, const FoldableSheet& s) {
@@ -139,10 +152,18 @@ SheetLineFold fold_along_line(const LineDrawing& d, const FoldableSheet& s, cons
     throw Error(ErrorCode::invalid_input, s.source, "--fold-line",
                 "the line from " + describe_place(step.a) + " to " + describe_place(step.b) +
                     " crosses no layer of the folded sheet");
+  // Each fold along a line can double the layers; past the limit the sheet is a stack no cutter
+  // cuts and no simulation shows, so say so before the map grows without end.
+  if (s.map.regions.size() + static_cast<std::size_t>(made) > kMaxLineFoldRegions)
+    throw Error(ErrorCode::invalid_input, s.source, "--fold-line",
+                "folding along the line from " + describe_place(step.a) + " to " + describe_place(step.b) +
+                    " would split the sheet into about " + std::to_string(s.map.regions.size() + made) +
+                    " regions, more than the " + std::to_string(kMaxLineFoldRegions) + " popcut folds");
   // Stay put on the side that does not move: the old fixed region where it lies there.
   SheetMap map = build_sheet_map(out.drawing, map_options);
   FoldableSheet probe = make_foldable_sheet(out.drawing, map, o);
-  const auto old_of = [&](std::size_t r) { return region_holding(s, probe.map.regions[r].label); };
+  const RegionFinder old_regions(s.map);
+  const auto old_of = [&](std::size_t r) { return old_regions.holding(probe.map.regions[r].label); };
   const auto moves = [&](std::size_t r) {
     const int old = old_of(r);
     return old >= 0 &&

@@ -311,6 +311,23 @@ TEST(SheetFold, FoldingAlongALineFoldsEveryLayerItCrosses) {
   EXPECT_NE(e.message().find("needs the sheet folded flat"), std::string::npos) << e.message();
 }
 
+// A fold along a line through a stack of more layers than popcut folds is refused before the
+// map is built again, naming the option and the limit.
+TEST(SheetFold, AFoldLineThatWouldMakeTooManyRegionsIsRefused) {
+  LineDrawing d;
+  d.source = "fan";
+  const int creases = 10001;
+  d.lines = {line(DrawnKind::outline, {{0, 0}, {creases + 1.0, 0}, {creases + 1.0, 20}, {0, 20}}, "edge", true)};
+  for (int i = 1; i <= creases; ++i) d.lines.push_back(line(DrawnKind::fold, {{i * 1.0, 0}, {i * 1.0, 20}}, "c"));
+  SheetFoldOptions o;
+  o.angle_deg = 0;  // every crease flat: a sheet of 10,002 regions lying in the plane
+  const FoldableSheet flat = foldable(d, o);
+  ASSERT_EQ(flat.map.regions.size(), 10002u);
+  const Error e = error_of([&] { fold_along_line(d, flat, {{0, 10}, {creases + 1.0, 10}}); });
+  EXPECT_EQ(e.location(), "--fold-line") << e.message();
+  EXPECT_NE(e.message().find("20004 regions, more than the 20000 popcut folds"), std::string::npos) << e.message();
+}
+
 TEST(SheetFold, BadOptionsNameTheOption) {
   SheetFoldOptions o;
   o.angles = {{"nosuch", 30}};

@@ -147,7 +147,9 @@ struct LineFoldStep {
 // The drawing with the new creases (valley on layers facing up, mountain on those turned over,
 // each ±180° in the next stage of the motion) and its sheet, whose `layer` keeps the stack's
 // order: the moving stack lands on top (or beneath), reversed. Throws popcut::Error
-// (invalid_input, "--fold-line") unless the sheet lies folded flat and the line crosses it.
+// (invalid_input, "--fold-line") unless the sheet lies folded flat and the line crosses it, and
+// when the sheet would have more than kMaxLineFoldRegions regions after the fold.
+inline constexpr std::size_t kMaxLineFoldRegions = 20000;
 struct SheetLineFold {
   LineDrawing drawing;
   FoldableSheet sheet;
