@@ -46,8 +46,7 @@ void split_into(const Ring& ring, std::vector<Ring>& out) {
 std::vector<Ring> split_at_repeated_vertices(const Ring& ring) {
   // Most rings repeat nothing: one sort says so, without a map node per vertex.
   Ring sorted = ring;
-  std::sort(sorted.begin(), sorted.end(),
-            [](Point2 a, Point2 b) { return a.x_mm < b.x_mm || (a.x_mm == b.x_mm && a.v_mm < b.v_mm); });
+  std::sort(sorted.begin(), sorted.end(), lexicographic_less);
   if (std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) return {ring};
   std::vector<Ring> out;
   split_into(ring, out);

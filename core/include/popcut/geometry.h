@@ -24,6 +24,9 @@ struct Point2 {
   friend bool operator==(const Point2&, const Point2&) = default;
 };
 
+// x first, then v: the order that sorts equal points together.
+inline bool lexicographic_less(Point2 a, Point2 b) { return a.x_mm < b.x_mm || (a.x_mm == b.x_mm && a.v_mm < b.v_mm); }
+
 // Card coordinates at 90°: x across, y depth in front of the back wall, z height above the floor.
 struct Point3 {
   double x_mm = 0;

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <tuple>
 
 #include "popcut/error.h"
 #include "popcut/io/model_io.h"
@@ -141,8 +140,7 @@ bool replace_path(std::vector<Ring*> rings, Point2 from, Point2 to, const std::v
 // At least three distinct points: a ring the face model accepts.
 bool ring_ok(const Ring& ring) {
   std::vector<Point2> distinct(ring.begin(), ring.end());
-  std::sort(distinct.begin(), distinct.end(),
-            [](Point2 a, Point2 b) { return std::tie(a.x_mm, a.v_mm) < std::tie(b.x_mm, b.v_mm); });
+  std::sort(distinct.begin(), distinct.end(), lexicographic_less);
   return std::unique(distinct.begin(), distinct.end()) - distinct.begin() >= 3;
 }
 

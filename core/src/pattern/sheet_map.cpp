@@ -88,8 +88,7 @@ int snap_ends_to_lines(std::vector<Piece>& pieces, double tol) {
     ends.push_back(p.a);
     ends.push_back(p.b);
   }
-  std::sort(ends.begin(), ends.end(),
-            [](Point2 a, Point2 b) { return a.x_mm < b.x_mm || (a.x_mm == b.x_mm && a.v_mm < b.v_mm); });
+  std::sort(ends.begin(), ends.end(), lexicographic_less);
   ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
   // Each line in the cells within tol of it: the cell of an end then holds every line it may snap to.
   SpatialGrid grid(bounds(ends), pieces.size());
