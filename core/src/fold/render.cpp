@@ -1,4 +1,4 @@
-// Software rendering of the folded card: painter's algorithm to SVG, z-buffer to PNG (stb).
+// Software rendering of the folded card: painter's algorithm to SVG, z-buffer and shadow map to PNG (stb).
 #include "popcut/fold/render.h"
 
 #include <stb_image_write.h>
@@ -9,65 +9,125 @@
 #include <limits>
 #include <ostream>
 
+#include "depth_buffer.h"
+#include "picture_space.h"
 #include "popcut/error.h"
 #include "popcut/text.h"
+#include "shadow_map.h"
 
 namespace popcut {
 namespace {
 
-struct V3 {
-  double x, y, z;
-};
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-V3 unit(V3 a) {
-  const double n = std::sqrt(dot(a, a));
-  return {a.x / n, a.y / n, a.z / n};
-}
-
-// Right-handed Y-up frame, as in the 3D exports: (X, Y, Z) = (x, z, y).
-V3 frame(const Point3& p) { return {p.x_mm, p.z_mm, p.y_mm}; }
-
-struct Camera {
-  V3 eye = unit({0.55, 0.65, 1.0});  // toward the viewer: front, right, above
-  V3 right, up;
-  V3 light = unit({-0.3, 0.8, 0.6});
-  Camera() {
-    const V3 forward{-eye.x, -eye.y, -eye.z};
-    right = unit(cross(forward, {0, 1, 0}));
-    up = cross(right, forward);
-  }
-};
-const Camera kCamera;
+using picture::kCameraAxes;
+using picture::kLightAxes;
+using picture::V3;
 
 struct Screen {
   double x, y, depth;  // depth grows toward the viewer
 };
 Screen project(const Point3& p) {
-  const V3 q = frame(p);
-  return {dot(q, kCamera.right), dot(q, kCamera.up), dot(q, kCamera.eye)};
+  const V3 q = picture::frame(p);
+  return {dot(q, kCameraAxes.right), dot(q, kCameraAxes.up), dot(q, kCameraAxes.toward)};
+}
+
+// The side of a triangle the camera sees: its paper's colour and how squarely it faces the lamp.
+struct SeenSide {
+  double rgb[3];
+  double facing_light;  // n · kPictureLight for that side's normal n; ≤ 0 when the lamp is behind it
+};
+SeenSide seen_side(const CardMesh& m, const std::array<std::uint32_t, 3>& t) {
+  V3 n = picture::normal_of(m, t);
+  const bool front = dot(n, kCameraAxes.toward) >= 0;
+  if (!front) n = -1.0 * n;
+  static constexpr double kPaper[2][3] = {{245, 237, 214}, {140, 158, 184}};  // cream front, blue-grey back
+  const double* c = kPaper[front ? 0 : 1];
+  return {{c[0], c[1], c[2]}, dot(n, kLightAxes.toward)};
 }
 
 struct Shade {
   unsigned char r, g, b;
 };
-// The side the camera sees, lit by one light with some ambient, so every fold shows.
-Shade shade_of(const CardMesh& m, const std::array<std::uint32_t, 3>& t) {
-  const V3 a = frame(m.vertices[t[0]]), b = frame(m.vertices[t[1]]), c = frame(m.vertices[t[2]]);
-  V3 n = unit(cross(b - a, c - a));
-  const bool front = dot(n, kCamera.eye) >= 0;
-  if (!front) n = {-n.x, -n.y, -n.z};
-  const double k = 0.45 + 0.55 * std::max(0.0, dot(n, kCamera.light));
-  const double base[2][3] = {{245, 237, 214}, {140, 158, 184}};  // cream front, blue-grey back
-  const double* col = base[front ? 0 : 1];
-  const auto ch = [&](double v) { return static_cast<unsigned char>(std::clamp(v * k, 0.0, 255.0)); };
-  return {ch(col[0]), ch(col[1]), ch(col[2])};
+// The lighting render.h documents, with `lit_share` of the lamp reaching the point.
+Shade shade(const SeenSide& s, double lit_share) {
+  const double k = kPictureAmbient + kPictureDiffuse * std::max(0.0, s.facing_light) * lit_share;
+  const auto ch = [&](double v) { return static_cast<unsigned char>(std::clamp(std::round(v * k), 0.0, 255.0)); };
+  return {ch(s.rgb[0]), ch(s.rgb[1]), ch(s.rgb[2])};
 }
 
 // The box (view_box) holds every point drawn, so coordinates are never below zero and the
 // "-0.00" that format_fixed would write as "0.00" cannot arise.
 std::string num(double v) { return format_fixed(v, 2); }
+
+constexpr int kSupersample = 2;  // per axis: edges are averaged over 2 × 2 samples
+
+// The camera's z-buffer, kSupersample times the picture's size, each pixel knowing its triangle.
+picture::DepthBuffer draw_view(const CardMesh& m, const ViewBox& box, int width_px, int height_px) {
+  picture::DepthBuffer view(width_px * kSupersample, height_px * kSupersample);
+  std::vector<picture::RasterPoint> at(m.vertices.size());
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const PicturePoint q = picture_point(m.vertices[i], box, width_px);
+    at[i] = {q.x_px * kSupersample, q.y_px * kSupersample, project(m.vertices[i]).depth};
+  }
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const auto& t = m.triangles[i];
+    view.draw({at[t[0]], at[t[1]], at[t[2]]}, static_cast<std::uint32_t>(i));
+  }
+  return view;
+}
+
+// Lights every pixel of `view`: the point it shows, found again from its depth, is looked up in the
+// shadow map, unless the lamp is behind its side anyway. Returns RGB, white where nothing was drawn.
+std::vector<unsigned char> shade_view(const CardMesh& m, const ViewBox& box, const picture::DepthBuffer& view,
+                                      double px_per_mm) {
+  // A texel per picture pixel: the taps then spread a shadow's edge over about three pixels, soft
+  // but still sharp where a wall stands on its shadow, and the map is a quarter of the samples.
+  const picture::ShadowMap shadows(m, kSupersample / px_per_mm);
+  std::vector<SeenSide> sides;
+  sides.reserve(m.triangles.size());
+  for (const auto& t : m.triangles) sides.push_back(seen_side(m, t));
+  std::vector<unsigned char> rgb(view.depth_mm.size() * 3, 255);
+  for (int y = 0; y < view.height_px; ++y) {
+    const double up_mm = box.max_y - (y + 0.5) / px_per_mm;
+    for (int x = 0; x < view.width_px; ++x) {
+      const std::size_t i = view.index(x, y);
+      const std::uint32_t tri = view.id[i];
+      if (tri == picture::kNoTriangle) continue;
+      const SeenSide& side = sides[tri];
+      double lit = 0;
+      if (side.facing_light > 0) {
+        const double right_mm = box.min_x + (x + 0.5) / px_per_mm;
+        const V3 p = right_mm * kCameraAxes.right + up_mm * kCameraAxes.up + view.depth_mm[i] * kCameraAxes.toward;
+        lit = shadows.lit_share(p, tri);
+      }
+      const Shade s = shade(side, lit);
+      rgb[3 * i] = s.r;
+      rgb[3 * i + 1] = s.g;
+      rgb[3 * i + 2] = s.b;
+    }
+  }
+  return rgb;
+}
+
+// Box-filters the supersampled image down to `width_px` × `height_px`.
+std::vector<unsigned char> downsample(const std::vector<unsigned char>& rgb, int width_px, int height_px) {
+  const auto wide = static_cast<std::size_t>(width_px) * kSupersample;
+  std::vector<unsigned char> image(static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px) * 3);
+  for (int y = 0; y < height_px; ++y) {
+    for (int x = 0; x < width_px; ++x) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < kSupersample; ++dy)
+          for (int dx = 0; dx < kSupersample; ++dx)
+            sum += rgb[3 * (static_cast<std::size_t>(y * kSupersample + dy) * wide +
+                            static_cast<std::size_t>(x * kSupersample + dx)) +
+                       c];
+        image[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(x)) +
+              c] = static_cast<unsigned char>(sum / (kSupersample * kSupersample));
+      }
+    }
+  }
+  return image;
+}
 
 }  // namespace
 
@@ -93,6 +153,16 @@ ViewBox view_box(const std::vector<CardMesh>& meshes) {
   return {b.min_x - margin, b.min_y - margin, b.max_x + margin, b.max_y + margin};
 }
 
+PicturePoint picture_point(const Point3& p, const ViewBox& box, int width_px) {
+  const double px_per_mm = width_px / (box.max_x - box.min_x);
+  const Screen s = project(p);
+  return {(s.x - box.min_x) * px_per_mm, (box.max_y - s.y) * px_per_mm};
+}
+
+// No cast shadows here: in SVG each would be a polygon clipped by every face between it and the
+// lamp and again by every face in front of it, exact 2D Booleans (CGAL, as the pattern uses) that
+// the pictures otherwise do without, and a shadowed card would be many times the file. The same
+// lamp's shading keeps the SVG and the PNG alike; the PNG is the picture with shadows.
 void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, double px_per_mm) {
   const double w = (box.max_x - box.min_x) * px_per_mm, h = (box.max_y - box.min_y) * px_per_mm;
   std::vector<std::size_t> order(m.triangles.size());
@@ -109,7 +179,7 @@ void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, 
       << "  <rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
   for (std::size_t i : order) {
     const auto& t = m.triangles[i];
-    const Shade s = shade_of(m, t);
+    const Shade s = shade(seen_side(m, t), 1);
     char colour[8];
     std::snprintf(colour, sizeof colour, "#%02x%02x%02x", s.r, s.g, s.b);
     out << "  <polygon fill=\"" << colour << "\" stroke=\"" << colour
@@ -124,67 +194,16 @@ void write_render_svg(std::ostream& out, const CardMesh& m, const ViewBox& box, 
 }
 
 std::string render_png(const CardMesh& m, const ViewBox& box, int width_px) {
-  const int ss = 2;  // supersampling
-  const double scale = width_px * ss / (box.max_x - box.min_x);
-  const int wide_px = width_px * ss;  // the supersampled image
-  const int high_px = std::max(1, static_cast<int>(std::ceil((box.max_y - box.min_y) * scale)));
-  std::vector<double> zbuf(static_cast<std::size_t>(wide_px) * static_cast<std::size_t>(high_px),
-                           std::numeric_limits<double>::lowest());
-  std::vector<unsigned char> rgb(zbuf.size() * 3, 255);
-  for (const auto& t : m.triangles) {
-    Screen p[3];
-    for (int k = 0; k < 3; ++k) {
-      const Screen s = project(m.vertices[t[static_cast<std::size_t>(k)]]);
-      p[k] = {(s.x - box.min_x) * scale, (box.max_y - s.y) * scale, s.depth};
-    }
-    const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
-    if (std::abs(area) < 1e-12) continue;  // seen edge-on
-    const Shade s = shade_of(m, t);
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
-    const int x1 = std::min(wide_px - 1, static_cast<int>(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
-    const int y1 = std::min(high_px - 1, static_cast<int>(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const double px = x + 0.5, py = y + 0.5;
-        const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[2].x - px) * (p[1].y - py)) / area;
-        const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[0].x - px) * (p[2].y - py)) / area;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-        const double z = w0 * p[0].depth + w1 * p[1].depth + w2 * p[2].depth;
-        const std::size_t i =
-            static_cast<std::size_t>(y) * static_cast<std::size_t>(wide_px) + static_cast<std::size_t>(x);
-        if (z <= zbuf[i]) continue;
-        zbuf[i] = z;
-        rgb[3 * i] = s.r;
-        rgb[3 * i + 1] = s.g;
-        rgb[3 * i + 2] = s.b;
-      }
-    }
-  }
-  // Box-filter the supersampled image down to the requested size.
-  const int w = width_px, h = high_px / ss;
-  std::vector<unsigned char> image(static_cast<std::size_t>(w) * static_cast<std::size_t>(std::max(h, 1)) * 3);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      for (int c = 0; c < 3; ++c) {
-        int sum = 0;
-        for (int dy = 0; dy < ss; ++dy)
-          for (int dx = 0; dx < ss; ++dx)
-            sum += rgb[3 * (static_cast<std::size_t>(y * ss + dy) * static_cast<std::size_t>(wide_px) +
-                            static_cast<std::size_t>(x * ss + dx)) +
-                       static_cast<std::size_t>(c)];
-        image[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) +
-              static_cast<std::size_t>(c)] = static_cast<unsigned char>(sum / (ss * ss));
-      }
-    }
-  }
+  const double px_per_mm = kSupersample * width_px / (box.max_x - box.min_x);  // of the supersampled view
+  const int height_px = std::max(1, static_cast<int>(std::ceil((box.max_y - box.min_y) * px_per_mm)) / kSupersample);
+  const picture::DepthBuffer view = draw_view(m, box, width_px, height_px);
+  const std::vector<unsigned char> image = downsample(shade_view(m, box, view, px_per_mm), width_px, height_px);
   // Encoded in memory: stbi's own file writer ignores short writes, so a full disk would go unnoticed.
   std::string png;
   const auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
   };
-  if (!stbi_write_png_to_func(append, &png, w, std::max(h, 1), 3, image.data(), w * 3)) {
+  if (!stbi_write_png_to_func(append, &png, width_px, height_px, 3, image.data(), width_px * 3)) {
     throw Error(ErrorCode::internal, "", "", "PNG encoding failed");
   }
   return png;
