@@ -52,7 +52,8 @@ void ShadowMap::set_planes(const CardMesh& m) {
   plane_of_.resize(m.triangles.size());
   for (std::size_t i = 0; i < m.triangles.size(); ++i)
     plane_of_[i] = static_cast<std::uint32_t>(faces ? m.triangle_face[i] : static_cast<int>(i));
-  const std::size_t planes = plane_of_.empty() ? 0 : *std::max_element(plane_of_.begin(), plane_of_.end()) + 1;
+  const std::size_t planes =
+      plane_of_.empty() ? 0 : static_cast<std::size_t>(*std::max_element(plane_of_.begin(), plane_of_.end())) + 1;
   std::vector<double> largest(planes, -1);
   slope_.assign(planes, {0, 0});
   const ViewAxes& l = kLightAxes;
