@@ -154,11 +154,12 @@ SheetLineFold fold_along_line(const LineDrawing& d, const FoldableSheet& s, cons
                     " crosses no layer of the folded sheet");
   // Each fold along a line can double the layers; past the limit the sheet is a stack no cutter
   // cuts and no simulation shows, so say so before the map grows without end.
-  if (s.map.regions.size() + static_cast<std::size_t>(made) > kMaxLineFoldRegions)
+  const std::size_t regions_after = s.map.regions.size() + static_cast<std::size_t>(made);
+  if (regions_after > kMaxLineFoldRegions)
     throw Error(ErrorCode::invalid_input, s.source, "--fold-line",
                 "folding along the line from " + describe_place(step.a) + " to " + describe_place(step.b) +
-                    " would split the sheet into about " + std::to_string(s.map.regions.size() + made) +
-                    " regions, more than the " + std::to_string(kMaxLineFoldRegions) + " popcut folds");
+                    " would split the sheet into about " + std::to_string(regions_after) + " regions, more than the " +
+                    std::to_string(kMaxLineFoldRegions) + " popcut folds");
   // Stay put on the side that does not move: the old fixed region where it lies there.
   SheetMap map = build_sheet_map(out.drawing, map_options);
   FoldableSheet probe = make_foldable_sheet(out.drawing, map, o);
