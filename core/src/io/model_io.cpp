@@ -8,6 +8,7 @@
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
+#include "popcut/io/oa_model.h"
 #include "popcut/pattern/card_from_sheet.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/pattern/voxel_pattern.h"
@@ -95,6 +96,7 @@ AnyModel load_model(const std::string& path) {
     if (!imported.card.model) throw CardConflictError(imported.drawing.source, imported.card);
     return std::move(*imported.card.model);
   }
+  if (is_oa_path(path)) return parse_oa_model(read_text_file(path), path);
   return parse_model(read_text_file(path), path == "-" ? "<stdin>" : path);
 }
 

@@ -1,0 +1,26 @@
+// webOAcard's .oa files (github.com/caa1211/webOAcard) read as face models: docs/formats.md, "webOAcard .oa".
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "popcut/model/face_model.h"
+#include "popcut/model/oa_card.h"
+
+namespace popcut {
+
+// Points in all of a card's rings together (each ring also at most kMaxOutlinePoints, faces at
+// most kMaxFaces): the exact Booleans of the derivation grow with them.
+inline constexpr std::size_t kMaxOaPoints = 1000000;
+
+// True for a path ending in ".oa" (any case): load_model reads it with parse_oa_model.
+bool is_oa_path(const std::string& path);
+
+// The card of a .oa document, every field checked; errors (popcut::Error) name `source` and the
+// JSON path, e.g. "faces[3].contours[0].outer[2].X".
+OaCard parse_oa_card(const std::string& text, const std::string& source);
+
+// The face model webOAcard's editor shows for the document (face_model_from_oa).
+FaceModel parse_oa_model(const std::string& text, const std::string& source);
+
+}  // namespace popcut
