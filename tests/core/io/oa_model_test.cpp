@@ -1,0 +1,320 @@
+// webOAcard .oa files: the demo cards, webOAcard's wall, hole, pull and top-face rules, and bad input.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <optional>
+#include <string>
+
+#include "error_of.h"
+#include "popcut/error.h"
+#include "popcut/io/model_io.h"
+#include "popcut/io/oa_model.h"
+#include "popcut/pattern/popup_check.h"
+#include <variant>
+
+namespace popcut {
+namespace {
+
+using testing::error_of;
+
+const std::string kDemoDir = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/webOAcard/demo/";
+
+// A card of 120 × 100 (sheet 120 × 200) with the given faces (JSON objects).
+std::string card(const std::string& faces, const std::string& settings = R"({"cardW": 120, "cardH": 100})") {
+  return R"({"settings": )" + settings + R"(, "faces": [)" + faces + "]}";
+}
+
+// A face drawn in webOAcard's frame: a rectangle X x0..x1, Y y0..y1 at depth t.
+std::string rect_face(double x0, double y0, double x1, double y1, double t, int mode = 0, const char* kind = "") {
+  const auto p = [](double x, double y) {
+    return R"({"X": )" + std::to_string(x) + R"(, "Y": )" + std::to_string(y) + "}";
+  };
+  return R"({"contours": [{"outer": [)" + p(x0, y0) + ", " + p(x1, y0) + ", " + p(x1, y1) + ", " + p(x0, y1) +
+         R"(], "holes": []}], "type": "VFACE", "mode": )" + std::to_string(mode) + R"(, "t": )" + std::to_string(t) +
+         R"(, "contoursType": ")" + kind + R"("})";
+}
+
+bool inside(const Ring& ring, Point2 p) {
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Point2 a = ring[i], b = ring[j];
+    if ((a.v_mm > p.v_mm) != (b.v_mm > p.v_mm) &&
+        p.x_mm < (b.x_mm - a.x_mm) * (p.v_mm - a.v_mm) / (b.v_mm - a.v_mm) + a.x_mm)
+      in = !in;
+  }
+  return in;
+}
+
+// The pattern face at pattern point (x, v).
+std::optional<PatternFace> face_at(const Pattern& p, double x, double v) {
+  for (const PatternFace& f : p.faces) {
+    if (!inside(f.outer, {x, v})) continue;
+    bool in_hole = false;
+    for (const Ring& h : f.holes) in_hole = in_hole || inside(h, {x, v});
+    if (!in_hole) return f;
+  }
+  return std::nullopt;
+}
+
+// "V 20" / "H 40": a face's plane, for messages and comparisons.
+std::string plane_at(const Pattern& p, double x, double v) {
+  const auto f = face_at(p, x, v);
+  if (!f) return "none";
+  return std::string(to_string(f->kind)) + " " + std::to_string(static_cast<int>(f->t_mm));
+}
+
+Pattern pattern_of(const std::string& text) { return make_pattern(parse_oa_model(text, "test.oa"), "test.oa"); }
+
+}  // namespace
+
+TEST(OaModel, SheetIsCardWideAndTwiceCardHHighWithTheFoldInTheMiddle) {
+  // webOAcard's base faces: the back board X 0..cardW, Y -cardH..0 and the floor Y 0..cardH.
+  const FaceModel m = parse_oa_model(card("", R"({"cardW": 120, "cardH": 90})"), "blank.oa");
+  EXPECT_EQ(m.sheet(), (Rect{{0, -90}, {120, 90}})) << "the sheet is cardW wide, cardH above and below the fold";
+  const Pattern p = make_pattern(m, "blank.oa");
+  EXPECT_EQ(plane_at(p, 60, 45), "V 0") << "the back half is the back board";
+  EXPECT_EQ(plane_at(p, 60, -45), "H 0") << "the front half is the floor";
+  EXPECT_TRUE(check_popup(p).pops_up()) << "a blank card is a card";
+}
+
+TEST(OaModel, AWallStandsAtItsDepthWithItsTopFaceBehindIt) {
+  // A wall at depth 20, X 40..80, Y -20..20: z = t - Y runs 0..40, pattern v = -Y.
+  const Pattern p = pattern_of(card(rect_face(40, -20, 80, 20, 20)));
+  const auto wall = face_at(p, 60, 0);
+  ASSERT_TRUE(wall) << "no face at the wall's middle";
+  EXPECT_EQ(plane_at(p, 60, 0), "V 20") << "the wall lies in the plane y = t";
+  const Point3 foot = to_card(wall->kind, wall->t_mm, {40, -20});
+  EXPECT_EQ(foot, (Point3{40, 20, 0})) << "the wall's corner X 40, Y 20 stands on the floor at depth 20";
+  EXPECT_EQ(plane_at(p, 60, 30), "H 40") << "a top face runs from the wall's top edge (z 40) back";
+  EXPECT_EQ(plane_at(p, 60, 41), "V 0") << "and ends on the back board, 20 mm behind the wall";
+  EXPECT_EQ(plane_at(p, 30, 0), "V 0") << "beside the wall the back board is untouched";
+  EXPECT_EQ(plane_at(p, 60, -30), "H 0") << "in front of the wall the floor is untouched";
+  EXPECT_TRUE(check_popup(p).pops_up()) << "a box pops up";
+}
+
+TEST(OaModel, ATopFaceStopsAtTheWallBehindThatRisesAboveIt) {
+  // Front wall t 30, z 0..20 (Y 10..30); back wall t 10, z 0..50 (Y -40..10).
+  const Pattern p = pattern_of(card(rect_face(40, 10, 80, 30, 30) + "," + rect_face(40, -40, 80, 10, 10)));
+  EXPECT_EQ(plane_at(p, 60, 5), "H 20") << "the front wall's top face (z 20) runs back from v -10";
+  EXPECT_EQ(plane_at(p, 60, 15), "V 10") << "up to the back wall at v 10 (z 20 at depth 10), which continues up";
+  EXPECT_EQ(plane_at(p, 60, 45), "H 50") << "the back wall has its own top face";
+  EXPECT_TRUE(check_popup(p).pops_up()) << "two steps pop up";
+}
+
+TEST(OaModel, AHoleBecomesAnOpeningWithALedgeAtItsFoot) {
+  // Wall t 20, z 0..50; hole at t 20, X 40..60, z 20..30 (Y -10..0).
+  const Pattern p = pattern_of(card(rect_face(20, -30, 80, 20, 20) + "," + rect_face(40, -10, 60, 0, 20, 1)));
+  EXPECT_EQ(plane_at(p, 50, 5), "H 20") << "the hole's paper is a ledge from its foot (z 20) back";
+  EXPECT_EQ(plane_at(p, 50, 15), "V 20") << "the wall continues above the hole";
+  EXPECT_EQ(plane_at(p, 30, 5), "V 20") << "and beside it";
+  EXPECT_EQ(plane_at(p, 50, 35), "H 50") << "the wall's own top face is unchanged";
+  const PopupReport r = check_popup(p);
+  EXPECT_TRUE(r.pops_up()) << "a wall with a window pops up";
+}
+
+TEST(OaModel, AHoleCutsThroughTheWallsBehindIt) {
+  // A front wall t 30 (X 40..80, z 0..30), a wall behind at t 10 (X 20..100, z 0..60), and a hole
+  // drawn at depth 30 beside the front wall, X 85..95, Y 0..10: pattern v -10..0, which is the
+  // foot (z 0..10) of the wall behind. webOAcard cuts a hole from every wall at its depth or behind.
+  const Pattern p = pattern_of(card(rect_face(40, 0, 80, 30, 30) + "," + rect_face(20, -50, 100, 10, 10) + "," +
+                                    rect_face(85, 0, 95, 10, 30, 1)));
+  EXPECT_EQ(plane_at(p, 90, -5), "H 0") << "the wall behind is cut open at its foot: the floor shows";
+  EXPECT_EQ(plane_at(p, 90, 5), "V 10") << "the wall behind continues above the hole";
+  EXPECT_EQ(plane_at(p, 30, -5), "V 10") << "and beside it";
+  EXPECT_EQ(plane_at(p, 60, -5), "V 30") << "the front wall is not touched";
+}
+
+TEST(OaModel, APullRisesPastTheRoofOfItsWall) {
+  // Wall t 20, z 0..30; pull at t 20, X 40..60, z 30..45 (Y -25..-10).
+  const Pattern p = pattern_of(card(rect_face(20, -10, 80, 20, 20) + "," + rect_face(40, -25, 60, -10, 20, 2)));
+  EXPECT_EQ(plane_at(p, 50, 20), "V 20") << "the pull stays in its wall's plane above the wall's top";
+  EXPECT_EQ(plane_at(p, 30, 20), "H 30") << "beside it the wall's top face runs back";
+  EXPECT_EQ(plane_at(p, 50, 28), "H 30") << "the top face closes behind the pull";
+  EXPECT_TRUE(check_popup(p).pops_up()) << "a wall with a pull pops up";
+}
+
+TEST(OaModel, TextGetsATopFaceOnlyAtEachShapesTopmostEdge) {
+  // An L: X 20..60 z 0..40 and X 60..80 z 0..20, at depth 20.
+  const std::string l = R"({"contours": [{"outer": [{"X": 20, "Y": 20}, {"X": 80, "Y": 20}, {"X": 80, "Y": 0},
+      {"X": 60, "Y": 0}, {"X": 60, "Y": -20}, {"X": 20, "Y": -20}], "holes": []}], "type": "VFACE", "mode": 0,
+      "t": 20, "contoursType": "KIND"})";
+  std::string plain = l, text = l;
+  plain.replace(plain.find("KIND"), 4, "");
+  text.replace(text.find("KIND"), 4, "expolygons");
+  EXPECT_EQ(plane_at(pattern_of(card(plain)), 70, 5), "H 20") << "a drawn wall's lower step gets its top face";
+  EXPECT_EQ(plane_at(pattern_of(card(text)), 70, 5), "V 0") << "text's lower step does not: the back board shows";
+  EXPECT_EQ(plane_at(pattern_of(card(text)), 40, 25), "H 40") << "text's topmost edge gets its top face";
+}
+
+TEST(OaModel, FacesReachingOffTheCardOrBelowTheFloorAreClipped) {
+  // Wall t 20 drawn X -10..50, Y -20..30: clipped to X >= 0 and to z >= 0 (Y <= 20).
+  const Pattern p = pattern_of(card(rect_face(-10, -20, 50, 30, 20)));
+  EXPECT_EQ(plane_at(p, 5, 0), "V 20") << "the part on the card stays";
+  EXPECT_EQ(plane_at(p, 25, -25), "H 0") << "below the floor (z < 0) there is floor";
+  EXPECT_TRUE(check_popup(p).pops_up()) << "the clipped wall still pops up";
+}
+
+// The error a document raises: "location: message".
+std::string oa_error(const std::string& text) {
+  const Error e = error_of([&] { parse_oa_model(text, "bad.oa"); });
+  EXPECT_EQ(e.source(), "bad.oa") << "every error names the file";
+  return e.location() + ": " + e.message();
+}
+
+TEST(OaModelErrors, MalformedJsonNamesLineAndColumn) {
+  EXPECT_EQ(oa_error("{\"settings\": {\"cardW\": 120,\n \"cardH\": }}").substr(0, 18), "line 2, column 11:")
+      << "a syntax error names where the parser stopped";
+}
+
+TEST(OaModelErrors, MissingAndWrongTypedFieldsNameTheirPath) {
+  EXPECT_EQ(oa_error(R"({"faces": []})"), "settings: is missing") << "settings are required";
+  EXPECT_EQ(oa_error(card("", R"({"cardW": "120", "cardH": 100})")),
+            "settings.cardW: expected a number from 0.001 to 1e+05, got a string")
+      << "a card size must be a number";
+  EXPECT_EQ(oa_error(card("", R"({"cardW": 120, "cardH": 0})")),
+            "settings.cardH: expected a number from 0.001 to 1e+05, got 0")
+      << "a card size must be positive";
+  EXPECT_EQ(oa_error(card("", R"({"cardW": 120, "cardH": 100, "grid": 5})")).substr(0, 30),
+            "settings.grid: unknown field (")
+      << "unknown fields are named";
+  std::string f = rect_face(10, 0, 20, 10, 10);
+  f.replace(f.find(R"("t": 10.000000)"), 14, R"("t": "ten")");
+  EXPECT_EQ(oa_error(card(f)), "faces[0].t: expected a number from 0 to 1e+05, got a string") << "t is a number";
+  std::string no_contours = R"({"type": "VFACE", "mode": 0, "t": 10})";
+  EXPECT_EQ(oa_error(card(no_contours)), "faces[0].contours: is missing") << "a face needs its contours";
+  std::string point = rect_face(10, 0, 20, 10, 10);
+  point.replace(point.find(R"("Y": 0.000000)"), 13, R"("Y": null)");
+  EXPECT_EQ(oa_error(card(point)),
+            "faces[0].contours[0].outer[0].Y: expected a number from -1e+05 to 1e+05, got a null")
+      << "every point's field is named";
+}
+
+TEST(OaModelErrors, UnknownTypeOrModeIsRefused) {
+  std::string f = rect_face(10, 0, 20, 10, 10);
+  f.replace(f.find("VFACE"), 5, "XFACE");
+  EXPECT_EQ(oa_error(card(f)), R"(faces[0].type: expected "VFACE", got "XFACE")") << "unknown face types are refused";
+  f.replace(f.find("XFACE"), 5, "HFACE");
+  EXPECT_NE(oa_error(card(f)).find("faces[0].type: \"HFACE\" is not supported"), std::string::npos)
+      << "webOAcard derives horizontal faces; a drawn one is refused";
+  EXPECT_EQ(oa_error(card(rect_face(10, 0, 20, 10, 10, 3))),
+            "faces[0].mode: expected 0 (wall), 1 (hole) or 2 (pull), got 3")
+      << "modes are 0, 1 and 2";
+  EXPECT_EQ(oa_error(card(rect_face(10, 0, 20, 10, 10, 0, "ttf"))),
+            R"(faces[0].contoursType: expected "" or "expolygons", got "ttf")")
+      << "contoursType is one of webOAcard's two";
+}
+
+TEST(OaModelErrors, HugeCoordinatesAndTooManyPointsOrFacesAreRefused) {
+  std::string f = rect_face(10, 0, 20, 10, 10);
+  f.replace(f.find(R"("X": 20.000000)"), 14, R"("X": 1e300)");
+  EXPECT_EQ(oa_error(card(f)), "faces[0].contours[0].outer[1].X: expected a number from -1e+05 to 1e+05, got 1e+300")
+      << "coordinates beyond 100 m are refused";
+  std::string ring;
+  for (std::size_t i = 0; i <= kMaxOutlinePoints; ++i) ring += std::string(i ? "," : "") + R"({"X": 1, "Y": 1})";
+  const std::string many = R"({"contours": [{"outer": [)" + ring + R"(]}], "type": "VFACE", "mode": 0, "t": 1})";
+  EXPECT_EQ(oa_error(card(many)), "faces[0].contours[0].outer: has 10001 points; the limit is 10000")
+      << "one ring holds at most kMaxOutlinePoints";
+  std::string faces;
+  for (std::size_t i = 0; i <= kMaxFaces; ++i) faces += std::string(i ? "," : "") + "{}";
+  EXPECT_EQ(oa_error(card(faces)), "faces: has more than 100000 faces") << "a card holds at most kMaxFaces faces";
+}
+
+TEST(OaModelErrors, DegenerateOutlinesAreRefused) {
+  const auto ring_face = [](const std::string& points) {
+    return R"({"contours": [{"outer": [)" + points + R"(], "holes": []}], "type": "VFACE", "mode": 0, "t": 10})";
+  };
+  EXPECT_EQ(oa_error(card(ring_face(R"({"X": 1, "Y": 1}, {"X": 5, "Y": 1}, {"X": 9, "Y": 1})"))),
+            "faces[0].contours[0].outer: has zero area: all its points lie on one line")
+      << "a flat outline is refused";
+  EXPECT_EQ(oa_error(card(ring_face(R"({"X": 1, "Y": 1}, {"X": 5, "Y": 1}, {"X": 5, "Y": 1}, {"X": 1, "Y": 1})"))),
+            "faces[0].contours[0].outer: needs at least 3 distinct points")
+      << "repeated points do not make an outline";
+  EXPECT_EQ(oa_error(card(ring_face(R"({"X": 0, "Y": 0}, {"X": 10, "Y": 10}, {"X": 10, "Y": 0}, {"X": 0, "Y": 10})"))),
+            "faces[0].contours[0].outer: crosses or touches itself: an outline must be a simple polygon")
+      << "a bow tie is refused";
+}
+
+TEST(OaModelErrors, FacesOffTheCardAreRefused) {
+  EXPECT_EQ(oa_error(card(rect_face(200, 0, 250, 10, 10))),
+            "faces[0].contours: lies outside the card (X from 0 to 120 mm, Y from -100 to 100 mm)")
+      << "a face beside the card is refused";
+  EXPECT_EQ(oa_error(card(rect_face(10, 20, 50, 30, 10))),
+            "faces[0].contours: lies below the floor: every point has Y > t")
+      << "a face under the floor is refused";
+}
+
+// The first reason a pattern does not pop up, with its place: "not standing: V 3.914 x 26.09..46.962
+// v -1.305..24.785 (floor only)" or "loose: x 4.26..15.6 v -56.92..-42.86".
+std::string first_problem(const Pattern& p, const PopupReport& r) {
+  std::ostringstream o;
+  const auto box = [&](const Rect& b) {
+    o << "x " << b.min.x_mm << ".." << b.max.x_mm << " v " << b.min.v_mm << ".." << b.max.v_mm;
+  };
+  if (!r.not_standing.empty()) {
+    const FaceProblem& fp = r.not_standing.front();
+    const PatternFace& f = p.faces.at(static_cast<std::size_t>(fp.face));
+    o << "not standing: " << to_string(f.kind) << " " << f.t_mm << " ";
+    box(bounds(f.outer));
+    o << (fp.from_back ? " (back only)" : " (floor only)");
+  } else if (!r.loose_pieces.empty()) {
+    o << "loose: ";
+    box(r.loose_pieces.front().bounds);
+  }
+  return o.str();
+}
+
+struct DemoResult {
+  const char* name;
+  std::size_t not_standing, loose;
+  const char* first;  // first_problem; "" when the card pops up
+};
+
+// What popcut finds in each of webOAcard's demo cards: two pop up; the others keep faces that the
+// editor's rules leave held on one side (a chair back drawn as a pull hangs from the seat; a
+// window's ledge holds a sliver of back board) or pieces cut free (the inside of a letter O).
+TEST(OaDemo, EveryDemoImportsAndPopsUpOrFailsForItsReason) {
+  const DemoResult demos[] = {
+      {"bath", 2, 0, "not standing: V 0 x 66.2783..94.5543 v 0..23 (floor only)"},
+      {"castle", 5, 3, "not standing: V 0 x 13.8386..16.3214 v 50.895..52.587 (floor only)"},
+      {"chair", 2, 0, "not standing: V 3.914 x 26.09..46.962 v -1.305..24.785 (floor only)"},
+      {"city", 0, 9, "loose: x 41.073..44.778 v -7.884..-3.21"},
+      {"college", 3, 0, "not standing: V 0 x 39..45 v 15..18 (floor only)"},
+      {"cubes2", 0, 0, ""},
+      {"house", 0, 0, ""},
+      {"nowday", 1, 3, "not standing: V 0 x 30.028..34.833 v 0..8.171 (floor only)"},
+      {"oo", 0, 2, "loose: x 4.26..15.6 v -56.92..-42.86"},
+      {"yahoo", 0, 3, "loose: x 33.891..39.834 v -12.504..-3.39"},
+  };
+  for (const DemoResult& d : demos) {
+    const std::string path = kDemoDir + d.name + ".oa";
+    const AnyModel m = load_model(path);
+    const Pattern p = make_pattern(m, path);
+    const PopupReport r = check_popup(p);
+    EXPECT_EQ(r.pops_up(), std::string(d.first).empty()) << d.name << ": pops up or not as webOAcard's rules give";
+    EXPECT_EQ(r.not_standing.size(), d.not_standing) << d.name << ": faces that do not stand";
+    EXPECT_EQ(r.loose_pieces.size(), d.loose) << d.name << ": pieces cut free";
+    EXPECT_EQ(first_problem(p, r), d.first) << d.name << ": the first problem and its place";
+    EXPECT_FALSE(r.no_back_board || r.no_floor || r.sheet_split) << d.name << ": the boards hold together";
+  }
+}
+
+TEST(OaDemo, TheHouseStandsWhereItsFileDrawsIt) {
+  const FaceModel m = std::get<FaceModel>(load_model(kDemoDir + "house.oa"));
+  EXPECT_EQ(m.sheet(), (Rect{{0, -100}, {120, 100}})) << "cardW 120 × cardH 100: the sheet is 120 × 200";
+  const Pattern p = make_pattern(m, "house.oa");
+  // faces[0]: a wall at depth 24.004, X 36..88, Y -27.996..24.004 (z 0..52); in front of it the
+  // staircase wall at 44.004 and its steps' top faces, so it shows above them.
+  EXPECT_EQ(plane_at(p, 62, 15), "V 24") << "the wall at depth 24 shows above the step in front";
+  const auto wall = face_at(p, 62, 15);
+  ASSERT_TRUE(wall) << "no face at the wall";
+  const Point3 at = to_card(wall->kind, wall->t_mm, {62, 15});
+  EXPECT_NEAR(at.y_mm, 24.004, 1e-9) << "the wall stands at its t";
+  EXPECT_NEAR(at.z_mm, 39.004, 1e-9) << "pattern v 15 is z = v + t";
+  EXPECT_EQ(plane_at(p, 62, 0), "H 32") << "the step of the front wall at z 32 gets a top face back to the wall";
+  EXPECT_EQ(plane_at(p, 62, 35), "H 52") << "the wall's own top edge (z 52) gets a top face back to the house";
+  EXPECT_EQ(plane_at(p, 40, -30), "H 0") << "faces[6], the door (a hole at depth 44 reaching the floor), opens "
+                                            "onto the floor where the wall at 44 stood";
+  EXPECT_EQ(plane_at(p, 40, -2), "V 44") << "the wall at 44 continues above the door";
+}
+
+}  // namespace popcut
