@@ -4,6 +4,7 @@
 #include "io/ascii_case.h"
 #include "io/json_util.h"
 #include "popcut/error.h"
+#include "popcut/text.h"
 
 namespace popcut {
 using json_util::index_path;
@@ -12,9 +13,24 @@ using json_util::key_path;
 
 namespace {
 
+// The reader, and what the card read so far adds up to.
+struct OaReader {
+  const json_util::Reader& in;
+  double card_h_mm;
+  std::size_t points = 0;
+};
+
 // One ring of {"X", "Y"} points (mm, webOAcard's 2D frame).
-Ring read_ring(const json_util::Reader& in, const json& j, const std::string& path) {
+Ring read_ring(OaReader& r, const json& j, const std::string& path) {
+  const json_util::Reader& in = r.in;
   in.require_array(j, path);
+  // Counted before the points are read: a file over the limit is refused at once.
+  r.points += j.size();
+  if (r.points > kMaxOaPoints) {
+    throw Error(ErrorCode::limit, in.source(), path,
+                "brings the card's points to " + std::to_string(r.points) + "; the limit for a .oa card is " +
+                    std::to_string(kMaxOaPoints));
+  }
   if (j.size() < 3) in.fail(path, "needs at least 3 points, got " + std::to_string(j.size()));
   if (j.size() > kMaxOutlinePoints) {
     in.fail(path, "has " + std::to_string(j.size()) + " points; the limit is " + std::to_string(kMaxOutlinePoints));
@@ -32,34 +48,38 @@ Ring read_ring(const json_util::Reader& in, const json& j, const std::string& pa
   return ring;
 }
 
-OaContour read_contour(const json_util::Reader& in, const json& j, const std::string& path) {
+OaContour read_contour(OaReader& r, const json& j, const std::string& path) {
+  const json_util::Reader& in = r.in;
   in.require_object(j, path);
   in.only_keys(j, {"outer", "holes"}, path);
   OaContour c;
-  c.outer = read_ring(in, in.require(j, "outer", path), key_path(path, "outer"));
+  c.outer = read_ring(r, in.require(j, "outer", path), key_path(path, "outer"));
   if (j.contains("holes")) {
     const json& holes = j["holes"];
     const std::string hp = key_path(path, "holes");
     in.require_array(holes, hp);
-    if (holes.size() > kMaxFaces) in.fail(hp, "has more than " + std::to_string(kMaxFaces) + " holes");
+    if (holes.size() > kMaxOaFaces) in.fail(hp, "has more than " + std::to_string(kMaxOaFaces) + " holes");
     // webOAcard writes an empty ring for "no hole" (createFace's "holes": [[]]).
     for (std::size_t h = 0; h < holes.size(); ++h) {
       if (holes[h].is_array() && holes[h].empty()) continue;
-      c.holes.push_back(read_ring(in, holes[h], index_path(hp, h)));
+      c.holes.push_back(read_ring(r, holes[h], index_path(hp, h)));
+      c.hole_index.push_back(h);
     }
   }
   return c;
 }
 
 OaMode read_mode(const json_util::Reader& in, const json& j, const std::string& path) {
-  if (!j.is_number_integer() && !j.is_number_unsigned())
-    in.fail(path, "expected 0 (wall), 1 (hole) or 2 (pull), got " + j.dump());
-  const auto mode = j.get<long long>();
-  if (mode < 0 || mode > 2) in.fail(path, "expected 0 (wall), 1 (hole) or 2 (pull), got " + std::to_string(mode));
-  return static_cast<OaMode>(mode);
+  try {
+    return static_cast<OaMode>(in.integer(j, path, 0, 2));
+  } catch (const Error& e) {
+    // The numbers alone do not say which is which.
+    throw Error(e.code(), e.source(), e.location(), e.message() + " (0 wall, 1 hole, 2 pull)");
+  }
 }
 
-OaFace read_face(const json_util::Reader& in, const json& j, const std::string& path) {
+OaFace read_face(OaReader& r, const json& j, const std::string& path) {
+  const json_util::Reader& in = r.in;
   in.require_object(j, path);
   in.only_keys(j, {"contours", "type", "mode", "t", "contoursType", "timestamp"}, path);
   OaFace f;
@@ -73,6 +93,12 @@ OaFace read_face(const json_util::Reader& in, const json& j, const std::string& 
   if (type != "VFACE") in.fail(key_path(path, "type"), "expected \"VFACE\", got \"" + type + "\"");
   f.mode = read_mode(in, in.require(j, "mode", path), key_path(path, "mode"));
   f.t_mm = in.number(in.require(j, "t", path), key_path(path, "t"), 0, kMaxFaceCoordinateMm);
+  // The editor moves its edit plane from the back board (0) to below the card's front edge
+  // (cardH): a face further out would stand off the floor, its top face higher than the card.
+  if (f.t_mm > r.card_h_mm) {
+    in.fail(key_path(path, "t"), "is " + format_significant(f.t_mm) + " mm: a face's depth must be from 0 to cardH (" +
+                                     format_significant(r.card_h_mm) + " mm, settings.cardH)");
+  }
   if (j.contains("contoursType")) {
     const std::string kind = in.string(j["contoursType"], key_path(path, "contoursType"));
     if (kind != "" && kind != "expolygons")
@@ -84,9 +110,9 @@ OaFace read_face(const json_util::Reader& in, const json& j, const std::string& 
   const std::string cp = key_path(path, "contours");
   in.require_array(contours, cp);
   if (contours.empty()) in.fail(cp, "has no contour: a face needs at least one");
-  if (contours.size() > kMaxFaces) in.fail(cp, "has more than " + std::to_string(kMaxFaces) + " contours");
+  if (contours.size() > kMaxOaFaces) in.fail(cp, "has more than " + std::to_string(kMaxOaFaces) + " contours");
   for (std::size_t i = 0; i < contours.size(); ++i)
-    f.contours.push_back(read_contour(in, contours[i], index_path(cp, i)));
+    f.contours.push_back(read_contour(r, contours[i], index_path(cp, i)));
   return f;
 }
 
@@ -107,23 +133,18 @@ OaCard parse_oa_card(const std::string& text, const std::string& source) {
   in.only_keys(settings, {"cardW", "cardH"}, "settings");
   OaCard card;
   card.width_mm = in.number(in.require(settings, "cardW", "settings"), "settings.cardW", 1e-3, kMaxFaceCoordinateMm);
+  // Half the sheet's limit: a top face can stand as high as a face's depth plus cardH.
   card.half_height_mm =
-      in.number(in.require(settings, "cardH", "settings"), "settings.cardH", 1e-3, kMaxFaceCoordinateMm);
+      in.number(in.require(settings, "cardH", "settings"), "settings.cardH", 1e-3, kMaxFaceCoordinateMm / 2);
   const json& faces = in.require(root, "faces", "");
   in.require_array(faces, "faces");
-  if (faces.size() > kMaxFaces) in.fail("faces", "has more than " + std::to_string(kMaxFaces) + " faces");
-  std::size_t points = 0;
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    card.faces.push_back(read_face(in, faces[i], index_path("faces", i)));
-    for (const OaContour& c : card.faces.back().contours) {
-      points += c.outer.size();
-      for (const Ring& h : c.holes) points += h.size();
-    }
-    if (points > kMaxOaPoints) {
-      throw Error(ErrorCode::limit, source, index_path("faces", i),
-                  "the card has more than " + std::to_string(kMaxOaPoints) + " points");
-    }
+  if (faces.size() > kMaxOaFaces) {
+    throw Error(
+        ErrorCode::limit, source, "faces",
+        "has " + std::to_string(faces.size()) + " faces; the limit for a .oa card is " + std::to_string(kMaxOaFaces));
   }
+  OaReader r{in, card.half_height_mm};
+  for (std::size_t i = 0; i < faces.size(); ++i) card.faces.push_back(read_face(r, faces[i], index_path("faces", i)));
   return card;
 }
 

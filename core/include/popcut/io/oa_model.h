@@ -9,9 +9,12 @@
 
 namespace popcut {
 
-// Points in all of a card's rings together (each ring also at most kMaxOutlinePoints, faces at
-// most kMaxFaces): the exact Booleans of the derivation grow with them.
-inline constexpr std::size_t kMaxOaPoints = 1000000;
+// A .oa card's drawn faces and the points of all their rings together (each ring also at most
+// kMaxOutlinePoints). webOAcard's cards have tens of faces and a few thousand points (a line of
+// text); the derivation's exact Booleans grow faster than linearly with both, so hostile files
+// are refused before it starts (docs/formats.md, "webOAcard .oa").
+inline constexpr std::size_t kMaxOaFaces = 2000;
+inline constexpr std::size_t kMaxOaPoints = 100000;
 
 // True for a path ending in ".oa" (any case): load_model reads it with parse_oa_model.
 bool is_oa_path(const std::string& path);
