@@ -217,10 +217,15 @@ std::string FaceModel::drawn_by(Point2 p) const {
       const auto k = std::upper_bound(edit_end_.begin(), edit_end_.end(), j) - edit_end_.begin();
       return "edits[" + std::to_string(k) + "]";
     }
-    if (!from_edits_) return "faces[" + std::to_string(j) + "]";
+    if (!from_edits_)
+      return given_names_ && j < given_names_->size() ? (*given_names_)[j] : "faces[" + std::to_string(j) + "]";
     return j == 0 ? "the back board" : "the floor";
   }
   return "the sheet";
+}
+
+void FaceModel::name_given_faces(std::vector<std::string> names) {
+  given_names_ = std::make_shared<const std::vector<std::string>>(std::move(names));
 }
 
 Rect FaceModel::sheet() const {

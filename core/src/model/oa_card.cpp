@@ -4,9 +4,12 @@
 #include <CGAL/Boolean_set_operations_2.h>
 
 #include <algorithm>
-#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
 
 #include "model/exact_faces.h"
+#include "model/oa_faces.h"
 #include "popcut/text.h"
 
 namespace popcut {
@@ -14,25 +17,37 @@ using namespace detail;
 
 namespace {
 
-// A set of pattern regions (x, v) in nm, and the plane they lie in.
+// A set of pattern regions (x, v) in nm, the plane they lie in, and the .oa faces that drew them.
 struct Layer {
-  FT t;                     // depth of a wall, height of a top face
+  FT t_nm;                  // depth of a wall, height of a top face
   bool expolygons = false;  // the first face of this depth was text: top edges only
   PolygonSet region;
+  std::vector<std::size_t> faces;  // indices into OaCard::faces, for messages
 };
+
+// Walls by depth, top faces by height: merging a face into its plane is a look-up, not a scan.
+using Layers = std::map<FT, Layer>;
 
 // A top edge (webOAcard's "upper"): a horizontal boundary edge with its face below it.
 struct Upper {
-  FT v, x_min, x_max, t;  // the edge at pattern height v from x_min to x_max, of a wall at depth t
-  bool in_hole = false;   // on a hole's ring: its top face may spread across the card
+  FT v_nm, x_min_nm, x_max_nm, t_nm;  // the edge at pattern height v from x_min to x_max, of a wall at depth t
+  bool in_hole = false;               // on a hole's ring: its top face may spread across the card
+  std::shared_ptr<const std::vector<std::size_t>> faces;  // the wall's .oa faces
 };
 
 struct Card {
-  FT width, half;
-  ExactPolygon rect(const FT& v0, const FT& v1) const { return rectangle(0, v0, width, v1); }
+  FT width_nm, half_nm;
+  ExactPolygon rect(const FT& v0_nm, const FT& v1_nm) const { return rectangle(0, v0_nm, width_nm, v1_nm); }
 };
 
 std::string mm_text(const FT& nm) { return format_significant(to_mm(nm)); }
+
+CGAL::Bbox_2 bbox_of(const PolygonSet& s) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  CGAL::Bbox_2 box(kInf, kInf, -kInf, -kInf);
+  for (auto v = s.arrangement().vertices_begin(); v != s.arrangement().vertices_end(); ++v) box += v->point().bbox();
+  return box;
+}
 
 // A contour's outer ring minus its holes, in pattern coordinates (X, -Y).
 PolygonSet contour_region(const OaContour& c, const std::string& source, const std::string& where) {
@@ -44,7 +59,8 @@ PolygonSet contour_region(const OaContour& c, const std::string& source, const s
   };
   PolygonSet region(exact_polygon(pattern(c.outer), source, where + ".outer"));
   for (std::size_t h = 0; h < c.holes.size(); ++h) {
-    region.difference(exact_polygon(pattern(c.holes[h]), source, where + ".holes[" + std::to_string(h) + "]"));
+    region.difference(
+        exact_polygon(pattern(c.holes[h]), source, where + ".holes[" + std::to_string(c.hole_index[h]) + "]"));
   }
   return region;
 }
@@ -54,35 +70,43 @@ PolygonSet face_region(const OaFace& f, const Card& card, const std::string& sou
   PolygonSet region;
   for (std::size_t i = 0; i < f.contours.size(); ++i)
     region.join(contour_region(f.contours[i], source, f.where + ".contours[" + std::to_string(i) + "]"));
-  region.intersection(card.rect(-card.half, card.half));
+  region.intersection(card.rect(-card.half_nm, card.half_nm));
   if (region.is_empty()) {
     fail(source, f.where + ".contours",
-         "lies outside the card (X from 0 to " + mm_text(card.width) + " mm, Y from -" + mm_text(card.half) + " to " +
-             mm_text(card.half) + " mm)");
+         "lies outside the card (X from 0 to " + mm_text(card.width_nm) + " mm, Y from -" + mm_text(card.half_nm) +
+             " to " + mm_text(card.half_nm) + " mm)");
   }
-  const FT t = exact_nm(f.t_mm);
-  region.intersection(card.rect(std::max(-t, -card.half), card.half));
+  const FT t_nm = exact_nm(f.t_mm);
+  region.intersection(card.rect(std::max(-t_nm, -card.half_nm), card.half_nm));
   if (region.is_empty()) fail(source, f.where + ".contours", "lies below the floor: every point has Y > t");
   return region;
 }
 
 // Layers of one depth are one face (tryMergeFaces); the first keeps its kind of contours.
-void merge_into(std::vector<Layer>& layers, Layer layer) {
-  for (Layer& l : layers) {
-    if (l.t == layer.t) {
-      l.region.join(layer.region);
-      return;
-    }
-  }
-  layers.push_back(std::move(layer));
+void merge_into(Layers& layers, Layer layer) {
+  const auto [it, added] = layers.try_emplace(layer.t_nm, std::move(layer));
+  if (added) return;
+  it->second.region.join(layer.region);
+  it->second.faces.insert(it->second.faces.end(), layer.faces.begin(), layer.faces.end());
 }
 
-// A hole cuts every layer at its depth or behind it; layers left empty go.
+// Cuts the hole from the layer unless their boxes are apart; true when nothing is left of it.
+bool cut(Layer& l, const Layer& hole, const CGAL::Bbox_2& hole_box) {
+  if (!CGAL::do_overlap(bbox_of(l.region), hole_box)) return false;
+  l.region.difference(hole.region);
+  return l.region.is_empty();
+}
+
+// A hole cuts every layer at its depth or behind it (t <= the hole's); layers left empty go.
+void cut_hole(Layers& layers, const Layer& hole) {
+  const CGAL::Bbox_2 box = bbox_of(hole.region);
+  for (auto it = layers.begin(); it != layers.upper_bound(hole.t_nm);)
+    it = cut(it->second, hole, box) ? layers.erase(it) : std::next(it);
+}
+
 void cut_hole(std::vector<Layer>& layers, const Layer& hole) {
-  for (Layer& l : layers)
-    if (l.t <= hole.t) l.region.difference(hole.region);
-  layers.erase(std::remove_if(layers.begin(), layers.end(), [](const Layer& l) { return l.region.is_empty(); }),
-               layers.end());
+  const CGAL::Bbox_2 box = bbox_of(hole.region);
+  std::erase_if(layers, [&](Layer& l) { return l.t_nm <= hole.t_nm && cut(l, hole, box); });
 }
 
 std::vector<ExactPolygonWithHoles> pieces(const PolygonSet& s) {
@@ -93,21 +117,22 @@ std::vector<ExactPolygonWithHoles> pieces(const PolygonSet& s) {
 
 // Horizontal edges running towards -x (the face lies below them: left of the edge), merged where
 // consecutive, as webOAcard's Clipper output has no collinear vertices.
-std::vector<Upper> ring_uppers(const ExactPolygon& ring, const FT& t, bool in_hole) {
+std::vector<Upper> ring_uppers(const ExactPolygon& ring, const Layer& layer, bool in_hole) {
   std::vector<Upper> out;
   const std::size_t n = ring.size();
   for (std::size_t i = 0; i < n; ++i) {
     const ExactPoint& p = ring[i];
     const ExactPoint& q = ring[(i + 1) % n];
     if (p.y() != q.y() || q.x() >= p.x()) continue;
-    out.push_back({p.y(), q.x(), p.x(), t, in_hole});
+    out.push_back({p.y(), q.x(), p.x(), layer.t_nm, in_hole, nullptr});
   }
-  std::sort(out.begin(), out.end(),
-            [](const Upper& a, const Upper& b) { return a.v != b.v ? a.v < b.v : a.x_min < b.x_min; });
+  std::sort(out.begin(), out.end(), [](const Upper& a, const Upper& b) {
+    return a.v_nm != b.v_nm ? a.v_nm < b.v_nm : a.x_min_nm < b.x_min_nm;
+  });
   std::vector<Upper> merged;
   for (const Upper& u : out) {
-    if (!merged.empty() && merged.back().v == u.v && merged.back().x_max == u.x_min)
-      merged.back().x_max = u.x_max;
+    if (!merged.empty() && merged.back().v_nm == u.v_nm && merged.back().x_max_nm == u.x_min_nm)
+      merged.back().x_max_nm = u.x_max_nm;
     else
       merged.push_back(u);
   }
@@ -116,23 +141,25 @@ std::vector<Upper> ring_uppers(const ExactPolygon& ring, const FT& t, bool in_ho
 
 // updateUpperLower2Ds: every top edge of the outer rings and holes; text (expolygons) only the
 // topmost edges of each outer ring; a pull only those of its holes (its outer ones are "invalid").
-std::vector<Upper> layer_uppers(const Layer& layer, bool outer_edges) {
-  std::vector<Upper> out;
+void add_uppers(const Layer& layer, bool outer_edges, std::vector<Upper>& out) {
+  const auto faces = std::make_shared<const std::vector<std::size_t>>(layer.faces);
+  const std::size_t first = out.size();
   for (const ExactPolygonWithHoles& p : pieces(layer.region)) {
-    std::vector<Upper> outer = ring_uppers(p.outer_boundary(), layer.t, false);
+    std::vector<Upper> outer = ring_uppers(p.outer_boundary(), layer, false);
     if (layer.expolygons && !outer.empty()) {
-      const FT top =
-          std::max_element(outer.begin(), outer.end(), [](const Upper& a, const Upper& b) { return a.v < b.v; })->v;
-      std::erase_if(outer, [&](const Upper& u) { return u.v != top; });
+      const FT top = std::max_element(outer.begin(), outer.end(), [](const Upper& a, const Upper& b) {
+                       return a.v_nm < b.v_nm;
+                     })->v_nm;
+      std::erase_if(outer, [&](const Upper& u) { return u.v_nm != top; });
     }
     if (outer_edges) out.insert(out.end(), outer.begin(), outer.end());
     if (layer.expolygons) continue;
     for (const ExactPolygon& h : p.holes()) {
-      const std::vector<Upper> hole = ring_uppers(h, layer.t, true);
+      const std::vector<Upper> hole = ring_uppers(h, layer, true);
       out.insert(out.end(), hole.begin(), hole.end());
     }
   }
-  return out;
+  for (std::size_t i = first; i < out.size(); ++i) out[i].faces = faces;
 }
 
 // getConnectedPoly: the pieces with an outer vertex on the edge's line within its extent.
@@ -140,141 +167,111 @@ PolygonSet touching(const PolygonSet& s, const Upper& e) {
   PolygonSet out;
   for (const ExactPolygonWithHoles& p : pieces(s)) {
     const ExactPolygon& o = p.outer_boundary();
-    if (std::any_of(o.vertices_begin(), o.vertices_end(),
-                    [&](const ExactPoint& q) { return q.y() == e.v && e.x_min <= q.x() && q.x() <= e.x_max; })) {
+    if (std::any_of(o.vertices_begin(), o.vertices_end(), [&](const ExactPoint& q) {
+          return q.y() == e.v_nm && e.x_min_nm <= q.x() && q.x() <= e.x_max_nm;
+        })) {
       out.join(p);
     }
   }
   return out;
 }
 
+struct Boxed {
+  const Layer* layer;
+  CGAL::Bbox_2 box;
+};
+
 // createHFaces for one edge: a top face from the edge back to the back board (a hole's edge
 // across the whole card), less every wall in front or at its depth, and less every wall behind
-// where that wall stands above the top face's height; the pieces still on the edge.
-Layer top_face(const Upper& e, const std::vector<Layer>& walls, const Card& card) {
+// where that wall stands above the top face's height; the pieces still on the edge. Walls whose
+// boxes miss the top face's cannot change it.
+Layer top_face(const Upper& e, const std::vector<Boxed>& walls, const Card& card) {
   const bool wide = e.in_hole;
-  PolygonSet region(rectangle(wide ? FT(0) : e.x_min, e.v, wide ? card.width : e.x_max, e.v + e.t));
-  for (const Layer& w : walls) {
-    if (w.t >= e.t) {
-      region.difference(w.region);
+  const ExactPolygon strip =
+      rectangle(wide ? FT(0) : e.x_min_nm, e.v_nm, wide ? card.width_nm : e.x_max_nm, e.v_nm + e.t_nm);
+  const CGAL::Bbox_2 box = strip.bbox();
+  PolygonSet region(strip);
+  for (const Boxed& w : walls) {
+    if (!CGAL::do_overlap(w.box, box)) continue;
+    if (w.layer->t_nm >= e.t_nm) {
+      region.difference(w.layer->region);
     } else {
-      PolygonSet above = w.region;
-      above.difference(rectangle(e.x_min, e.v, e.x_max, e.v + (e.t - w.t)));
+      PolygonSet above = w.layer->region;
+      above.difference(rectangle(e.x_min_nm, e.v_nm, e.x_max_nm, e.v_nm + (e.t_nm - w.layer->t_nm)));
       region.difference(above);
     }
   }
-  return {e.v + e.t, false, touching(region, e)};
+  return {e.v_nm + e.t_nm, false, touching(region, e), *e.faces};
 }
 
-// A face worked out exactly: its plane and region.
-struct Piece {
-  FaceKind kind;
-  FT t;
-  ExactPolygonWithHoles polygon;
-};
+// "faces[3]", "faces[3], faces[5]", "faces[3], faces[5], faces[8] and 4 more".
+std::string faces_text(const std::vector<std::size_t>& faces) {
+  std::string out;
+  for (std::size_t i = 0; i < faces.size() && i < 3; ++i)
+    out += (i ? ", faces[" : "faces[") + std::to_string(faces[i]) + "]";
+  if (faces.size() > 3) out += " and " + std::to_string(faces.size() - 3) + " more";
+  return out;
+}
 
-// From the layers at hand, bottom to top, each face what no later one covers.
-void emit(std::vector<Layer>& layers, FaceKind kind, const PolygonSet& over, std::vector<Piece>& out) {
-  std::sort(layers.begin(), layers.end(), [](const Layer& a, const Layer& b) { return a.t < b.t; });
-  PolygonSet above = over;
-  for (std::size_t i = layers.size(); i-- > 0;) {
-    PolygonSet shown = layers[i].region;
-    shown.difference(above);
-    above.join(layers[i].region);
+// What made a wall layer: "faces[3] (a wall at t = 24 mm)", "faces[3], faces[5] (walls and pulls at t = 24 mm)".
+std::string wall_name(const Layer& l, const OaCard& oa) {
+  const auto pulls =
+      std::count_if(l.faces.begin(), l.faces.end(), [&](std::size_t i) { return oa.faces[i].mode == OaMode::pull; });
+  const bool one = l.faces.size() == 1;
+  const std::string what = pulls == 0                                          ? (one ? "a wall" : "walls")
+                           : static_cast<std::size_t>(pulls) == l.faces.size() ? (one ? "a pull" : "pulls")
+                                                                               : "walls and pulls";
+  return faces_text(l.faces) + " (" + what + " at t = " + mm_text(l.t_nm) + " mm)";
+}
+
+std::string top_name(const Layer& l) {
+  return "the top face of " + faces_text(l.faces) + " (at z = " + mm_text(l.t_nm) + " mm)";
+}
+
+// Each layer's region less what a later (higher) layer or `over` covers, emitted as pieces. Only
+// the covers whose boxes meet a layer's are united for it, in one aggregated union.
+template <typename Name>
+void emit(const Layers& layers, FaceKind kind, std::vector<ExactPolygonWithHoles> over, Name name,
+          std::vector<OaPiece>& out) {
+  std::vector<CGAL::Bbox_2> boxes;
+  for (const ExactPolygonWithHoles& p : over) boxes.push_back(p.outer_boundary().bbox());
+  for (auto it = layers.rbegin(); it != layers.rend(); ++it) {
+    const Layer& l = it->second;
+    const CGAL::Bbox_2 box = bbox_of(l.region);
+    std::vector<ExactPolygonWithHoles> near;
+    for (std::size_t i = 0; i < over.size(); ++i)
+      if (CGAL::do_overlap(boxes[i], box)) near.push_back(over[i]);
+    PolygonSet shown = l.region, cover;
+    cover.join(near.begin(), near.end());
+    shown.difference(cover);
+    const std::string drawn_by = name(l);
     for (const ExactPolygonWithHoles& p : pieces(shown))
-      for (ExactPolygonWithHoles& lobe : split_lobes(p)) out.push_back({kind, layers[i].t, std::move(lobe)});
+      for (ExactPolygonWithHoles& lobe : split_lobes(p)) out.push_back({kind, l.t_nm, std::move(lobe), drawn_by});
+    for (ExactPolygonWithHoles& p : pieces(l.region)) {
+      boxes.push_back(p.outer_boundary().bbox());
+      over.push_back(std::move(p));
+    }
   }
 }
 
-// Every vertex of the faces, to find those lying inside another face's edge: a crossing of two
-// slanted edges is off the 1 nm grid, and rounding it in one face but not in the edge it touches
-// would open a gap. With the vertex in both rings, both round it alike and the faces still tile.
-class VertexIndex {
- public:
-  explicit VertexIndex(const std::vector<Piece>& faces) {
-    const auto add = [&](const ExactPolygon& ring) {
-      for (const ExactPoint& p : ring.container()) v_.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), p});
-    };
-    for (const Piece& f : faces) {
-      add(f.polygon.outer_boundary());
-      for (const ExactPolygon& h : f.polygon.holes()) add(h);
-    }
-    std::sort(v_.begin(), v_.end(), [](const Vertex& a, const Vertex& b) { return a.x < b.x; });
-  }
-
-  // The vertices strictly inside segment ab, in order from a.
-  std::vector<ExactPoint> inside(const ExactPoint& a, const ExactPoint& b) const {
-    constexpr double kSlackNm = 1;  // far above the doubles' error, far below any feature
-    const double ax = CGAL::to_double(a.x()), bx = CGAL::to_double(b.x());
-    const double ay = CGAL::to_double(a.y()), by = CGAL::to_double(b.y());
-    const double y0 = std::min(ay, by) - kSlackNm, y1 = std::max(ay, by) + kSlackNm;
-    auto it = std::lower_bound(v_.begin(), v_.end(), std::min(ax, bx) - kSlackNm,
-                               [](const Vertex& v, double x) { return v.x < x; });
-    std::vector<ExactPoint> out;
-    for (; it != v_.end() && it->x <= std::max(ax, bx) + kSlackNm; ++it) {
-      if (it->y < y0 || it->y > y1 || it->p == a || it->p == b) continue;
-      if (CGAL::collinear(a, b, it->p) && CGAL::collinear_are_strictly_ordered_along_line(a, it->p, b))
-        out.push_back(it->p);
-    }
-    std::sort(out.begin(), out.end(),
-              [&](const ExactPoint& p, const ExactPoint& q) { return CGAL::has_smaller_distance_to_point(a, p, q); });
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-  }
-
- private:
-  struct Vertex {
-    double x, y;
-    ExactPoint p;
-  };
-  std::vector<Vertex> v_;
-};
-
-double snapped_mm(const FT& nm) { return static_cast<double>(std::llround(CGAL::to_double(nm))) / kNmPerMm; }
-
-// A ring in mm on the 1 nm grid, with every vertex of another face that lies on its edges.
-Ring grid_ring(const ExactPolygon& ring, const VertexIndex& index) {
-  Ring out;
-  const auto put = [&](const ExactPoint& p) {
-    const Point2 q{snapped_mm(p.x()), snapped_mm(p.y())};
-    if (out.empty() || !(out.back() == q)) out.push_back(q);
-  };
-  const auto& v = ring.container();
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    put(v[i]);
-    for (const ExactPoint& p : index.inside(v[i], v[(i + 1) % v.size()])) put(p);
-  }
-  while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+std::vector<ExactPolygonWithHoles> all_pieces(const Layers& layers) {
+  std::vector<ExactPolygonWithHoles> out;
+  for (const auto& [t, l] : layers) l.region.polygons_with_holes(std::back_inserter(out));
   return out;
 }
 
-std::vector<OAFace> grid_faces(const std::vector<Piece>& pieces_in) {
-  const VertexIndex index(pieces_in);
-  std::vector<OAFace> out;
-  out.reserve(pieces_in.size());
-  for (const Piece& f : pieces_in) {
-    OAFace o{f.kind, to_mm(f.t), {grid_ring(f.polygon.outer_boundary(), index), {}}};
-    for (const ExactPolygon& h : f.polygon.holes()) o.polygon.holes.push_back(grid_ring(h, index));
-    out.push_back(std::move(o));
-  }
-  return out;
-}
-
-PolygonSet union_of(const std::vector<Layer>& layers) {
-  PolygonSet all;
-  for (const Layer& l : layers) all.join(l.region);
-  return all;
-}
-
-// The drawn faces sorted by mode, each clipped to the card; walls and pulls of a depth merged.
+// The drawn faces sorted by mode, each clipped to the card; walls of a depth merged (pulls merge
+// into them only after their top edges are found, as webOAcard's makeModel does).
 struct Drawn {
-  std::vector<Layer> walls, pulls, holes, forced_holes;
+  Layers walls;
+  std::vector<Layer> pulls, holes, forced_holes;
 };
 
-Drawn read_faces(const OaCard& card_in, const Card& card, const std::string& source) {
+Drawn read_faces(const OaCard& oa, const Card& card, const std::string& source) {
   Drawn d;
-  for (const OaFace& f : card_in.faces) {
-    Layer l{exact_nm(f.t_mm), f.expolygons, face_region(f, card, source)};
+  for (std::size_t i = 0; i < oa.faces.size(); ++i) {
+    const OaFace& f = oa.faces[i];
+    Layer l{exact_nm(f.t_mm), f.expolygons, face_region(f, card, source), {i}};
     switch (f.mode) {
       case OaMode::wall: merge_into(d.walls, std::move(l)); break;
       case OaMode::pull: d.pulls.push_back(std::move(l)); break;
@@ -285,56 +282,59 @@ Drawn read_faces(const OaCard& card_in, const Card& card, const std::string& sou
 }
 
 // makeModel: walls and pulls cut by holes, top faces from their edges, forced (text) holes last.
-void derive(Drawn& d, const Card& card, std::vector<Layer>& tops) {
+Layers derive(Drawn& d, const Card& card) {
   for (const Layer& hole : d.holes) {
     cut_hole(d.walls, hole);
     cut_hole(d.pulls, hole);
   }
   std::vector<Upper> uppers;
-  for (const Layer& w : d.walls) std::ranges::copy(layer_uppers(w, true), std::back_inserter(uppers));
-  for (const Layer& p : d.pulls) std::ranges::copy(layer_uppers(p, false), std::back_inserter(uppers));
+  for (const auto& [t, w] : d.walls) add_uppers(w, true, uppers);
+  for (const Layer& p : d.pulls) add_uppers(p, false, uppers);
   for (Layer& p : d.pulls) merge_into(d.walls, std::move(p));
+  std::vector<Boxed> walls;
+  for (const auto& [t, w] : d.walls) walls.push_back({&w, bbox_of(w.region)});
+  Layers tops;
   for (const Upper& e : uppers) {
-    if (e.t == 0) continue;  // a wall on the back board has no depth to roof
-    Layer top = top_face(e, d.walls, card);
+    if (e.t_nm == 0) continue;  // a wall on the back board has no depth to roof
+    Layer top = top_face(e, walls, card);
     if (!top.region.is_empty()) merge_into(tops, std::move(top));
   }
   for (const Layer& hole : d.forced_holes) {
     cut_hole(d.walls, hole);
     cut_hole(tops, hole);  // webOAcard compares a top face's height with the hole's depth
   }
-  for (Layer& top : tops) top.region.intersection(card.rect(-card.half, card.half));
+  for (auto& [h, top] : tops) {
+    top.region.intersection(card.rect(-card.half_nm, card.half_nm));
+    std::sort(top.faces.begin(), top.faces.end());
+    top.faces.erase(std::unique(top.faces.begin(), top.faces.end()), top.faces.end());
+  }
+  std::erase_if(tops, [](const auto& kv) { return kv.second.region.is_empty(); });
+  return tops;
 }
 
 }  // namespace
 
 FaceModel face_model_from_oa(const OaCard& oa, const std::string& source) {
   const Card card{exact_nm(oa.width_mm), exact_nm(oa.half_height_mm)};
-  std::vector<OAFace> faces = guarded(source, "faces", [&] {
+  const std::vector<OaPiece> faces = guarded(source, "faces", [&] {
     Drawn d = read_faces(oa, card, source);
-    std::vector<Layer> tops;
-    derive(d, card, tops);
-    const PolygonSet hs = union_of(tops);
-    PolygonSet covered = union_of(d.walls);
-    covered.join(hs);
-    std::vector<Piece> out;
-    std::vector<Layer> boards;
-    boards.push_back({FT(0), false, PolygonSet(card.rect(0, card.half))});
-    emit(boards, FaceKind::vertical, covered, out);
-    boards.front().region = PolygonSet(card.rect(-card.half, 0));
-    emit(boards, FaceKind::horizontal, covered, out);
-    emit(d.walls, FaceKind::vertical, hs, out);
-    emit(tops, FaceKind::horizontal, PolygonSet(), out);
-    return grid_faces(out);
+    const Layers tops = derive(d, card);
+    std::vector<ExactPolygonWithHoles> covered = all_pieces(d.walls), roofs = all_pieces(tops);
+    covered.insert(covered.end(), roofs.begin(), roofs.end());
+    std::vector<OaPiece> out;
+    Layers board;
+    board[FT(0)] = Layer{FT(0), false, PolygonSet(card.rect(0, card.half_nm)), {}};
+    emit(
+        board, FaceKind::vertical, covered, [](const Layer&) { return std::string("the back board"); }, out);
+    board[FT(0)].region = PolygonSet(card.rect(-card.half_nm, 0));
+    emit(
+        board, FaceKind::horizontal, covered, [](const Layer&) { return std::string("the floor"); }, out);
+    emit(
+        d.walls, FaceKind::vertical, roofs, [&](const Layer& l) { return wall_name(l, oa); }, out);
+    emit(tops, FaceKind::horizontal, {}, top_name, out);
+    return out;
   });
-  try {
-    // The faces tile the card by construction, every vertex on the grid and shared by the faces
-    // that meet there: a subdivision, whose cover from_subdivision still checks.
-    return FaceModel::from_subdivision(oa.width_mm, oa.half_height_mm, oa.half_height_mm, faces, source, true);
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::invalid_input) throw;
-    throw Error(ErrorCode::internal, source, e.location(), "the derived faces do not tile the card: " + e.message());
-  }
+  return oa_face_model(faces, oa.width_mm, oa.half_height_mm, source);
 }
 
 }  // namespace popcut

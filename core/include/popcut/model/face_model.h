@@ -100,6 +100,9 @@ class FaceModel {
   // What drew the face at pattern point p: "edits[k]", "faces[i]" for a model read as faces,
   // or "the back board" / "the floor" of the blank card. For error messages.
   std::string drawn_by(Point2 p) const;
+  // What drawn_by() says for each face read by from_faces or from_subdivision, in their order,
+  // when they came from another file's faces (a webOAcard card: "faces[3] (a wall at t = 24 mm)").
+  void name_given_faces(std::vector<std::string> names);
 
  private:
   using Drawn = std::vector<std::shared_ptr<const detail::ExactFace>>;
@@ -119,6 +122,7 @@ class FaceModel {
   mutable std::shared_ptr<detail::FaceCache> cache_;  // the faces of this state, once worked out
   std::vector<std::shared_ptr<detail::FaceCache>> undo_cache_, redo_cache_;  // of the states nearest in history
   bool from_edits_ = true;
+  std::shared_ptr<const std::vector<std::string>> given_names_;  // name_given_faces
 };
 
 }  // namespace popcut
