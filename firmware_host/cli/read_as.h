@@ -37,8 +37,8 @@ FoldableSheet load_cli_sheet(const std::string& path, const ReadAs& read_as, con
 // What a command cuts or draws: the card's pattern, or with --as sheet the sheet's own lines.
 Pattern load_cli_pattern(const std::string& path, const ReadAs& read_as);
 
-// What `submit` sends for a drawing: the card's face model (popcut.faces.v1), or with --as sheet
-// the sheet's lines as a pattern (popcut.pattern.v1), which popcutd cuts as it is.
+// What `submit` sends for a drawing or a webOAcard .oa card: the card's face model (popcut.faces.v1), or with --as
+// sheet the sheet's lines as a pattern (popcut.pattern.v1), which popcutd cuts as it is.
 std::string drawing_job_model(const std::string& path, const ReadAs& read_as);
 
 // validate --as sheet: the hinges, pieces, creases that cannot fold, open cycles and collisions
