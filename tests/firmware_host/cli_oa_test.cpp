@@ -1,11 +1,16 @@
-// popcut reading webOAcard .oa files: validate on a demo card and on a broken one, as a user runs it.
+// popcut reading webOAcard .oa files: validate on a demo card and on a broken one, and submit, as a user runs it.
 #include <gtest/gtest.h>
+#include <httplib.h>
 
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <thread>
+#include <variant>
 
 #include "cli_run.h"
+#include "popcut/io/model_io.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -21,9 +26,9 @@ class CliOa : public popcut::testing::CliFixture {
 
 TEST_F(CliOa, ValidateReadsADemoCard) {
   const CliRun r = run("validate " + demo("house.oa") + " --json");
-  ASSERT_TRUE(r.code == 0 || r.code == 1) << "a demo card is a card (0 pops up, 1 does not): " << r.err << r.out;
+  ASSERT_EQ(r.code, 0) << "the house pops up: exit 0: " << r.err << r.out;
   const nlohmann::json j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["pops_up"].get<bool>(), r.code == 0) << "the exit code says whether it pops up: " << r.out;
+  EXPECT_TRUE(j["pops_up"].get<bool>()) << "the report says it pops up: " << r.out;
   EXPECT_GT(j["faces"].get<int>(), 10) << "the house has its walls and top faces: " << r.out;
   const CliRun render = run("render " + demo("house.oa") + " --angle 75 -o " + (dir_ / "house.png").string());
   EXPECT_EQ(render.code, 0) << "render reads .oa too: " << render.err;
@@ -38,6 +43,58 @@ TEST_F(CliOa, AMalformedFileExitsTwoNamingTheField) {
   EXPECT_EQ(r.code, 2) << "bad input is exit 2: " << r.err;
   EXPECT_NE(r.err.find("bad.oa: faces[0].contours[0].outer[1].X: expected a number"), std::string::npos)
       << "the message names the file and the field: " << r.err;
+}
+
+// popcutd reads popcut's own models: submit sends a .oa card as the face model every command
+// reads from it (popcut.faces.v1), as it sends a drawing. A loopback server stands in for popcutd
+// and keeps what it was sent.
+TEST_F(CliOa, SubmitSendsTheCardAsItsFaceModel) {
+  httplib::Server server;
+  std::mutex m;
+  std::string body;
+  server.Post("/api/v1/jobs", [&](const httplib::Request& req, httplib::Response& res) {
+    {
+      const std::lock_guard lock(m);
+      body = req.body;
+    }
+    const nlohmann::json job = {{"id", 7},
+                                {"name", "house"},
+                                {"owner", "kiosk"},
+                                {"device", "a"},
+                                {"profile", "sim"},
+                                {"cut_on", nullptr},
+                                {"state", "queued"},
+                                {"strokes_total", 12},
+                                {"strokes_sent", 0},
+                                {"resume_from", 0},
+                                {"resume_point", nullptr},
+                                {"strokes_executed", nullptr},
+                                {"progress", 0.0},
+                                {"est_time_s", 3.5},
+                                {"created_at", 1700000000},
+                                {"started_at", nullptr},
+                                {"finished_at", nullptr},
+                                {"place_in_line", 1},
+                                {"eta_s", nullptr}};
+    res.status = 201;
+    res.set_content(job.dump(), "application/json");
+  });
+  const int port = server.bind_to_any_port("127.0.0.1");
+  std::thread serve([&] { server.listen_after_bind(); });
+  const CliRun r =
+      run("submit " + demo("house.oa") + " --device a --json --server http://127.0.0.1:" + std::to_string(port) +
+          " --token kiosk-0123456789abcdef");
+  server.stop();
+  serve.join();
+  ASSERT_EQ(r.code, 0) << "the card is queued: " << r.err << r.out;
+  const nlohmann::json sent = nlohmann::json::parse(body);
+  ASSERT_TRUE(sent.contains("model")) << "the job carries a model: " << body.substr(0, 200);
+  EXPECT_EQ(sent["model"]["format"], "popcut.faces.v1") << "the card goes as popcut's face model, not as .oa JSON";
+  const popcut::AnyModel got = popcut::parse_model(sent["model"].dump(), "sent");
+  const popcut::AnyModel house = popcut::load_model(demo("house.oa"));
+  ASSERT_TRUE(std::holds_alternative<popcut::FaceModel>(got)) << "a face model was sent";
+  EXPECT_EQ(std::get<popcut::FaceModel>(got).face_count(), std::get<popcut::FaceModel>(house).face_count())
+      << "the faces popcut reads from the .oa, all of them";
 }
 
 }  // namespace
