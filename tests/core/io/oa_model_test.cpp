@@ -10,6 +10,7 @@
 #include "popcut/error.h"
 #include "popcut/io/model_io.h"
 #include "popcut/io/oa_model.h"
+#include "pattern_oracle.h"
 #include "popcut/pattern/popup_check.h"
 
 namespace popcut {
@@ -34,26 +35,11 @@ std::string rect_face(double x0, double y0, double x1, double y1, double t, int 
          R"(, "contoursType": ")" + kind + R"("})";
 }
 
-bool inside(const Ring& ring, Point2 p) {
-  bool in = false;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-    const Point2 a = ring[i], b = ring[j];
-    if ((a.v_mm > p.v_mm) != (b.v_mm > p.v_mm) &&
-        p.x_mm < (b.x_mm - a.x_mm) * (p.v_mm - a.v_mm) / (b.v_mm - a.v_mm) + a.x_mm)
-      in = !in;
-  }
-  return in;
-}
-
-// The pattern face at pattern point (x, v).
+// The pattern face at pattern point (x, v); none where no face or more than one holds it.
 std::optional<PatternFace> face_at(const Pattern& p, double x, double v) {
-  for (const PatternFace& f : p.faces) {
-    if (!inside(f.outer, {x, v})) continue;
-    bool in_hole = false;
-    for (const Ring& h : f.holes) in_hole = in_hole || inside(h, {x, v});
-    if (!in_hole) return f;
-  }
-  return std::nullopt;
+  const int f = testing::face_at(p, {x, v});
+  if (f < 0) return std::nullopt;
+  return p.faces[static_cast<std::size_t>(f)];
 }
 
 // "V 20" / "H 40": a face's plane, for messages and comparisons.
