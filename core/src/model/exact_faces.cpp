@@ -153,6 +153,47 @@ std::shared_ptr<FaceModelState> initial_state(double width_mm, double back_mm, d
   return s;
 }
 
+namespace {
+
+std::shared_ptr<FaceModelState> empty_like(const FaceModelState& sheet) {
+  auto s = std::make_shared<FaceModelState>();
+  s->min_x = sheet.min_x;
+  s->max_x = sheet.max_x;
+  s->min_v = sheet.min_v;
+  s->max_v = sheet.max_v;
+  return s;
+}
+
+// Appends what of `d` the polygons in `cover` leave showing: d itself when nothing covers it,
+// else each piece of the difference, split where it pinches.
+void add_uncovered(const std::shared_ptr<const ExactFace>& d, const std::vector<ExactPolygonWithHoles>& cover,
+                   ExactFaces& out) {
+  if (cover.empty()) {
+    out.push_back(d);
+    return;
+  }
+  PolygonSet rest(d->polygon);
+  if (cover.size() == 1) {
+    rest.difference(cover.front());
+  } else {
+    PolygonSet covered;
+    covered.join(cover.begin(), cover.end());
+    rest.difference(covered);
+  }
+  std::vector<ExactPolygonWithHoles> pieces;
+  rest.polygons_with_holes(std::back_inserter(pieces));
+  for (const ExactPolygonWithHoles& piece : pieces) {
+    for (ExactPolygonWithHoles& lobe : split_lobes(piece)) out.push_back(make_face(d->kind, d->t, std::move(lobe)));
+  }
+}
+
+void check_face_count(const FaceModelState& s) {
+  if (s.faces.size() > kMaxFaces)
+    fail("", "edits", "the model would have more than " + std::to_string(kMaxFaces) + " faces");
+}
+
+}  // namespace
+
 std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet, const ExactFaces& drawn,
                                                      std::size_t given) {
   return guarded("", "faces", [&] {
@@ -161,37 +202,33 @@ std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet
       for_overlapping_boxes(drawn, [&](std::size_t i, std::size_t j) {
         if (j >= given) above[i].push_back(j);
       });
-    auto s = std::make_shared<FaceModelState>();
-    s->min_x = sheet.min_x;
-    s->max_x = sheet.max_x;
-    s->min_v = sheet.min_v;
-    s->max_v = sheet.max_v;
+    auto s = empty_like(sheet);
+    std::vector<ExactPolygonWithHoles> cover;
     for (std::size_t i = 0; i < drawn.size(); ++i) {
-      const ExactFace& d = *drawn[i];
-      if (above[i].empty()) {
-        s->faces.push_back(drawn[i]);
-        continue;
-      }
-      std::vector<ExactPolygonWithHoles> cover;
-      cover.reserve(above[i].size());
+      cover.clear();
       for (std::size_t j : above[i]) cover.push_back(drawn[j]->polygon);
-      PolygonSet rest(d.polygon);
-      if (cover.size() == 1) {
-        rest.difference(cover.front());
-      } else {
-        PolygonSet covered;
-        covered.join(cover.begin(), cover.end());
-        rest.difference(covered);
-      }
-      std::vector<ExactPolygonWithHoles> pieces;
-      rest.polygons_with_holes(std::back_inserter(pieces));
-      for (const ExactPolygonWithHoles& piece : pieces) {
-        for (ExactPolygonWithHoles& lobe : split_lobes(piece))
-          s->faces.push_back(make_face(d.kind, d.t, std::move(lobe)));
-      }
-      if (s->faces.size() > kMaxFaces)
-        fail("", "edits", "the model would have more than " + std::to_string(kMaxFaces) + " faces");
+      add_uncovered(drawn[i], cover, s->faces);
+      check_face_count(*s);
     }
+    return std::shared_ptr<const FaceModelState>(std::move(s));
+  });
+}
+
+std::shared_ptr<const FaceModelState> cover_faces(const FaceModelState& before, const ExactFaces& added) {
+  return guarded("", "faces", [&] {
+    auto s = empty_like(before);
+    s->faces.reserve(before.faces.size() + added.size());
+    std::vector<ExactPolygonWithHoles> cover;
+    const auto add = [&](const std::shared_ptr<const ExactFace>& d, std::size_t first_above) {
+      cover.clear();
+      for (std::size_t k = first_above; k < added.size(); ++k) {
+        if (CGAL::do_overlap(d->bbox, added[k]->bbox)) cover.push_back(added[k]->polygon);
+      }
+      add_uncovered(d, cover, s->faces);
+    };
+    for (const auto& f : before.faces) add(f, 0);
+    for (std::size_t k = 0; k < added.size(); ++k) add(added[k], k + 1);
+    check_face_count(*s);
     return std::shared_ptr<const FaceModelState>(std::move(s));
   });
 }

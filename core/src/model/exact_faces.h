@@ -72,4 +72,9 @@ void for_overlapping_boxes(const ExactFaces& faces, Visit visit) {
 std::shared_ptr<const FaceModelState> work_out_faces(const FaceModelState& sheet, const ExactFaces& drawn,
                                                      std::size_t given);
 
+// The same one edit later: the faces of the state before it, each minus the edit's polygons that
+// come near it, then the edit's own. Its cost follows the faces the edit touches (each Boolean),
+// not the history; the faces it leaves alone are shared.
+std::shared_ptr<const FaceModelState> cover_faces(const FaceModelState& before, const ExactFaces& added);
+
 }  // namespace popcut::detail

@@ -94,6 +94,25 @@ ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool 
 
 }  // namespace
 
+// Faces are worked out at most once per state; copies of a model share the result.
+struct detail::FaceCache {
+  std::once_flag once;
+  std::shared_ptr<const FaceModelState> state;
+  // Until worked out: the last worked-out state before it and the polygons of the edits since,
+  // so the faces come from laying those over it (one Boolean per face they touch).
+  std::shared_ptr<const FaceModelState> root;
+  ExactFaces added_since;
+  std::size_t edits_since = 0;
+};
+
+namespace {
+
+// Edits laid over a worked-out state before the whole history is worked out instead: a file
+// read edit by edit has no state to start from, an editor's edit a few.
+constexpr std::size_t kMaxEditsSince = 64;
+
+}  // namespace
+
 const char* to_string(EditOp op) { return kEditOpNames.name(op).data(); }
 
 FaceModel::FaceModel(double width_mm, double back_mm, double floor_mm) {
@@ -138,17 +157,31 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
     redo_drawn_.clear();
     redo_cache_.clear();
   }
-  for (auto& d : added) drawn_.push_back(std::move(d));
+  for (const auto& d : added) drawn_.push_back(d);
   edits_.push_back(edit);
   edit_end_.push_back(drawn_.size());
-  keep(undo_cache_, std::move(cache_));
+  std::shared_ptr<FaceCache> before = cache_;
+  keep(undo_cache_, cache_);
   changed();
+  // An editor asks for the faces after every edit (or every few): then the next state is the
+  // last worked-out one with the edits since laid over it, not the whole history worked out
+  // again. No reader runs during an edit, so the state is read without the once flag.
+  if (before->state) {
+    cache_->root = before->state;
+    cache_->added_since = std::move(added);
+    cache_->edits_since = 1;
+  } else if (before->root && before->edits_since < kMaxEditsSince) {
+    cache_->root = before->root;
+    cache_->added_since = before->added_since;
+    cache_->added_since.insert(cache_->added_since.end(), added.begin(), added.end());
+    cache_->edits_since = before->edits_since + 1;
+  }
 }
 
 // The faces of the last few states stay at hand, so stepping back and forth in an editor does
 // not work them out again; older states recompute on demand.
 void FaceModel::keep(std::vector<std::shared_ptr<FaceCache>>& stack, std::shared_ptr<FaceCache> cache) {
-  constexpr std::size_t kKeptStates = 16;
+  constexpr std::size_t kKeptStates = 128;  // states share their faces: each costs a vector of pointers
   if (stack.size() == kKeptStates) stack.erase(stack.begin());
   stack.push_back(std::move(cache));
 }
@@ -188,16 +221,15 @@ bool FaceModel::redo() {
   return true;
 }
 
-// Faces are worked out at most once per state; copies of a model share the result.
-struct detail::FaceCache {
-  std::once_flag once;
-  std::shared_ptr<const FaceModelState> state;
-};
-
 void FaceModel::changed() { cache_ = std::make_shared<FaceCache>(); }
 
 const FaceModelState& FaceModel::state() const {
-  std::call_once(cache_->once, [&] { cache_->state = work_out_faces(*sheet_, drawn_, given_); });
+  std::call_once(cache_->once, [&] {
+    cache_->state =
+        cache_->root ? cover_faces(*cache_->root, cache_->added_since) : work_out_faces(*sheet_, drawn_, given_);
+    cache_->root.reset();
+    cache_->added_since.clear();
+  });
   return *cache_->state;
 }
 
