@@ -1,0 +1,299 @@
+// Face-mode design session: items drawn back to front into a live face model, webOAcard's automatic tops, undo and redo
+// by item.
+#include "popcut/design/face_design.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <utility>
+
+#include "popcut/error.h"
+#include "popcut/pattern/face_pattern.h"
+#include "popcut/text.h"
+
+namespace popcut {
+
+namespace {
+
+using Outline = std::vector<std::array<double, 2>>;
+
+EditOp op_of(DesignTool tool) {
+  switch (tool) {
+    case DesignTool::wall: return EditOp::add_vface;
+    case DesignTool::opening: return EditOp::add_vhole;
+    case DesignTool::roof: return EditOp::add_hface;
+    case DesignTool::roof_opening: return EditOp::add_hhole;
+  }
+  return EditOp::add_vface;
+}
+
+// Where an item goes in drawing order: walls and their openings by depth, roofs and their
+// openings by their front edge (largest y), each after the walls at that depth.
+// Items of one key keep the order they were added in (their ids), so undoing a removal puts an
+// item back exactly where it was.
+std::tuple<double, int, std::uint64_t> order_key(const DesignItem& item, std::uint64_t id) {
+  if (item.tool == DesignTool::wall || item.tool == DesignTool::opening)
+    return {item.t_mm, item.tool == DesignTool::wall ? 0 : 1, id};
+  double front = 0;
+  for (const auto& p : item.outline) front = std::max(front, std::isfinite(p[1]) ? p[1] : 0.0);
+  return {front, item.tool == DesignTool::roof ? 2 : 3, id};
+}
+
+bool crosses(const Outline& o, double x) {
+  const auto [lo, hi] =
+      std::minmax_element(o.begin(), o.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  return lo != o.end() && (*lo)[0] < x && (*hi)[0] > x;
+}
+
+double signed_area(const Outline& o) {
+  double a = 0;
+  for (std::size_t i = 0; i < o.size(); ++i) {
+    const auto& p = o[i];
+    const auto& q = o[(i + 1) % o.size()];
+    a += p[0] * q[1] - q[0] * p[1];
+  }
+  return a / 2;
+}
+
+struct Stretch {
+  double x0, x1, depth;
+};
+
+// Where the line v = c crosses the rings of a face: the x-intervals inside it (even-odd).
+void crossings(const OAFace& f, double c, double depth, std::vector<Stretch>& out) {
+  std::vector<double> xs;
+  const auto ring = [&](const Ring& r) {
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const Point2& p = r[i];
+      const Point2& q = r[(i + 1) % r.size()];
+      if ((p.v_mm > c) == (q.v_mm > c)) continue;
+      xs.push_back(p.x_mm + (c - p.v_mm) * (q.x_mm - p.x_mm) / (q.v_mm - p.v_mm));
+    }
+  };
+  ring(f.polygon.outer);
+  for (const Ring& h : f.polygon.holes) ring(h);
+  std::sort(xs.begin(), xs.end());
+  for (std::size_t i = 0; i + 1 < xs.size(); i += 2) out.push_back({xs[i], xs[i + 1], depth});
+}
+
+// One top edge at height h over [x0, x1]: the stretches of x and the depth each runs back to.
+std::vector<Stretch> stops_behind(const std::vector<OAFace>& faces, double t_mm, double h, double x0, double x1) {
+  // Just above the edge, off the 1 nm grid every vertex lies on, so no vertex sits on the probe.
+  constexpr double kAboveMm = 0.25e-6;
+  std::vector<Stretch> cover;
+  for (const OAFace& f : faces) {
+    if (f.kind != FaceKind::vertical || f.t_mm >= t_mm) continue;
+    crossings(f, h + kAboveMm - f.t_mm, f.t_mm, cover);
+  }
+  std::vector<double> cuts = {x0, x1};
+  for (const Stretch& s : cover) {
+    if (s.x0 > x0 && s.x0 < x1) cuts.push_back(s.x0);
+    if (s.x1 > x0 && s.x1 < x1) cuts.push_back(s.x1);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  std::vector<Stretch> out;
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const double mid = (cuts[i] + cuts[i + 1]) / 2;
+    double depth = -1;
+    for (const Stretch& s : cover) {
+      if (s.x0 < mid && mid < s.x1) depth = std::max(depth, s.depth);
+    }
+    if (depth < 0) continue;  // nothing behind to hold a top
+    if (!out.empty() && out.back().x1 == cuts[i] && out.back().depth == depth)
+      out.back().x1 = cuts[i + 1];
+    else
+      out.push_back({cuts[i], cuts[i + 1], depth});
+  }
+  return out;
+}
+
+}  // namespace
+
+Outline mirrored(const Outline& outline, double width_mm) {
+  Outline out(outline.rbegin(), outline.rend());  // reflection reverses the winding: read backwards
+  for (auto& p : out) p[0] = width_mm - p[0];
+  return out;
+}
+
+std::vector<FaceEdit> wall_tops(const FaceModel& model, double t_mm, const Outline& outline) {
+  if (outline.size() < 3) return {};
+  Outline ccw = outline;
+  if (signed_area(ccw) < 0) std::reverse(ccw.begin(), ccw.end());
+  const std::vector<OAFace> faces = model.faces();
+  std::vector<FaceEdit> tops;
+  for (std::size_t i = 0; i < ccw.size(); ++i) {
+    const auto& a = ccw[i];
+    const auto& b = ccw[(i + 1) % ccw.size()];
+    // Counter-clockwise, an edge running towards -x has the wall below it: a top edge.
+    if (a[1] != b[1] || b[0] >= a[0] || a[1] <= 0) continue;
+    for (const Stretch& s : stops_behind(faces, t_mm, a[1], b[0], a[0])) {
+      tops.push_back({EditOp::add_hface, a[1], {{s.x0, s.depth}, {s.x1, s.depth}, {s.x1, t_mm}, {s.x0, t_mm}}});
+    }
+  }
+  return tops;
+}
+
+FaceDesign::FaceDesign(double width_mm, double back_mm, double floor_mm)
+    : width_mm_(width_mm), model_(width_mm, back_mm, floor_mm) {}
+
+std::size_t FaceDesign::draw(const DesignItem& item, const std::string& where) {
+  std::vector<Outline> outlines = {item.outline};
+  if (item.mirror) {
+    const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
+    if (opening && crosses(item.outline, width_mm_ / 2)) {
+      throw Error(ErrorCode::invalid_input, "", where + ".outline",
+                  "a mirrored opening must lie on one side of the centre line x = " + format_decimal(width_mm_ / 2, 3) +
+                      " mm: draw an opening across it whole, without mirror");
+    }
+    outlines.push_back(mirrored(item.outline, width_mm_));
+  }
+  // The tops are found among the faces behind, before the wall is drawn: then the wall and its
+  // tops are laid over the model in one step (one Boolean per face they touch).
+  std::vector<FaceEdit> tops;
+  if (item.tool == DesignTool::wall && item.top) {
+    for (const Outline& o : outlines) {
+      for (FaceEdit& top : wall_tops(model_, item.t_mm, o)) tops.push_back(std::move(top));
+    }
+  }
+  std::size_t applied = 0;
+  try {
+    for (const Outline& o : outlines) {
+      model_.apply({op_of(item.tool), item.t_mm, o}, "", where);
+      ++applied;
+    }
+    for (const FaceEdit& top : tops) {
+      model_.apply(top, "", where + " (its top face at z = " + format_decimal(top.t_mm, 3) + " mm)");
+      ++applied;
+    }
+  } catch (...) {
+    for (std::size_t k = 0; k < applied; ++k) model_.undo();
+    throw;
+  }
+  return applied;
+}
+
+std::size_t FaceDesign::position_for(const Placed& placed) const {
+  const auto key = order_key(placed.item, placed.id);
+  std::size_t pos = placed_.size();
+  while (pos > 0 && key < order_key(placed_[pos - 1].item, placed_[pos - 1].id)) --pos;
+  return pos;
+}
+
+std::size_t FaceDesign::edits_before(std::size_t pos) const {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < pos; ++i) n += placed_[i].edits;
+  return n;
+}
+
+// Takes back every face edit from item `pos` on and draws `tail` there instead; on failure puts
+// the old items back (they drew before, so they draw again) and rethrows. `new_at` is the index
+// in `tail` of the item being added (its errors name `where`), or tail.size() for none.
+void FaceDesign::redraw_from(std::size_t pos, std::vector<Placed> tail, const std::string& where, std::size_t new_at) {
+  const std::size_t keep = edits_before(pos);
+  std::vector<Placed> old(placed_.begin() + static_cast<std::ptrdiff_t>(pos), placed_.end());
+  const auto back_to = [&] {
+    while (model_.edits().size() > keep) model_.undo();
+    placed_.resize(pos);
+  };
+  back_to();
+  last_work_ = 0;
+  try {
+    for (std::size_t i = 0; i < tail.size(); ++i) {
+      const std::string name = i == new_at ? where
+                                           : "the " + std::string(kDesignToolNames.name(tail[i].item.tool)) +
+                                                 " drawn as item " + std::to_string(tail[i].id);
+      tail[i].edits = draw(tail[i].item, name);
+      last_work_ += tail[i].edits;
+      placed_.push_back(std::move(tail[i]));
+    }
+  } catch (...) {
+    back_to();
+    for (Placed& p : old) {
+      p.edits = draw(p.item, "item " + std::to_string(p.id));
+      placed_.push_back(std::move(p));
+    }
+    changed();
+    throw;
+  }
+  changed();
+}
+
+void FaceDesign::insert(std::size_t pos, Placed placed, const std::string& where) {
+  std::vector<Placed> tail = {std::move(placed)};
+  tail.insert(tail.end(), placed_.begin() + static_cast<std::ptrdiff_t>(pos), placed_.end());
+  redraw_from(pos, std::move(tail), where, 0);
+}
+
+void FaceDesign::erase(std::size_t pos) {
+  std::vector<Placed> tail(placed_.begin() + static_cast<std::ptrdiff_t>(pos) + 1, placed_.end());
+  const std::size_t n = tail.size();
+  redraw_from(pos, std::move(tail), "", n);
+}
+
+void FaceDesign::add(const DesignItem& item, const std::string& where) {
+  if (placed_.size() >= kMaxDesignItems)
+    throw Error(ErrorCode::invalid_input, "", where,
+                "a design may have at most " + std::to_string(kMaxDesignItems) + " items");
+  Placed placed{next_id_, item, 0};
+  insert(position_for(placed), placed, where);
+  ++next_id_;
+  undo_.push_back({true, std::move(placed)});
+  redo_.clear();
+}
+
+bool FaceDesign::remove(std::uint64_t id) {
+  const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == id; });
+  if (it == placed_.end()) return false;
+  Placed gone = *it;
+  erase(static_cast<std::size_t>(it - placed_.begin()));
+  undo_.push_back({false, std::move(gone)});
+  redo_.clear();
+  return true;
+}
+
+bool FaceDesign::undo() {
+  if (undo_.empty()) return false;
+  Action a = undo_.back();
+  if (a.added) {
+    const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == a.placed.id; });
+    erase(static_cast<std::size_t>(it - placed_.begin()));
+  } else {
+    insert(position_for(a.placed), a.placed, "undo");
+  }
+  undo_.pop_back();
+  redo_.push_back(std::move(a));
+  return true;
+}
+
+bool FaceDesign::redo() {
+  if (redo_.empty()) return false;
+  Action a = redo_.back();
+  if (a.added) {
+    insert(position_for(a.placed), a.placed, "redo");
+  } else {
+    const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == a.placed.id; });
+    erase(static_cast<std::size_t>(it - placed_.begin()));
+  }
+  redo_.pop_back();
+  undo_.push_back(std::move(a));
+  return true;
+}
+
+void FaceDesign::changed() { have_view_ = false; }
+
+const Pattern& FaceDesign::pattern() const {
+  if (!have_view_) {
+    pattern_ = make_pattern(model_);
+    report_ = check_popup(pattern_);
+    have_view_ = true;
+  }
+  return pattern_;
+}
+
+const PopupReport& FaceDesign::report() const {
+  pattern();
+  return report_;
+}
+
+}  // namespace popcut
