@@ -1,0 +1,139 @@
+// Designer edit latency: one edit to a face-mode design answered with its pattern, pop-up check and 3D mesh, p50/p99 at
+// 500 and 2,000 faces.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <random>
+
+#include "bench_table.h"
+#include "popcut/design/face_design.h"
+#include "popcut/fold/fold.h"
+
+namespace {
+
+using popcut::DesignItem;
+using popcut::DesignTool;
+using popcut::FaceDesign;
+
+DesignItem wall(double t, double x0, double x1, double h) {
+  return {DesignTool::wall, t, {{x0, 0}, {x1, 0}, {x1, h}, {x0, h}}, true, false};
+}
+
+// A street of walls at depths 5–24 mm, each with its top: about two faces a wall. Added back to
+// front, as a designer would draw it (adding in any order gives the same card, only slower).
+FaceDesign street(int faces) {
+  const int walls = faces / 2;
+  FaceDesign d(5.0 * walls + 10, 60, 60);
+  std::mt19937_64 rng(3);
+  std::vector<DesignItem> items;
+  for (int i = 0; i < walls; ++i) {
+    const double x0 = 5.0 + 5.0 * i;
+    items.push_back(wall(5 + static_cast<double>(rng() % 20), x0, x0 + 4, 5 + static_cast<double>(rng() % 30)));
+  }
+  std::stable_sort(items.begin(), items.end(),
+                   [](const DesignItem& a, const DesignItem& b) { return a.t_mm < b.t_mm; });
+  for (const DesignItem& it : items) d.add(it);
+  d.pattern();
+  return d;
+}
+
+// What the designer page gets back for an edit: the pattern, the check and the card at 90°.
+std::size_t answer(const FaceDesign& d) {
+  const popcut::CardMesh mesh = popcut::fold_card(d.pattern(), 90);
+  return d.pattern().lines.size() + d.report().not_standing.size() + mesh.triangles.size();
+}
+
+double percentile(std::vector<double> ms, double p) {
+  std::sort(ms.begin(), ms.end());
+  return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * static_cast<double>(ms.size())))];
+}
+
+void record(benchmark::State& state, const std::vector<double>& ms, const FaceDesign& d) {
+  state.counters["faces"] = static_cast<double>(d.pattern().faces.size());
+  state.counters["model_faces"] = static_cast<double>(d.model().face_count());
+  state.counters["p50_ms"] = percentile(ms, 0.5);
+  state.counters["p99_ms"] = percentile(ms, 0.99);
+  state.counters["max_ms"] = *std::max_element(ms.begin(), ms.end());
+}
+
+enum class Case { wall_in_front, undo, redo, wall_behind };
+
+// Each iteration times one edit and its answer; the design is put back between iterations
+// (untimed), so every edit meets the same card.
+void run(benchmark::State& state, Case what) {
+  FaceDesign d = street(static_cast<int>(state.range(0)));
+  std::mt19937_64 rng(11);
+  std::vector<double> ms, edit_ms, pattern_ms;  // whole answer; the edit alone; its pattern and check
+  const double width = d.width_mm();
+  for (auto _ : state) {
+    const double x0 = std::uniform_real_distribution<double>(0, width - 30)(rng);
+    const double x = std::round(x0);
+    const DesignItem item = what == Case::wall_behind ? wall(2, x, x + 20, 12) : wall(30, x, x + 20, 12);
+    if (what == Case::undo || what == Case::redo) {
+      state.PauseTiming();
+      d.add(item);
+      answer(d);
+      if (what == Case::redo) {
+        d.undo();
+        answer(d);
+      }
+      state.ResumeTiming();
+    }
+    const auto start = std::chrono::steady_clock::now();
+    if (what == Case::undo)
+      d.undo();
+    else if (what == Case::redo)
+      d.redo();
+    else
+      d.add(item);
+    const auto edited = std::chrono::steady_clock::now();
+    d.pattern();
+    const auto patterned = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(answer(d));
+    const auto end = std::chrono::steady_clock::now();
+    ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
+    edit_ms.push_back(std::chrono::duration<double, std::milli>(edited - start).count());
+    pattern_ms.push_back(std::chrono::duration<double, std::milli>(patterned - edited).count());
+    state.PauseTiming();
+    if (what != Case::undo) {
+      d.undo();
+      answer(d);
+    }
+    state.ResumeTiming();
+  }
+  record(state, ms, d);
+  state.counters["edit_p50_ms"] = percentile(edit_ms, 0.5);
+  state.counters["pattern_p50_ms"] = percentile(pattern_ms, 0.5);
+}
+
+void BM_WallInFront(benchmark::State& state) { run(state, Case::wall_in_front); }
+void BM_Undo(benchmark::State& state) { run(state, Case::undo); }
+void BM_Redo(benchmark::State& state) { run(state, Case::redo); }
+void BM_WallBehind(benchmark::State& state) { run(state, Case::wall_behind); }
+
+BENCHMARK(BM_WallInFront)->Arg(500)->Arg(2000)->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Undo)->Arg(500)->Arg(2000)->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Redo)->Arg(500)->Arg(2000)->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WallBehind)->Arg(500)->Arg(2000)->Iterations(10)->Unit(benchmark::kMillisecond);
+
+void print_table(const popcut::bench::CollectingReporter& reporter) {
+  std::printf("\n%-36s %6s %8s %8s %8s %8s %8s %8s\n", "edit + answer", "faces", "p50 ms", "p99 ms", "max ms", "edit",
+              "pattern", "< 30 ms");
+  for (const auto& row : reporter.rows()) {
+    const auto c = [&](const char* k) {
+      const auto it = row.counters.find(k);
+      return it == row.counters.end() ? 0.0 : it->second;
+    };
+    std::printf("%-36s %6.0f %8.2f %8.2f %8.2f %8.2f %8.2f %8s\n", row.name.c_str(), c("faces"), c("p50_ms"),
+                c("p99_ms"), c("max_ms"), c("edit_p50_ms"), c("pattern_p50_ms"), c("p99_ms") < 30 ? "yes" : "NO");
+  }
+  std::printf(
+      "edit: the item drawn, its faces laid over the model (p50); pattern: the faces that edit left to work out,\n"
+      "make_pattern and check_popup (p50); the rest of p50 is the mesh at 90 degrees\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return popcut::bench::run_with_table(argc, argv, print_table); }
