@@ -100,8 +100,8 @@ class FaceDesign {
 };
 
 // The top faces webOAcard's rule gives a wall drawn with `outline` at depth t_mm over the faces
-// of `model` (the walls behind it, before the wall itself is drawn): for each horizontal top edge at height h, stretches of x each
-// running back to the depth of the nearest VFace behind that covers (x, h) from above, or to the
+// of `model` (the walls behind it, before the wall itself is drawn): for each horizontal top edge at height h,
+// stretches of x each running back to the depth of the nearest VFace behind that covers (x, h) from above, or to the
 // back board. Stretches where no wall or board stands behind get no top. As add_hface edits.
 std::vector<FaceEdit> wall_tops(const FaceModel& model, double t_mm, const std::vector<std::array<double, 2>>& outline);
 
