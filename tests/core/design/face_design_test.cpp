@@ -87,6 +87,20 @@ TEST(FaceDesign, TopsStopWhereTheWallBehindStopsRising) {
   EXPECT_TRUE(d.report().pops_up());
 }
 
+TEST(FaceDesign, SlantedTopEdgesAndStretchesWithNothingBehindGetNoTop) {
+  FaceModel blank(100, 30, 80);  // a back board only 30 high
+  // A gable: two slanted top edges and one flat stretch at z = 20 between x 40 and 60.
+  const std::vector<std::array<double, 2>> gable = {{20, 0}, {80, 0}, {80, 10}, {60, 20}, {40, 20}, {20, 10}};
+  const std::vector<FaceEdit> tops = wall_tops(blank, 10, gable);
+  ASSERT_EQ(tops.size(), 1u) << "the flat edge only";
+  EXPECT_EQ(tops[0].t_mm, 20);
+  EXPECT_EQ(tops[0].outline, (std::vector<std::array<double, 2>>{{40, 0}, {60, 0}, {60, 10}, {40, 10}}));
+  // Clockwise input is read as the same wall.
+  EXPECT_EQ(wall_tops(blank, 10, std::vector<std::array<double, 2>>(gable.rbegin(), gable.rend())), tops);
+  // A wall taller than the back board: above z = 30 nothing stands behind, so no top.
+  EXPECT_TRUE(wall_tops(blank, 10, {{20, 0}, {80, 0}, {80, 35}, {20, 35}}).empty());
+}
+
 TEST(FaceDesign, AWallWithItsTopTurnedOffGetsNone) {
   FaceDesign d(100, 80, 80);
   d.add(wall(30, 15, 85, 40, false));
