@@ -55,6 +55,9 @@ TEST(FaceModelIncremental, EveryStateEqualsTheHistoryWorkedOutAtOnce) {
         live.face_count();
         ASSERT_TRUE(live.redo());
       }
+      // Read now or after a few more edits: the edits since the last read are laid over it at once.
+      const bool last = k + 1 == drawn.edits().size();
+      if (!last && std::uniform_int_distribution<int>(0, 2)(rng) != 0) continue;
       FaceModel fresh(sheet.max.x_mm, sheet.max.v_mm, -sheet.min.v_mm);
       for (std::size_t j = 0; j <= k; ++j) fresh.apply(drawn.edits()[j]);
       expect_same(summary(live), summary(fresh),
@@ -63,7 +66,7 @@ TEST(FaceModelIncremental, EveryStateEqualsTheHistoryWorkedOutAtOnce) {
       if (::testing::Test::HasFailure()) return;
     }
   }
-  EXPECT_GT(compared, 400) << "enough states compared";
+  EXPECT_GT(compared, 200) << "enough states compared";
 }
 
 }  // namespace
