@@ -240,6 +240,7 @@ void FaceDesign::add(const DesignItem& item, const std::string& where) {
   ++next_id_;
   undo_.push_back({true, std::move(placed)});
   redo_.clear();
+  model_redo_depth_ = 0;
 }
 
 bool FaceDesign::remove(std::uint64_t id) {
@@ -249,6 +250,7 @@ bool FaceDesign::remove(std::uint64_t id) {
   erase(static_cast<std::size_t>(it - placed_.begin()));
   undo_.push_back({false, std::move(gone)});
   redo_.clear();
+  model_redo_depth_ = 0;
   return true;
 }
 
@@ -257,9 +259,14 @@ bool FaceDesign::undo() {
   Action a = undo_.back();
   if (a.added) {
     const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == a.placed.id; });
+    const bool last = it + 1 == placed_.end();
+    a.placed.edits = it->edits;
     erase(static_cast<std::size_t>(it - placed_.begin()));
+    // The last item's edits were only taken back: the model can redo them as they were.
+    model_redo_depth_ = last ? model_redo_depth_ + 1 : 0;
   } else {
     insert(position_for(a.placed), a.placed, "undo");
+    model_redo_depth_ = 0;
   }
   undo_.pop_back();
   redo_.push_back(std::move(a));
@@ -269,9 +276,22 @@ bool FaceDesign::undo() {
 bool FaceDesign::redo() {
   if (redo_.empty()) return false;
   Action a = redo_.back();
-  if (a.added) {
+  if (a.added && model_redo_depth_ > 0 && position_for(a.placed) == placed_.size()) {
+    // Back in front of everything, over the same faces: the model's own redo restores the kept
+    // state instead of drawing the item again.
+    for (std::size_t k = 0; k < a.placed.edits; ++k) {
+      if (!model_.redo())
+        throw Error(ErrorCode::internal, "", "redo", "the face model has fewer edits to redo than the item made");
+    }
+    placed_.push_back(a.placed);
+    last_work_ = a.placed.edits;
+    --model_redo_depth_;
+    changed();
+  } else if (a.added) {
     insert(position_for(a.placed), a.placed, "redo");
+    model_redo_depth_ = 0;
   } else {
+    model_redo_depth_ = 0;
     const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == a.placed.id; });
     erase(static_cast<std::size_t>(it - placed_.begin()));
   }

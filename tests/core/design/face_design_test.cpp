@@ -216,7 +216,15 @@ TEST(FaceDesign, TheCardDoesNotDependOnTheOrderItemsAreAddedIn) {
       ADD_FAILURE() << "trial " << trial << ": items the shuffled design took fail back to front: " << e.what();
       continue;
     }
-    EXPECT_EQ(summary(shuffled.pattern()), summary(sorted.pattern())) << "trial " << trial;
+    const Summary expected = summary(sorted.pattern());
+    EXPECT_EQ(summary(shuffled.pattern()), expected) << "trial " << trial;
+    // Every item taken back (some from behind others, so redrawn) and put back again.
+    while (shuffled.undo()) {
+    }
+    EXPECT_EQ(shuffled.model().edits().size(), 0u);
+    while (shuffled.redo()) {
+    }
+    EXPECT_EQ(summary(shuffled.pattern()), expected) << "trial " << trial << ", after undoing and redoing all";
     ++compared;
   }
   EXPECT_EQ(compared, 40);

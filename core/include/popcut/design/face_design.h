@@ -94,6 +94,7 @@ class FaceDesign {
   std::vector<Action> undo_, redo_;
   std::uint64_t next_id_ = 1;
   std::size_t last_work_ = 0;
+  std::size_t model_redo_depth_ = 0;  // actions atop redo_ whose edits the model itself can redo
   mutable bool have_view_ = false;
   mutable Pattern pattern_;
   mutable PopupReport report_;
