@@ -20,6 +20,7 @@
 #include "popcut/error.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
+#include "popcut/io/design_json.h"
 #include "popcut/io/oa_model.h"
 #include "popcut/mesh/mesh_import.h"
 
@@ -253,10 +254,11 @@ int submit(const ClientCommands& s, Connection& c) {
       if (s.read_as.sheet() && !is_drawing_path(s.model_path))
         throw Error(ErrorCode::invalid_input, s.model_path, "--as",
                     "--as sheet reads drawings (FILE.svg, FILE.dxf, FILE.fold); a model file is a card already");
-      // A drawing or a webOAcard card is read here, as every command reads one, and goes as the
-      // model it makes: popcutd reads popcut's own model formats only.
-      const bool converted = is_drawing_path(s.model_path) || is_oa_path(s.model_path);
-      const std::string text = converted ? drawing_job_model(s.model_path, s.read_as) : read_text_file(s.model_path);
+      // A drawing, a webOAcard card or a design (popcut.design.v1) is read here, as every command
+      // reads one, and goes as the model it makes: popcutd reads popcut's own model formats only.
+      const bool drawn = is_drawing_path(s.model_path) || is_oa_path(s.model_path);
+      std::string text = drawn ? std::string() : read_text_file(s.model_path);
+      if (drawn || is_design_document(text)) text = drawing_job_model(s.model_path, s.read_as);
       model = parse_shallow(text, kBadInput, s.model_path);
     } catch (const json::exception& e) {
       throw ClientFailure{kBadInput, s.model_path + ": not JSON: " + e.what()};

@@ -6,6 +6,7 @@
 #include "io/json_util.h"
 #include "io/readers.h"
 #include "popcut/error.h"
+#include "popcut/io/design_json.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
 #include "popcut/io/oa_model.h"
@@ -97,7 +98,10 @@ AnyModel load_model(const std::string& path) {
     return std::move(*imported.card.model);
   }
   if (is_oa_path(path)) return parse_oa_model(read_text_file(path), path);
-  return parse_model(read_text_file(path), path == "-" ? "<stdin>" : path);
+  const std::string source = path == "-" ? "<stdin>" : path;
+  const std::string text = read_text_file(path);
+  if (is_design_document(text)) return parse_design(text, source).model();
+  return parse_model(text, source);
 }
 
 std::string to_face_json(const FaceModel& model, const std::string& name) {

@@ -1,0 +1,86 @@
+// popcut.design.v1 reader and writer: a face-mode design's sheet and items.
+#include "popcut/io/design_json.h"
+
+#include <sstream>
+
+#include "io/json_util.h"
+#include "popcut/error.h"
+
+namespace popcut {
+using json_util::index_path;
+using json_util::json;
+using json_util::number_text;
+
+bool is_design_document(const std::string& text) {
+  const json root = json::parse(text, nullptr, false);
+  return root.is_object() && root.contains("format") && root["format"] == kDesignFormat;
+}
+
+FaceDesign parse_design(const std::string& text, const std::string& source) {
+  const json root = json_util::parse(text, source);
+  const json_util::Reader in(source);
+  in.require_document(root, kDesignFormat, {"format", "name", "sheet", "items"});
+  const json& sheet = in.require(root, "sheet", "");
+  in.require_object(sheet, "sheet");
+  in.only_keys(sheet, {"width", "back", "floor"}, "sheet");
+  const auto size = [&](const char* key) {
+    return in.number(in.require(sheet, key, "sheet"), std::string("sheet.") + key, 1e-3, kMaxFaceCoordinateMm);
+  };
+  const double width = size("width"), back = size("back"), floor = size("floor");
+  if (root.contains("name")) in.string(root["name"], "name", 256);
+  const json& items = in.require(root, "items", "");
+  in.require_array(items, "items");
+  if (items.size() > kMaxDesignItems) in.fail("items", "has more than " + std::to_string(kMaxDesignItems) + " items");
+  FaceDesign design(width, back, floor);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string path = index_path("items", i);
+    const json& j = items[i];
+    in.require_object(j, path);
+    in.only_keys(j, {"tool", "t", "outline", "top", "mirror"}, path);
+    DesignItem item;
+    item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), path + ".tool");
+    item.t_mm = in.number(in.require(j, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
+    item.outline =
+        in.points(in.require(j, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 3, kMaxOutlinePoints);
+    const auto flag = [&](const char* key, bool fallback) {
+      if (!j.contains(key)) return fallback;
+      if (!j[key].is_boolean()) in.fail(path + "." + key, "expected true or false");
+      return j[key].get<bool>();
+    };
+    item.top = flag("top", true);
+    if (j.contains("top") && item.tool != DesignTool::wall) in.fail(path + ".top", "only a wall has top faces");
+    item.mirror = flag("mirror", false);
+    try {
+      design.add(item, path);
+    } catch (const Error& e) {
+      throw Error(e.code(), source, e.location(), e.message());
+    }
+  }
+  return design;
+}
+
+std::string to_design_json(const FaceDesign& design, const std::string& name) {
+  std::ostringstream o;
+  const Rect s = design.model().sheet();
+  o << "{\n  \"format\": \"" << kDesignFormat << "\",\n";
+  if (!name.empty()) o << "  \"name\": " << json(name).dump() << ",\n";
+  o << "  \"sheet\": {\"width\": " << number_text(s.max.x_mm - s.min.x_mm) << ", \"back\": " << number_text(s.max.v_mm)
+    << ", \"floor\": " << number_text(-s.min.v_mm) << "},\n  \"items\": [";
+  const auto& items = design.items();
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const DesignItem& it = items[i].item;
+    o << (i ? ",\n    " : "\n    ") << "{\"tool\": \"" << kDesignToolNames.name(it.tool)
+      << "\", \"t\": " << number_text(it.t_mm) << ", \"outline\": [";
+    for (std::size_t k = 0; k < it.outline.size(); ++k) {
+      o << (k ? ", " : "") << "[" << number_text(it.outline[k][0]) << ", " << number_text(it.outline[k][1]) << "]";
+    }
+    o << "]";
+    if (it.tool == DesignTool::wall && !it.top) o << ", \"top\": false";
+    if (it.mirror) o << ", \"mirror\": true";
+    o << "}";
+  }
+  o << (items.empty() ? "]\n}\n" : "\n  ]\n}\n");
+  return o.str();
+}
+
+}  // namespace popcut
