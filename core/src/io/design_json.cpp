@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "io/json_util.h"
+#include "io/readers.h"
 #include "popcut/error.h"
 
 namespace popcut {
@@ -20,13 +21,7 @@ FaceDesign parse_design(const std::string& text, const std::string& source) {
   const json root = json_util::parse(text, source);
   const json_util::Reader in(source);
   in.require_document(root, kDesignFormat, {"format", "name", "sheet", "items"});
-  const json& sheet = in.require(root, "sheet", "");
-  in.require_object(sheet, "sheet");
-  in.only_keys(sheet, {"width", "back", "floor"}, "sheet");
-  const auto size = [&](const char* key) {
-    return in.number(in.require(sheet, key, "sheet"), std::string("sheet.") + key, 1e-3, kMaxFaceCoordinateMm);
-  };
-  const double width = size("width"), back = size("back"), floor = size("floor");
+  const auto [width, back, floor] = read_card_sheet(in, root);
   if (root.contains("name")) in.string(root["name"], "name", 256);
   const json& items = in.require(root, "items", "");
   in.require_array(items, "items");
@@ -64,8 +59,7 @@ std::string to_design_json(const FaceDesign& design, const std::string& name) {
   const Rect s = design.model().sheet();
   o << "{\n  \"format\": \"" << kDesignFormat << "\",\n";
   if (!name.empty()) o << "  \"name\": " << json(name).dump() << ",\n";
-  o << "  \"sheet\": {\"width\": " << number_text(s.max.x_mm - s.min.x_mm) << ", \"back\": " << number_text(s.max.v_mm)
-    << ", \"floor\": " << number_text(-s.min.v_mm) << "},\n  \"items\": [";
+  o << "  \"sheet\": " << card_sheet_json(s) << ",\n  \"items\": [";
   const auto& items = design.items();
   for (std::size_t i = 0; i < items.size(); ++i) {
     const DesignItem& it = items[i].item;

@@ -31,16 +31,25 @@ void put_ring(std::ostringstream& o, const Ring& ring) {
 
 }  // namespace
 
-FaceModel face_model_from_json(const json& root, const std::string& source) {
-  const json_util::Reader in(source);
-  in.require_document(root, kFacesFormat, {"format", "name", "sheet", "edits", "faces"});
+CardSheet read_card_sheet(const json_util::Reader& in, const json& root) {
   const json& sheet = in.require(root, "sheet", "");
   in.require_object(sheet, "sheet");
   in.only_keys(sheet, {"width", "back", "floor"}, "sheet");
   const auto size = [&](const char* key) {
     return in.number(in.require(sheet, key, "sheet"), std::string("sheet.") + key, 1e-3, kMaxFaceCoordinateMm);
   };
-  const double width = size("width"), back = size("back"), floor = size("floor");
+  return {size("width"), size("back"), size("floor")};
+}
+
+std::string card_sheet_json(const Rect& s) {
+  return "{\"width\": " + number_text(s.max.x_mm - s.min.x_mm) + ", \"back\": " + number_text(s.max.v_mm) +
+         ", \"floor\": " + number_text(-s.min.v_mm) + "}";
+}
+
+FaceModel face_model_from_json(const json& root, const std::string& source) {
+  const json_util::Reader in(source);
+  in.require_document(root, kFacesFormat, {"format", "name", "sheet", "edits", "faces"});
+  const auto [width, back, floor] = read_card_sheet(in, root);
   if (root.contains("name")) in.string(root["name"], "name", 256);
   const bool has_edits = root.contains("edits"), has_faces = root.contains("faces");
   if (has_edits == has_faces) in.fail("edits", "give exactly one of \"edits\" (replayed in order) or \"faces\"");
@@ -109,8 +118,7 @@ std::string to_face_json(const FaceModel& model, const std::string& name) {
   const Rect s = model.sheet();
   o << "{\n  \"format\": \"" << kFacesFormat << "\",\n";
   if (!name.empty()) o << "  \"name\": " << json(name).dump() << ",\n";
-  o << "  \"sheet\": {\"width\": " << number_text(s.max.x_mm - s.min.x_mm) << ", \"back\": " << number_text(s.max.v_mm)
-    << ", \"floor\": " << number_text(-s.min.v_mm) << "},\n";
+  o << "  \"sheet\": " << card_sheet_json(s) << ",\n";
   if (model.has_edit_history()) {
     o << "  \"edits\": [";
     const auto& edits = model.edits();

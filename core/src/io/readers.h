@@ -17,6 +17,14 @@ FaceModel face_model_from_json(const nlohmann::json& root, const std::string& so
 namespace json_util {
 class Reader;
 }
+// A card's "sheet": {"width", "back", "floor"} (mm, each > 0), as popcut.faces.v1 and
+// popcut.design.v1 give it; and the same written back.
+struct CardSheet {
+  double width_mm = 0, back_mm = 0, floor_mm = 0;
+};
+CardSheet read_card_sheet(const json_util::Reader& in, const nlohmann::json& root);
+std::string card_sheet_json(const Rect& sheet);
+
 // One face object {"kind": "V"|"H", "t", "outer", "holes", "label"}, coordinates within ±limit_mm.
 PatternFace read_face(const json_util::Reader& in, const nlohmann::json& face, const std::string& path,
                       double limit_mm);
