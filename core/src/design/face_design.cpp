@@ -191,6 +191,7 @@ std::size_t FaceDesign::edits_before(std::size_t pos) const {
 // in `tail` of the item being added (its errors name `where`), or tail.size() for none.
 void FaceDesign::redraw_from(std::size_t pos, std::vector<Placed> tail, const std::string& where, std::size_t new_at) {
   const std::size_t keep = edits_before(pos);
+  model_redo_depth_ = 0;  // applying anything, even on the way to a failure, clears the model's redo
   std::vector<Placed> old(placed_.begin() + static_cast<std::ptrdiff_t>(pos), placed_.end());
   const auto back_to = [&] {
     while (model_.edits().size() > keep) model_.undo();
@@ -260,10 +261,11 @@ bool FaceDesign::undo() {
   if (a.added) {
     const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == a.placed.id; });
     const bool last = it + 1 == placed_.end();
+    const std::size_t depth = model_redo_depth_;
     a.placed.edits = it->edits;
     erase(static_cast<std::size_t>(it - placed_.begin()));
     // The last item's edits were only taken back: the model can redo them as they were.
-    model_redo_depth_ = last ? model_redo_depth_ + 1 : 0;
+    if (last) model_redo_depth_ = depth + 1;
   } else {
     insert(position_for(a.placed), a.placed, "undo");
     model_redo_depth_ = 0;

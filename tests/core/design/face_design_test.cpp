@@ -146,6 +146,22 @@ TEST(FaceDesign, AFailedEditLeavesTheDesignAsItWas) {
   EXPECT_EQ(d.model().edits().size(), 0u);
 }
 
+TEST(FaceDesign, RedoAfterAFailedEditStillRedoes) {
+  FaceDesign d(100, 80, 80);
+  d.add(wall(30, 15, 45, 40));
+  d.add(wall(42, 20, 40, 20));
+  const Summary both = summary(d.pattern());
+  ASSERT_TRUE(d.undo()) << "the front wall, taken back from the front";
+  // A mirrored window: the first copy is cut, the mirrored one lies in no wall. The model applied
+  // an edit on the way to the failure, so its own redo list is gone; the design's is not.
+  DesignItem window = opening(30, 20, 28, 25, 35);
+  window.mirror = true;
+  const Error e = error_of([&] { d.add(window, "edit"); });
+  EXPECT_NE(std::string(e.what()).find("not inside a VFace at depth y = 30"), std::string::npos) << e.what();
+  ASSERT_TRUE(d.redo()) << "the front wall comes back";
+  EXPECT_EQ(summary(d.pattern()), both);
+}
+
 TEST(FaceDesign, RemovingAWallThatHoldsAnOpeningIsRefusedAndChangesNothing) {
   FaceDesign d(100, 80, 80);
   d.add(wall(30, 15, 85, 40));
