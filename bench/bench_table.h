@@ -3,6 +3,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -37,6 +38,12 @@ class CollectingReporter : public benchmark::ConsoleReporter {
  private:
   std::vector<Row> rows_;
 };
+
+// The p-quantile (0..1) of latencies sorted ascending: the sample at rank p·n; 0 for none.
+inline double percentile(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) return 0;
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
+}
 
 // The usual benchmark main, then `table(reporter)`.
 template <typename Table>

@@ -47,7 +47,7 @@ std::size_t answer(const FaceDesign& d) {
 
 double percentile(std::vector<double> ms, double p) {
   std::sort(ms.begin(), ms.end());
-  return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * static_cast<double>(ms.size())))];
+  return popcut::bench::percentile(ms, p);
 }
 
 void record(benchmark::State& state, const std::vector<double>& ms, const FaceDesign& d) {

@@ -18,6 +18,7 @@
 
 namespace {
 
+using popcut::bench::percentile;
 using popcut::testing::PopcutdProcess;
 using popcut::testing::read_file;
 using popcut::testing::TempDir;
@@ -124,11 +125,6 @@ Load run_load(const PopcutdProcess& d, int threads, int count, const Request& re
   load.listen_overflows = listen_overflows() - overflows_before;
   std::sort(load.latency_ms.begin(), load.latency_ms.end());
   return load;
-}
-
-double percentile(const std::vector<double>& sorted, double p) {
-  if (sorted.empty()) return 0;
-  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
 }
 
 void report(benchmark::State& state, const Load& l, int count) {

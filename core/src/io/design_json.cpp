@@ -12,13 +12,17 @@ using json_util::index_path;
 using json_util::json;
 using json_util::number_text;
 
-bool is_design_document(const std::string& text) {
-  const json root = json::parse(text, nullptr, false);
+bool is_design_document(const std::string& text) { return is_design_json(json::parse(text, nullptr, false)); }
+
+bool is_design_json(const json& root) {
   return root.is_object() && root.contains("format") && root["format"] == kDesignFormat;
 }
 
 FaceDesign parse_design(const std::string& text, const std::string& source) {
-  const json root = json_util::parse(text, source);
+  return design_from_json(json_util::parse(text, source), source);
+}
+
+FaceDesign design_from_json(const json& root, const std::string& source) {
   const json_util::Reader in(source);
   in.require_document(root, kDesignFormat, {"format", "name", "sheet", "items"});
   const auto [width, back, floor] = read_card_sheet(in, root);

@@ -6,7 +6,6 @@
 #include "io/json_util.h"
 #include "io/readers.h"
 #include "popcut/error.h"
-#include "popcut/io/design_json.h"
 #include "popcut/io/drawing_io.h"
 #include "popcut/io/files.h"
 #include "popcut/io/oa_model.h"
@@ -89,8 +88,9 @@ FaceModel parse_face_model(const std::string& text, const std::string& source) {
   return face_model_from_json(json_util::parse(text, source), source);
 }
 
-AnyModel parse_model(const std::string& text, const std::string& source) {
-  const json root = json_util::parse(text, source);
+namespace {
+
+AnyModel model_from_json(const json& root, const std::string& source) {
   const json_util::Reader in(source);
   in.require_object(root, "document");
   const std::string format = in.string(in.require(root, "format", ""), "format");
@@ -98,6 +98,12 @@ AnyModel parse_model(const std::string& text, const std::string& source) {
   if (format == kFacesFormat) return face_model_from_json(root, source);
   in.fail("format",
           "expected \"" + std::string(kVoxelFormat) + "\" or \"" + kFacesFormat + "\", got \"" + format + "\"");
+}
+
+}  // namespace
+
+AnyModel parse_model(const std::string& text, const std::string& source) {
+  return model_from_json(json_util::parse(text, source), source);
 }
 
 AnyModel load_model(const std::string& path) {
@@ -108,9 +114,9 @@ AnyModel load_model(const std::string& path) {
   }
   if (is_oa_path(path)) return parse_oa_model(read_text_file(path), path);
   const std::string source = path == "-" ? "<stdin>" : path;
-  const std::string text = read_text_file(path);
-  if (is_design_document(text)) return parse_design(text, source).model();
-  return parse_model(text, source);
+  const json root = json_util::parse(read_text_file(path), source);  // parsed once, whatever it holds
+  if (is_design_json(root)) return design_from_json(root, source).model();
+  return model_from_json(root, source);
 }
 
 std::string to_face_json(const FaceModel& model, const std::string& name) {

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "popcut/design/face_design.h"
 #include "popcut/io/voxel_json.h"
 #include "popcut/model/face_model.h"
 #include "popcut/pattern/pattern.h"
@@ -13,6 +14,9 @@ namespace popcut {
 VoxelFile voxel_file_from_json(const nlohmann::json& root, const std::string& source);
 VoxelModel voxel_model_from_json(const nlohmann::json& root, const std::string& source);
 FaceModel face_model_from_json(const nlohmann::json& root, const std::string& source);
+// popcut.design.v1 (design_json.cpp): a model file's readers parse it once and dispatch.
+bool is_design_json(const nlohmann::json& root);
+FaceDesign design_from_json(const nlohmann::json& root, const std::string& source);
 
 namespace json_util {
 class Reader;
