@@ -8,7 +8,7 @@
 
 #include "cli/common.h"
 #include "cli/devices.h"
-#include "cli/validation.h"
+#include "validation.h"
 #include "popcut/error.h"
 #include "popcut/io/pattern_io.h"
 #include "popcut/mesh/import_request.h"

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/common.h"
-#include "cli/validation.h"
+#include "validation.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
 #include "popcut/io/pattern_io.h"

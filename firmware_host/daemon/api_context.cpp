@@ -145,7 +145,8 @@ bool RenderSlots::try_take() {
 ApiContext::ApiContext(Daemon& daemon)
     : daemon_(daemon),
       previews_(daemon.config().limits.preview_cache_bytes),
-      render_slots_(daemon.config().http_threads) {
+      render_slots_(daemon.config().http_threads),
+      designs_(daemon.store(), static_cast<std::size_t>(daemon.config().limits.design_sessions)) {
   for (const DeviceConfig& dev : daemon.config().devices) media_.push_back(drivers::media_of(dev.profile, dev.name));
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "daemon.h"
+#include "design_sessions.h"
 #include "metrics.h"
 #include "popcut/mesh/import_request.h"
 #include "preview_cache.h"
@@ -86,6 +87,8 @@ class ApiContext {
   // Runs `work` (a render, a drawing's inference) in one of the render slots; throws ApiFailure
   // busy at once when none is free.
   void in_render_slot(const std::function<void()>& work);
+  // The designer's live sessions (api_designs.cpp).
+  DesignSessions& designs() { return designs_; }
   // A number no other upload of this run has: temporary files' names.
   std::uint64_t next_upload() { return ++upload_counter_; }
 
@@ -95,6 +98,7 @@ class ApiContext {
   RequestCounters counters_;
   PreviewCache previews_;
   RenderSlots render_slots_;
+  DesignSessions designs_;
   std::atomic<std::uint64_t> upload_counter_{0};
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };

@@ -20,6 +20,14 @@ void get_kiosk_style(ApiContext& api, const Caller& caller, const Req& req, Res&
 void get_operator_page(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_operator_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_operator_style(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_page(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_style(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_view_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_files_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+// three.js and its orbit controls from [server] three_dir (Debian's libjs-three).
+void get_three_script(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_orbit_controls(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 // api_stats.cpp (admin)
 void get_stats(ApiContext& api, const Caller& caller, const Req& req, Res& res);
@@ -53,5 +61,19 @@ void render_preview(ApiContext& api, const Caller& caller, const Req& req, Res& 
 void import_model(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 // drawing_upload.cpp: a drawing (SVG, DXF, FOLD) read as a card or a folding sheet for the kiosk.
 void import_drawing(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+
+// api_designs.cpp: the designer's drafts and live sessions (docs/api.md "Designs").
+void create_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void list_designs(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void rename_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void delete_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void add_design_item(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void remove_design_item(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void undo_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void redo_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_file(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void get_design_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void submit_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 
 }  // namespace popcut::daemon

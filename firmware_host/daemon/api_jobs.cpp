@@ -185,8 +185,7 @@ std::string job_from_upload(ApiContext& api, const Req& req, NewJob& nj) {
 }
 
 // {"name", "device" | "profile", "material", "model"}.
-void job_from_json(ApiContext& api, const Req& req, NewJob& nj) {
-  const json body = parse_body(req);
+void job_from_json(ApiContext& api, const json& body, NewJob& nj) {
   if (!body.is_object()) fail(ApiError::bad_request, "the body must be a JSON object");
   for (const auto& [k, v] : body.items()) {
     if (k != "name" && k != "device" && k != "profile" && k != "material" && k != "model" && k != "copies")
@@ -245,7 +244,6 @@ void wait_for_final(Daemon& d, std::int64_t id, std::chrono::milliseconds limit)
 }  // namespace
 
 void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
-  Daemon& d = api.daemon();
   NewJob nj;
   nj.owner = caller.name;
   nj.idempotency_key = idempotency_key(req);
@@ -253,8 +251,21 @@ void submit_job(ApiContext& api, const Caller& caller, const Req& req, Res& res)
   if (req.is_multipart_form_data()) {
     source = job_from_upload(api, req, nj);
   } else {
-    job_from_json(api, req, nj);
+    job_from_json(api, parse_body(req), nj);
   }
+  queue_job(api, nj, source, res);
+}
+
+void submit_json_job(ApiContext& api, const Caller& caller, const Req& req, const json& body, Res& res) {
+  NewJob nj;
+  nj.owner = caller.name;
+  nj.idempotency_key = idempotency_key(req);
+  job_from_json(api, body, nj);
+  queue_job(api, nj, "model", res);
+}
+
+void queue_job(ApiContext& api, NewJob& nj, const std::string& source, Res& res) {
+  Daemon& d = api.daemon();
   const std::vector<std::string> warnings = check_for_device(api, nj, source);
   if (!nj.idempotency_key.empty()) nj.request_sha256 = request_digest(nj);
   const SubmitResult r = d.store().submit(nj, d.config().limits.queue_length);

@@ -17,6 +17,10 @@ std::string request_digest(const NewJob& job);
 JobFilter job_filter(const Req& req);
 // A submission's `copies`: a whole number from 1 to 1000 (400 naming the field otherwise).
 int copies_field(const json& v);
+// POST /api/v1/jobs with a JSON body already read (the designer's "send to cutter" adds the model).
+void submit_json_job(ApiContext& api, const Caller& caller, const Req& req, const json& body, Res& res);
+// Checks a new job against its device, records it (Idempotency-Key honoured) and answers 201.
+void queue_job(ApiContext& api, NewJob& nj, const std::string& source, Res& res);
 // PATCH /api/v1/jobs/N: {"priority": P} and/or {"before": M}.
 Reorder reorder_request(const Req& req);
 

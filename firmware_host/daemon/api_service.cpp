@@ -9,13 +9,16 @@ namespace popcut::daemon {
 namespace {
 
 // The kiosk page: a fixed list of files, so no request path ever reaches the file system.
-void kiosk_file(ApiContext& api, const std::string& name, const char* type, Res& res) {
-  const std::string& dir = api.daemon().config().kiosk_dir;
+void page_file(const std::string& dir, const std::string& name, const char* type, const char* what, Res& res) {
   std::ifstream in(std::filesystem::path(dir) / name, std::ios::binary);
-  if (!in) fail(ApiError::not_found, "the kiosk page is not installed at " + dir);
+  if (!in) fail(ApiError::not_found, std::string(what) + " is not installed at " + dir);
   std::ostringstream o;
   o << in.rdbuf();
   res.set_content(o.str(), type);
+}
+
+void kiosk_file(ApiContext& api, const std::string& name, const char* type, Res& res) {
+  page_file(api.daemon().config().kiosk_dir, name, type, "the kiosk page", res);
 }
 
 }  // namespace
@@ -66,6 +69,30 @@ void get_operator_script(ApiContext& api, const Caller&, const Req&, Res& res) {
 }
 void get_operator_style(ApiContext& api, const Caller&, const Req&, Res& res) {
   kiosk_file(api, "operator.css", "text/css", res);
+}
+
+// The designer page lives beside the kiosk's files; it reads its token from ?token=.
+void get_design_page(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "design.html", "text/html; charset=utf-8", res);
+}
+void get_design_script(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "design.js", "text/javascript", res);
+}
+void get_design_style(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "design.css", "text/css", res);
+}
+void get_design_view_script(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "design_view3d.js", "text/javascript", res);
+}
+void get_design_files_script(ApiContext& api, const Caller&, const Req&, Res& res) {
+  kiosk_file(api, "design_files.js", "text/javascript", res);
+}
+void get_three_script(ApiContext& api, const Caller&, const Req&, Res& res) {
+  page_file(api.daemon().config().three_dir + "/build", "three.min.js", "text/javascript", "three.js (libjs-three)", res);
+}
+void get_orbit_controls(ApiContext& api, const Caller&, const Req&, Res& res) {
+  page_file(api.daemon().config().three_dir + "/examples/js/controls", "OrbitControls.js", "text/javascript",
+            "three.js (libjs-three)", res);
 }
 
 }  // namespace popcut::daemon

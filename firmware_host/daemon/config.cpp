@@ -81,6 +81,7 @@ void read_server(TomlSection s, const std::string& source, DaemonConfig& c) {
   c.data_dir = resolve(data_dir, source);
   c.kiosk_dir = directory(s, "kiosk_dir", POPCUT_KIOSK_DIR, source);
   c.examples_dir = directory(s, "examples_dir", POPCUT_EXAMPLES_DIR, source);
+  c.three_dir = directory(s, "three_dir", "/usr/share/javascript/three", source);
   c.http_threads = s.integer("http_threads", 64, 1, 1024);
   c.keep_alive_timeout_s = s.integer("keep_alive_timeout_s", 2, 1, 300);
   c.header_timeout_s = s.integer("header_timeout_s", 5, 1, 300);
@@ -99,6 +100,7 @@ Limits read_limits(TomlSection l) {
   limits.queue_length = l.integer("queue_length", 10000, 1, 10000000);
   limits.mesh_triangles = l.integer("mesh_triangles", 200000, 1, 10000000);
   limits.preview_cache_bytes = static_cast<std::size_t>(l.integer("preview_cache_bytes", 32 << 20, 0, 1 << 30));
+  limits.design_sessions = l.integer("design_sessions", 64, 1, 100000);
   l.reject_unknown();
   return limits;
 }

@@ -61,6 +61,7 @@ struct Limits {
   int queue_length = 10000;              // jobs not yet finished (queued .. cutting, interrupted)
   std::int64_t mesh_triangles = 200000;  // uploaded meshes (after splitting polygons into triangles)
   std::size_t preview_cache_bytes = std::size_t{32} << 20;  // rendered previews kept in memory (LRU)
+  int design_sessions = 64;  // designer drafts kept live in memory with their undo history (LRU)
 };
 
 struct DaemonConfig {
@@ -70,6 +71,7 @@ struct DaemonConfig {
   std::string data_dir;
   std::string kiosk_dir;     // the kiosk page's files; default: the source tree's firmware_host/kiosk
   std::string examples_dir;  // example models offered by the kiosk; default: the source tree's examples
+  std::string three_dir;     // three.js for the designer's 3D view; default: Debian's libjs-three
   // httplib serves a connection on one thread for its whole life: enough threads for a
   // classroom of kiosk tablets plus a few idle sockets (an idle thread: ~20 KB resident, docs/api.md).
   int http_threads = 64;

@@ -23,6 +23,13 @@ std::vector<Route> api_routes() {
       {Method::get, "/operator", Access::none, any_query(), get_operator_page},
       {Method::get, "/operator/app.js", Access::none, any_query(), get_operator_script},
       {Method::get, "/operator/app.css", Access::none, any_query(), get_operator_style},
+      {Method::get, "/design", Access::none, any_query(), get_design_page},
+      {Method::get, "/design/app.js", Access::none, any_query(), get_design_script},
+      {Method::get, "/design/app.css", Access::none, any_query(), get_design_style},
+      {Method::get, "/design/view3d.js", Access::none, any_query(), get_design_view_script},
+      {Method::get, "/design/files.js", Access::none, any_query(), get_design_files_script},
+      {Method::get, "/design/three.min.js", Access::none, any_query(), get_three_script},
+      {Method::get, "/design/OrbitControls.js", Access::none, any_query(), get_orbit_controls},
       {Method::get, "/api/v1/stats", Access::admin, takes({"days"}), get_stats, "reading the statistics"},
       {Method::get, "/api/v1/examples", Access::token, takes_none(), list_examples},
       {Method::get, R"(/api/v1/examples/([^/]+))", Access::token, takes_none(), get_example},
@@ -48,6 +55,18 @@ std::vector<Route> api_routes() {
       {Method::post, "/api/v1/render/preview.png", Access::token, takes({"angle"}), render_preview},
       {Method::post, "/api/v1/import", Access::token, takes_none(), import_model},
       {Method::post, "/api/v1/import/drawing", Access::token, takes_none(), import_drawing},
+      {Method::post, "/api/v1/designs", Access::token, takes_none(), create_design},
+      {Method::get, "/api/v1/designs", Access::token, takes_none(), list_designs},
+      {Method::get, R"(/api/v1/designs/(\d+))", Access::token, takes_none(), get_design},
+      {Method::patch, R"(/api/v1/designs/(\d+))", Access::token, takes_none(), rename_design},
+      {Method::del, R"(/api/v1/designs/(\d+))", Access::token, takes_none(), delete_design},
+      {Method::post, R"(/api/v1/designs/(\d+)/items)", Access::token, takes_none(), add_design_item},
+      {Method::post, R"(/api/v1/designs/(\d+)/items/(\d+)/remove)", Access::token, takes_none(), remove_design_item},
+      {Method::post, R"(/api/v1/designs/(\d+)/undo)", Access::token, takes_none(), undo_design},
+      {Method::post, R"(/api/v1/designs/(\d+)/redo)", Access::token, takes_none(), redo_design},
+      {Method::get, R"(/api/v1/designs/(\d+)/design\.json)", Access::token, takes_none(), get_design_file},
+      {Method::get, R"(/api/v1/designs/(\d+)/pattern\.(svg|dxf))", Access::token, takes_none(), get_design_pattern},
+      {Method::post, R"(/api/v1/designs/(\d+)/submit)", Access::token, takes_none(), submit_design},
   };
 }
 
@@ -99,6 +118,10 @@ void HttpApi::install_routes() {
   for (const Route& route : routes_->routes()) {
     if (route.method == Method::get) {
       server_.Get(route.pattern, guarded(route));
+      continue;
+    }
+    if (route.method == Method::del) {
+      server_.Delete(route.pattern, guarded(route));
       continue;
     }
     auto with_body = [this, handler = guarded(route)](const httplib::Request& req, httplib::Response& res,

@@ -26,11 +26,12 @@ RouteTable::~RouteTable() = default;
 
 std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const std::string& path,
                                                 const httplib::Params& params) const {
-  bool has[3] = {false, false, false};  // by Method
+  bool has[4] = {false, false, false, false};  // by Method
   const Route* routed = nullptr;
   const std::optional<Method> asked = method == "GET" || method == "HEAD" ? std::optional(Method::get)
                                       : method == "POST"                  ? std::optional(Method::post)
                                       : method == "PATCH"                 ? std::optional(Method::patch)
+                                      : method == "DELETE"                ? std::optional(Method::del)
                                                                           : std::nullopt;
   for (std::size_t i = 0; i < routes_.size(); ++i) {
     if (!std::regex_match(path, patterns_[i])) continue;
@@ -39,7 +40,7 @@ std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const
   }
   std::string allow;
   for (const auto& [m, name] :
-       {std::pair{Method::get, "GET, HEAD"}, {Method::post, "POST"}, {Method::patch, "PATCH"}}) {
+       {std::pair{Method::get, "GET, HEAD"}, {Method::post, "POST"}, {Method::patch, "PATCH"}, {Method::del, "DELETE"}}) {
     if (has[static_cast<int>(m)]) allow += (allow.empty() ? "" : ", ") + std::string(name);
   }
   if (allow.empty()) return RouteRefusal{ApiError::not_found, "no such resource: " + path, ""};

@@ -14,7 +14,7 @@
 
 namespace popcut::daemon {
 
-enum class Method { get, post, patch };  // a GET route answers HEAD too
+enum class Method { get, post, patch, del };  // a GET route answers HEAD too
 // none: no token asked (health, metrics, the kiosk page); token: any token; admin: the admin token.
 enum class Access { none, token, admin };
 

@@ -122,6 +122,7 @@ JobStore::JobStore(const std::string& path, int readers) : path_(path) {
       exec("ALTER TABLE jobs ADD COLUMN knife_down_strokes INTEGER NOT NULL DEFAULT 0");
     create_wear_tables();
     create_sheet_tables();
+    create_design_tables();
     add_run_time_columns();
     add_queue_columns();
     add_pause_column();

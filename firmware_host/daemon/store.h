@@ -72,6 +72,14 @@ struct Reorder {
 // priority_mismatch: `priority` and `before` given, and `before` has another priority.
 enum class ReorderResult { moved, not_found, not_waiting, before_not_found, before_not_waiting, priority_mismatch };
 
+// A designer's draft (store_designs.cpp): the popcut.design.v1 document as last saved, per owner.
+struct DesignDraft {
+  std::int64_t id = 0;
+  std::string owner, name, document;
+  std::size_t items = 0;
+  double created_s = 0, updated_s = 0;
+};
+
 class JobStore {
  public:
   // Opens (creating) the database and `readers` extra connections for reads; throws
@@ -185,7 +193,18 @@ class JobStore {
   // and, with `confirm_sheet`, waits for a fresh one (docs/api.md "Sheets").
   void sheet_full(std::int64_t job_id, const std::string& device, std::int64_t next_from, bool confirm_sheet);
 
+  // Designer drafts (store_designs.cpp). Each edit saves the whole document: a draft survives a
+  // restart as the items it had (undo history lives in the session only).
+  std::int64_t create_design(const std::string& owner, const std::string& name, const std::string& document,
+                             std::size_t items);
+  void save_design(std::int64_t id, const std::string& name, const std::string& document, std::size_t items);
+  std::optional<DesignDraft> design(std::int64_t id);
+  // Newest first, without their documents; an empty owner lists everyone's.
+  std::vector<DesignDraft> list_designs(const std::string& owner, int limit);
+  bool delete_design(std::int64_t id);
+
  private:
+  void create_design_tables();
   void create_sheet_tables();
   // Inside a transaction the caller holds: 0 any job may be claimed onto the device's sheet, a
   // job id only that one, nullopt none; and the claim of `job_id` using it.

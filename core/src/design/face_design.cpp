@@ -255,6 +255,12 @@ bool FaceDesign::remove(std::uint64_t id) {
   return true;
 }
 
+void FaceDesign::clear_history() {
+  undo_.clear();
+  redo_.clear();
+  model_redo_depth_ = 0;
+}
+
 bool FaceDesign::undo() {
   if (undo_.empty()) return false;
   Action a = undo_.back();

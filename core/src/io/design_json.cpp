@@ -18,6 +18,34 @@ bool is_design_json(const json& root) {
   return root.is_object() && root.contains("format") && root["format"] == kDesignFormat;
 }
 
+namespace {
+
+DesignItem read_design_item(const json_util::Reader& in, const json& j, const std::string& path) {
+  in.require_object(j, path);
+  in.only_keys(j, {"tool", "t", "outline", "top", "mirror"}, path);
+  DesignItem item;
+  const std::string at = path.empty() ? "" : path + ".";
+  item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), at + "tool");
+  item.t_mm = in.number(in.require(j, "t", path), at + "t", 0, kMaxFaceCoordinateMm);
+  item.outline = in.points(in.require(j, "outline", path), at + "outline", kMaxFaceCoordinateMm, 3, kMaxOutlinePoints);
+  const auto flag = [&](const char* key, bool fallback) {
+    if (!j.contains(key)) return fallback;
+    if (!j[key].is_boolean()) in.fail(at + key, "expected true or false");
+    return j[key].get<bool>();
+  };
+  item.top = flag("top", true);
+  if (j.contains("top") && item.tool != DesignTool::wall) in.fail(at + "top", "only a wall has top faces");
+  item.mirror = flag("mirror", false);
+  return item;
+}
+
+}  // namespace
+
+DesignItem parse_design_item(const std::string& text, const std::string& source) {
+  const json_util::Reader in(source);
+  return read_design_item(in, json_util::parse(text, source), "");
+}
+
 FaceDesign parse_design(const std::string& text, const std::string& source) {
   return design_from_json(json_util::parse(text, source), source);
 }
@@ -33,28 +61,14 @@ FaceDesign design_from_json(const json& root, const std::string& source) {
   FaceDesign design(width, back, floor);
   for (std::size_t i = 0; i < items.size(); ++i) {
     const std::string path = index_path("items", i);
-    const json& j = items[i];
-    in.require_object(j, path);
-    in.only_keys(j, {"tool", "t", "outline", "top", "mirror"}, path);
-    DesignItem item;
-    item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), path + ".tool");
-    item.t_mm = in.number(in.require(j, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
-    item.outline =
-        in.points(in.require(j, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 3, kMaxOutlinePoints);
-    const auto flag = [&](const char* key, bool fallback) {
-      if (!j.contains(key)) return fallback;
-      if (!j[key].is_boolean()) in.fail(path + "." + key, "expected true or false");
-      return j[key].get<bool>();
-    };
-    item.top = flag("top", true);
-    if (j.contains("top") && item.tool != DesignTool::wall) in.fail(path + ".top", "only a wall has top faces");
-    item.mirror = flag("mirror", false);
+    const DesignItem item = read_design_item(in, items[i], path);
     try {
       design.add(item, path);
     } catch (const Error& e) {
       throw Error(e.code(), source, e.location(), e.message());
     }
   }
+  design.clear_history();  // undo starts from the design as read, not item by item through the file
   return design;
 }
 

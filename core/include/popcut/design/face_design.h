@@ -55,6 +55,8 @@ class FaceDesign {
   bool remove(std::uint64_t id);
   bool undo();
   bool redo();
+  // Forgets undo and redo (a design read from a file starts its history there).
+  void clear_history();
   bool can_undo() const { return !undo_.empty(); }
   bool can_redo() const { return !redo_.empty(); }
 

@@ -18,6 +18,10 @@ bool is_design_document(const std::string& text);
 // refuses, with the reason).
 FaceDesign parse_design(const std::string& text, const std::string& source);
 
+// One item as the design file writes it ({"tool", "t", "outline", "top"?, "mirror"?}): an editor's
+// edit. Errors name `source` and the field ("outline[2]"); whether the design takes it is add's business.
+DesignItem parse_design_item(const std::string& text, const std::string& source);
+
 // The design's sheet and items in drawing order (back to front: reading it back redraws nothing).
 std::string to_design_json(const FaceDesign& design, const std::string& name = "");
 

@@ -1,5 +1,5 @@
 // The pop-up check's report in words and as popcut.validation.v1: faces named by where they stand on the open card.
-#include "cli/validation.h"
+#include "validation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "popcut/text.h"
 
-namespace popcut::cli {
+namespace popcut {
 namespace {
 
 using nlohmann::json;
@@ -47,10 +47,28 @@ std::string describe_face(const Pattern& p, int index) {
   return o.str();
 }
 
-json problem_json(const Pattern& p, const FaceProblem& fp) {
+std::string not_standing_text(const Pattern& p, const FaceProblem& fp) {
+  return "would not stand: " + describe_face(p, fp.face) + "; not reached " +
+         (!fp.from_back && !fp.from_floor ? "from the back board or the floor"
+                                          : (!fp.from_back ? "from the back board" : "from the floor"));
+}
+
+std::string flap_text(const Pattern& p, const FaceProblem& fp) {
+  return "note: " + describe_face(p, fp.face) + " is held from the " +
+         (fp.from_back ? "back board" : (fp.from_floor ? "floor" : "neither side")) + " only; it will hang or tilt";
+}
+
+std::string loose_text(const LoosePiece& lp) {
+  return "cut free, would fall out: " + std::to_string(lp.faces.size()) + (lp.faces.size() == 1 ? " face" : " faces") +
+         " at pattern x " + range(lp.bounds.min.x_mm, lp.bounds.max.x_mm) + ", v " +
+         range(lp.bounds.min.v_mm, lp.bounds.max.v_mm) + " mm (" + format_fixed(lp.area_mm2, 1) + " mm²)";
+}
+
+json problem_json(const Pattern& p, const FaceProblem& fp, const std::string& message) {
   const PatternFace& f = p.faces[static_cast<std::size_t>(fp.face)];
   const Box3 b = card_box(f);
   return json{
+      {"message", message},
       {"face", fp.face},
       {"kind", to_string(f.kind)},
       {"t", f.t_mm},
@@ -78,10 +96,11 @@ json validation_json(const std::string& source, const Pattern& p, const PopupRep
             {"not_standing", json::array()},
             {"loose_pieces", json::array()}};
   j["flaps"] = json::array();
-  for (const FaceProblem& fp : r.not_standing) j["not_standing"].push_back(problem_json(p, fp));
-  for (const FaceProblem& fp : r.flaps) j["flaps"].push_back(problem_json(p, fp));
+  for (const FaceProblem& fp : r.not_standing) j["not_standing"].push_back(problem_json(p, fp, not_standing_text(p, fp)));
+  for (const FaceProblem& fp : r.flaps) j["flaps"].push_back(problem_json(p, fp, flap_text(p, fp)));
   for (const LoosePiece& lp : r.loose_pieces) {
-    j["loose_pieces"].push_back({{"faces", lp.faces}, {"bounds", rect(lp.bounds)}, {"area_mm2", lp.area_mm2}});
+    j["loose_pieces"].push_back(
+        {{"message", loose_text(lp)}, {"faces", lp.faces}, {"bounds", rect(lp.bounds)}, {"area_mm2", lp.area_mm2}});
   }
   return j;
 }
@@ -95,22 +114,9 @@ void print_validation(std::ostream& out, const std::string& source, const Patter
   if (r.sheet_split) {
     out << "  the sheet falls in two: no fold joins the floor to the back board (is the centre fold cut all along?)\n";
   }
-  for (const FaceProblem& fp : r.not_standing) {
-    out << "  would not stand: " << describe_face(p, fp.face) << "; not reached "
-        << (!fp.from_back && !fp.from_floor ? "from the back board or the floor"
-                                            : (!fp.from_back ? "from the back board" : "from the floor"))
-        << "\n";
-  }
-  for (const FaceProblem& fp : r.flaps) {
-    out << "  note: " << describe_face(p, fp.face) << " is held from the "
-        << (fp.from_back ? "back board" : (fp.from_floor ? "floor" : "neither side"))
-        << " only; it will hang or tilt\n";
-  }
-  for (const LoosePiece& lp : r.loose_pieces) {
-    out << "  cut free, would fall out: " << lp.faces.size() << (lp.faces.size() == 1 ? " face" : " faces")
-        << " at pattern x " << range(lp.bounds.min.x_mm, lp.bounds.max.x_mm) << ", v "
-        << range(lp.bounds.min.v_mm, lp.bounds.max.v_mm) << " mm (" << format_fixed(lp.area_mm2, 1) << " mm²)\n";
-  }
+  for (const FaceProblem& fp : r.not_standing) out << "  " << not_standing_text(p, fp) << "\n";
+  for (const FaceProblem& fp : r.flaps) out << "  " << flap_text(p, fp) << "\n";
+  for (const LoosePiece& lp : r.loose_pieces) out << "  " << loose_text(lp) << "\n";
 }
 
-}  // namespace popcut::cli
+}  // namespace popcut
