@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "popcutd_process.h"
 
@@ -67,7 +68,9 @@ inline std::string base64_decode(const std::string& in) {
 // chromedriver on a free port, a headless Chromium session, both ended on scope exit.
 class Browser {
  public:
-  explicit Browser(const std::string& profile_dir) : port_(free_port()), http_("127.0.0.1", port_) {
+  // `extra_args`: more Chromium switches (the designer's 3D view asks for SwiftShader's WebGL).
+  explicit Browser(const std::string& profile_dir, const std::vector<std::string>& extra_args = {})
+      : port_(free_port()), http_("127.0.0.1", port_) {
     pid_ = ::fork();
     if (pid_ == 0) {
       const std::string port = "--port=" + std::to_string(port_);
@@ -77,14 +80,15 @@ class Browser {
     http_.set_read_timeout(120);
     if (!wait_until([&] { return static_cast<bool>(http_.Get("/status")); }, 60))
       throw std::runtime_error("chromedriver did not start");
+    nlohmann::json args = {"--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                           "--window-size=1024,768", "--user-data-dir=" + profile_dir};
+    for (const std::string& a : extra_args) args.push_back(a);
     const nlohmann::json caps = {{"capabilities",
                                   {{"alwaysMatch",
                                     {{"browserName", "chrome"},
                                      {"goog:chromeOptions",
                                       {{"binary", "/usr/bin/chromium"},
-                                       {"args",
-                                        {"--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                                         "--window-size=1024,768", "--user-data-dir=" + profile_dir}}}}}}}}};
+                                       {"args", args}}}}}}}};
     const nlohmann::json r = call("POST", "/session", caps);
     session_ = r["value"].value("sessionId", "");
     if (session_.empty()) throw std::runtime_error("no browser session: " + r.dump());
@@ -107,6 +111,27 @@ class Browser {
   }
   nlohmann::json run(const std::string& script) {
     return session("POST", "/execute/sync", {{"script", script}, {"args", nlohmann::json::array()}});
+  }
+  // A real mouse click (move, press, release) at viewport pixel (x, y).
+  void click_at(int x, int y) {
+    const nlohmann::json actions = {
+        {"actions",
+         {{{"type", "pointer"},
+           {"id", "mouse"},
+           {"parameters", {{"pointerType", "mouse"}}},
+           {"actions",
+            {{{"type", "pointerMove"}, {"duration", 0}, {"origin", "viewport"}, {"x", x}, {"y", y}},
+             {{"type", "pointerDown"}, {"button", 0}},
+             {{"type", "pointerUp"}, {"button", 0}}}}}}}};
+    session("POST", "/actions", actions);
+  }
+  // Replaces an input's text as typed keys do (each key an input event).
+  void type(const std::string& css, const std::string& text) {
+    const nlohmann::json el = session("POST", "/element", {{"using", "css selector"}, {"value", css}});
+    ASSERT_TRUE(el.is_object() && !el.empty()) << "element " << css << " exists: " << el.dump();
+    const std::string id = el.begin().value().get<std::string>();
+    session("POST", "/element/" + id + "/clear");
+    session("POST", "/element/" + id + "/value", {{"text", text}});
   }
   void click(const std::string& css) {
     const nlohmann::json el = session("POST", "/element", {{"using", "css selector"}, {"value", css}});

@@ -1,0 +1,345 @@
+// popcut designer: drawing on the edit plane, the session's answers shown as pattern, check and 3D card; talks to
+// popcutd's /api/v1/designs with the token from ?token= (kept in localStorage, as the kiosk does).
+'use strict';
+
+const params = new URLSearchParams(location.search);
+if (params.get('token')) localStorage.setItem('popcut-token', params.get('token'));
+const token = localStorage.getItem('popcut-token') || '';
+const $ = (id) => document.getElementById(id);
+const SVG = 'http://www.w3.org/2000/svg';
+
+const ui = { tool: 'wall', shape: 'rect', points: [], cursor: null };
+let design = null;      // the last answer: items, pattern, check
+let view = null;        // the 3D card
+const timings = [];     // ms from a click that finished an edit to the repaint of its answer
+window.designTimings = timings;
+
+async function api(method, path, body) {
+  const headers = { Authorization: 'Bearer ' + token };
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const res = await fetch(path, { method, headers, body: body === undefined ? (method === 'GET' ? undefined : '') : body });
+  const text = await res.text();
+  let data = null;
+  try { data = JSON.parse(text); } catch (_) { /* an export, or not JSON */ }
+  if (!res.ok) {
+    const e = data && data.error;
+    throw new Error(e ? e.message : res.status + ' ' + res.statusText);
+  }
+  return data === null ? text : data;
+}
+
+function el(tag, attrs, parent) {
+  const e = document.createElementNS(SVG, tag);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+function say(id, text) {
+  $(id).hidden = !text;
+  $(id).textContent = text || '';
+}
+
+// ---- the edit plane: a wall's plane (x, z) with z up, or a roof's (x, y) seen from above, back at the top.
+
+const isWallTool = (tool) => tool === 'wall' || tool === 'opening';
+const planeT = () => Number($('plane-t').value);
+const sheet = () => design.sheet;
+const planeHeight = () => (isWallTool(ui.tool) ? sheet().back : sheet().floor);
+// Plane point (a, b) to SVG user units and back: a wall's z grows upwards.
+const toSvg = (a, b) => (isWallTool(ui.tool) ? [a, -b] : [a, b]);
+const fromSvg = (x, y) => (isWallTool(ui.tool) ? [x, -y] : [x, y]);
+
+function svgPoint(event) {
+  const svg = $('edit');
+  const p = svg.createSVGPoint();
+  p.x = event.clientX;
+  p.y = event.clientY;
+  const q = p.matrixTransform(svg.getScreenCTM().inverse());
+  return fromSvg(q.x, q.y);
+}
+
+// The nearest corner of an item drawn in this kind of plane within 8 pixels, else the grid point.
+function snap([a, b]) {
+  const svg = $('edit');
+  const mmPerPx = svg.viewBox.baseVal.width / svg.clientWidth;
+  let best = null, bestD = 8 * mmPerPx;
+  for (const it of design.items) {
+    if (isWallTool(it.tool) !== isWallTool(ui.tool)) continue;
+    for (const [x, y] of it.outline) {
+      const d = Math.hypot(x - a, y - b);
+      if (d < bestD) { best = [x, y]; bestD = d; }
+    }
+  }
+  if (best) return best;
+  const g = Number($('grid').value);
+  const clamp = (v, hi) => Math.min(Math.max(v, 0), hi);
+  return [clamp(Math.round(a / g) * g, sheet().width), clamp(Math.round(b / g) * g, planeHeight())];
+}
+
+function drawEditPlane() {
+  const svg = $('edit');
+  svg.textContent = '';
+  if (!design) return;
+  const w = sheet().width, h = planeHeight(), m = Math.max(w, h) * 0.04;
+  const [x0, y0] = toSvg(0, isWallTool(ui.tool) ? h : 0);
+  svg.setAttribute('viewBox', `${x0 - m} ${y0 - m} ${w + 2 * m} ${h + 2 * m}`);
+  el('rect', { x: x0, y: y0, width: w, height: h, fill: '#fff', stroke: '#999', 'stroke-width': 0.3 }, svg);
+  const g = Number($('grid').value), grid = el('g', { stroke: '#e6e2d8', 'stroke-width': 0.15 }, svg);
+  for (let a = 0; a <= w + 1e-9; a += g) el('line', { x1: a, y1: y0, x2: a, y2: y0 + h }, grid);
+  for (let b = 0; b <= h + 1e-9; b += g) {
+    const y = toSvg(0, b)[1];
+    el('line', { x1: 0, y1: y, x2: w, y2: y }, grid);
+  }
+  el('line', { x1: w / 2, y1: y0, x2: w / 2, y2: y0 + h, stroke: '#b9a', 'stroke-dasharray': '2 1', 'stroke-width': 0.3 }, svg);
+  const t = planeT();
+  for (const it of design.items) {
+    if (isWallTool(it.tool) !== isWallTool(ui.tool)) {
+      // A wall seen from above is a line at its depth; a roof seen from the front one at its height.
+      if (it.tool === 'wall' || it.tool === 'roof') footprint(svg, it);
+      continue;
+    }
+    const here = Math.abs(it.t - t) < 1e-6, opening = it.tool === 'opening' || it.tool === 'roof_opening';
+    const style = { fill: opening ? '#fcfbf8' : here ? '#c9d9ec' : 'none', stroke: here ? '#3b4a5a' : '#b8b2a5',
+      'stroke-width': here ? 0.5 : 0.3, 'stroke-dasharray': opening ? '1.5 0.8' : 'none', 'data-item': it.id };
+    outlinePath(svg, it.outline, style);
+    if (it.mirror) outlinePath(svg, it.outline.map(([a, b]) => [w - a, b]), Object.assign({}, style, { 'fill-opacity': 0.5 }));
+  }
+  drawInProgress(svg);
+}
+
+function outlinePath(svg, pts, style) {
+  const d = pts.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + ' Z';
+  return el('path', Object.assign({ d }, style), svg);
+}
+
+function footprint(svg, it) {
+  const xs = it.outline.map((p) => p[0]);
+  const y = toSvg(0, it.t)[1];
+  el('line', { x1: Math.min(...xs), y1: y, x2: Math.max(...xs), y2: y, stroke: '#8fa3b8', 'stroke-width': 0.6 }, svg);
+}
+
+function drawInProgress(svg) {
+  const pts = ui.points.slice();
+  if (ui.cursor) {
+    const [cx, cy] = toSvg(...ui.cursor);
+    el('circle', { cx, cy, r: 0.8, fill: '#d62728' }, svg);
+    $('hint').textContent = `${isWallTool(ui.tool) ? 'x, z' : 'x, y'} = ${ui.cursor[0]}, ${ui.cursor[1]} mm · ` + hint();
+  }
+  if (!pts.length) return;
+  const shown = ui.shape === 'rect' && ui.cursor ? rectangle(pts[0], ui.cursor) : pts.concat(ui.cursor ? [ui.cursor] : []);
+  const d = shown.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + (ui.shape === 'rect' ? ' Z' : '');
+  el('path', { d, fill: '#d6272822', stroke: '#d62728', 'stroke-width': 0.4 }, svg);
+  for (const p of pts) {
+    const [cx, cy] = toSvg(...p);
+    el('circle', { cx, cy, r: 0.9, fill: '#fff', stroke: '#d62728', 'stroke-width': 0.3 }, svg);
+  }
+}
+
+function hint() {
+  if (ui.shape === 'rect') return ui.points.length ? 'click the opposite corner (Esc: cancel)' : 'click a corner';
+  return ui.points.length < 3 ? 'click each corner' : 'click the first corner or press Enter to close (Esc: cancel)';
+}
+
+function rectangle([a0, b0], [a1, b1]) {
+  const [xa, xb] = [Math.min(a0, a1), Math.max(a0, a1)], [ya, yb] = [Math.min(b0, b1), Math.max(b0, b1)];
+  return [[xa, ya], [xb, ya], [xb, yb], [xa, yb]];
+}
+
+// Counter-clockwise in the plane's own coordinates, as the design file writes outlines.
+function counterClockwise(pts) {
+  let twice = 0;
+  pts.forEach((p, i) => { const q = pts[(i + 1) % pts.length]; twice += p[0] * q[1] - q[0] * p[1]; });
+  return twice < 0 ? pts.slice().reverse() : pts;
+}
+
+function onEditClick(event) {
+  if (!design) return;
+  const p = snap(svgPoint(event));
+  const started = performance.now();
+  if (ui.shape === 'rect') {
+    if (!ui.points.length) { ui.points = [p]; drawEditPlane(); return; }
+    const outline = rectangle(ui.points[0], p);
+    ui.points = [];
+    if (outline[0][0] === outline[1][0] || outline[0][1] === outline[2][1]) { say('edit-error', 'A rectangle needs two different corners.'); drawEditPlane(); return; }
+    return addItem(outline, started);
+  }
+  const first = ui.points[0];
+  if (first && ui.points.length >= 3 && p[0] === first[0] && p[1] === first[1]) return closePolygon(started);
+  const last = ui.points[ui.points.length - 1];
+  if (!last || last[0] !== p[0] || last[1] !== p[1]) ui.points.push(p);
+  drawEditPlane();
+}
+
+function closePolygon(started) {
+  const outline = ui.points;
+  ui.points = [];
+  if (outline.length < 3) { drawEditPlane(); return; }
+  return addItem(counterClockwise(outline), started);
+}
+
+async function addItem(outline, started) {
+  const item = { tool: ui.tool, t: planeT(), outline, mirror: $('mirror').checked };
+  if (ui.tool === 'wall') item.top = $('tops').checked;
+  await edit('POST', '/items', JSON.stringify(item), started);
+}
+
+// ---- answers
+
+async function edit(method, rest, body, started) {
+  try {
+    const answer = await api(method, `/api/v1/designs/${design.id}${rest}`, body);
+    say('edit-error', '');
+    show(answer, started);
+  } catch (e) {
+    say('edit-error', e.message);  // the session is as it was: nothing to take back here
+    drawEditPlane();
+  }
+}
+
+function show(answer, started) {
+  design = answer;
+  localStorage.setItem('popcut-design', String(design.id));
+  if (document.activeElement !== $('name')) $('name').value = design.name || '';
+  $('undo').disabled = !design.can_undo;
+  $('redo').disabled = !design.can_redo;
+  drawEditPlane();
+  drawPattern();
+  drawItems();
+  const failing = new Set(design.check.not_standing.map((p) => p.face));
+  for (const piece of design.check.loose_pieces) piece.faces.forEach((f) => failing.add(f));
+  view.setPattern(design.pattern, failing, new Set(design.check.flaps.map((p) => p.face)));
+  document.body.dataset.revision = String(Number(document.body.dataset.revision || 0) + 1);
+  const n = design.items.length;
+  $('status').textContent = `draft ${design.id} · ${n} ${n === 1 ? 'item' : 'items'}` +
+    (design.answer_ms === undefined ? '' : ` · answered in ${design.answer_ms} ms`);
+  if (started !== undefined) requestAnimationFrame(() => timings.push(performance.now() - started));
+}
+
+function drawPattern() {
+  const svg = $('pattern'), p = design.pattern, s = p.sheet;
+  svg.textContent = '';
+  // Pattern v grows up the back board; the SVG's y grows down.
+  svg.setAttribute('viewBox', `${s.min[0] - 2} ${-s.max[1] - 2} ${s.max[0] - s.min[0] + 4} ${s.max[1] - s.min[1] + 4}`);
+  el('rect', { x: s.min[0], y: -s.max[1], width: s.max[0] - s.min[0], height: s.max[1] - s.min[1], fill: '#fff',
+    stroke: '#999', 'stroke-width': 0.2 }, svg);
+  const bad = new Set(design.check.not_standing.map((q) => q.face));
+  const flaps = new Set(design.check.flaps.map((q) => q.face));
+  p.faces.forEach((f, i) => {
+    if (!bad.has(i) && !flaps.has(i)) return;
+    const ring = (r) => r.map(([x, v], k) => (k ? 'L' : 'M') + x + ' ' + -v).join(' ') + ' Z';
+    el('path', { d: [f.outer].concat(f.holes).map(ring).join(' '), fill: bad.has(i) ? '#e0483c66' : '#f0a03055',
+      'fill-rule': 'evenodd', class: bad.has(i) ? 'failing-face' : 'flap-face', 'data-face': i }, svg);
+  });
+  const styles = { valley: { stroke: '#1f5fd6', 'stroke-dasharray': '1.5 0.75' },
+    mountain: { stroke: '#d62728', 'stroke-dasharray': '2 0.5 0.4 0.5' }, cut: { stroke: '#000' } };
+  for (const kind of ['valley', 'mountain', 'cut']) {
+    const g = el('g', Object.assign({ class: kind, fill: 'none', 'stroke-width': 0.35, 'stroke-linecap': 'round' }, styles[kind]), svg);
+    for (const [x1, v1, x2, v2] of p.lines[kind]) el('line', { x1, y1: -v1, x2, y2: -v2 }, g);
+  }
+  const c = design.check;
+  $('verdict').className = c.pops_up ? 'ok' : 'bad';
+  $('verdict').textContent = c.pops_up ? `Pops up: ${c.faces} faces, ${c.lines.cut} cuts, ${c.lines.mountain + c.lines.valley} folds.`
+    : 'Does not pop up' + (c.no_back_board ? ': no back board' : c.no_floor ? ': no floor' : c.sheet_split ? ': the sheet falls in two' : '.');
+  const problems = c.not_standing.length + c.loose_pieces.length;
+  $('card-verdict').className = c.pops_up ? 'ok' : 'bad';
+  $('card-verdict').textContent = c.pops_up ? '✓ pops up' + (c.flaps.length ? ` (${c.flaps.length} hanging: see the check)` : '')
+    : `✗ does not pop up${problems ? `: ${problems} ${problems === 1 ? 'problem' : 'problems'} in red` : ''}`;
+  const list = $('check');
+  list.textContent = '';
+  for (const [problems, cls] of [[c.not_standing, 'fail'], [c.loose_pieces, 'fail'], [c.flaps, 'note']]) {
+    for (const q of problems) {
+      const li = document.createElement('li');
+      li.className = cls;
+      li.textContent = q.message;
+      list.appendChild(li);
+    }
+  }
+}
+
+const TOOL_NAMES = { wall: 'Wall', opening: 'Opening', roof: 'Roof', roof_opening: 'Roof opening' };
+
+function drawItems() {
+  const list = $('items');
+  list.textContent = '';
+  for (const it of design.items) {
+    const li = document.createElement('li');
+    const xs = it.outline.map((p) => p[0]), ys = it.outline.map((p) => p[1]);
+    const size = `${+(Math.max(...xs) - Math.min(...xs)).toFixed(1)} × ${+(Math.max(...ys) - Math.min(...ys)).toFixed(1)} mm`;
+    li.textContent = `${TOOL_NAMES[it.tool]} at ${isWallTool(it.tool) ? 'y' : 'z'} = ${it.t} mm, ${size}` +
+      (it.mirror ? ', mirrored' : '') + (it.top === false ? ', no tops' : '');
+    li.className = isWallTool(it.tool) === isWallTool(ui.tool) && it.t === planeT() ? 'here' : '';
+    li.dataset.item = it.id;
+    li.addEventListener('click', () => { setTool(it.tool); setPlane(it.t); });
+    const remove = document.createElement('button');
+    remove.textContent = '✕';
+    remove.title = 'Remove this item';
+    remove.addEventListener('click', (e) => { e.stopPropagation(); edit('POST', `/items/${it.id}/remove`, undefined, performance.now()); });
+    li.appendChild(remove);
+    list.appendChild(li);
+  }
+}
+
+// ---- tools, plane and keys
+
+function setTool(tool) {
+  ui.tool = tool;
+  ui.points = [];
+  for (const b of document.querySelectorAll('.tool')) b.setAttribute('aria-pressed', String(b.dataset.tool === tool));
+  $('plane-label').textContent = isWallTool(tool) ? 'Depth y' : 'Height z';
+  $('tops').disabled = tool !== 'wall';
+  if (design) {
+    $('plane-slider').max = String(isWallTool(tool) ? sheet().floor : sheet().back);
+    $('plane-title').textContent = `${TOOL_NAMES[tool]} on the plane ${isWallTool(tool) ? 'y' : 'z'} = ${planeT()} mm` +
+      (isWallTool(tool) ? ' (seen from the front)' : ' (seen from above, back board at the top)');
+    drawEditPlane();
+    drawItems();
+  }
+}
+
+function setShape(shape) {
+  ui.shape = shape;
+  ui.points = [];
+  for (const b of document.querySelectorAll('.shape')) b.setAttribute('aria-pressed', String(b.dataset.shape === shape));
+  if (design) drawEditPlane();
+}
+
+function setPlane(t) {
+  $('plane-t').value = String(t);
+  $('plane-slider').value = String(t);
+  setTool(ui.tool);
+}
+
+function onKey(e) {
+  if (e.target.tagName === 'INPUT' && e.target.type !== 'range' && e.target.type !== 'checkbox') return;
+  if (e.key === 'Escape') { ui.points = []; drawEditPlane(); }
+  else if (e.key === 'Enter' && ui.shape === 'polygon') closePolygon(performance.now());
+  else if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') { e.preventDefault(); edit('POST', e.shiftKey ? '/redo' : '/undo', undefined, performance.now()); }
+  else if (e.key === 'w') setTool('wall');
+  else if (e.key === 'o') setTool('opening');
+  else if (e.key === 'r') setTool('roof');
+}
+
+window.DesignerFiles.wire({ api, say, show, current: () => design, setPlane, setTool });
+
+async function start() {
+  view = new CardView($('view3d'));
+  document.querySelectorAll('.tool').forEach((b) => b.addEventListener('click', () => setTool(b.dataset.tool)));
+  document.querySelectorAll('.shape').forEach((b) => b.addEventListener('click', () => setShape(b.dataset.shape)));
+  $('plane-t').addEventListener('input', () => { $('plane-slider').value = $('plane-t').value; setTool(ui.tool); });
+  $('plane-slider').addEventListener('input', () => setPlane(Number($('plane-slider').value)));
+  $('grid').addEventListener('change', () => drawEditPlane());
+  $('edit').addEventListener('click', onEditClick);
+  $('edit').addEventListener('dblclick', () => { if (ui.shape === 'polygon') closePolygon(performance.now()); });
+  $('edit').addEventListener('pointermove', (e) => { if (design) { ui.cursor = snap(svgPoint(e)); drawEditPlane(); } });
+  $('undo').addEventListener('click', () => edit('POST', '/undo', undefined, performance.now()));
+  $('redo').addEventListener('click', () => edit('POST', '/redo', undefined, performance.now()));
+  $('angle').addEventListener('input', () => { $('angle-value').textContent = $('angle').value + '°'; view.setAngle(Number($('angle').value)); });
+  document.addEventListener('keydown', onKey);
+  setShape('rect');
+  setTool('wall');
+  if (!token) { $('status').textContent = 'Open this page with ?token=YOUR_TOKEN (from popcutd.toml).'; return; }
+  await window.DesignerFiles.open(params.get('design') || localStorage.getItem('popcut-design'));
+}
+
+start();

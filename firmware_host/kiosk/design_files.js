@@ -1,0 +1,150 @@
+// popcut designer's drafts and files: new card, the token's drafts, open/save popcut.design.v1, SVG/DXF export, the
+// card's name, sending it to a cutter and following the job, and the open-and-close animation.
+'use strict';
+
+window.DesignerFiles = (() => {
+  const $ = (id) => document.getElementById(id);
+  let ctx = null;
+  let playing = null;
+
+  function emptyDesign(width, back, floor) {
+    return JSON.stringify({ format: 'popcut.design.v1', sheet: { width, back, floor }, items: [] });
+  }
+
+  async function listDrafts() {
+    const { designs } = await ctx.api('GET', '/api/v1/designs');
+    const select = $('drafts');
+    select.length = 1;
+    for (const d of designs) {
+      const when = new Date(d.updated_at * 1000).toLocaleString();
+      select.add(new Option(`${d.name || 'untitled'} (#${d.id}, ${d.items} items, ${when})`, String(d.id)));
+    }
+  }
+
+  // The draft `id` if this token has it, else a new card of the size the New card fields say.
+  async function open(id) {
+    let answer = null;
+    if (id) {
+      try { answer = await ctx.api('GET', `/api/v1/designs/${Number(id)}`); } catch (_) { /* gone: start anew */ }
+    }
+    if (!answer) answer = await create(emptyDesign(num('sheet-width'), num('sheet-back'), num('sheet-floor')));
+    if (answer) loaded(answer);
+  }
+
+  async function create(text) {
+    try {
+      return await ctx.api('POST', '/api/v1/designs', text);
+    } catch (e) {
+      ctx.say('edit-error', e.message);
+      return null;
+    }
+  }
+
+  function loaded(answer) {
+    ctx.show(answer);
+    const wall = answer.items.find((it) => it.tool === 'wall');
+    ctx.setPlane(wall ? wall.t : Math.round(answer.sheet.floor * 0.4));
+    listDrafts().catch(() => {});
+  }
+
+  const num = (id) => Number($(id).value);
+
+  async function download(path, filename) {
+    const res = await fetch(path, { headers: { Authorization: 'Bearer ' + localStorage.getItem('popcut-token') } });
+    if (!res.ok) { ctx.say('edit-error', 'could not download ' + filename + ': ' + res.status); return; }
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(await res.blob());
+    a.download = filename;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+  }
+
+  function fileName(ext) {
+    const d = ctx.current();
+    const stem = (d.name || 'card-' + d.id).replace(/[^\p{L}\p{N}_-]+/gu, '-').replace(/^-+|-+$/g, '') || 'card';
+    return stem + '.' + ext;
+  }
+
+  async function rename() {
+    const d = ctx.current(), name = $('name').value.trim();
+    if (!d || name === (d.name || '') || !name) return;
+    try {
+      ctx.show(await ctx.api('PATCH', `/api/v1/designs/${d.id}`, JSON.stringify({ name })));
+      listDrafts().catch(() => {});
+    } catch (e) { ctx.say('edit-error', e.message); }
+  }
+
+  async function devices() {
+    try {
+      const { devices } = await ctx.api('GET', '/api/v1/devices');
+      for (const dev of devices) $('device').add(new Option(dev.name, dev.name));
+    } catch (_) { /* no devices: sending stays off */ }
+    $('send').disabled = $('device').length === 0;
+  }
+
+  async function send() {
+    const d = ctx.current();
+    $('send').disabled = true;
+    try {
+      const job = await ctx.api('POST', `/api/v1/designs/${d.id}/submit`, JSON.stringify({ device: $('device').value }));
+      follow(job.id);
+    } catch (e) {
+      $('job').textContent = 'Not sent: ' + e.message;
+    } finally {
+      $('send').disabled = false;
+    }
+  }
+
+  // The job's state until it ends, as the kiosk shows it.
+  async function follow(id) {
+    for (;;) {
+      let job;
+      try { job = await ctx.api('GET', `/api/v1/jobs/${id}`); } catch (e) { $('job').textContent = e.message; return; }
+      const where = job.cut_on || job.device || 'the first free cutter';
+      const line = job.state === 'ready' && job.place_in_line === 0 ? ' (next: is a fresh sheet loaded and confirmed?)' : '';
+      $('job').textContent = `Job ${id} on ${where}: ${job.state}${line}`;
+      $('job').dataset.state = job.state;
+      if (['done', 'failed', 'cancelled', 'interrupted'].includes(job.state)) return;
+      await new Promise((r) => setTimeout(r, 1000));
+    }
+  }
+
+  // Opens and closes the card once (0° to 180° and back in four seconds), or stops.
+  function play() {
+    if (playing) { cancelAnimationFrame(playing); playing = null; return; }
+    const t0 = performance.now();
+    const step = (now) => {
+      const f = ((now - t0) / 4000) % 1;
+      const deg = Math.round(180 * (f < 0.5 ? f * 2 : 2 - f * 2));
+      $('angle').value = String(deg);
+      $('angle').dispatchEvent(new Event('input'));
+      playing = now - t0 < 4000 ? requestAnimationFrame(step) : null;
+    };
+    playing = requestAnimationFrame(step);
+  }
+
+  function wire(context) {
+    ctx = context;
+    $('new').addEventListener('click', async () => {
+      const answer = await create(emptyDesign(num('sheet-width'), num('sheet-back'), num('sheet-floor')));
+      if (answer) { $('new-card').open = false; loaded(answer); }
+    });
+    $('drafts').addEventListener('change', () => { if ($('drafts').value) open($('drafts').value); });
+    $('open').addEventListener('change', async () => {
+      const file = $('open').files[0];
+      if (!file) return;
+      const answer = await create(await file.text());
+      if (answer) loaded(answer);
+      $('open').value = '';
+    });
+    $('save').addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/design.json`, fileName('json')));
+    $('export-svg').addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/pattern.svg`, fileName('svg')));
+    $('export-dxf').addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/pattern.dxf`, fileName('dxf')));
+    $('name').addEventListener('change', rename);
+    $('send').addEventListener('click', send);
+    $('play').addEventListener('click', play);
+    devices();
+  }
+
+  return { wire, open };
+})();
