@@ -3,6 +3,7 @@
 #include "popcut/design/face_design.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <tuple>
 #include <utility>
@@ -117,10 +118,13 @@ Outline mirrored(const Outline& outline, double width_mm) {
 }
 
 std::vector<FaceEdit> wall_tops(const FaceModel& model, double t_mm, const Outline& outline) {
+  return wall_tops(model.faces(), t_mm, outline);
+}
+
+std::vector<FaceEdit> wall_tops(const std::vector<OAFace>& faces, double t_mm, const Outline& outline) {
   if (outline.size() < 3) return {};
   Outline ccw = outline;
   if (signed_area(ccw) < 0) std::reverse(ccw.begin(), ccw.end());
-  const std::vector<OAFace> faces = model.faces();
   std::vector<FaceEdit> tops;
   for (std::size_t i = 0; i < ccw.size(); ++i) {
     const auto& a = ccw[i];
@@ -137,7 +141,7 @@ std::vector<FaceEdit> wall_tops(const FaceModel& model, double t_mm, const Outli
 FaceDesign::FaceDesign(double width_mm, double back_mm, double floor_mm)
     : width_mm_(width_mm), model_(width_mm, back_mm, floor_mm) {}
 
-std::size_t FaceDesign::draw(const DesignItem& item, const std::string& where) {
+std::size_t FaceDesign::draw(const DesignItem& item, const std::string& where, const std::vector<OAFace>& behind) {
   std::vector<Outline> outlines = {item.outline};
   if (item.mirror) {
     const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
@@ -153,7 +157,7 @@ std::size_t FaceDesign::draw(const DesignItem& item, const std::string& where) {
   std::vector<FaceEdit> tops;
   if (item.tool == DesignTool::wall && item.top) {
     for (const Outline& o : outlines) {
-      for (FaceEdit& top : wall_tops(model_, item.t_mm, o)) tops.push_back(std::move(top));
+      for (FaceEdit& top : wall_tops(behind, item.t_mm, o)) tops.push_back(std::move(top));
     }
   }
   std::size_t applied = 0;
@@ -186,10 +190,42 @@ std::size_t FaceDesign::edits_before(std::size_t pos) const {
   return n;
 }
 
+namespace {
+
+// The x ranges an item's faces (and its mirror's, and its tops) cover: pattern x is card x, so
+// an edit changes no face outside them.
+std::vector<std::array<double, 2>> x_ranges(const DesignItem& item, double width_mm) {
+  double lo = item.outline.front()[0], hi = lo;
+  for (const auto& p : item.outline) {
+    lo = std::min(lo, p[0]);
+    hi = std::max(hi, p[0]);
+  }
+  if (!item.mirror) return {{lo, hi}};
+  return {{lo, hi}, {width_mm - hi, width_mm - lo}};
+}
+
+bool overlaps(const std::vector<std::array<double, 2>>& a, const std::vector<std::array<double, 2>>& b) {
+  constexpr double kTouchMm = 1e-6;  // touching ranges count: a shared edge may change a face's boundary
+  for (const auto& r : a) {
+    for (const auto& q : b) {
+      if (r[0] <= q[1] + kTouchMm && q[0] <= r[1] + kTouchMm) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 // Takes back every face edit from item `pos` on and draws `tail` there instead; on failure puts
-// the old items back (they drew before, so they draw again) and rethrows. `new_at` is the index
-// in `tail` of the item being added (its errors name `where`), or tail.size() for none.
-void FaceDesign::redraw_from(std::size_t pos, std::vector<Placed> tail, const std::string& where, std::size_t new_at) {
+// the old items back (they drew before, so they draw again) and rethrows. `name_of(i)` names
+// tail[i] in errors.
+//
+// A wall's tops are read off the faces behind it. Those faces are read once and reused for the
+// next walls as long as nothing drawn since covers any x of theirs: faces at an x depend only
+// on the polygons at that x. Redrawing (or reading) a street of walls then reads the faces a few
+// times instead of once per wall, and gives the same edits as drawing the items one by one.
+void FaceDesign::redraw_from(std::size_t pos, std::vector<Placed> tail,
+                             const std::function<std::string(std::size_t)>& name_of) {
   const std::size_t keep = edits_before(pos);
   model_redo_depth_ = 0;  // applying anything, even on the way to a failure, clears the model's redo
   std::vector<Placed> old(placed_.begin() + static_cast<std::ptrdiff_t>(pos), placed_.end());
@@ -199,19 +235,31 @@ void FaceDesign::redraw_from(std::size_t pos, std::vector<Placed> tail, const st
   };
   back_to();
   last_work_ = 0;
+  std::vector<OAFace> behind;
+  bool read = false;
+  std::vector<std::array<double, 2>> since;  // x ranges drawn after `behind` was read
+  const auto faces_for = [&](const DesignItem& item) -> const std::vector<OAFace>& {
+    if (item.tool != DesignTool::wall || !item.top) return behind;
+    const auto ranges = x_ranges(item, width_mm_);
+    if (!read || overlaps(since, ranges)) {
+      behind = model_.faces();
+      read = true;
+      since.clear();
+    }
+    return behind;
+  };
   try {
     for (std::size_t i = 0; i < tail.size(); ++i) {
-      const std::string name = i == new_at ? where
-                                           : "the " + std::string(kDesignToolNames.name(tail[i].item.tool)) +
-                                                 " drawn as item " + std::to_string(tail[i].id);
-      tail[i].edits = draw(tail[i].item, name);
+      tail[i].edits = draw(tail[i].item, name_of(i), faces_for(tail[i].item));
+      const auto ranges = x_ranges(tail[i].item, width_mm_);
+      since.insert(since.end(), ranges.begin(), ranges.end());
       last_work_ += tail[i].edits;
       placed_.push_back(std::move(tail[i]));
     }
   } catch (...) {
     back_to();
     for (Placed& p : old) {
-      p.edits = draw(p.item, "item " + std::to_string(p.id));
+      p.edits = draw(p.item, "item " + std::to_string(p.id), model_.faces());
       placed_.push_back(std::move(p));
     }
     changed();
@@ -220,26 +268,67 @@ void FaceDesign::redraw_from(std::size_t pos, std::vector<Placed> tail, const st
   changed();
 }
 
+std::string FaceDesign::default_name(const Placed& p) {
+  return "the " + std::string(kDesignToolNames.name(p.item.tool)) + " drawn as item " + std::to_string(p.id);
+}
+
 void FaceDesign::insert(std::size_t pos, Placed placed, const std::string& where) {
   std::vector<Placed> tail = {std::move(placed)};
   tail.insert(tail.end(), placed_.begin() + static_cast<std::ptrdiff_t>(pos), placed_.end());
-  redraw_from(pos, std::move(tail), where, 0);
+  redraw_from(pos, tail, [&](std::size_t i) { return i == 0 ? where : default_name(tail[i]); });
 }
 
 void FaceDesign::erase(std::size_t pos) {
   std::vector<Placed> tail(placed_.begin() + static_cast<std::ptrdiff_t>(pos) + 1, placed_.end());
-  const std::size_t n = tail.size();
-  redraw_from(pos, std::move(tail), "", n);
+  redraw_from(pos, tail, [&](std::size_t i) { return default_name(tail[i]); });
 }
 
 void FaceDesign::add(const DesignItem& item, const std::string& where) {
   if (placed_.size() >= kMaxDesignItems)
-    throw Error(ErrorCode::invalid_input, "", where,
-                "a design may have at most " + std::to_string(kMaxDesignItems) + " items");
+    throw Error(ErrorCode::limit, "", where, "a design may have at most " + std::to_string(kMaxDesignItems) + " items");
   Placed placed{next_id_, item, 0};
   insert(position_for(placed), placed, where);
   ++next_id_;
   undo_.push_back({true, std::move(placed)});
+  redo_.clear();
+  model_redo_depth_ = 0;
+}
+
+void FaceDesign::add_all(const std::vector<DesignItem>& items, const std::vector<std::string>& where,
+                         const std::vector<std::uint64_t>& ids) {
+  if (placed_.size() + items.size() > kMaxDesignItems)
+    throw Error(ErrorCode::limit, "", "items",
+                "a design may have at most " + std::to_string(kMaxDesignItems) + " items");
+  // The order adding them one by one would give: by key, ties in the order given (ids rise).
+  std::vector<Placed> tail(placed_.begin(), placed_.end());
+  const std::uint64_t first = next_id_;
+  const std::uint64_t given_from = ids.empty() ? 0 : *std::min_element(ids.begin(), ids.end());
+  if (!ids.empty() && (ids.size() != items.size() || given_from < first))
+    throw Error(ErrorCode::invalid_input, "", "items", "item ids must be new, one per item");
+  std::map<std::uint64_t, std::string> named;  // id -> where
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::uint64_t id = ids.empty() ? next_id_ : ids[i];
+    if (!named.emplace(id, i < where.size() ? where[i] : "item").second)
+      throw Error(ErrorCode::invalid_input, "", i < where.size() ? where[i] + ".id" : "id",
+                  "repeats an earlier item's id");
+    tail.push_back({id, items[i], 0});
+    next_id_ = std::max(next_id_, id + 1);
+  }
+  std::stable_sort(tail.begin(), tail.end(),
+                   [](const Placed& a, const Placed& b) { return order_key(a.item, a.id) < order_key(b.item, b.id); });
+  try {
+    redraw_from(0, tail, [&](std::size_t i) {
+      const auto it = named.find(tail[i].id);
+      return it != named.end() ? it->second : default_name(tail[i]);
+    });
+  } catch (...) {
+    next_id_ = first;
+    throw;
+  }
+  for (const auto& [id, unused] : named) {
+    const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == id; });
+    undo_.push_back({true, *it});
+  }
   redo_.clear();
   model_redo_depth_ = 0;
 }

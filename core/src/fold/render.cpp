@@ -12,6 +12,7 @@
 #include "depth_buffer.h"
 #include "picture_space.h"
 #include "popcut/error.h"
+#include "popcut/pattern/popup_check.h"
 #include "popcut/text.h"
 #include "shadow_map.h"
 
@@ -133,7 +134,24 @@ std::vector<unsigned char> downsample(const std::vector<unsigned char>& rgb, int
 
 CardMesh fold_card_for_picture(const Pattern& pattern, double angle_deg) {
   check_fold_angle(angle_deg, "angle");  // before the clamp below, which would make 1e9 a picture at 179°
-  return fold_card(pattern, std::min(angle_deg, kPictureMaxAngleDeg));
+  CardMesh mesh = fold_card(pattern, std::min(angle_deg, kPictureMaxAngleDeg));
+  // The paper that drops out of openings (a round window's disc) is not on the card.
+  const PopupReport report = check_popup(pattern);
+  if (report.cut_out.empty()) return mesh;
+  std::vector<char> gone(pattern.faces.size(), 0);
+  for (const LoosePiece& lp : report.cut_out) {
+    for (const int f : lp.faces) gone[static_cast<std::size_t>(f)] = 1;
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    if (gone[static_cast<std::size_t>(mesh.triangle_face[i])]) continue;
+    mesh.triangles[kept] = mesh.triangles[i];
+    mesh.triangle_face[kept] = mesh.triangle_face[i];
+    ++kept;
+  }
+  mesh.triangles.resize(kept);
+  mesh.triangle_face.resize(kept);
+  return mesh;
 }
 
 ViewBox view_box(const std::vector<CardMesh>& meshes) {

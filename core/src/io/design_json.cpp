@@ -20,14 +20,20 @@ bool is_design_json(const json& root) {
 
 namespace {
 
-DesignItem read_design_item(const json_util::Reader& in, const json& j, const std::string& path) {
+constexpr std::uint64_t kMaxDesignItemId = std::uint64_t{1} << 50;  // exact in every JSON reader's double
+
+DesignItem read_design_item(const json_util::Reader& in, const json& j, const std::string& path, bool with_id) {
   in.require_object(j, path);
-  in.only_keys(j, {"tool", "t", "outline", "top", "mirror"}, path);
+  if (with_id)
+    in.only_keys(j, {"id", "tool", "t", "outline", "top", "mirror"}, path);
+  else
+    in.only_keys(j, {"tool", "t", "outline", "top", "mirror"}, path);
   DesignItem item;
   const std::string at = path.empty() ? "" : path + ".";
   item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), at + "tool");
   item.t_mm = in.number(in.require(j, "t", path), at + "t", 0, kMaxFaceCoordinateMm);
-  item.outline = in.points(in.require(j, "outline", path), at + "outline", kMaxFaceCoordinateMm, 3, kMaxOutlinePoints);
+  item.outline =
+      in.points(in.require(j, "outline", path), at + "outline", kMaxFaceCoordinateMm, 3, kMaxDesignOutlinePoints);
   const auto flag = [&](const char* key, bool fallback) {
     if (!j.contains(key)) return fallback;
     if (!j[key].is_boolean()) in.fail(at + key, "expected true or false");
@@ -43,7 +49,7 @@ DesignItem read_design_item(const json_util::Reader& in, const json& j, const st
 
 DesignItem parse_design_item(const std::string& text, const std::string& source) {
   const json_util::Reader in(source);
-  return read_design_item(in, json_util::parse(text, source), "");
+  return read_design_item(in, json_util::parse(text, source), "", false);
 }
 
 FaceDesign parse_design(const std::string& text, const std::string& source) {
@@ -57,16 +63,29 @@ FaceDesign design_from_json(const json& root, const std::string& source) {
   if (root.contains("name")) in.string(root["name"], "name", 256);
   const json& items = in.require(root, "items", "");
   in.require_array(items, "items");
-  if (items.size() > kMaxDesignItems) in.fail("items", "has more than " + std::to_string(kMaxDesignItems) + " items");
+  if (items.size() > kMaxDesignItems) {
+    throw Error(ErrorCode::limit, source, "items", "has more than " + std::to_string(kMaxDesignItems) + " items");
+  }
   FaceDesign design(width, back, floor);
+  std::vector<DesignItem> read;
+  std::vector<std::string> paths;
+  std::vector<std::uint64_t> ids;  // all given, or none: ids then follow the file's order
   for (std::size_t i = 0; i < items.size(); ++i) {
-    const std::string path = index_path("items", i);
-    const DesignItem item = read_design_item(in, items[i], path);
-    try {
-      design.add(item, path);
-    } catch (const Error& e) {
-      throw Error(e.code(), source, e.location(), e.message());
+    paths.push_back(index_path("items", i));
+    read.push_back(read_design_item(in, items[i], paths.back(), true));
+    if (items[i].contains("id") != (i == 0 ? items[0].contains("id") : !ids.empty()))
+      in.fail(paths.back() + ".id", "give every item an id, or none");
+    if (items[i].contains("id")) {
+      const json& id = items[i]["id"];
+      if (!id.is_number_unsigned() || id.get<std::uint64_t>() < 1 || id.get<std::uint64_t>() > kMaxDesignItemId)
+        in.fail(paths.back() + ".id", "expected a whole number from 1 to " + std::to_string(kMaxDesignItemId));
+      ids.push_back(id.get<std::uint64_t>());
     }
+  }
+  try {
+    design.add_all(read, paths, ids);
+  } catch (const Error& e) {
+    throw Error(e.code(), source, e.location(), e.message());
   }
   design.clear_history();  // undo starts from the design as read, not item by item through the file
   return design;
@@ -81,7 +100,7 @@ std::string to_design_json(const FaceDesign& design, const std::string& name) {
   const auto& items = design.items();
   for (std::size_t i = 0; i < items.size(); ++i) {
     const DesignItem& it = items[i].item;
-    o << (i ? ",\n    " : "\n    ") << "{\"tool\": \"" << kDesignToolNames.name(it.tool)
+    o << (i ? ",\n    " : "\n    ") << "{\"id\": " << items[i].id << ", \"tool\": \"" << kDesignToolNames.name(it.tool)
       << "\", \"t\": " << number_text(it.t_mm) << ", \"outline\": [";
     for (std::size_t k = 0; k < it.outline.size(); ++k) {
       o << (k ? ", " : "") << "[" << number_text(it.outline[k][0]) << ", " << number_text(it.outline[k][1]) << "]";

@@ -60,7 +60,7 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     std::vector<OAFace> out;
     for (std::size_t i = 0; i < faces.size(); ++i) {
       PatternFace f = read_face(in, faces[i], index_path("faces", i), kMaxFaceCoordinateMm);
-      out.push_back({f.kind, f.t_mm, {std::move(f.outer), std::move(f.holes)}});
+      out.push_back({f.kind, f.t_mm, {std::move(f.outer), std::move(f.holes)}, f.opening_paper});
     }
     return FaceModel::from_faces(width, back, floor, out, source);
   }
@@ -150,7 +150,7 @@ std::string to_face_json(const FaceModel& model, const std::string& name) {
       if (h) o << ", ";
       put_ring(o, faces[i].polygon.holes[h]);
     }
-    o << "]}";
+    o << "]" << (faces[i].opening_paper ? ", \"opening\": true" : "") << "}";
   }
   o << "\n  ]\n}\n";
   return o.str();

@@ -36,7 +36,7 @@ Point2 get_point(const json_util::Reader& in, const json& j, const std::string& 
 
 PatternFace read_face(const json_util::Reader& in, const json& f, const std::string& path, double limit_mm) {
   in.require_object(f, path);
-  in.only_keys(f, {"kind", "t", "label", "outer", "holes"}, path);
+  in.only_keys(f, {"kind", "t", "label", "outer", "holes", "opening"}, path);
   PatternFace face;
   face.kind = in.named(kFaceKindNames, in.require(f, "kind", path), path + ".kind");
   face.t_mm = in.number(in.require(f, "t", path), path + ".t", 0, limit_mm);
@@ -47,6 +47,10 @@ PatternFace read_face(const json_util::Reader& in, const json& f, const std::str
   };
   face.outer = ring(in.require(f, "outer", path), path + ".outer");
   if (f.contains("label")) face.label = get_point(in, f["label"], path + ".label");
+  if (f.contains("opening")) {
+    if (!f["opening"].is_boolean()) in.fail(path + ".opening", "expected true or false");
+    face.opening_paper = f["opening"].get<bool>();
+  }
   if (f.contains("holes")) {
     in.require_array(f["holes"], path + ".holes");
     for (std::size_t h = 0; h < f["holes"].size(); ++h)
@@ -89,7 +93,7 @@ void write_pattern_json(std::ostream& o, const Pattern& p) {
       if (h) o << ", ";
       put_ring(o, f.holes[h]);
     }
-    o << "]}";
+    o << "]" << (f.opening_paper ? ", \"opening\": true" : "") << "}";
   }
   o << "\n  ],\n  \"folds\": [";
   for (std::size_t i = 0; i < p.folds.size(); ++i) {

@@ -127,8 +127,9 @@ std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh)
   return lobes;
 }
 
-std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon) {
-  auto f = std::make_shared<ExactFace>(ExactFace{kind, t, std::move(polygon), {}});
+std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon,
+                                           bool opening_paper) {
+  auto f = std::make_shared<ExactFace>(ExactFace{kind, t, std::move(polygon), {}, opening_paper});
   f->bbox = f->polygon.outer_boundary().bbox();
   return f;
 }
@@ -183,7 +184,8 @@ void add_uncovered(const std::shared_ptr<const ExactFace>& d, const std::vector<
   std::vector<ExactPolygonWithHoles> pieces;
   rest.polygons_with_holes(std::back_inserter(pieces));
   for (const ExactPolygonWithHoles& piece : pieces) {
-    for (ExactPolygonWithHoles& lobe : split_lobes(piece)) out.push_back(make_face(d->kind, d->t, std::move(lobe)));
+    for (ExactPolygonWithHoles& lobe : split_lobes(piece))
+      out.push_back(make_face(d->kind, d->t, std::move(lobe), d->opening_paper));
   }
 }
 

@@ -35,7 +35,8 @@ bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s);
 // Clockwise loops split off the outer ring are holes touching it; each hole goes to its lobe.
 std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh);
 
-std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon);
+std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon,
+                                           bool opening_paper = false);
 ExactPolygon rectangle(const FT& x0, const FT& v0, const FT& x1, const FT& v1);
 FT polygon_area(const ExactPolygonWithHoles& p);
 

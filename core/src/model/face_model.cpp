@@ -79,7 +79,7 @@ ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool 
   const bool spills = from_hole && std::any_of(q.vertices_begin(), q.vertices_end(), [&](const ExactPoint& p) {
                         return kind == FaceKind::horizontal ? p.y() > limit : p.y() < limit;
                       });
-  if (!spills) return {make_face(kind, t, ExactPolygonWithHoles(q))};
+  if (!spills) return {make_face(kind, t, ExactPolygonWithHoles(q), from_hole)};
   const ExactPolygon stays = kind == FaceKind::horizontal ? rectangle(sheet.min_x, sheet.min_v, sheet.max_x, limit)
                                                           : rectangle(sheet.min_x, limit, sheet.max_x, sheet.max_v);
   std::vector<ExactPolygonWithHoles> kept, moved;
@@ -87,8 +87,8 @@ ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool 
   CGAL::difference(q, stays, std::back_inserter(moved));
   const FaceKind board = kind == FaceKind::horizontal ? FaceKind::vertical : FaceKind::horizontal;
   ExactFaces added;
-  for (auto& piece : kept) added.push_back(make_face(kind, t, std::move(piece)));
-  for (auto& piece : moved) added.push_back(make_face(board, 0, std::move(piece)));
+  for (auto& piece : kept) added.push_back(make_face(kind, t, std::move(piece), true));
+  for (auto& piece : moved) added.push_back(make_face(board, 0, std::move(piece), true));
   return added;
 }
 
@@ -270,7 +270,7 @@ std::vector<OAFace> FaceModel::faces() const {
   std::vector<OAFace> out;
   out.reserve(state().faces.size());
   for (const auto& f : state().faces) {
-    OAFace o{f->kind, to_mm(f->t), {to_ring(f->polygon.outer_boundary()), {}}};
+    OAFace o{f->kind, to_mm(f->t), {to_ring(f->polygon.outer_boundary()), {}}, f->opening_paper};
     for (const ExactPolygon& h : f->polygon.holes()) o.polygon.holes.push_back(to_ring(h));
     out.push_back(std::move(o));
   }

@@ -74,7 +74,7 @@ std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelStat
   if (!of_subdivision && !valid_polygon_with_holes(pwh)) {
     fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
   }
-  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh));
+  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh), f.opening_paper);
 }
 
 FT total_area(const ExactFaces& given) {

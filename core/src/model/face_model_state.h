@@ -44,7 +44,8 @@ struct ExactFace {
   FaceKind kind = FaceKind::vertical;
   FT t;
   ExactPolygonWithHoles polygon;
-  CGAL::Bbox_2 bbox;  // for skipping Booleans that cannot touch
+  CGAL::Bbox_2 bbox;           // for skipping Booleans that cannot touch
+  bool opening_paper = false;  // the paper of an opening (a hole's face): falls out when nothing holds it
 };
 
 // Faces are shared between states: an edit copies pointers and replaces only the faces it

@@ -174,14 +174,19 @@ std::vector<std::shared_ptr<const ExactFace>> merged_faces(const std::vector<std
     }
     // One aggregated join per plane (a sweep), not one Boolean per member.
     std::vector<ExactPolygonWithHoles> parts;
-    for (int f : group) parts.push_back(input[static_cast<std::size_t>(f)]->polygon);
+    bool opening_paper = true;  // merged with other paper, it is held with it
+    for (int f : group) {
+      parts.push_back(input[static_cast<std::size_t>(f)]->polygon);
+      opening_paper = opening_paper && input[static_cast<std::size_t>(f)]->opening_paper;
+    }
     PolygonSet set;
     set.join(parts.begin(), parts.end());
     std::vector<ExactPolygonWithHoles> joined;
     set.polygons_with_holes(std::back_inserter(joined));
     if (joined.size() != 1)
       throw Error(ErrorCode::internal, source, "faces", "faces joined by an edge did not merge into one");
-    faces.push_back(std::make_shared<const ExactFace>(ExactFace{first.kind, first.t, std::move(joined.front()), {}}));
+    faces.push_back(std::make_shared<const ExactFace>(
+        ExactFace{first.kind, first.t, std::move(joined.front()), {}, opening_paper}));
   }
   return faces;
 }
@@ -276,6 +281,7 @@ Pattern make_pattern(const FaceModel& model, const std::string& source) {
       PatternFace pf{f.kind, to_mm(f.t), to_ring(f.polygon.outer_boundary()), {}, {}};
       for (const ExactPolygon& h : f.polygon.holes()) pf.holes.push_back(to_ring(h));
       pf.label = interior_point(pf.outer, pf.holes);
+      pf.opening_paper = f.opening_paper;
       p.faces.push_back(std::move(pf));
     }
     const EdgeLengths edges = type_pieces(pieces, groups, faces, s, p, source);

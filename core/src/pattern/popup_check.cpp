@@ -123,6 +123,15 @@ PopupReport check_popup(const Pattern& p) {
     lp.area_mm2 += face_area_mm2(p.faces[f]);
     lp.faces.push_back(static_cast<int>(f));
   }
+  // An opening's paper that nothing holds simply drops out of the opening.
+  const auto only_opening = [&](const LoosePiece& lp) {
+    return std::all_of(lp.faces.begin(), lp.faces.end(),
+                       [&](int f) { return p.faces[static_cast<std::size_t>(f)].opening_paper; });
+  };
+  const auto cut = std::stable_partition(report.loose_pieces.begin(), report.loose_pieces.end(),
+                                         [&](const LoosePiece& lp) { return !only_opening(lp); });
+  report.cut_out.assign(cut, report.loose_pieces.end());
+  report.loose_pieces.erase(cut, report.loose_pieces.end());
   if (report.sheet_split) return report;
 
   const std::vector<char> from_back = reach(down, is_back);

@@ -33,7 +33,11 @@ TEST(DesignJson, ADesignReadsBackAsTheSameCard) {
   const std::string text = to_design_json(d, "porch \"draft\"");
   const FaceDesign back = parse_design(text, "draft.json");
   ASSERT_EQ(back.items().size(), d.items().size());
-  for (std::size_t i = 0; i < d.items().size(); ++i) EXPECT_EQ(back.items()[i].item, d.items()[i].item) << i;
+  for (std::size_t i = 0; i < d.items().size(); ++i) {
+    EXPECT_EQ(back.items()[i].item, d.items()[i].item) << i;
+    EXPECT_EQ(back.items()[i].id, d.items()[i].id) << i << ": an editor's ids survive the file";
+  }
+  EXPECT_EQ(back.items().front().id, 4u) << "the mirrored side wall, added last, is drawn first";
   EXPECT_EQ(back.model().edits(), d.model().edits()) << "the same face edits, so the same faces";
   EXPECT_EQ(to_design_json(back, "porch \"draft\""), text);
   EXPECT_EQ(to_face_json(back.model()), to_face_json(d.model()));
@@ -58,6 +62,13 @@ TEST(DesignJson, EveryBadFieldIsNamed) {
       {doc(R"({"tool": "wall", "t": 1, "outline": [[0,0],[1,0],[1,"a"]]})"), "items[0].outline[2][1]", ""},
       {doc(R"({"tool": "wall", "t": 1, "outline": [[0,0],[1,0],[1,1]], "colour": 3})"), "items[0].colour",
        "unknown field"},
+      {doc(R"({"id": 1, "tool": "wall", "t": 1, "outline": [[0,0],[1,0],[1,1]]}, {"id": 1, "tool": "wall", "t": 2,
+              "outline": [[0,0],[1,0],[1,1]]})"),
+       "items[1].id", "repeats"},
+      {doc(R"({"id": 1.5, "tool": "wall", "t": 1, "outline": [[0,0],[1,0],[1,1]]})"), "items[0].id", "whole number"},
+      {doc(R"({"id": 1, "tool": "wall", "t": 1, "outline": [[0,0],[1,0],[1,1]]}, {"tool": "wall", "t": 2,
+              "outline": [[0,0],[1,0],[1,1]]})"),
+       "items[1].id", "every item an id, or none"},
       {doc(R"({"tool": "wall", "t": 1, "outline": [[0,0],[1,0],[1,1]], "mirror": "yes"})"), "items[0].mirror",
        "true or false"},
       {doc(R"({"tool": "roof", "t": 1, "outline": [[0,0],[1,0],[1,1]], "top": false})"), "items[0].top", "only a wall"},

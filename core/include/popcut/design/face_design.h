@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ inline constexpr auto kDesignToolNames = enum_names<DesignTool>({{DesignTool::wa
 
 // Limits of one design session, checked on every item.
 inline constexpr std::size_t kMaxDesignItems = 5000;
+// Corners of one item's outline: a circle of 1 m radius within 0.02 mm takes 500; more only costs
+// every later edit (each state keeps its exact polygons).
+inline constexpr std::size_t kMaxDesignOutlinePoints = 1000;
 
 struct DesignItem {
   DesignTool tool = DesignTool::wall;
@@ -51,6 +55,12 @@ class FaceDesign {
   // Adds an item; throws popcut::Error naming `where` (and the item it collides with) and leaves
   // the design as it was.
   void add(const DesignItem& item, const std::string& where = "edit");
+  // Adds many items at once (a file read, a draft restored): the same design as adding them one
+  // by one, without the intermediate states; `where[i]` names items[i] in errors. `ids[i]`, when
+  // given, is items[i]'s id (unique, from 1; a restored draft keeps the ids its editor knows),
+  // else ids follow the largest in use. All or none.
+  void add_all(const std::vector<DesignItem>& items, const std::vector<std::string>& where,
+               const std::vector<std::uint64_t>& ids = {});
   // Removes the item with this id (see items()); false when there is none.
   bool remove(std::uint64_t id);
   bool undo();
@@ -86,8 +96,9 @@ class FaceDesign {
   void insert(std::size_t pos, Placed placed, const std::string& where);
   void erase(std::size_t pos);
   std::size_t edits_before(std::size_t pos) const;
-  void redraw_from(std::size_t pos, std::vector<Placed> tail, const std::string& where, std::size_t new_at);
-  std::size_t draw(const DesignItem& item, const std::string& where);
+  void redraw_from(std::size_t pos, std::vector<Placed> tail, const std::function<std::string(std::size_t)>& name_of);
+  std::size_t draw(const DesignItem& item, const std::string& where, const std::vector<OAFace>& behind);
+  static std::string default_name(const Placed& p);
   void changed();
 
   double width_mm_ = 0;
@@ -107,6 +118,9 @@ class FaceDesign {
 // stretches of x each running back to the depth of the nearest VFace behind that covers (x, h) from above, or to the
 // back board. Stretches where no wall or board stands behind get no top. As add_hface edits.
 std::vector<FaceEdit> wall_tops(const FaceModel& model, double t_mm, const std::vector<std::array<double, 2>>& outline);
+// The same, from the model's faces already read.
+std::vector<FaceEdit> wall_tops(const std::vector<OAFace>& faces, double t_mm,
+                                const std::vector<std::array<double, 2>>& outline);
 
 // An outline mirrored about x = width_mm / 2, its winding kept.
 std::vector<std::array<double, 2>> mirrored(const std::vector<std::array<double, 2>>& outline, double width_mm);

@@ -45,6 +45,7 @@ inline constexpr double kPictureDiffuse = 0.55;
 // depth test can order them (the picture speckles), so pictures stop at kPictureMaxAngleDeg:
 // 1° open, which shows the same card with its layers apart.
 inline constexpr double kPictureMaxAngleDeg = 179;
+// Without the paper that drops out of openings (the check's cut_out).
 CardMesh fold_card_for_picture(const Pattern& pattern, double angle_deg);
 
 // The printed side in cream, the back in blue-grey, both lit by kPictureLight so folds read as

@@ -13,7 +13,8 @@ inline constexpr const char* kDesignFormat = "popcut.design.v1";
 // as a design; popcutd takes the face model it makes, not the design).
 bool is_design_document(const std::string& text);
 
-// Reads a design and adds its items in the file's order (any order gives the same card); every
+// Reads a design and draws its items back to front in one pass (FaceDesign::add_all: the order of
+// the file does not change the card, and undo starts from the design as read); every
 // error names `source` and the field ("items[2].outline[1]", "items[3]" for an item the design
 // refuses, with the reason).
 FaceDesign parse_design(const std::string& text, const std::string& source);

@@ -30,6 +30,7 @@ struct OAFace {
   FaceKind kind = FaceKind::vertical;
   double t_mm = 0;  // VFace: depth y of its plane; HFace: height z of its plane
   PolygonWithHoles polygon;
+  bool opening_paper = false;  // the paper inside an opening: drops out when nothing holds it
 };
 
 enum class EditOp { add_vface, add_hface, add_vhole, add_hhole };

@@ -15,6 +15,9 @@ struct PatternFace {
   Ring outer;
   std::vector<Ring> holes;
   Point2 label;
+  // The paper inside an opening (a hole drawn in a face): where nothing holds it, it falls out
+  // as the opening is cut, which is no fault of the card.
+  bool opening_paper = false;
   friend bool operator==(const PatternFace&, const PatternFace&) = default;
 };
 

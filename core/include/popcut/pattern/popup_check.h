@@ -32,6 +32,9 @@ struct PopupReport {
   bool sheet_split = false;
   std::vector<FaceProblem> not_standing;  // faces of loose pieces are reported with the piece only
   std::vector<LoosePiece> loose_pieces;   // besides the floor's piece when the sheet is split
+  // Loose pieces made only of openings' paper (a round window's disc): cut out and dropped, as
+  // the opening means. Not a fault.
+  std::vector<LoosePiece> cut_out;
   // HFaces not reached by both walks: held from one side only, they hang or tilt instead of
   // holding their angle (a window ledge, a roof left without its front). A warning: the paper's
   // condition judges VFaces only, so these do not stop a card from popping up.
