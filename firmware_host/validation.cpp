@@ -64,6 +64,16 @@ std::string loose_text(const LoosePiece& lp) {
          range(lp.bounds.min.v_mm, lp.bounds.max.v_mm) + " mm (" + format_fixed(lp.area_mm2, 1) + " mm²)";
 }
 
+std::string cut_out_text(const LoosePiece& lp) {
+  return "cut out: the paper of an opening at pattern x " + range(lp.bounds.min.x_mm, lp.bounds.max.x_mm) + ", v " +
+         range(lp.bounds.min.v_mm, lp.bounds.max.v_mm) + " mm (" + format_fixed(lp.area_mm2, 1) +
+         " mm²) has no edge to fold on and drops out as the opening is cut";
+}
+
+json piece_json(const LoosePiece& lp, const std::string& message) {
+  return {{"message", message}, {"faces", lp.faces}, {"bounds", rect(lp.bounds)}, {"area_mm2", lp.area_mm2}};
+}
+
 json problem_json(const Pattern& p, const FaceProblem& fp, const std::string& message) {
   const PatternFace& f = p.faces[static_cast<std::size_t>(fp.face)];
   const Box3 b = card_box(f);
@@ -96,12 +106,12 @@ json validation_json(const std::string& source, const Pattern& p, const PopupRep
             {"not_standing", json::array()},
             {"loose_pieces", json::array()}};
   j["flaps"] = json::array();
-  for (const FaceProblem& fp : r.not_standing) j["not_standing"].push_back(problem_json(p, fp, not_standing_text(p, fp)));
+  for (const FaceProblem& fp : r.not_standing)
+    j["not_standing"].push_back(problem_json(p, fp, not_standing_text(p, fp)));
   for (const FaceProblem& fp : r.flaps) j["flaps"].push_back(problem_json(p, fp, flap_text(p, fp)));
-  for (const LoosePiece& lp : r.loose_pieces) {
-    j["loose_pieces"].push_back(
-        {{"message", loose_text(lp)}, {"faces", lp.faces}, {"bounds", rect(lp.bounds)}, {"area_mm2", lp.area_mm2}});
-  }
+  j["cut_out"] = json::array();
+  for (const LoosePiece& lp : r.loose_pieces) j["loose_pieces"].push_back(piece_json(lp, loose_text(lp)));
+  for (const LoosePiece& lp : r.cut_out) j["cut_out"].push_back(piece_json(lp, cut_out_text(lp)));
   return j;
 }
 
@@ -117,6 +127,7 @@ void print_validation(std::ostream& out, const std::string& source, const Patter
   for (const FaceProblem& fp : r.not_standing) out << "  " << not_standing_text(p, fp) << "\n";
   for (const FaceProblem& fp : r.flaps) out << "  " << flap_text(p, fp) << "\n";
   for (const LoosePiece& lp : r.loose_pieces) out << "  " << loose_text(lp) << "\n";
+  for (const LoosePiece& lp : r.cut_out) out << "  note: " << cut_out_text(lp) << "\n";
 }
 
 }  // namespace popcut

@@ -72,6 +72,9 @@ json parse_body(const httplib::Request& req) {
     body = json::parse(req.body, check);
   } catch (const json::parse_error& e) {
     fail(ApiError::bad_json, std::string("the body is not JSON: ") + e.what());
+  } catch (const json::exception& e) {
+    // A number past a double's range (1e400) is not JSON popcutd can read either: the client's fault.
+    fail(ApiError::bad_json, std::string("the body is not JSON popcutd can read: ") + e.what());
   }
   if (!repeated.empty()) fail(ApiError::bad_request, "'" + repeated + "' given twice in one object", repeated);
   return body;

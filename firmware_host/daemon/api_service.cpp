@@ -88,7 +88,8 @@ void get_design_files_script(ApiContext& api, const Caller&, const Req&, Res& re
   kiosk_file(api, "design_files.js", "text/javascript", res);
 }
 void get_three_script(ApiContext& api, const Caller&, const Req&, Res& res) {
-  page_file(api.daemon().config().three_dir + "/build", "three.min.js", "text/javascript", "three.js (libjs-three)", res);
+  page_file(api.daemon().config().three_dir + "/build", "three.min.js", "text/javascript", "three.js (libjs-three)",
+            res);
 }
 void get_orbit_controls(ApiContext& api, const Caller&, const Req&, Res& res) {
   page_file(api.daemon().config().three_dir + "/examples/js/controls", "OrbitControls.js", "text/javascript",

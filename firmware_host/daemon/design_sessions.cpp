@@ -14,16 +14,17 @@ std::shared_ptr<DesignSession> DesignSessions::create(const std::string& owner, 
   return keep(std::make_shared<DesignSession>(id, owner, name, std::move(design)));
 }
 
-std::shared_ptr<DesignSession> DesignSessions::open(std::int64_t id) {
+std::shared_ptr<DesignSession> DesignSessions::open(std::int64_t id, const std::string& owner) {
   {
     std::lock_guard lock(mutex_);
     if (auto it = live_.find(id); it != live_.end()) {
+      if (!owner.empty() && it->second.first->owner != owner) return nullptr;
       recent_.splice(recent_.begin(), recent_, it->second.second);
       return it->second.first;
     }
   }
   const std::optional<DesignDraft> draft = store_.design(id);
-  if (!draft) return nullptr;
+  if (!draft || (!owner.empty() && draft->owner != owner)) return nullptr;
   auto session = std::make_shared<DesignSession>(id, draft->owner, draft->name,
                                                  parse_design(draft->document, "design " + std::to_string(id)));
   return keep(std::move(session));

@@ -1,4 +1,4 @@
-// The designer's live sessions: a FaceDesign per draft in memory, one lock each, rebuilt from its saved draft on demand.
+// The designer's live sessions: a FaceDesign per draft in memory, one lock each, read back from its draft on demand.
 #pragma once
 
 #include <cstdint>
@@ -16,8 +16,8 @@ namespace popcut::daemon {
 // One draft being edited. Whoever holds `mutex` may edit `design` and then save it; a FaceDesign
 // and its face model's shared caches are not safe to read while another thread edits them.
 struct DesignSession {
-  DesignSession(std::int64_t id_, std::string owner_, std::string name_, FaceDesign design_)
-      : id(id_), owner(std::move(owner_)), name(std::move(name_)), design(std::move(design_)) {}
+  DesignSession(std::int64_t draft_id, std::string draft_owner, std::string draft_name, FaceDesign face_design)
+      : id(draft_id), owner(std::move(draft_owner)), name(std::move(draft_name)), design(std::move(face_design)) {}
   const std::int64_t id;
   const std::string owner;
   std::mutex mutex;
@@ -33,9 +33,10 @@ class DesignSessions {
 
   // A new draft saved at once, and its session.
   std::shared_ptr<DesignSession> create(const std::string& owner, const std::string& name, FaceDesign design);
-  // The draft's session, or nullptr when no draft has this id. Reading a draft back may throw
-  // popcut::Error (a document a newer popcut wrote).
-  std::shared_ptr<DesignSession> open(std::int64_t id);
+  // The draft's session, or nullptr when no draft has this id or (`owner` not empty) another
+  // owner's: such a draft is not read. Reading a draft back may throw popcut::Error (a document a
+  // newer popcut wrote).
+  std::shared_ptr<DesignSession> open(std::int64_t id, const std::string& owner);
   // Saves the session's document (call with its mutex held).
   void save(const DesignSession& session);
   // Forgets the session and deletes its draft.
@@ -46,7 +47,7 @@ class DesignSessions {
 
   JobStore& store_;
   std::size_t max_live_;
-  std::mutex mutex_;  // the maps only; never held while a design is read or edited
+  std::mutex mutex_;                // the maps only; never held while a design is read or edited
   std::list<std::int64_t> recent_;  // most recent first
   std::map<std::int64_t, std::pair<std::shared_ptr<DesignSession>, std::list<std::int64_t>::iterator>> live_;
 };

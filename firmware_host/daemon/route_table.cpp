@@ -39,8 +39,10 @@ std::optional<RouteRefusal> RouteTable::refusal(const std::string& method, const
     if (asked && routes_[i].method == *asked) routed = &routes_[i];
   }
   std::string allow;
-  for (const auto& [m, name] :
-       {std::pair{Method::get, "GET, HEAD"}, {Method::post, "POST"}, {Method::patch, "PATCH"}, {Method::del, "DELETE"}}) {
+  for (const auto& [m, name] : {std::pair{Method::get, "GET, HEAD"},
+                                {Method::post, "POST"},
+                                {Method::patch, "PATCH"},
+                                {Method::del, "DELETE"}}) {
     if (has[static_cast<int>(m)]) allow += (allow.empty() ? "" : ", ") + std::string(name);
   }
   if (allow.empty()) return RouteRefusal{ApiError::not_found, "no such resource: " + path, ""};

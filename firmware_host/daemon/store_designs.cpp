@@ -44,13 +44,7 @@ std::optional<DesignDraft> JobStore::design(std::int64_t id) {
   Stmt s(db, "SELECT owner, name, document, items, created_at, updated_at FROM designs WHERE id=?");
   s.bind(1, id);
   if (!s.step()) return std::nullopt;
-  return DesignDraft{id,
-                     s.text(0),
-                     s.text(1),
-                     s.text(2),
-                     static_cast<std::size_t>(s.integer(3)),
-                     s.real(4),
-                     s.real(5)};
+  return DesignDraft{id, s.text(0), s.text(1), s.text(2), static_cast<std::size_t>(s.integer(3)), s.real(4), s.real(5)};
 }
 
 std::vector<DesignDraft> JobStore::list_designs(const std::string& owner, int limit) {
@@ -61,8 +55,8 @@ std::vector<DesignDraft> JobStore::list_designs(const std::string& owner, int li
   s.bind(1, owner).bind(2, static_cast<std::int64_t>(limit));
   std::vector<DesignDraft> out;
   while (s.step()) {
-    out.push_back(DesignDraft{s.integer(0), s.text(1), s.text(2), "", static_cast<std::size_t>(s.integer(3)),
-                              s.real(4), s.real(5)});
+    out.push_back(DesignDraft{s.integer(0), s.text(1), s.text(2), "", static_cast<std::size_t>(s.integer(3)), s.real(4),
+                              s.real(5)});
   }
   return out;
 }

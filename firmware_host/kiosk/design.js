@@ -23,7 +23,9 @@ async function api(method, path, body) {
   try { data = JSON.parse(text); } catch (_) { /* an export, or not JSON */ }
   if (!res.ok) {
     const e = data && data.error;
-    throw new Error(e ? e.message : res.status + ' ' + res.statusText);
+    // A wrong token must not stay in this browser for the next visit.
+    if (res.status === 401) localStorage.removeItem('popcut-token');
+    throw new Error((e ? e.message : res.status + ' ' + res.statusText) + (res.status === 401 ? ': open this page with ?token=YOUR_TOKEN' : ''));
   }
   return data === null ? text : data;
 }
@@ -127,8 +129,9 @@ function drawInProgress(svg) {
     $('hint').textContent = `${isWallTool(ui.tool) ? 'x, z' : 'x, y'} = ${ui.cursor[0]}, ${ui.cursor[1]} mm · ` + hint();
   }
   if (!pts.length) return;
-  const shown = ui.shape === 'rect' && ui.cursor ? rectangle(pts[0], ui.cursor) : pts.concat(ui.cursor ? [ui.cursor] : []);
-  const d = shown.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + (ui.shape === 'rect' ? ' Z' : '');
+  const twoClick = ui.shape !== 'polygon';
+  const shown = !ui.cursor ? pts : twoClick ? twoClickOutline(pts[0], ui.cursor) || pts : pts.concat([ui.cursor]);
+  const d = shown.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + (twoClick ? ' Z' : '');
   el('path', { d, fill: '#d6272822', stroke: '#d62728', 'stroke-width': 0.4 }, svg);
   for (const p of pts) {
     const [cx, cy] = toSvg(...p);
@@ -138,7 +141,49 @@ function drawInProgress(svg) {
 
 function hint() {
   if (ui.shape === 'rect') return ui.points.length ? 'click the opposite corner (Esc: cancel)' : 'click a corner';
+  if (ui.shape !== 'polygon') {
+    return ui.points.length ? `click ${ui.shape === 'circle' ? 'a point on the circle' : 'a corner'} (Esc: cancel)` : 'click the centre';
+  }
   return ui.points.length < 3 ? 'click each corner' : 'click the first corner or press Enter to close (Esc: cancel)';
+}
+
+// The outline a two-click shape makes from its first and second click, or null when degenerate.
+function twoClickOutline(first, second) {
+  if (ui.shape === 'rect') {
+    const r = rectangle(first, second);
+    return r[0][0] === r[1][0] || r[0][1] === r[2][1] ? null : r;
+  }
+  const radius = Math.hypot(second[0] - first[0], second[1] - first[1]);
+  if (radius === 0) return null;
+  const start = Math.atan2(second[1] - first[1], second[0] - first[0]);
+  return regularPolygon(first, radius, start, ui.shape === 'circle' ? circleSides(radius) : sides());
+}
+
+// The Sides field, kept to 3..64 and shown as used.
+function sides() {
+  const n = Math.min(64, Math.max(3, Math.round(Number($('sides').value)) || 6));
+  $('sides').value = String(n);
+  return n;
+}
+
+// A circle cut as a polygon whose every chord stays within 0.02 mm of the true circle
+// (sagitta r (1 - cos(pi / n)) <= 0.02), at least 12 sides.
+function circleSides(radius) {
+  const tolerance = 0.02;
+  if (radius <= tolerance) return 12;
+  return Math.min(720, Math.max(12, Math.ceil(Math.PI / Math.acos(1 - tolerance / radius))));
+}
+
+// Corners to the micrometre (the model keeps nanometres; a micrometre moves no chord past the tolerance).
+function regularPolygon([cx, cy], radius, start, sides) {
+  const n = Math.max(3, Math.min(720, Math.round(sides) || 3));
+  const round = (v) => Math.round(v * 1000) / 1000;
+  const out = [];
+  for (let k = 0; k < n; ++k) {
+    const a = start + (2 * Math.PI * k) / n;
+    out.push([round(cx + radius * Math.cos(a)), round(cy + radius * Math.sin(a))]);
+  }
+  return out;
 }
 
 function rectangle([a0, b0], [a1, b1]) {
@@ -157,24 +202,27 @@ function onEditClick(event) {
   if (!design) return;
   const p = snap(svgPoint(event));
   const started = performance.now();
-  if (ui.shape === 'rect') {
+  if (ui.shape !== 'polygon') {
     if (!ui.points.length) { ui.points = [p]; drawEditPlane(); return; }
-    const outline = rectangle(ui.points[0], p);
+    const outline = twoClickOutline(ui.points[0], p);
     ui.points = [];
-    if (outline[0][0] === outline[1][0] || outline[0][1] === outline[2][1]) { say('edit-error', 'A rectangle needs two different corners.'); drawEditPlane(); return; }
-    return addItem(outline, started);
+    if (!outline) { say('edit-error', 'The second click must be somewhere else than the first.'); drawEditPlane(); return; }
+    return addItem(counterClockwise(outline), started);
   }
   const first = ui.points[0];
   if (first && ui.points.length >= 3 && p[0] === first[0] && p[1] === first[1]) return closePolygon(started);
   const last = ui.points[ui.points.length - 1];
+  // A double click lands twice on one corner (the plane is redrawn between, so no dblclick
+  // reaches it): the second click closes the outline.
+  if (last && ui.points.length >= 3 && last[0] === p[0] && last[1] === p[1]) return closePolygon(started);
   if (!last || last[0] !== p[0] || last[1] !== p[1]) ui.points.push(p);
   drawEditPlane();
 }
 
 function closePolygon(started) {
   const outline = ui.points;
+  if (outline.length < 3) { say('edit-error', 'An outline needs at least three corners.'); return; }
   ui.points = [];
-  if (outline.length < 3) { drawEditPlane(); return; }
   return addItem(counterClockwise(outline), started);
 }
 
@@ -189,7 +237,6 @@ async function addItem(outline, started) {
 async function edit(method, rest, body, started) {
   try {
     const answer = await api(method, `/api/v1/designs/${design.id}${rest}`, body);
-    say('edit-error', '');
     show(answer, started);
   } catch (e) {
     say('edit-error', e.message);  // the session is as it was: nothing to take back here
@@ -199,6 +246,7 @@ async function edit(method, rest, body, started) {
 
 function show(answer, started) {
   design = answer;
+  say('edit-error', '');  // whatever failed before, this answer stands
   localStorage.setItem('popcut-design', String(design.id));
   if (document.activeElement !== $('name')) $('name').value = design.name || '';
   $('undo').disabled = !design.can_undo;
@@ -208,7 +256,8 @@ function show(answer, started) {
   drawItems();
   const failing = new Set(design.check.not_standing.map((p) => p.face));
   for (const piece of design.check.loose_pieces) piece.faces.forEach((f) => failing.add(f));
-  view.setPattern(design.pattern, failing, new Set(design.check.flaps.map((p) => p.face)));
+  const dropped = new Set(design.check.cut_out.flatMap((piece) => piece.faces));  // fall out of their openings
+  view.setPattern(design.pattern, failing, new Set(design.check.flaps.map((p) => p.face)), dropped);
   document.body.dataset.revision = String(Number(document.body.dataset.revision || 0) + 1);
   const n = design.items.length;
   $('status').textContent = `draft ${design.id} · ${n} ${n === 1 ? 'item' : 'items'}` +
@@ -247,7 +296,7 @@ function drawPattern() {
     : `✗ does not pop up${problems ? `: ${problems} ${problems === 1 ? 'problem' : 'problems'} in red` : ''}`;
   const list = $('check');
   list.textContent = '';
-  for (const [problems, cls] of [[c.not_standing, 'fail'], [c.loose_pieces, 'fail'], [c.flaps, 'note']]) {
+  for (const [problems, cls] of [[c.not_standing, 'fail'], [c.loose_pieces, 'fail'], [c.flaps, 'note'], [c.cut_out, 'note']]) {
     for (const q of problems) {
       const li = document.createElement('li');
       li.className = cls;
@@ -300,6 +349,7 @@ function setTool(tool) {
 function setShape(shape) {
   ui.shape = shape;
   ui.points = [];
+  $('sides-label').hidden = shape !== 'regular';
   for (const b of document.querySelectorAll('.shape')) b.setAttribute('aria-pressed', String(b.dataset.shape === shape));
   if (design) drawEditPlane();
 }
@@ -339,7 +389,11 @@ async function start() {
   setShape('rect');
   setTool('wall');
   if (!token) { $('status').textContent = 'Open this page with ?token=YOUR_TOKEN (from popcutd.toml).'; return; }
-  await window.DesignerFiles.open(params.get('design') || localStorage.getItem('popcut-design'));
+  try {
+    await window.DesignerFiles.open(params.get('design') || localStorage.getItem('popcut-design'));
+  } catch (e) {
+    $('status').textContent = e.message;
+  }
 }
 
 start();

@@ -6,6 +6,7 @@ window.DesignerFiles = (() => {
   const $ = (id) => document.getElementById(id);
   let ctx = null;
   let playing = null;
+  let angleBefore = 60;  // where the animation puts the card back
 
   function emptyDesign(width, back, floor) {
     return JSON.stringify({ format: 'popcut.design.v1', sheet: { width, back, floor }, items: [] });
@@ -17,7 +18,7 @@ window.DesignerFiles = (() => {
     select.length = 1;
     for (const d of designs) {
       const when = new Date(d.updated_at * 1000).toLocaleString();
-      select.add(new Option(`${d.name || 'untitled'} (#${d.id}, ${d.items} items, ${when})`, String(d.id)));
+      select.add(new Option(`${d.name || 'untitled'} (#${d.id}, ${d.items} ${d.items === 1 ? 'item' : 'items'}, ${when})`, String(d.id)));
     }
   }
 
@@ -43,7 +44,7 @@ window.DesignerFiles = (() => {
   function loaded(answer) {
     ctx.show(answer);
     const wall = answer.items.find((it) => it.tool === 'wall');
-    ctx.setPlane(wall ? wall.t : Math.round(answer.sheet.floor * 0.4));
+    ctx.setPlane(wall ? wall.t : Math.round(answer.sheet.floor * 0.4 / 5) * 5);  // on the default grid
     listDrafts().catch(() => {});
   }
 
@@ -67,7 +68,9 @@ window.DesignerFiles = (() => {
 
   async function rename() {
     const d = ctx.current(), name = $('name').value.trim();
-    if (!d || name === (d.name || '') || !name) return;
+    if (!d) return;
+    if (!name) { $('name').value = d.name || ''; return; }  // a draft keeps a name once it has one
+    if (name === (d.name || '')) return;
     try {
       ctx.show(await ctx.api('PATCH', `/api/v1/designs/${d.id}`, JSON.stringify({ name })));
       listDrafts().catch(() => {});
@@ -84,6 +87,7 @@ window.DesignerFiles = (() => {
 
   async function send() {
     const d = ctx.current();
+    if (!d.check.pops_up && !confirm('This card does not pop up (see the check under the pattern). Cut it anyway?')) return;
     $('send').disabled = true;
     try {
       const job = await ctx.api('POST', `/api/v1/designs/${d.id}/submit`, JSON.stringify({ device: $('device').value }));
@@ -111,14 +115,25 @@ window.DesignerFiles = (() => {
 
   // Opens and closes the card once (0° to 180° and back in four seconds), or stops.
   function play() {
-    if (playing) { cancelAnimationFrame(playing); playing = null; return; }
-    const t0 = performance.now();
-    const step = (now) => {
-      const f = ((now - t0) / 4000) % 1;
-      const deg = Math.round(180 * (f < 0.5 ? f * 2 : 2 - f * 2));
+    const setAngle = (deg) => {
       $('angle').value = String(deg);
       $('angle').dispatchEvent(new Event('input'));
-      playing = now - t0 < 4000 ? requestAnimationFrame(step) : null;
+    };
+    const stop = () => {
+      cancelAnimationFrame(playing);
+      playing = null;
+      $('play').textContent = '▶';
+      setAngle(angleBefore);
+    };
+    if (playing) return stop();
+    angleBefore = Number($('angle').value);
+    const t0 = performance.now();
+    $('play').textContent = '⏸';
+    const step = (now) => {
+      const f = Math.min(1, (now - t0) / 4000);
+      setAngle(Math.round(180 * (f < 0.5 ? f * 2 : 2 - f * 2)));
+      if (f < 1) playing = requestAnimationFrame(step);
+      else stop();
     };
     playing = requestAnimationFrame(step);
   }

@@ -78,7 +78,7 @@ class CardView {
   }
 
   // Faces of the pattern, coloured by kind, red where they would not stand, amber for flaps.
-  setPattern(pattern, failing, flaps) {
+  setPattern(pattern, failing, flaps, dropped) {
     if (!this.ok) return;
     const card = [], colors = [];
     const bad = new THREE.Color(0xe0483c), flap = new THREE.Color(0xf0a030);
@@ -91,6 +91,7 @@ class CardView {
       return base.lerp(new THREE.Color(f.kind === 'vertical' ? 0xfffcf4 : 0xf1e8d2), Math.min(1, near * 1.6));
     };
     pattern.faces.forEach((f, i) => {
+      if (dropped.has(i)) return;  // an opening's paper that falls out: not part of the card
       const color = failing.has(i) ? bad : flaps.has(i) ? flap : shade(f);
       const outer = f.outer.map(([x, v]) => new THREE.Vector2(x, v));
       const holes = f.holes.map((h) => h.map(([x, v]) => new THREE.Vector2(x, v)));

@@ -56,6 +56,8 @@ TEST(RouteTable, PopcutdsOwnTable) {
   EXPECT_EQ(table.refusal("DELETE", "/api/v1/jobs", {})->allow, "GET, HEAD, POST");
   EXPECT_EQ(table.refusal("DELETE", "/api/v1/jobs/1", {})->allow, "GET, HEAD, PATCH");
   EXPECT_FALSE(table.refusal("PATCH", "/api/v1/jobs/1", {}));
+  EXPECT_FALSE(table.refusal("DELETE", "/api/v1/designs/1", {}));
+  EXPECT_EQ(table.refusal("PUT", "/api/v1/designs/1", {})->allow, "GET, HEAD, PATCH, DELETE");
   EXPECT_EQ(table.refusal("GET", "/api/v1/jobs/1/cancel", {})->allow, "POST");
   EXPECT_FALSE(table.refusal("GET", "/api/v1/jobs/7/preview.png", params({{"angle", "30"}})));
   EXPECT_FALSE(table.refusal("POST", "/api/v1/render/preview.png", params({{"angle", "30"}})));

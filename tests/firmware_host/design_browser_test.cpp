@@ -59,8 +59,8 @@ class Designer : public ::testing::Test {
         "return [m.a * x + m.c * y + m.e, m.b * x + m.d * y + m.f];");
     b_.click_at(static_cast<int>(std::lround(p[0].get<double>())), static_cast<int>(std::lround(p[1].get<double>())));
   }
-  // Sets the edit plane, then draws a rectangle by its corners; waits for the answer.
-  void rectangle(double t, double a0, double b0, double a1, double b1) {
+  // Sets the edit plane, then clicks twice (a rectangle's corners, a circle's centre and rim); waits for the answer.
+  void two_clicks(double t, double a0, double b0, double a1, double b1) {
     b_.type("#plane-t", std::to_string(static_cast<int>(t)));
     const int before = revision();
     click_plane(a0, b0);
@@ -81,7 +81,7 @@ class Designer : public ::testing::Test {
 };
 
 TEST_F(Designer, TwoWallsClickedOnThePlaneMakeThePorchWithItsTops) {
-  rectangle(30, 15, 0, 85, 40);
+  two_clicks(30, 15, 0, 85, 40);
   ASSERT_EQ(items(), 1) << text("edit-error");
   // The wall's automatic top: a mountain where the top leaves the wall (v = 40 - 30) and a valley
   // where it meets the back board (v = 40), both across the wall's 70 mm.
@@ -91,7 +91,7 @@ TEST_F(Designer, TwoWallsClickedOnThePlaneMakeThePorchWithItsTops) {
       " +l.getAttribute('x2'), +l.getAttribute('y2')])");
   EXPECT_NE(std::find(lines.begin(), lines.end(), json{"mountain", 15, -10, 85, -10}), lines.end()) << lines.dump();
   EXPECT_NE(std::find(lines.begin(), lines.end(), json{"valley", 15, -40, 85, -40}), lines.end()) << lines.dump();
-  rectangle(42, 35, 0, 65, 20);
+  two_clicks(42, 35, 0, 65, 20);
   ASSERT_EQ(items(), 2) << text("edit-error");
   EXPECT_EQ(text("verdict").rfind("Pops up", 0), 0u) << text("verdict");
   const json saved = design();
@@ -106,9 +106,10 @@ TEST_F(Designer, TwoWallsClickedOnThePlaneMakeThePorchWithItsTops) {
 }
 
 TEST_F(Designer, UndoAndRedoTenStepsShowEachState) {
-  std::vector<std::string> patterns = {b_.run("return document.getElementById('pattern').innerHTML").get<std::string>()};
+  std::vector<std::string> patterns = {
+      b_.run("return document.getElementById('pattern').innerHTML").get<std::string>()};
   for (int i = 0; i < 10; ++i) {
-    rectangle(5 + 5 * i, 5 + 2 * i, 0, 95 - 2 * i, 70 - 5 * i);
+    two_clicks(5 + 5 * i, 5 + 2 * i, 0, 95 - 2 * i, 70 - 5 * i);
     ASSERT_EQ(items(), i + 1) << text("edit-error");
     patterns.push_back(b_.run("return document.getElementById('pattern').innerHTML").get<std::string>());
   }
@@ -130,12 +131,13 @@ TEST_F(Designer, UndoAndRedoTenStepsShowEachState) {
   // Edit to repaint in this browser, for the note (not asserted: timings belong to benchmarks).
   std::vector<double> ms = b_.run("return window.designTimings").get<std::vector<double>>();
   std::sort(ms.begin(), ms.end());
-  if (!ms.empty()) std::printf("edit to repaint: %zu edits, p50 %.1f ms, max %.1f ms\n", ms.size(), ms[ms.size() / 2], ms.back());
+  if (!ms.empty())
+    std::printf("edit to repaint: %zu edits, p50 %.1f ms, max %.1f ms\n", ms.size(), ms[ms.size() / 2], ms.back());
 }
 
 TEST_F(Designer, AWallWithoutTopsShowsTheFaceThatWouldNotStand) {
   b_.click("#tops");
-  rectangle(30, 20, 0, 80, 40);
+  two_clicks(30, 20, 0, 80, 40);
   ASSERT_EQ(items(), 1) << text("edit-error");
   EXPECT_EQ(text("verdict").rfind("Does not pop up", 0), 0u) << text("verdict");
   EXPECT_EQ(b_.run("return document.querySelectorAll('#pattern .failing-face').length").get<int>(), 1)
@@ -148,25 +150,30 @@ TEST_F(Designer, AWallWithoutTopsShowsTheFaceThatWouldNotStand) {
 }
 
 TEST_F(Designer, ARefusedEditSaysWhyAndChangesNothing) {
-  rectangle(30, 15, 0, 85, 40);
+  two_clicks(30, 15, 0, 85, 40);
   ASSERT_EQ(items(), 1);
   b_.click(".tool[data-tool='opening']");
-  rectangle(50, 20, 10, 30, 20);  // no wall stands at depth 50
+  two_clicks(50, 20, 10, 30, 20);  // no wall stands at depth 50
   ASSERT_TRUE(wait_until([&] { return !text("edit-error").empty(); }, 30));
   EXPECT_NE(text("edit-error").find("not inside"), std::string::npos) << text("edit-error");
   EXPECT_EQ(items(), 1);
   EXPECT_EQ(design()["items"].size(), 1u) << "the session is unchanged";
 }
 
-TEST_F(Designer, ADoorAndTwoWindowsGoToTheCutter) {
+TEST_F(Designer, ADoorAndTwoRoundWindowsGoToTheCutter) {
   b_.type("#name", "House");
   b_.run("document.getElementById('name').dispatchEvent(new Event('change'))");
-  rectangle(30, 15, 0, 85, 45);
+  two_clicks(30, 15, 0, 85, 45);
   b_.click(".tool[data-tool='opening']");
-  rectangle(30, 45, 0, 55, 20);
+  two_clicks(30, 45, 0, 55, 20);
+  // Two round windows: one drawn with the circle tool (centre, then a point on the circle), one its mirror.
   b_.click("#mirror");
-  rectangle(30, 20, 25, 30, 35);
+  b_.click(".shape[data-shape='circle']");
+  two_clicks(30, 25, 30, 30, 30);
   ASSERT_EQ(items(), 3) << text("edit-error");
+  EXPECT_GE(design()["items"][2]["outline"].size(), 30u) << "a circle within 0.02 mm of a 5 mm radius";
+  EXPECT_EQ(text("verdict").rfind("Pops up", 0), 0u) << text("verdict") << " / " << text("check");
+  EXPECT_NE(text("check").find("cut out"), std::string::npos) << "the discs drop out of the windows: " << text("check");
   EXPECT_EQ(design().value("name", ""), "House");
   b_.run("const a = document.getElementById('angle'); a.value = 75; a.dispatchEvent(new Event('input'));");
   screenshot("design.png");

@@ -80,15 +80,13 @@ class Browser {
     http_.set_read_timeout(120);
     if (!wait_until([&] { return static_cast<bool>(http_.Get("/status")); }, 60))
       throw std::runtime_error("chromedriver did not start");
-    nlohmann::json args = {"--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                           "--window-size=1024,768", "--user-data-dir=" + profile_dir};
+    nlohmann::json args = {"--headless=new",          "--no-sandbox",           "--disable-gpu",
+                           "--disable-dev-shm-usage", "--window-size=1024,768", "--user-data-dir=" + profile_dir};
     for (const std::string& a : extra_args) args.push_back(a);
-    const nlohmann::json caps = {{"capabilities",
-                                  {{"alwaysMatch",
-                                    {{"browserName", "chrome"},
-                                     {"goog:chromeOptions",
-                                      {{"binary", "/usr/bin/chromium"},
-                                       {"args", args}}}}}}}};
+    const nlohmann::json caps = {
+        {"capabilities",
+         {{"alwaysMatch",
+           {{"browserName", "chrome"}, {"goog:chromeOptions", {{"binary", "/usr/bin/chromium"}, {"args", args}}}}}}}};
     const nlohmann::json r = call("POST", "/session", caps);
     session_ = r["value"].value("sessionId", "");
     if (session_.empty()) throw std::runtime_error("no browser session: " + r.dump());

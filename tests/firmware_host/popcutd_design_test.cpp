@@ -1,5 +1,5 @@
-// The designer's routes end to end: a real popcutd keeps drafts per token in SQLite across kill -9, answers each edit
-// with the pattern and check, refuses bad edits leaving the session as it was, and sends a design to a simulated cutter.
+// The designer's routes end to end: a real popcutd keeps drafts per token in SQLite across kill -9, answers edits with
+// the pattern and check, refuses bad edits leaving the session as it was, and sends a design to a simulated cutter.
 #include <gtest/gtest.h>
 #include <httplib.h>
 
@@ -29,12 +29,13 @@ const std::string kOther = "other-0123456789abcdef";
 const std::string kAdmin = "admin-0123456789abcdef";
 
 std::string config(const TempDir& dir) {
-  return dir.write("popcutd.toml", "[server]\ndata_dir = \"" + (dir.path() / "data").string() +
-                                       "\"\n[limits]\ndesign_sessions = 2\n[[device]]\nname = \"sim-a\"\nprofile = \"" +
-                                       kSrc + "/configs/devices/sim.toml\"\ntransport = \"sim\"\nsim_time_scale = 0.01\n" +
-                                       "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk +
-                                       "\"\n[[token]]\nname = \"other\"\ntoken = \"" + kOther +
-                                       "\"\n[[token]]\nname = \"admin\"\ntoken = \"" + kAdmin + "\"\nrole = \"admin\"\n");
+  return dir.write("popcutd.toml",
+                   "[server]\ndata_dir = \"" + (dir.path() / "data").string() +
+                       "\"\n[limits]\ndesign_sessions = 2\n[[device]]\nname = \"sim-a\"\nprofile = \"" + kSrc +
+                       "/configs/devices/sim.toml\"\ntransport = \"sim\"\nsim_time_scale = 0.01\n" +
+                       "[[token]]\nname = \"kiosk\"\ntoken = \"" + kKiosk +
+                       "\"\n[[token]]\nname = \"other\"\ntoken = \"" + kOther +
+                       "\"\n[[token]]\nname = \"admin\"\ntoken = \"" + kAdmin + "\"\nrole = \"admin\"\n");
 }
 
 const std::string kEmptyPorch =
@@ -54,7 +55,9 @@ std::int64_t create(httplib::Client& c) {
   return r.body.value("id", std::int64_t{0});
 }
 
-Reply add(httplib::Client& c, std::int64_t id, const json& item) { return post_json(c, path(id, "/items"), item.dump()); }
+Reply add(httplib::Client& c, std::int64_t id, const json& item) {
+  return post_json(c, path(id, "/items"), item.dump());
+}
 
 popcut::Pattern saved_pattern(httplib::Client& c, std::int64_t id) {
   const auto r = c.Get(path(id, "/design.json").c_str());
@@ -70,8 +73,10 @@ TEST(PopcutdDesign, TwoWallsMakeThePorchAndTheDraftSurvivesKill9) {
     PopcutdProcess d(POPCUTD, cfg, data);
     httplib::Client c = d.client(kKiosk);
     id = create(c);
-    ASSERT_EQ(add(c, id, wall(30, 15, 85, 40)).status, 200);
-    const Reply r = add(c, id, wall(42, 35, 65, 20));
+    // The front wall first: in drawing order the items are then [id 2, id 1], and the ids the
+    // page knows must survive a restart.
+    ASSERT_EQ(add(c, id, wall(42, 35, 65, 20)).status, 200);
+    const Reply r = add(c, id, wall(30, 15, 85, 40));
     ASSERT_EQ(r.status, 200) << r.body.dump();
     EXPECT_TRUE(r.body["check"]["pops_up"].get<bool>());
     EXPECT_EQ(r.body["items"].size(), 2u);
@@ -91,7 +96,10 @@ TEST(PopcutdDesign, TwoWallsMakeThePorchAndTheDraftSurvivesKill9) {
   EXPECT_EQ(list["designs"][0]["name"], "Porch");
   EXPECT_EQ(list["designs"][0]["items"], 2);
   const json back = get_json(c, path(id)).body;
-  EXPECT_EQ(back["items"].size(), 2u);
+  ASSERT_EQ(back["items"].size(), 2u);
+  EXPECT_EQ(back["items"][0]["id"], 2) << "the wall at t = 30 keeps its id";
+  EXPECT_EQ(back["items"][0]["t"], 30.0);
+  EXPECT_EQ(back["items"][1]["id"], 1);
   EXPECT_FALSE(back["can_undo"].get<bool>()) << "undo history lives in the session only (docs/api.md)";
   EXPECT_TRUE(back["check"]["pops_up"].get<bool>());
 }
@@ -118,6 +126,7 @@ TEST(PopcutdDesign, RefusedEditsSayWhyAndLeaveTheSessionAsItWas) {
       {R"({"tool": "roof", "t": 20, "top": false, "outline": [[10, 0], [40, 0], [40, 30]]})", 422, "top", ""},
       {R"({"tool": "wall", "t": 20)", 400, "", ""},
       {std::string(10 << 20, ' '), 413, "", ""},
+      {R"({"tool": "wall", "t": 1e400, "outline": [[10, 0], [40, 0], [40, 30]]})", 400, "", ""},
   };
   for (const Case& k : cases) {
     const Reply raw = post_json(c, path(id, "/items"), k.body);
