@@ -118,7 +118,8 @@ TEST_F(Designer, UndoAndRedoTenStepsShowEachState) {
     b_.click("#undo");
     ASSERT_TRUE(wait_until([&] { return revision() > before; }, 60));
     EXPECT_EQ(items(), i);
-    EXPECT_EQ(b_.run("return document.getElementById('pattern').innerHTML").get<std::string>(), patterns[i]);
+    EXPECT_EQ(b_.run("return document.getElementById('pattern').innerHTML").get<std::string>(),
+              patterns[static_cast<std::size_t>(i)]);
   }
   EXPECT_TRUE(b_.run("return document.getElementById('undo').disabled").get<bool>());
   for (int i = 1; i <= 10; ++i) {
@@ -126,7 +127,8 @@ TEST_F(Designer, UndoAndRedoTenStepsShowEachState) {
     b_.click("#redo");
     ASSERT_TRUE(wait_until([&] { return revision() > before; }, 60));
     EXPECT_EQ(items(), i);
-    EXPECT_EQ(b_.run("return document.getElementById('pattern').innerHTML").get<std::string>(), patterns[i]);
+    EXPECT_EQ(b_.run("return document.getElementById('pattern').innerHTML").get<std::string>(),
+              patterns[static_cast<std::size_t>(i)]);
   }
   // Edit to repaint in this browser, for the note (not asserted: timings belong to benchmarks).
   std::vector<double> ms = b_.run("return window.designTimings").get<std::vector<double>>();

@@ -157,8 +157,8 @@ TEST(PopcutdDesign, UndoRedoAndRemoveWorkByItem) {
     ASSERT_EQ(r.status, 200) << r.body.dump();
     states.push_back(r.body["pattern"]);
   }
-  for (int i = 2; i >= 0; --i) EXPECT_EQ(post_json(c, path(id, "/undo"), "").body["pattern"], states[i]);
-  for (int i = 1; i < 4; ++i) EXPECT_EQ(post_json(c, path(id, "/redo"), "").body["pattern"], states[i]);
+  for (std::size_t i = 3; i-- > 0;) EXPECT_EQ(post_json(c, path(id, "/undo"), "").body["pattern"], states[i]);
+  for (std::size_t i = 1; i < 4; ++i) EXPECT_EQ(post_json(c, path(id, "/redo"), "").body["pattern"], states[i]);
   EXPECT_EQ(post_json(c, path(id, "/redo"), "").status, 409);
   const std::int64_t second = get_json(c, path(id)).body["items"][1]["id"];
   const Reply removed = post_json(c, path(id, "/items/" + std::to_string(second) + "/remove"), "");
@@ -203,12 +203,13 @@ TEST(PopcutdDesign, EditsFromManyClientsAtOnceAreAllKept) {
     clients.emplace_back([&, k] {
       httplib::Client mine = d.client(kKiosk);
       for (int i = 0; i < 5; ++i) {
-        if (add(mine, id, wall(5 + 4 * i + k, 10 + k, 90 - k, 20 + i)).status != 200) ++failures[k];
+        if (add(mine, id, wall(5 + 4 * i + k, 10 + k, 90 - k, 20 + i)).status != 200)
+          ++failures[static_cast<std::size_t>(k)];
       }
     });
   }
   for (std::thread& t : clients) t.join();
-  for (int k = 0; k < 4; ++k) EXPECT_EQ(failures[k], 0) << "client " << k;
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(failures[k], 0) << "client " << k;
   const json state = get_json(c, path(id)).body;
   EXPECT_EQ(state["items"].size(), 20u);
   // The saved draft holds every edit too: the session and its document never diverged.
