@@ -325,7 +325,8 @@ void FaceDesign::add_all(const std::vector<DesignItem>& items, const std::vector
     next_id_ = first;
     throw;
   }
-  for (const auto& [id, unused] : named) {
+  for (const auto& entry : named) {
+    const std::uint64_t id = entry.first;  // a lambda may not capture a structured binding (clang)
     const auto it = std::find_if(placed_.begin(), placed_.end(), [&](const Placed& p) { return p.id == id; });
     undo_.push_back({true, *it});
   }
