@@ -18,73 +18,21 @@ namespace {
 // Drafts a list shows at most; the page lists the newest.
 constexpr int kDraftListLimit = 200;
 
-json point_list(const std::vector<std::array<double, 2>>& points) {
-  json out = json::array();
-  for (const auto& [a, b] : points) out.push_back({a, b});
-  return out;
-}
-
-json ring_json(const Ring& ring) {
-  json out = json::array();
-  for (const Point2& p : ring) out.push_back({p.x_mm, p.v_mm});
-  return out;
-}
-
-json sheet_json(const Rect& s) {
-  return {{"width", s.max.x_mm - s.min.x_mm}, {"back", s.max.v_mm}, {"floor", -s.min.v_mm}};
-}
-
-// The lines by kind as [x1, v1, x2, v2], and each face's outline and holes in pattern
-// coordinates with its plane: the page folds them to any angle itself (to_card, then the
-// parallel-fold motion), so one answer serves the angle slider.
-json pattern_view(const Pattern& p) {
-  json lines = {{"cut", json::array()}, {"mountain", json::array()}, {"valley", json::array()}};
-  for (const Segment& s : p.lines)
-    lines[kLineKindNames.name(s.kind)].push_back({s.a.x_mm, s.a.v_mm, s.b.x_mm, s.b.v_mm});
-  json faces = json::array();
-  for (const PatternFace& f : p.faces) {
-    json holes = json::array();
-    for (const Ring& h : f.holes) holes.push_back(ring_json(h));
-    faces.push_back({{"kind", f.kind == FaceKind::vertical ? "vertical" : "horizontal"},
-                     {"t", f.t_mm},
-                     {"outer", ring_json(f.outer)},
-                     {"holes", holes}});
-  }
-  return {{"sheet", {{"min", {p.sheet.min.x_mm, p.sheet.min.v_mm}}, {"max", {p.sheet.max.x_mm, p.sheet.max.v_mm}}}},
-          {"lines", lines},
-          {"faces", faces},
-          {"back_face", p.back_face},
-          {"floor_face", p.floor_face}};
-}
-
-json items_json(const FaceDesign& d) {
-  json items = json::array();
-  for (const FaceDesign::Placed& placed : d.items()) {
-    const DesignItem& it = placed.item;
-    json j = {{"id", placed.id},
-              {"tool", kDesignToolNames.name(it.tool)},
-              {"t", it.t_mm},
-              {"outline", point_list(it.outline)},
-              {"mirror", it.mirror}};
-    if (it.tool == DesignTool::wall) j["top"] = it.top;
-    items.push_back(std::move(j));
-  }
-  return items;
-}
-
 std::string source_of(const DesignSession& s) { return "design " + std::to_string(s.id); }
 
-// The whole state an editor shows (docs/api.md "Designs").
-json design_view(const DesignSession& s) {
-  const FaceDesign& d = s.design;
-  return rounded_numbers({{"id", s.id},
-                          {"name", s.name},
-                          {"sheet", sheet_json(d.model().sheet())},
-                          {"items", items_json(d)},
-                          {"can_undo", d.can_undo()},
-                          {"can_redo", d.can_redo()},
-                          {"pattern", pattern_view(d.pattern())},
-                          {"check", validation_json(source_of(s), d.pattern(), d.report())}});
+// The whole state an editor shows (docs/api.md "Designs"): the check and the undo state, then
+// the design as its file (popcut.design.v1, the document just saved) and the pattern
+// (popcut.pattern.v1) spliced in as written, so neither is built twice or in a second shape.
+void send_design(Res& res, const DesignSession& s, json head, int status = 200) {
+  head["id"] = s.id;
+  head["can_undo"] = s.design.can_undo();
+  head["can_redo"] = s.design.can_redo();
+  head["check"] = validation_json(source_of(s), s.design.pattern(), s.design.report());
+  std::string out = rounded_numbers(std::move(head)).dump(-1, ' ', false, json::error_handler_t::replace);
+  out.pop_back();  // the closing brace: the two documents go inside
+  out += ",\"design\":" + s.document + ",\"pattern\":" + to_pattern_json(s.design.pattern()) + "}";
+  res.status = status;
+  res.set_content(out, "application/json");
 }
 
 json draft_json(const DesignDraft& d) {
@@ -118,12 +66,10 @@ void edit_design(ApiContext& api, const Caller& caller, const Req& req, Res& res
   std::lock_guard lock(s->mutex);
   const auto t0 = std::chrono::steady_clock::now();
   edit(*s);
-  json view = design_view(*s);
   api.designs().save(*s);
-  view["answer_ms"] =
-      std::round(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() * 1000) /
-      1000;
-  send_json(res, view);
+  s->design.report();  // worked out before the clock stops: answer_ms covers the edit and its check
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  send_design(res, *s, {{"answer_ms", ms}});
 }
 
 std::string design_name(const json& body) {
@@ -142,7 +88,7 @@ void create_design(ApiContext& api, const Caller& caller, const Req& req, Res& r
   FaceDesign design = parse_design(req.body, "design");
   const std::shared_ptr<DesignSession> s = api.designs().create(caller.name, name, std::move(design));
   std::lock_guard lock(s->mutex);
-  send_json(res, design_view(*s), 201);
+  send_design(res, *s, json::object(), 201);
 }
 
 void list_designs(ApiContext& api, const Caller& caller, const Req&, Res& res) {
@@ -155,7 +101,7 @@ void list_designs(ApiContext& api, const Caller& caller, const Req&, Res& res) {
 void get_design(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
   const std::shared_ptr<DesignSession> s = visible_design(api, caller, req);
   std::lock_guard lock(s->mutex);
-  send_json(res, design_view(*s));
+  send_design(res, *s, json::object());
 }
 
 void delete_design(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
@@ -212,7 +158,7 @@ void get_design_file(ApiContext& api, const Caller& caller, const Req& req, Res&
   const std::shared_ptr<DesignSession> s = visible_design(api, caller, req);
   std::lock_guard lock(s->mutex);
   res.set_header("Content-Disposition", "attachment; filename=\"design-" + std::to_string(s->id) + ".json\"");
-  res.set_content(to_design_json(s->design, s->name), "application/json");
+  res.set_content(s->document, "application/json");
 }
 
 void get_design_pattern(ApiContext& api, const Caller& caller, const Req& req, Res& res) {

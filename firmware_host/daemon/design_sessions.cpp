@@ -10,8 +10,11 @@ namespace popcut::daemon {
 std::shared_ptr<DesignSession> DesignSessions::create(const std::string& owner, const std::string& name,
                                                       FaceDesign design) {
   const std::size_t items = design.items().size();
-  const std::int64_t id = store_.create_design(owner, name, to_design_json(design, name), items);
-  return keep(std::make_shared<DesignSession>(id, owner, name, std::move(design)));
+  std::string document = to_design_json(design, name);
+  const std::int64_t id = store_.create_design(owner, name, document, items);
+  auto session = std::make_shared<DesignSession>(id, owner, name, std::move(design));
+  session->document = std::move(document);
+  return keep(std::move(session));
 }
 
 std::shared_ptr<DesignSession> DesignSessions::open(std::int64_t id, const std::string& owner) {
@@ -27,6 +30,7 @@ std::shared_ptr<DesignSession> DesignSessions::open(std::int64_t id, const std::
   if (!draft || (!owner.empty() && draft->owner != owner)) return nullptr;
   auto session = std::make_shared<DesignSession>(id, draft->owner, draft->name,
                                                  parse_design(draft->document, "design " + std::to_string(id)));
+  session->document = draft->document;
   return keep(std::move(session));
 }
 
@@ -48,9 +52,9 @@ std::shared_ptr<DesignSession> DesignSessions::keep(std::shared_ptr<DesignSessio
   return session;
 }
 
-void DesignSessions::save(const DesignSession& session) {
-  store_.save_design(session.id, session.name, to_design_json(session.design, session.name),
-                     session.design.items().size());
+void DesignSessions::save(DesignSession& session) {
+  session.document = to_design_json(session.design, session.name);
+  store_.save_design(session.id, session.name, session.document, session.design.items().size());
 }
 
 bool DesignSessions::remove(std::int64_t id) {

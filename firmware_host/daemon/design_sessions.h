@@ -23,6 +23,7 @@ struct DesignSession {
   std::mutex mutex;
   std::string name;
   FaceDesign design;
+  std::string document;  // popcut.design.v1 of `design` as last saved
 };
 
 // The sessions of the last `max_live` drafts used; an older one is dropped from memory (its draft
@@ -37,8 +38,8 @@ class DesignSessions {
   // owner's: such a draft is not read. Reading a draft back may throw popcut::Error (a document a
   // newer popcut wrote).
   std::shared_ptr<DesignSession> open(std::int64_t id, const std::string& owner);
-  // Saves the session's document (call with its mutex held).
-  void save(const DesignSession& session);
+  // Writes the session's document and saves it (call with its mutex held).
+  void save(DesignSession& session);
   // Forgets the session and deletes its draft.
   bool remove(std::int64_t id);
 

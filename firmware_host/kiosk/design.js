@@ -9,7 +9,7 @@ const $ = (id) => document.getElementById(id);
 const SVG = 'http://www.w3.org/2000/svg';
 
 const ui = { tool: 'wall', shape: 'rect', points: [], cursor: null };
-let design = null;      // the last answer: items, pattern, check
+let design = null;      // the last answer: design (its file), pattern, check
 let view = null;        // the 3D card
 const timings = [];     // ms from a click that finished an edit to the repaint of its answer
 window.designTimings = timings;
@@ -46,7 +46,7 @@ function say(id, text) {
 
 const isWallTool = (tool) => tool === 'wall' || tool === 'opening';
 const planeT = () => Number($('plane-t').value);
-const sheet = () => design.sheet;
+const sheet = () => design.design.sheet;
 const planeHeight = () => (isWallTool(ui.tool) ? sheet().back : sheet().floor);
 // Plane point (a, b) to SVG user units and back: a wall's z grows upwards.
 const toSvg = (a, b) => (isWallTool(ui.tool) ? [a, -b] : [a, b]);
@@ -66,7 +66,7 @@ function snap([a, b]) {
   const svg = $('edit');
   const mmPerPx = svg.viewBox.baseVal.width / svg.clientWidth;
   let best = null, bestD = 8 * mmPerPx;
-  for (const it of design.items) {
+  for (const it of design.design.items) {
     if (isWallTool(it.tool) !== isWallTool(ui.tool)) continue;
     for (const [x, y] of it.outline) {
       const d = Math.hypot(x - a, y - b);
@@ -95,7 +95,7 @@ function drawEditPlane() {
   }
   el('line', { x1: w / 2, y1: y0, x2: w / 2, y2: y0 + h, stroke: '#b9a', 'stroke-dasharray': '2 1', 'stroke-width': 0.3 }, svg);
   const t = planeT();
-  for (const it of design.items) {
+  for (const it of design.design.items) {
     if (isWallTool(it.tool) !== isWallTool(ui.tool)) {
       // A wall seen from above is a line at its depth; a roof seen from the front one at its height.
       if (it.tool === 'wall' || it.tool === 'roof') footprint(svg, it);
@@ -107,12 +107,17 @@ function drawEditPlane() {
     outlinePath(svg, it.outline, style);
     if (it.mirror) outlinePath(svg, it.outline.map(([a, b]) => [w - a, b]), Object.assign({}, style, { 'fill-opacity': 0.5 }));
   }
-  drawInProgress(svg);
+  el('g', { id: 'overlay' }, svg);
+  drawOverlay();
+}
+
+// An outline as SVG path data in the plane's coordinates.
+function pathData(pts, closed) {
+  return pts.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + (closed ? ' Z' : '');
 }
 
 function outlinePath(svg, pts, style) {
-  const d = pts.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + ' Z';
-  return el('path', Object.assign({ d }, style), svg);
+  return el('path', Object.assign({ d: pathData(pts, true) }, style), svg);
 }
 
 function footprint(svg, it) {
@@ -121,7 +126,12 @@ function footprint(svg, it) {
   el('line', { x1: Math.min(...xs), y1: y, x2: Math.max(...xs), y2: y, stroke: '#8fa3b8', 'stroke-width': 0.6 }, svg);
 }
 
-function drawInProgress(svg) {
+// The outline being drawn and the cursor: redrawn on every pointer move, so it alone is rebuilt
+// (the grid and the items are redrawn only when the design, tool, plane or grid changes).
+function drawOverlay() {
+  const svg = document.getElementById('overlay');
+  if (!svg) return;
+  svg.textContent = '';
   const pts = ui.points.slice();
   if (ui.cursor) {
     const [cx, cy] = toSvg(...ui.cursor);
@@ -131,8 +141,7 @@ function drawInProgress(svg) {
   if (!pts.length) return;
   const twoClick = ui.shape !== 'polygon';
   const shown = !ui.cursor ? pts : twoClick ? twoClickOutline(pts[0], ui.cursor) || pts : pts.concat([ui.cursor]);
-  const d = shown.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + (twoClick ? ' Z' : '');
-  el('path', { d, fill: '#d6272822', stroke: '#d62728', 'stroke-width': 0.4 }, svg);
+  el('path', { d: pathData(shown, twoClick), fill: '#d6272822', stroke: '#d62728', 'stroke-width': 0.4 }, svg);
   for (const p of pts) {
     const [cx, cy] = toSvg(...p);
     el('circle', { cx, cy, r: 0.9, fill: '#fff', stroke: '#d62728', 'stroke-width': 0.3 }, svg);
@@ -203,20 +212,20 @@ function onEditClick(event) {
   const p = snap(svgPoint(event));
   const started = performance.now();
   if (ui.shape !== 'polygon') {
-    if (!ui.points.length) { ui.points = [p]; drawEditPlane(); return; }
+    if (!ui.points.length) { ui.points = [p]; drawOverlay(); return; }
     const outline = twoClickOutline(ui.points[0], p);
     ui.points = [];
-    if (!outline) { say('edit-error', 'The second click must be somewhere else than the first.'); drawEditPlane(); return; }
+    if (!outline) { say('edit-error', 'The second click must be somewhere else than the first.'); drawOverlay(); return; }
     return addItem(counterClockwise(outline), started);
   }
   const first = ui.points[0];
   if (first && ui.points.length >= 3 && p[0] === first[0] && p[1] === first[1]) return closePolygon(started);
   const last = ui.points[ui.points.length - 1];
-  // A double click lands twice on one corner (the plane is redrawn between, so no dblclick
-  // reaches it): the second click closes the outline.
+  // A double click lands twice on one corner: the second click closes the outline (no dblclick
+  // handler, which would come after it and find nothing left to close).
   if (last && ui.points.length >= 3 && last[0] === p[0] && last[1] === p[1]) return closePolygon(started);
   if (!last || last[0] !== p[0] || last[1] !== p[1]) ui.points.push(p);
-  drawEditPlane();
+  drawOverlay();
 }
 
 function closePolygon(started) {
@@ -248,7 +257,7 @@ function show(answer, started) {
   design = answer;
   say('edit-error', '');  // whatever failed before, this answer stands
   localStorage.setItem('popcut-design', String(design.id));
-  if (document.activeElement !== $('name')) $('name').value = design.name || '';
+  if (document.activeElement !== $('name')) $('name').value = design.design.name || '';
   $('undo').disabled = !design.can_undo;
   $('redo').disabled = !design.can_redo;
   drawEditPlane();
@@ -259,7 +268,7 @@ function show(answer, started) {
   const dropped = new Set(design.check.cut_out.flatMap((piece) => piece.faces));  // fall out of their openings
   view.setPattern(design.pattern, failing, new Set(design.check.flaps.map((p) => p.face)), dropped);
   document.body.dataset.revision = String(Number(document.body.dataset.revision || 0) + 1);
-  const n = design.items.length;
+  const n = design.design.items.length;
   $('status').textContent = `draft ${design.id} · ${n} ${n === 1 ? 'item' : 'items'}` +
     (design.answer_ms === undefined ? '' : ` · answered in ${design.answer_ms} ms`);
   if (started !== undefined) requestAnimationFrame(() => timings.push(performance.now() - started));
@@ -284,7 +293,7 @@ function drawPattern() {
     mountain: { stroke: '#d62728', 'stroke-dasharray': '2 0.5 0.4 0.5' }, cut: { stroke: '#000' } };
   for (const kind of ['valley', 'mountain', 'cut']) {
     const g = el('g', Object.assign({ class: kind, fill: 'none', 'stroke-width': 0.35, 'stroke-linecap': 'round' }, styles[kind]), svg);
-    for (const [x1, v1, x2, v2] of p.lines[kind]) el('line', { x1, y1: -v1, x2, y2: -v2 }, g);
+    for (const { a, b } of p.lines.filter((l) => l.kind === kind)) el('line', { x1: a[0], y1: -a[1], x2: b[0], y2: -b[1] }, g);
   }
   const c = design.check;
   $('verdict').className = c.pops_up ? 'ok' : 'bad';
@@ -311,7 +320,7 @@ const TOOL_NAMES = { wall: 'Wall', opening: 'Opening', roof: 'Roof', roof_openin
 function drawItems() {
   const list = $('items');
   list.textContent = '';
-  for (const it of design.items) {
+  for (const it of design.design.items) {
     const li = document.createElement('li');
     const xs = it.outline.map((p) => p[0]), ys = it.outline.map((p) => p[1]);
     const size = `${+(Math.max(...xs) - Math.min(...xs)).toFixed(1)} × ${+(Math.max(...ys) - Math.min(...ys)).toFixed(1)} mm`;
@@ -362,7 +371,7 @@ function setPlane(t) {
 
 function onKey(e) {
   if (e.target.tagName === 'INPUT' && e.target.type !== 'range' && e.target.type !== 'checkbox') return;
-  if (e.key === 'Escape') { ui.points = []; drawEditPlane(); }
+  if (e.key === 'Escape') { ui.points = []; drawOverlay(); }
   else if (e.key === 'Enter' && ui.shape === 'polygon') closePolygon(performance.now());
   else if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') { e.preventDefault(); edit('POST', e.shiftKey ? '/redo' : '/undo', undefined, performance.now()); }
   else if (e.key === 'w') setTool('wall');
@@ -380,8 +389,7 @@ async function start() {
   $('plane-slider').addEventListener('input', () => setPlane(Number($('plane-slider').value)));
   $('grid').addEventListener('change', () => drawEditPlane());
   $('edit').addEventListener('click', onEditClick);
-  $('edit').addEventListener('dblclick', () => { if (ui.shape === 'polygon') closePolygon(performance.now()); });
-  $('edit').addEventListener('pointermove', (e) => { if (design) { ui.cursor = snap(svgPoint(e)); drawEditPlane(); } });
+  $('edit').addEventListener('pointermove', (e) => { if (design) { ui.cursor = snap(svgPoint(e)); drawOverlay(); } });
   $('undo').addEventListener('click', () => edit('POST', '/undo', undefined, performance.now()));
   $('redo').addEventListener('click', () => edit('POST', '/redo', undefined, performance.now()));
   $('angle').addEventListener('input', () => { $('angle-value').textContent = $('angle').value + '°'; view.setAngle(Number($('angle').value)); });

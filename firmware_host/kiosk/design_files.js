@@ -43,8 +43,8 @@ window.DesignerFiles = (() => {
 
   function loaded(answer) {
     ctx.show(answer);
-    const wall = answer.items.find((it) => it.tool === 'wall');
-    ctx.setPlane(wall ? wall.t : Math.round(answer.sheet.floor * 0.4 / 5) * 5);  // on the default grid
+    const wall = answer.design.items.find((it) => it.tool === 'wall');
+    ctx.setPlane(wall ? wall.t : Math.round(answer.design.sheet.floor * 0.4 / 5) * 5);  // on the default grid
     listDrafts().catch(() => {});
   }
 
@@ -62,15 +62,15 @@ window.DesignerFiles = (() => {
 
   function fileName(ext) {
     const d = ctx.current();
-    const stem = (d.name || 'card-' + d.id).replace(/[^\p{L}\p{N}_-]+/gu, '-').replace(/^-+|-+$/g, '') || 'card';
+    const stem = (d.design.name || 'card-' + d.id).replace(/[^\p{L}\p{N}_-]+/gu, '-').replace(/^-+|-+$/g, '') || 'card';
     return stem + '.' + ext;
   }
 
   async function rename() {
     const d = ctx.current(), name = $('name').value.trim();
     if (!d) return;
-    if (!name) { $('name').value = d.name || ''; return; }  // a draft keeps a name once it has one
-    if (name === (d.name || '')) return;
+    if (!name) { $('name').value = d.design.name || ''; return; }  // a draft keeps a name once it has one
+    if (name === (d.design.name || '')) return;
     try {
       ctx.show(await ctx.api('PATCH', `/api/v1/designs/${d.id}`, JSON.stringify({ name })));
       listDrafts().catch(() => {});

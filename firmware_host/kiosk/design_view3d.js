@@ -5,7 +5,7 @@
 // (z = v + t), an HFace at height t lies at z = t (y = t - v). popcut's y runs from the back
 // board to the front, z up; three.js has y up and z towards the viewer.
 function cardPoint(kind, t, x, v) {
-  return kind === 'vertical' ? [x, t, v + t] : [x, t - v, t];
+  return kind === 'V' ? [x, t, v + t] : [x, t - v, t];
 }
 
 // The parallel fold: every VFace stays parallel to the back board, every HFace to the floor, the
@@ -86,9 +86,9 @@ class CardView {
     // Paper a little greyer the further back (walls) or lower (roofs) it lies, so faces at
     // different depths read apart even where no shadow falls between them.
     const shade = (f) => {
-      const near = f.kind === 'vertical' ? f.t / Math.max(floor, 1) : f.t / Math.max(back, 1);
-      const base = new THREE.Color(f.kind === 'vertical' ? 0xd8d2c4 : 0xddd3bd);
-      return base.lerp(new THREE.Color(f.kind === 'vertical' ? 0xfffcf4 : 0xf1e8d2), Math.min(1, near * 1.6));
+      const near = f.kind === 'V' ? f.t / Math.max(floor, 1) : f.t / Math.max(back, 1);
+      const base = new THREE.Color(f.kind === 'V' ? 0xd8d2c4 : 0xddd3bd);
+      return base.lerp(new THREE.Color(f.kind === 'V' ? 0xfffcf4 : 0xf1e8d2), Math.min(1, near * 1.6));
     };
     pattern.faces.forEach((f, i) => {
       if (dropped.has(i)) return;  // an opening's paper that falls out: not part of the card

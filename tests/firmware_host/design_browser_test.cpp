@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <utility>
 #include <vector>
 
 #include "kiosk_browser.h"
@@ -189,6 +190,33 @@ TEST_F(Designer, ADoorAndTwoRoundWindowsGoToTheCutter) {
       300))
       << text("job");
   EXPECT_EQ(state, "done") << text("job");
+}
+
+TEST_F(Designer, APolygonClosesOnADoubleClickOrItsFirstCornerAndTheDraftComesBackOnReload) {
+  b_.click(".shape[data-shape='polygon']");
+  b_.type("#plane-t", "20");
+  int before = revision();
+  // A gable wall: four corners, the last double-clicked.
+  for (const auto& [a, z] : std::vector<std::pair<double, double>>{{10, 0}, {40, 0}, {40, 30}, {25, 40}}) {
+    click_plane(a, z);
+  }
+  click_plane(25, 40);
+  ASSERT_TRUE(wait_until([&] { return revision() > before || !text("edit-error").empty(); }, 60));
+  ASSERT_EQ(items(), 1) << text("edit-error");
+  EXPECT_EQ(design()["items"][0]["outline"].size(), 4u);
+  // A second wall closed by clicking its first corner again.
+  b_.type("#plane-t", "40");
+  before = revision();
+  for (const auto& [a, z] : std::vector<std::pair<double, double>>{{60, 0}, {90, 0}, {90, 20}, {60, 20}, {60, 0}}) {
+    click_plane(a, z);
+  }
+  ASSERT_TRUE(wait_until([&] { return revision() > before || !text("edit-error").empty(); }, 60));
+  ASSERT_EQ(items(), 2) << text("edit-error");
+  EXPECT_TRUE(text("edit-error").empty()) << text("edit-error");
+  // The draft is popcutd's: a reload of the page shows it again, from the server.
+  b_.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d_.port()) + "/design?token=" + kToken}});
+  ASSERT_TRUE(wait_until([&] { return revision() >= 1; }, 60));
+  EXPECT_EQ(items(), 2);
 }
 
 }  // namespace

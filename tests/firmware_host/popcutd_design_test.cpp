@@ -79,9 +79,11 @@ TEST(PopcutdDesign, TwoWallsMakeThePorchAndTheDraftSurvivesKill9) {
     const Reply r = add(c, id, wall(30, 15, 85, 40));
     ASSERT_EQ(r.status, 200) << r.body.dump();
     EXPECT_TRUE(r.body["check"]["pops_up"].get<bool>());
-    EXPECT_EQ(r.body["items"].size(), 2u);
+    EXPECT_EQ(r.body["design"]["items"].size(), 2u);
     EXPECT_TRUE(r.body["can_undo"].get<bool>());
     EXPECT_GE(r.body["answer_ms"].get<double>(), 0.0);
+    EXPECT_EQ(r.body["design"]["format"], "popcut.design.v1") << "the state carries the design as its file";
+    EXPECT_EQ(r.body["pattern"]["format"], "popcut.pattern.v1");
     const popcut::Pattern porch =
         popcut::make_pattern(popcut::parse_model(read_file(kSrc + "/examples/faces/porch.json"), "porch"));
     EXPECT_EQ(r.body["pattern"]["faces"].size(), porch.faces.size());
@@ -96,10 +98,10 @@ TEST(PopcutdDesign, TwoWallsMakeThePorchAndTheDraftSurvivesKill9) {
   EXPECT_EQ(list["designs"][0]["name"], "Porch");
   EXPECT_EQ(list["designs"][0]["items"], 2);
   const json back = get_json(c, path(id)).body;
-  ASSERT_EQ(back["items"].size(), 2u);
-  EXPECT_EQ(back["items"][0]["id"], 2) << "the wall at t = 30 keeps its id";
-  EXPECT_EQ(back["items"][0]["t"], 30.0);
-  EXPECT_EQ(back["items"][1]["id"], 1);
+  ASSERT_EQ(back["design"]["items"].size(), 2u);
+  EXPECT_EQ(back["design"]["items"][0]["id"], 2) << "the wall at t = 30 keeps its id";
+  EXPECT_EQ(back["design"]["items"][0]["t"], 30.0);
+  EXPECT_EQ(back["design"]["items"][1]["id"], 1);
   EXPECT_FALSE(back["can_undo"].get<bool>()) << "undo history lives in the session only (docs/api.md)";
   EXPECT_TRUE(back["check"]["pops_up"].get<bool>());
 }
@@ -142,7 +144,7 @@ TEST(PopcutdDesign, RefusedEditsSayWhyAndLeaveTheSessionAsItWas) {
   }
   EXPECT_EQ(get_json(c, path(id)).body, before) << "every refused edit left the design as it was";
   const Reply undo = post_json(c, path(id, "/undo"), "");
-  EXPECT_EQ(undo.body["items"].size(), 0u) << "the refused edits are not in the undo history";
+  EXPECT_EQ(undo.body["design"]["items"].size(), 0u) << "the refused edits are not in the undo history";
   EXPECT_EQ(post_json(c, path(id, "/undo"), "").status, 409);
 }
 
@@ -160,10 +162,10 @@ TEST(PopcutdDesign, UndoRedoAndRemoveWorkByItem) {
   for (std::size_t i = 3; i-- > 0;) EXPECT_EQ(post_json(c, path(id, "/undo"), "").body["pattern"], states[i]);
   for (std::size_t i = 1; i < 4; ++i) EXPECT_EQ(post_json(c, path(id, "/redo"), "").body["pattern"], states[i]);
   EXPECT_EQ(post_json(c, path(id, "/redo"), "").status, 409);
-  const std::int64_t second = get_json(c, path(id)).body["items"][1]["id"];
+  const std::int64_t second = get_json(c, path(id)).body["design"]["items"][1]["id"];
   const Reply removed = post_json(c, path(id, "/items/" + std::to_string(second) + "/remove"), "");
   ASSERT_EQ(removed.status, 200) << removed.body.dump();
-  EXPECT_EQ(removed.body["items"].size(), 3u);
+  EXPECT_EQ(removed.body["design"]["items"].size(), 3u);
   EXPECT_EQ(post_json(c, path(id, "/items/999/remove"), "").status, 404);
   EXPECT_EQ(post_json(c, path(id, "/undo"), "").body["pattern"], states[3]);
 }
@@ -180,8 +182,8 @@ TEST(PopcutdDesign, DraftsBelongToTheirTokenAndSessionsComeBackFromSQLite) {
     ASSERT_EQ(add(kiosk, ids.back(), wall(20 + i, 10, 90, 30)).status, 200);
   }
   const json first = get_json(kiosk, path(ids[0])).body;
-  EXPECT_EQ(first["items"].size(), 1u);
-  EXPECT_EQ(first["items"][0]["t"], 20.0);
+  EXPECT_EQ(first["design"]["items"].size(), 1u);
+  EXPECT_EQ(first["design"]["items"][0]["t"], 20.0);
   EXPECT_EQ(get_json(other, path(ids[0])).status, 404);
   EXPECT_EQ(add(other, ids[0], wall(40, 10, 90, 30)).status, 404);
   EXPECT_EQ(get_json(other, "/api/v1/designs").body["designs"].size(), 0u);
@@ -211,7 +213,7 @@ TEST(PopcutdDesign, EditsFromManyClientsAtOnceAreAllKept) {
   for (std::thread& t : clients) t.join();
   for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(failures[k], 0) << "client " << k;
   const json state = get_json(c, path(id)).body;
-  EXPECT_EQ(state["items"].size(), 20u);
+  EXPECT_EQ(state["design"]["items"].size(), 20u);
   // The saved draft holds every edit too: the session and its document never diverged.
   const auto saved = c.Get(path(id, "/design.json").c_str());
   ASSERT_TRUE(saved);
