@@ -8,6 +8,7 @@
 #include <random>
 
 #include "bench_table.h"
+#include "design_street.h"
 #include "popcut/design/face_design.h"
 #include "popcut/io/design_json.h"
 #include "popcut/fold/fold.h"
@@ -17,28 +18,6 @@ namespace {
 using popcut::DesignItem;
 using popcut::DesignTool;
 using popcut::FaceDesign;
-
-DesignItem wall(double t, double x0, double x1, double h) {
-  return {DesignTool::wall, t, {{x0, 0}, {x1, 0}, {x1, h}, {x0, h}}, true, false};
-}
-
-// A street of walls at depths 5–24 mm, each with its top: about two faces a wall. Added back to
-// front, as a designer would draw it (adding in any order gives the same card, only slower).
-FaceDesign street(int faces) {
-  const int walls = faces / 2;
-  FaceDesign d(5.0 * walls + 10, 60, 60);
-  std::mt19937_64 rng(3);
-  std::vector<DesignItem> items;
-  for (int i = 0; i < walls; ++i) {
-    const double x0 = 5.0 + 5.0 * i;
-    items.push_back(wall(5 + static_cast<double>(rng() % 20), x0, x0 + 4, 5 + static_cast<double>(rng() % 30)));
-  }
-  std::stable_sort(items.begin(), items.end(),
-                   [](const DesignItem& a, const DesignItem& b) { return a.t_mm < b.t_mm; });
-  for (const DesignItem& it : items) d.add(it);
-  d.pattern();
-  return d;
-}
 
 // What the designer page gets back for an edit: the pattern, the check and the card at 90°.
 std::size_t answer(const FaceDesign& d) {
@@ -64,14 +43,15 @@ enum class Case { wall_in_front, undo, redo, wall_behind };
 // Each iteration times one edit and its answer; the design is put back between iterations
 // (untimed), so every edit meets the same card.
 void run(benchmark::State& state, Case what) {
-  FaceDesign d = street(static_cast<int>(state.range(0)));
+  FaceDesign d = popcut::bench::design_street(static_cast<int>(state.range(0)));
   std::mt19937_64 rng(11);
   std::vector<double> ms, edit_ms, pattern_ms;  // whole answer; the edit alone; its pattern and check
   const double width = d.width_mm();
   for (auto _ : state) {
     const double x0 = std::uniform_real_distribution<double>(0, width - 30)(rng);
     const double x = std::round(x0);
-    const DesignItem item = what == Case::wall_behind ? wall(2, x, x + 20, 12) : wall(30, x, x + 20, 12);
+    const DesignItem item = what == Case::wall_behind ? popcut::bench::street_wall(2, x, x + 20, 12)
+                                                      : popcut::bench::street_wall(30, x, x + 20, 12);
     if (what == Case::undo || what == Case::redo) {
       state.PauseTiming();
       d.add(item);
@@ -117,7 +97,7 @@ void BM_WallBehind(benchmark::State& state) { run(state, Case::wall_behind); }
 // Opening a design file (or a draft popcutd reads back): every item drawn in one pass
 // (FaceDesign::add_all), its pattern and check worked out.
 void BM_Open(benchmark::State& state) {
-  const std::string text = popcut::to_design_json(street(static_cast<int>(state.range(0))));
+  const std::string text = popcut::to_design_json(popcut::bench::design_street(static_cast<int>(state.range(0))));
   std::vector<double> ms;
   FaceDesign last(10, 10, 10);
   for (auto _ : state) {

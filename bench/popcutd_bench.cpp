@@ -5,15 +5,20 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <numeric>
+#include <random>
 #include <sstream>
 #include <thread>
 #include <vector>
 
 #include "bench_table.h"
+#include "design_street.h"
+#include "popcut/io/design_json.h"
 #include "popcutd_process.h"
 
 namespace {
@@ -334,12 +339,64 @@ BENCHMARK(BM_HealthzUnderIdle)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
+// A designer's edit through popcutd: a street of walls opened as a draft, then walls added in
+// front, each answered with the design, the pattern and the check (and undone, untimed, so
+// every edit meets the same card). args: faces, edits.
+void BM_DesignEdit(benchmark::State& state) {
+  const int faces = static_cast<int>(state.range(0)), count = static_cast<int>(state.range(1));
+  for (auto _ : state) {
+    Daemon d;
+    httplib::Client c = d.process.client(kKiosk);
+    c.set_keep_alive(true);
+    c.set_read_timeout(120);
+    const httplib::Result made = c.Post(
+        "/api/v1/designs", popcut::to_design_json(popcut::bench::design_street(faces), "street"), "application/json");
+    Load l;
+    if (!made || made->status != 201) {
+      l.failures = count;
+      l.failed_as[made ? "create " + std::to_string(made->status) : "create: no answer"] = count;
+      report(state, l, count);
+      continue;
+    }
+    const std::string at = "/api/v1/designs/" + std::to_string(nlohmann::json::parse(made->body)["id"].get<int>());
+    std::mt19937_64 rng(11);
+    const double width = 5.0 * (faces / 2) + 10;
+    for (int i = 0; i < count; ++i) {
+      const double x = std::round(std::uniform_real_distribution<double>(0, width - 30)(rng));
+      const std::string item = "{\"tool\": \"wall\", \"t\": 30, \"outline\": [[" + std::to_string(x) + ", 0], [" +
+                               std::to_string(x + 20) + ", 0], [" + std::to_string(x + 20) + ", 12], [" +
+                               std::to_string(x) + ", 12]]}";
+      const auto s = std::chrono::steady_clock::now();
+      const std::string wrong = outcome(c.Post(at + "/items", item, "application/json"), 200);
+      l.latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
+      if (!wrong.empty()) {
+        ++l.failures;
+        ++l.failed_as[wrong];
+      }
+      c.Post(at + "/undo", "", "application/json");
+    }
+    // Edits per second of edit time: the undos between are not counted.
+    l.seconds = std::accumulate(l.latency_ms.begin(), l.latency_ms.end(), 0.0) / 1000;
+    std::sort(l.latency_ms.begin(), l.latency_ms.end());
+    report(state, l, count);
+  }
+}
+BENCHMARK(BM_DesignEdit)
+    ->Args({500, 40})
+    ->Args({2000, 40})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return popcut::bench::run_with_table(argc, argv, [](const popcut::bench::CollectingReporter& r) {
     std::printf(
-        "\npopcutd on loopback (box model, devices paused so jobs stay queued; over 1 s: requests that took a second "
+        "\npopcutd on loopback (box model, devices paused so jobs stay queued; DesignEdit/FACES/N: N walls added to a "
+        "draft\n"
+        "of a street of FACES faces, one client, each answered with design, pattern and check; over 1 s: requests that "
+        "took a second "
         "or\n"
         "more, as a dropped connection retried by TCP does; overflows: connections the kernel dropped because an "
         "accept\n"
