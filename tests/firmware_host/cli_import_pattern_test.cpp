@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.h"
+#include "shared_testdata.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -85,7 +86,8 @@ TEST_F(ImportPattern, BadDrawingsExitTwoNamingTheElement) {
   const CliRun dxf = run("validate " + write("box.dxf", "0\nSECTION\n2\nENTITIES\n0\nLINE\n10\n1,5\n"));
   EXPECT_EQ(dxf.code, 2);
   EXPECT_NE(dxf.err.find("box.dxf: line 8: group code 10 expects a number, got \"1,5\""), std::string::npos) << dxf.err;
-  const CliRun folded = run("import-pattern " + std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/box.fold");
+  POPCUT_NEEDS_SHARED_TESTDATA();  // the FOLD spec's folded box, last
+  const CliRun folded = run("import-pattern " + popcut::testing::shared_testdata("fold/box.fold"));
   EXPECT_EQ(folded.code, 2);
   EXPECT_NE(folded.err.find("folded form"), std::string::npos) << folded.err;
 }

@@ -11,6 +11,7 @@
 
 #include "cli_run.h"
 #include "popcut/io/model_io.h"
+#include "shared_testdata.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -20,11 +21,12 @@ class CliOa : public popcut::testing::CliFixture {
  protected:
   CliOa() : CliFixture("popcut-oa") {}
   static std::string demo(const std::string& name) {
-    return std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/webOAcard/demo/" + name;
+    return popcut::testing::shared_testdata("webOAcard/demo/" + name);
   }
 };
 
 TEST_F(CliOa, ValidateReadsADemoCard) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
   const CliRun r = run("validate " + demo("house.oa") + " --json");
   ASSERT_EQ(r.code, 0) << "the house pops up: exit 0: " << r.err << r.out;
   const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -49,6 +51,7 @@ TEST_F(CliOa, AMalformedFileExitsTwoNamingTheField) {
 // reads from it (popcut.faces.v1), as it sends a drawing. A loopback server stands in for popcutd
 // and keeps what it was sent.
 TEST_F(CliOa, SubmitSendsTheCardAsItsFaceModel) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
   httplib::Server server;
   std::mutex m;
   std::string body;

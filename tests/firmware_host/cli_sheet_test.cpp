@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli_run.h"
+#include "shared_testdata.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -124,7 +125,8 @@ TEST_F(SheetCli, ImportPatternWritesTheReportOrTheFoldedSheet) {
 
 // The FOLD specification's diagonal crease pattern folds flat: its two layers stack, no collision.
 TEST_F(SheetCli, FoldSpecsDiagonalFoldsFlat) {
-  const std::string cp = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/diagonal-cp.fold";
+  POPCUT_NEEDS_SHARED_TESTDATA();
+  const std::string cp = popcut::testing::shared_testdata("fold/diagonal-cp.fold");
   ASSERT_TRUE(fs::exists(cp)) << "missing " << cp;
   const CliRun r = run("validate " + cp + " --as sheet --json");
   ASSERT_EQ(r.code, 0) << r.err << r.out;

@@ -108,7 +108,7 @@ void sort_by_line(std::vector<Edge>& edges) {
 // at that edge's endpoints. Faces that partition the sheet never cross (eq. 4), so every vertex
 // of the map lies on a line through collinear edges; splitting each supporting line at all the
 // endpoints on it gives exactly the edges of the arrangement of all face boundaries, each with
-// its two faces (the half-edge pair of ../shared/seeds/003 §3), without a general intersection sweep.
+// its two faces (the half-edge pair of the cut-sheet paper, §3), without a general intersection sweep.
 std::vector<Piece> split_shared_edges(const std::vector<std::shared_ptr<const ExactFace>>& faces,
                                       const std::string& source) {
   std::vector<Edge> edges = face_edges(faces);

@@ -9,6 +9,7 @@
 
 #include "error_of.h"
 #include "popcut/fold/sheet_fold.h"
+#include "shared_testdata.h"
 
 namespace popcut {
 namespace {
@@ -366,7 +367,8 @@ TEST(SheetFold, FoldSpecsDiagonalFoldsAsTheSpecFoldsIt) {
     ss << in.rdbuf();
     return ss.str();
   };
-  const std::string dir = POPCUT_SOURCE_DIR "/../shared/testdata/fold/";
+  POPCUT_NEEDS_SHARED_TESTDATA();
+  const std::string dir = popcut::testing::shared_testdata("fold/");
   const LineDrawing d = read_fold_drawing(slurp(dir + "diagonal-cp.fold"), "diagonal-cp.fold");
   SheetFoldOptions o;
   const SheetMap map = build_sheet_map(d);

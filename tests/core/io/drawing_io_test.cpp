@@ -12,6 +12,7 @@
 #include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
 #include "popcut/io/pattern_io.h"
+#include "shared_testdata.h"
 
 namespace popcut {
 namespace {
@@ -186,7 +187,8 @@ TEST(SvgDrawing, LayerNamesInManyLanguagesAndConfigured) {
 std::string slurp(const std::string& path) { return read_text_file(path); }
 
 TEST(FoldDrawing, TheSpecsCreasePatternExample) {
-  const std::string path = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/diagonal-cp.fold";
+  POPCUT_NEEDS_SHARED_TESTDATA();
+  const std::string path = popcut::testing::shared_testdata("fold/diagonal-cp.fold");
   const LineDrawing d = read_fold_drawing(slurp(path), path);
   int outline = 0, valley = 0;
   for (const DrawnLine& l : d.lines) {
@@ -199,8 +201,9 @@ TEST(FoldDrawing, TheSpecsCreasePatternExample) {
 }
 
 TEST(FoldDrawing, FoldedFormsAreRefusedByName) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
   for (const char* name : {"box", "simple"}) {
-    const std::string path = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/fold/" + name + ".fold";
+    const std::string path = popcut::testing::shared_testdata(std::string("fold/") + name + ".fold");
     const Error e = error_of([&] { read_fold_drawing(slurp(path), path); });
     EXPECT_NE(e.message().find("folded"), std::string::npos) << name << ": " << e.message();
   }

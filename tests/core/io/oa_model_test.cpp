@@ -12,13 +12,14 @@
 #include "popcut/io/oa_model.h"
 #include "pattern_oracle.h"
 #include "popcut/pattern/popup_check.h"
+#include "shared_testdata.h"
 
 namespace popcut {
 namespace {
 
 using testing::error_of;
 
-const std::string kDemoDir = std::string(POPCUT_SOURCE_DIR) + "/../shared/testdata/webOAcard/demo/";
+const std::string kDemoDir = testing::shared_testdata("webOAcard/demo/");
 
 // A card of 120 × 100 (sheet 120 × 200) with the given faces (JSON objects).
 std::string card(const std::string& faces, const std::string& settings = R"({"cardW": 120, "cardH": 100})") {
@@ -334,6 +335,7 @@ struct DemoResult {
 // What popcut finds in each of webOAcard's demo cards: two pop up; the others fail for reasons the
 // editor's own card has too, as its rules give the same faces (it checks no pop-up condition).
 TEST(OaDemo, EveryDemoImportsAndPopsUpOrFailsForItsReason) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
   const DemoResult demos[] = {
       // The arch faces[1] (a hole at t 42 reaching z 65 > t) shows the back board above the fold,
       // an island ringed by the arch's cut and held only by the floor; faces[5] and faces[6] are
@@ -375,6 +377,7 @@ TEST(OaDemo, EveryDemoImportsAndPopsUpOrFailsForItsReason) {
 }
 
 TEST(OaDemo, TheHouseStandsWhereItsFileDrawsIt) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
   const FaceModel m = std::get<FaceModel>(load_model(kDemoDir + "house.oa"));
   EXPECT_EQ(m.sheet(), (Rect{{0, -100}, {120, 100}})) << "cardW 120 × cardH 100: the sheet is 120 × 200";
   const Pattern p = make_pattern(m, "house.oa");
