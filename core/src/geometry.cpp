@@ -103,4 +103,15 @@ Rect bounds(const Ring& ring) {
   return r;
 }
 
+bool inside_ring(Point2 p, const Ring& ring) {
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const Point2 a = ring[i], b = ring[j];
+    if ((a.v_mm > p.v_mm) != (b.v_mm > p.v_mm) &&
+        p.x_mm < (b.x_mm - a.x_mm) * (p.v_mm - a.v_mm) / (b.v_mm - a.v_mm) + a.x_mm)
+      in = !in;
+  }
+  return in;
+}
+
 }  // namespace popcut

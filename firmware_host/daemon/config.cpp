@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <toml++/toml.h>
 
@@ -13,6 +14,7 @@
 #include "popcut/drivers/toml_section.h"
 #include "popcut/error.h"
 #include "popcut/io/files.h"
+#include "popcut/utf8.h"
 
 #ifndef POPCUT_KIOSK_DIR
 #define POPCUT_KIOSK_DIR "firmware_host/kiosk"
@@ -310,32 +312,17 @@ bool is_job_label(const std::string& name) {
     return cp == 0x20 || cp == 0xa0 || cp == 0x1680 || (cp >= 0x2000 && cp <= 0x200b) || cp == 0x202f || cp == 0x205f ||
            cp == 0x3000;
   };
-  char32_t first = 0, last = 0;
-  std::size_t chars = 0;
-  for (std::size_t i = 0; i < name.size(); ++chars) {
-    const auto b0 = static_cast<unsigned char>(name[i]);
-    const int len = b0 < 0x80 ? 1 : (b0 >> 5) == 0x6 ? 2 : (b0 >> 4) == 0xe ? 3 : (b0 >> 3) == 0x1e ? 4 : 0;
-    if (len == 0 || i + static_cast<std::size_t>(len) > name.size()) return false;
-    char32_t cp = len == 1 ? b0 : len == 2 ? (b0 & 0x1fu) : len == 3 ? (b0 & 0x0fu) : (b0 & 0x07u);
-    for (int k = 1; k < len; ++k) {
-      const auto b = static_cast<unsigned char>(name[i + static_cast<std::size_t>(k)]);
-      if ((b >> 6) != 0x2) return false;
-      cp = (cp << 6) | (b & 0x3fu);
-    }
-    // Overlong forms, surrogates and beyond U+10FFFF are not UTF-8.
-    const char32_t min_cp[] = {0, 0, 0x80, 0x800, 0x10000};
-    if (cp < min_cp[len] || (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff) return false;
+  const std::optional<std::u32string> cps = decode_utf8(name);
+  if (!cps) return false;
+  for (const char32_t cp : *cps) {
     if (cp < 0x20 || (cp >= 0x7f && cp <= 0x9f)) return false;  // control characters
     if ((cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069) || cp == 0x200e || cp == 0x200f ||
         cp == 0x061c)
       return false;                                  // bidi
     if (cp == 0xfeff) return false;                  // byte-order mark
     if (cp == 0x2028 || cp == 0x2029) return false;  // line breaks
-    if (chars == 0) first = cp;
-    last = cp;
-    i += static_cast<std::size_t>(len);
   }
-  return chars <= 64 && !blank(first) && !blank(last);
+  return cps->size() <= 64 && !blank(cps->front()) && !blank(cps->back());
 }
 
 std::string job_label_from(const std::string& name) {

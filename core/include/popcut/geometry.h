@@ -59,6 +59,8 @@ double signed_area_mm2(const Ring& ring);
 // a corner) into simple loops at each repeated vertex, so every ring handed on is simple.
 std::vector<Ring> split_at_repeated_vertices(const Ring& ring);
 Rect bounds(const Ring& ring);
+// Whether p lies inside the ring (even-odd; a point on an edge may go either way).
+bool inside_ring(Point2 p, const Ring& ring);
 
 // A point inside a polygon with holes, for labels and reports: the middle of the widest inside
 // stretch of a horizontal line halfway across the tallest band between vertex heights (never

@@ -22,18 +22,44 @@ namespace {
 
 constexpr std::uint64_t kMaxDesignItemId = std::uint64_t{1} << 50;  // exact in every JSON reader's double
 
+TextSpec read_text(const json_util::Reader& in, const json& j, const std::string& path) {
+  in.require_object(j, path);
+  in.only_keys(j, {"string", "font", "size", "frame"}, path);
+  TextSpec text;
+  // The length is the text setter's to judge (a limit, with the count), not the reader's.
+  text.text = in.string(in.require(j, "string", path), path + ".string", std::string::npos);
+  if (j.contains("font")) text.font = in.string(j["font"], path + ".font", 256);
+  if (j.contains("size")) text.size_mm = in.number(j["size"], path + ".size", kMinTextSizeMm, kMaxTextSizeMm);
+  if (j.contains("frame")) {
+    if (!j["frame"].is_boolean()) in.fail(path + ".frame", "expected true or false");
+    text.frame = j["frame"].get<bool>();
+  }
+  return text;
+}
+
 DesignItem read_design_item(const json_util::Reader& in, const json& j, const std::string& path, bool with_id) {
   in.require_object(j, path);
   if (with_id)
-    in.only_keys(j, {"id", "tool", "t", "outline", "top", "mirror"}, path);
+    in.only_keys(j, {"id", "tool", "t", "outline", "text", "at", "top", "mirror"}, path);
   else
-    in.only_keys(j, {"tool", "t", "outline", "top", "mirror"}, path);
+    in.only_keys(j, {"tool", "t", "outline", "text", "at", "top", "mirror"}, path);
   DesignItem item;
   const std::string at = path.empty() ? "" : path + ".";
   item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), at + "tool");
   item.t_mm = in.number(in.require(j, "t", path), at + "t", 0, kMaxFaceCoordinateMm);
-  item.outline =
-      in.points(in.require(j, "outline", path), at + "outline", kMaxFaceCoordinateMm, 3, kMaxDesignOutlinePoints);
+  if (j.contains("text")) {
+    if (j.contains("outline")) in.fail(at + "outline", "an item is an outline or a text, not both");
+    item.text = read_text(in, j["text"], at + "text");
+    const json& start = in.require(j, "at", path);
+    in.require_array(start, at + "at");
+    if (start.size() != 2) in.fail(at + "at", "expected [x, z] (a roof: [x, y]): where the first line's baseline starts");
+    item.outline = {{in.number(start[0], at + "at[0]", -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm),
+                     in.number(start[1], at + "at[1]", -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm)}};
+  } else {
+    if (j.contains("at")) in.fail(at + "at", "only a text has a starting point \"at\"");
+    item.outline =
+        in.points(in.require(j, "outline", path), at + "outline", kMaxFaceCoordinateMm, 3, kMaxDesignOutlinePoints);
+  }
   const auto flag = [&](const char* key, bool fallback) {
     if (!j.contains(key)) return fallback;
     if (!j[key].is_boolean()) in.fail(at + key, "expected true or false");
@@ -101,11 +127,19 @@ std::string to_design_json(const FaceDesign& design, const std::string& name) {
   for (std::size_t i = 0; i < items.size(); ++i) {
     const DesignItem& it = items[i].item;
     o << (i ? ",\n    " : "\n    ") << "{\"id\": " << items[i].id << ", \"tool\": \"" << kDesignToolNames.name(it.tool)
-      << "\", \"t\": " << number_text(it.t_mm) << ", \"outline\": [";
-    for (std::size_t k = 0; k < it.outline.size(); ++k) {
-      o << (k ? ", " : "") << "[" << number_text(it.outline[k][0]) << ", " << number_text(it.outline[k][1]) << "]";
+      << "\", \"t\": " << number_text(it.t_mm);
+    if (it.text) {
+      o << ", \"text\": {\"string\": " << json(it.text->text).dump() << ", \"font\": " << json(it.text->font).dump()
+        << ", \"size\": " << number_text(it.text->size_mm) << (it.text->frame ? "" : ", \"frame\": false")
+        << "}, \"at\": [" << number_text(it.outline[0][0]) << ", "
+        << number_text(it.outline[0][1]) << "]";
+    } else {
+      o << ", \"outline\": [";
+      for (std::size_t k = 0; k < it.outline.size(); ++k) {
+        o << (k ? ", " : "") << "[" << number_text(it.outline[k][0]) << ", " << number_text(it.outline[k][1]) << "]";
+      }
+      o << "]";
     }
-    o << "]";
     if (it.tool == DesignTool::wall && !it.top) o << ", \"top\": false";
     if (it.mirror) o << ", \"mirror\": true";
     o << "}";

@@ -81,6 +81,22 @@ int cubic_steps(const std::array<Point2, 4>& p, double tolerance) {
   return std::clamp(static_cast<int>(std::ceil(std::sqrt(0.75 * m / tolerance))), 1, 100000);
 }
 
+}  // namespace
+
+std::vector<Point2> cubic_points(const std::array<Point2, 4>& p, double tolerance) {
+  const int n = cubic_steps(p, tolerance);
+  std::vector<Point2> out;
+  out.reserve(static_cast<std::size_t>(n));
+  for (int i = 1; i <= n; ++i) {
+    const double t = static_cast<double>(i) / n;
+    const Point2 a = lerp(p[0], p[1], t), b = lerp(p[1], p[2], t), c = lerp(p[2], p[3], t);
+    out.push_back(lerp(lerp(a, b, t), lerp(b, c, t), t));
+  }
+  return out;
+}
+
+namespace {
+
 class PathBuilder {
  public:
   PathBuilder(double tolerance, std::size_t max_points) : tol_(tolerance), max_(max_points) {}
@@ -95,13 +111,7 @@ class PathBuilder {
     if (++count_ > max_) throw std::length_error("more than " + std::to_string(max_) + " points");
   }
   void cubic(Point2 p1, Point2 p2, Point2 p3) {
-    const std::array<Point2, 4> p{cursor(), p1, p2, p3};
-    const int n = cubic_steps(p, tol_);
-    for (int i = 1; i <= n; ++i) {
-      const double t = static_cast<double>(i) / n;
-      const Point2 a = lerp(p[0], p[1], t), b = lerp(p[1], p[2], t), c = lerp(p[2], p[3], t);
-      line(lerp(lerp(a, b, t), lerp(b, c, t), t));
-    }
+    for (Point2 q : cubic_points({cursor(), p1, p2, p3}, tol_)) line(q);
   }
   void quadratic(Point2 p1, Point2 p2) {
     const Point2 p0 = cursor();

@@ -31,6 +31,10 @@ struct Subpath {
 // `max_points` bounds the output (std::length_error past it).
 std::vector<Subpath> parse_path_data(const std::string& d, double tolerance, std::size_t max_points);
 
+// The points of a cubic Bézier after its start p[0], so no chord strays more than `tolerance`
+// from the curve (a quadratic is the cubic with p1 = p0 + ⅔(q1 − p0), p2 = p3 + ⅔(q1 − p3)).
+std::vector<Point2> cubic_points(const std::array<Point2, 4>& p, double tolerance);
+
 // A numbers list as in points="…" or stroke-dasharray (commas or spaces); throws std::invalid_argument.
 std::vector<double> parse_number_list(const std::string& text);
 

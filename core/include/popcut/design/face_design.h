@@ -6,9 +6,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "popcut/design/text_outline.h"
 #include "popcut/model/face_model.h"
 #include "popcut/names.h"
 #include "popcut/pattern/pattern.h"
@@ -29,13 +31,20 @@ inline constexpr std::size_t kMaxDesignItems = 5000;
 // Corners of one item's outline: a circle of 1 m radius within 0.02 mm takes 500; more only costs
 // every later edit (each state keeps its exact polygons).
 inline constexpr std::size_t kMaxDesignOutlinePoints = 1000;
+// Letters' curves are cut within this of the font's curve (as circles are).
+inline constexpr double kTextToleranceMm = 0.02;
 
 struct DesignItem {
   DesignTool tool = DesignTool::wall;
   double t_mm = 0;                             // the edit plane: depth y (wall, opening) or height z
-  std::vector<std::array<double, 2>> outline;  // in the edit plane, mm
+  std::vector<std::array<double, 2>> outline;  // in the edit plane, mm; for text, the one point where it starts
   bool top = true;                             // walls: add the top faces back to the wall behind
   bool mirror = false;                         // also draw it mirrored about the card's centre line
+  // Letters instead of a drawn outline: a wall of letters (framed or standing free on a bar), or
+  // letters cut through a wall (opening) or a roof (roof_opening). outline[0] is the text's lower
+  // left corner, descenders included; in a roof the letters read from the front, their tops
+  // towards the back board.
+  std::optional<TextSpec> text{};
   friend bool operator==(const DesignItem&, const DesignItem&) = default;
 };
 
