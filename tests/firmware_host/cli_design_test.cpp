@@ -1,7 +1,9 @@
 // popcut reads designs (popcut.design.v1) wherever it reads a model: validate, pattern, render.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -52,6 +54,52 @@ TEST_F(CliDesign, AnOpeningInNoWallExitsTwoNamingTheItem) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("bad.json: items[1].outline: the hole is not inside a VFace at depth y = 35"), std::string::npos)
       << r.err;
+}
+
+// Strokes of one colour in poppler's SVG of a PDF: the segments ("M x y L x y") in its paths.
+std::size_t segments_in(const std::string& svg, const std::string& colour) {
+  std::size_t n = 0;
+  for (std::size_t at = svg.find(colour); at != std::string::npos; at = svg.find(colour, at + 1)) {
+    const std::size_t d = svg.find(" d=\"", at), end = svg.find('"', d + 4);
+    const std::string path = svg.substr(d + 4, end - d - 4);
+    for (std::size_t m = path.find("M "); m != std::string::npos; m = path.find("M ", m + 1)) ++n;
+  }
+  return n;
+}
+
+// A name in letters, written as PDF and read back by poppler (pdfinfo, pdftocairo), an
+// independent reader: the page is the sheet at true size, and every line is there in its colour.
+TEST_F(CliDesign, ANameInLettersWritesATrueSizePdfThatPopplerReadsBack) {
+  const fs::path design = write("name.json", R"({"format": "popcut.design.v1",
+    "sheet": {"width": 120, "back": 60, "floor": 60},
+    "items": [{"tool": "wall", "t": 30, "text": {"string": "Zoë & Al", "size": 9}, "at": [10, 0]}]})");
+  ASSERT_EQ(run("validate " + design.string()).code, 0);
+  const CliRun json = run("pattern " + design.string() + " -o " + (dir_ / "name.pattern.json").string());
+  ASSERT_EQ(json.code, 0) << json.err;
+  const CliRun pdf = run("pattern " + design.string() + " -o " + (dir_ / "name.pdf").string());
+  ASSERT_EQ(pdf.code, 0) << pdf.err;
+  const nlohmann::json pattern = nlohmann::json::parse(popcut::testing::slurp(dir_ / "name.pattern.json"));
+  std::map<std::string, std::size_t> kinds;
+  for (const auto& line : pattern["lines"]) ++kinds[line["kind"].get<std::string>()];
+  ASSERT_GT(kinds["cut"], 100u) << "letters are many chords";
+  const std::string info = (dir_ / "info.txt").string(), back = (dir_ / "back.svg").string();
+  ASSERT_EQ(std::system(("pdfinfo " + (dir_ / "name.pdf").string() + " > " + info).c_str()), 0);
+  EXPECT_NE(popcut::testing::slurp(info).find("340.157 x 340.157 pts"), std::string::npos)
+      << "120 x 120 mm: " << popcut::testing::slurp(info);
+  ASSERT_EQ(std::system(("pdftocairo -svg " + (dir_ / "name.pdf").string() + " " + back).c_str()), 0);
+  const std::string svg = popcut::testing::slurp(back);
+  // Black cuts, red (0.84, 0.15, 0.16) mountains, blue (0.12, 0.37, 0.84) valleys.
+  EXPECT_EQ(segments_in(svg, "stroke:rgb(0%,0%,0%)"), kinds["cut"]);
+  EXPECT_EQ(segments_in(svg, "stroke:rgb(83."), kinds["mountain"]);
+  EXPECT_EQ(segments_in(svg, "stroke:rgb(11."), kinds["valley"]);
+
+  const fs::path font = write("font.json", R"({"format": "popcut.design.v1",
+    "sheet": {"width": 120, "back": 60, "floor": 60},
+    "items": [{"tool": "wall", "t": 30, "text": {"string": "Al", "font": "Nonesuch"}, "at": [10, 0]}]})");
+  const CliRun missing = run("validate " + font.string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("items[0].text.font: font \"Nonesuch\" is not installed"), std::string::npos)
+      << missing.err;
 }
 
 }  // namespace

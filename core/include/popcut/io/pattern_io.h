@@ -33,4 +33,8 @@ void write_pattern_fold(std::ostream& out, const Pattern& pattern);
 // OUTLINE; written through dxflib.
 void write_pattern_dxf(std::ostream& out, const Pattern& pattern);
 
+// PDF at true size (a page the sheet's size, 1 mm to 1 mm: print at 100 %), lines as the SVG's;
+// written through cairo. Throws popcut::Error (io) when the stream fails.
+void write_pattern_pdf(std::ostream& out, const Pattern& pattern);
+
 }  // namespace popcut
