@@ -98,6 +98,11 @@ void list_designs(ApiContext& api, const Caller& caller, const Req&, Res& res) {
   send_json(res, {{"designs", list}});
 }
 
+void list_fonts(ApiContext&, const Caller&, const Req&, Res& res) {
+  // What a text item may name: the machine's own fonts, which set its letters.
+  send_json(res, {{"fonts", installed_font_families()}, {"default", TextSpec{}.font}});
+}
+
 void get_design(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
   const std::shared_ptr<DesignSession> s = visible_design(api, caller, req);
   std::lock_guard lock(s->mutex);
@@ -170,6 +175,9 @@ void get_design_pattern(ApiContext& api, const Caller& caller, const Req& req, R
   if (kind == "svg") {
     write_pattern_svg(o, s->design.pattern(), SvgOptions{.shade_faces = true});  // as a job's pattern.svg
     res.set_content(o.str(), "image/svg+xml");
+  } else if (kind == "pdf") {
+    write_pattern_pdf(o, s->design.pattern());
+    res.set_content(o.str(), "application/pdf");
   } else {
     write_pattern_dxf(o, s->design.pattern());
     res.set_content(o.str(), "image/vnd.dxf");

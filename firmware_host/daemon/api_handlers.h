@@ -65,6 +65,7 @@ void import_drawing(ApiContext& api, const Caller& caller, const Req& req, Res& 
 // api_designs.cpp: the designer's drafts and live sessions (docs/api.md "Designs").
 void create_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void list_designs(ApiContext& api, const Caller& caller, const Req& req, Res& res);
+void list_fonts(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void get_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void rename_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);
 void delete_design(ApiContext& api, const Caller& caller, const Req& req, Res& res);

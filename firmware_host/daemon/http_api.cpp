@@ -57,6 +57,7 @@ std::vector<Route> api_routes() {
       {Method::post, "/api/v1/import/drawing", Access::token, takes_none(), import_drawing},
       {Method::post, "/api/v1/designs", Access::token, takes_none(), create_design},
       {Method::get, "/api/v1/designs", Access::token, takes_none(), list_designs},
+      {Method::get, "/api/v1/fonts", Access::token, takes_none(), list_fonts},
       {Method::get, R"(/api/v1/designs/(\d+))", Access::token, takes_none(), get_design},
       {Method::patch, R"(/api/v1/designs/(\d+))", Access::token, takes_none(), rename_design},
       {Method::del, R"(/api/v1/designs/(\d+))", Access::token, takes_none(), delete_design},
@@ -65,7 +66,7 @@ std::vector<Route> api_routes() {
       {Method::post, R"(/api/v1/designs/(\d+)/undo)", Access::token, takes_none(), undo_design},
       {Method::post, R"(/api/v1/designs/(\d+)/redo)", Access::token, takes_none(), redo_design},
       {Method::get, R"(/api/v1/designs/(\d+)/design\.json)", Access::token, takes_none(), get_design_file},
-      {Method::get, R"(/api/v1/designs/(\d+)/pattern\.(svg|dxf))", Access::token, takes_none(), get_design_pattern},
+      {Method::get, R"(/api/v1/designs/(\d+)/pattern\.(svg|dxf|pdf))", Access::token, takes_none(), get_design_pattern},
       {Method::post, R"(/api/v1/designs/(\d+)/submit)", Access::token, takes_none(), submit_design},
   };
 }

@@ -68,7 +68,7 @@ function snap([a, b]) {
   let best = null, bestD = 8 * mmPerPx;
   for (const it of design.design.items) {
     if (isWallTool(it.tool) !== isWallTool(ui.tool)) continue;
-    for (const [x, y] of it.outline) {
+    for (const [x, y] of it.outline || [it.at]) {
       const d = Math.hypot(x - a, y - b);
       if (d < bestD) { best = [x, y]; bestD = d; }
     }
@@ -104,6 +104,7 @@ function drawEditPlane() {
     const here = Math.abs(it.t - t) < 1e-6, opening = it.tool === 'opening' || it.tool === 'roof_opening';
     const style = { fill: opening ? '#fcfbf8' : here ? '#c9d9ec' : 'none', stroke: here ? '#3b4a5a' : '#b8b2a5',
       'stroke-width': here ? 0.5 : 0.3, 'stroke-dasharray': opening ? '1.5 0.8' : 'none', 'data-item': it.id };
+    if (it.text) { drawText(svg, it, Object.assign(style, { fill: here ? '#3b4a5a' : '#b8b2a5', stroke: 'none' })); continue; }
     outlinePath(svg, it.outline, style);
     if (it.mirror) outlinePath(svg, it.outline.map(([a, b]) => [w - a, b]), Object.assign({}, style, { 'fill-opacity': 0.5 }));
   }
@@ -120,8 +121,21 @@ function outlinePath(svg, pts, style) {
   return el('path', Object.assign({ d: pathData(pts, true) }, style), svg);
 }
 
+// Letters as the browser sets them in the item's font, near enough to place them by; the pattern
+// and the card show the letters popcutd set (and a wall's frame).
+function drawText(svg, it, style) {
+  const em = it.text.size / 0.729, lines = it.text.string.split('\n');  // DejaVu's H is 0.729 em tall
+  const up = isWallTool(it.tool) ? 1 : -1;
+  const [x, y] = toSvg(it.at[0], it.at[1] + up * (0.236 * em + (lines.length - 1) * 1.164 * em));
+  const t = el('text', Object.assign({ x, y, 'font-family': it.text.font, 'font-size': em, 'xml:space': 'preserve' }, style), svg);
+  lines.forEach((line, i) => { el('tspan', { x, dy: i ? 1.164 * em : 0 }, t).textContent = line; });
+  return t;
+}
+
+const textWidth = (it) => 0.62 * (it.text.size / 0.729) * Math.max(...it.text.string.split('\n').map((l) => l.length));
+
 function footprint(svg, it) {
-  const xs = it.outline.map((p) => p[0]);
+  const xs = it.text ? [it.at[0], it.at[0] + textWidth(it)] : it.outline.map((p) => p[0]);
   const y = toSvg(0, it.t)[1];
   el('line', { x1: Math.min(...xs), y1: y, x2: Math.max(...xs), y2: y, stroke: '#8fa3b8', 'stroke-width': 0.6 }, svg);
 }
@@ -138,6 +152,9 @@ function drawOverlay() {
     el('circle', { cx, cy, r: 0.8, fill: '#d62728' }, svg);
     $('hint').textContent = `${isWallTool(ui.tool) ? 'x, z' : 'x, y'} = ${ui.cursor[0]}, ${ui.cursor[1]} mm · ` + hint();
   }
+  if (ui.shape === 'text' && ui.cursor && $('text-string').value) {
+    drawText(svg, { tool: ui.tool, at: ui.cursor, text: textSpec() }, { fill: '#d6272866' });
+  }
   if (!pts.length) return;
   const twoClick = ui.shape !== 'polygon';
   const shown = !ui.cursor ? pts : twoClick ? twoClickOutline(pts[0], ui.cursor) || pts : pts.concat([ui.cursor]);
@@ -149,6 +166,7 @@ function drawOverlay() {
 }
 
 function hint() {
+  if (ui.shape === 'text') return $('text-string').value ? 'click where the text\'s lower left corner goes' : 'type the text first';
   if (ui.shape === 'rect') return ui.points.length ? 'click the opposite corner (Esc: cancel)' : 'click a corner';
   if (ui.shape !== 'polygon') {
     return ui.points.length ? `click ${ui.shape === 'circle' ? 'a point on the circle' : 'a corner'} (Esc: cancel)` : 'click the centre';
@@ -211,6 +229,7 @@ function onEditClick(event) {
   if (!design) return;
   const p = snap(svgPoint(event));
   const started = performance.now();
+  if (ui.shape === 'text') return addText(p, started);
   if (ui.shape !== 'polygon') {
     if (!ui.points.length) { ui.points = [p]; drawOverlay(); return; }
     const outline = twoClickOutline(ui.points[0], p);
@@ -239,6 +258,26 @@ async function addItem(outline, started) {
   const item = { tool: ui.tool, t: planeT(), outline, mirror: $('mirror').checked };
   if (ui.tool === 'wall') item.top = $('tops').checked;
   await edit('POST', '/items', JSON.stringify(item), started);
+}
+
+function textSpec() {
+  const spec = { string: $('text-string').value, font: $('text-font').value, size: Number($('text-size').value) };
+  if (ui.tool === 'wall') spec.frame = $('text-frame').checked;
+  return spec;
+}
+
+async function addText(at, started) {
+  if (!$('text-string').value.trim()) { say('edit-error', 'Type the text first (the box beside Text).'); return; }
+  const item = { tool: ui.tool, t: planeT(), text: textSpec(), at };
+  if (ui.tool === 'wall') item.top = $('tops').checked;
+  if ($('mirror').checked) item.mirror = true;  // popcutd says why text is not mirrored
+  await edit('POST', '/items', JSON.stringify(item), started);
+}
+
+async function loadFonts() {
+  const { fonts, default: chosen } = await api('GET', '/api/v1/fonts');
+  for (const f of fonts) $('text-font').appendChild(new Option(f, f));
+  $('text-font').value = fonts.includes(chosen) ? chosen : fonts[0] || '';
 }
 
 // ---- answers
@@ -322,8 +361,9 @@ function drawItems() {
   list.textContent = '';
   for (const it of design.design.items) {
     const li = document.createElement('li');
-    const xs = it.outline.map((p) => p[0]), ys = it.outline.map((p) => p[1]);
-    const size = `${+(Math.max(...xs) - Math.min(...xs)).toFixed(1)} × ${+(Math.max(...ys) - Math.min(...ys)).toFixed(1)} mm`;
+    const xs = (it.outline || [it.at]).map((p) => p[0]), ys = (it.outline || [it.at]).map((p) => p[1]);
+    const size = it.text ? `“${it.text.string}” in ${it.text.font}, ${it.text.size} mm` + (it.text.frame === false ? ', no frame' : '')
+      : `${+(Math.max(...xs) - Math.min(...xs)).toFixed(1)} × ${+(Math.max(...ys) - Math.min(...ys)).toFixed(1)} mm`;
     li.textContent = `${TOOL_NAMES[it.tool]} at ${isWallTool(it.tool) ? 'y' : 'z'} = ${it.t} mm, ${size}` +
       (it.mirror ? ', mirrored' : '') + (it.top === false ? ', no tops' : '');
     li.className = isWallTool(it.tool) === isWallTool(ui.tool) && it.t === planeT() ? 'here' : '';
@@ -346,6 +386,7 @@ function setTool(tool) {
   for (const b of document.querySelectorAll('.tool')) b.setAttribute('aria-pressed', String(b.dataset.tool === tool));
   $('plane-label').textContent = isWallTool(tool) ? 'Depth y' : 'Height z';
   $('tops').disabled = tool !== 'wall';
+  $('text-frame').disabled = tool !== 'wall';
   if (design) {
     $('plane-slider').max = String(isWallTool(tool) ? sheet().floor : sheet().back);
     $('plane-title').textContent = `${TOOL_NAMES[tool]} on the plane ${isWallTool(tool) ? 'y' : 'z'} = ${planeT()} mm` +
@@ -359,6 +400,8 @@ function setShape(shape) {
   ui.shape = shape;
   ui.points = [];
   $('sides-label').hidden = shape !== 'regular';
+  $('text-options').hidden = shape !== 'text';
+  if (shape === 'text') $('text-string').focus();
   for (const b of document.querySelectorAll('.shape')) b.setAttribute('aria-pressed', String(b.dataset.shape === shape));
   if (design) drawEditPlane();
 }
@@ -394,10 +437,12 @@ async function start() {
   $('redo').addEventListener('click', () => edit('POST', '/redo', undefined, performance.now()));
   $('angle').addEventListener('input', () => { $('angle-value').textContent = $('angle').value + '°'; view.setAngle(Number($('angle').value)); });
   document.addEventListener('keydown', onKey);
+  $('text-string').addEventListener('input', () => drawOverlay());
   setShape('rect');
   setTool('wall');
   if (!token) { $('status').textContent = 'Open this page with ?token=YOUR_TOKEN (from popcutd.toml).'; return; }
   try {
+    await loadFonts();
     await window.DesignerFiles.open(params.get('design') || localStorage.getItem('popcut-design'));
   } catch (e) {
     $('status').textContent = e.message;

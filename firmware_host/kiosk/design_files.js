@@ -153,8 +153,9 @@ window.DesignerFiles = (() => {
       $('open').value = '';
     });
     $('save').addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/design.json`, fileName('json')));
-    $('export-svg').addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/pattern.svg`, fileName('svg')));
-    $('export-dxf').addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/pattern.dxf`, fileName('dxf')));
+    for (const kind of ['svg', 'dxf', 'pdf']) {
+      $('export-' + kind).addEventListener('click', () => download(`/api/v1/designs/${ctx.current().id}/pattern.${kind}`, fileName(kind)));
+    }
     $('name').addEventListener('change', rename);
     $('send').addEventListener('click', send);
     $('play').addEventListener('click', play);

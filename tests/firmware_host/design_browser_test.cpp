@@ -1,5 +1,6 @@
 // The designer page in headless Chromium (WebDriver) against a real popcutd: cards drawn by mouse clicks on the edit
-// plane, automatic tops, undo/redo, a failing face shown, a refused edit explained, and a card sent to the cutter.
+// plane, automatic tops, undo/redo, a failing face shown, a refused edit explained, and a card with a name in letters
+// sent to the cutter.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -163,7 +164,7 @@ TEST_F(Designer, ARefusedEditSaysWhyAndChangesNothing) {
   EXPECT_EQ(design()["items"].size(), 1u) << "the session is unchanged";
 }
 
-TEST_F(Designer, ADoorAndTwoRoundWindowsGoToTheCutter) {
+TEST_F(Designer, ADoorTwoRoundWindowsAndANameInLettersGoToTheCutter) {
   b_.type("#name", "House");
   b_.run("document.getElementById('name').dispatchEvent(new Event('change'))");
   two_clicks(30, 15, 0, 85, 45);
@@ -178,6 +179,23 @@ TEST_F(Designer, ADoorAndTwoRoundWindowsGoToTheCutter) {
   EXPECT_EQ(text("verdict").rfind("Pops up", 0), 0u) << text("verdict") << " / " << text("check");
   EXPECT_NE(text("check").find("cut out"), std::string::npos) << "the discs drop out of the windows: " << text("check");
   EXPECT_EQ(design().value("name", ""), "House");
+  // The owner's name in letters, on a wall of its own in front of the house, beside the door.
+  b_.click("#mirror");
+  b_.click(".tool[data-tool='wall']");
+  b_.click(".shape[data-shape='text']");
+  b_.type("#text-string", "Ada");
+  b_.type("#text-size", "8");
+  b_.type("#plane-t", "40");
+  const int before = revision();
+  click_plane(60, 0);
+  ASSERT_TRUE(wait_until([&] { return revision() > before || !text("edit-error").empty(); }, 60));
+  ASSERT_EQ(items(), 4) << text("edit-error");
+  const json letters = design()["items"][3];
+  EXPECT_EQ(letters["text"], json({{"string", "Ada"}, {"font", "DejaVu Sans"}, {"size", 8}})) << letters.dump();
+  EXPECT_EQ(letters["at"], json({60, 0}));
+  EXPECT_EQ(text("verdict").rfind("Pops up", 0), 0u) << text("verdict") << " / " << text("check");
+  EXPECT_EQ(b_.run("return document.querySelectorAll('#edit > text').length").get<int>(), 1)
+      << "the letters are shown where they stand on the plane (besides the preview under the cursor)";
   b_.run("const a = document.getElementById('angle'); a.value = 75; a.dispatchEvent(new Event('input'));");
   screenshot("design.png");
   b_.click("#send");

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <algorithm>
 #include <csignal>
 #include <string>
 #include <thread>
@@ -232,6 +233,10 @@ TEST(PopcutdDesign, ExportsAndSendsTheDesignToTheCutter) {
   const auto dxf = c.Get(path(id, "/pattern.dxf").c_str());
   ASSERT_TRUE(dxf && dxf->status == 200);
   EXPECT_NE(dxf->body.find("VALLEY"), std::string::npos);
+  const auto pdf = c.Get(path(id, "/pattern.pdf").c_str());
+  ASSERT_TRUE(pdf && pdf->status == 200);
+  EXPECT_EQ(pdf->get_header_value("Content-Type"), "application/pdf");
+  EXPECT_EQ(pdf->body.rfind("%PDF-", 0), 0u);
   EXPECT_EQ(post_json(c, path(id, "/submit"), R"({"device": "sim-a", "model": {}})").status, 400);
   const Reply job = post_json(c, path(id, "/submit"), R"({"device": "sim-a"})");
   ASSERT_EQ(job.status, 201) << job.body.dump();
@@ -244,6 +249,51 @@ TEST(PopcutdDesign, ExportsAndSendsTheDesignToTheCutter) {
   const auto job_svg = c.Get((job_path + "/pattern.svg").c_str());
   ASSERT_TRUE(job_svg);
   EXPECT_EQ(job_svg->body, svg->body);
+}
+
+TEST(PopcutdDesign, ANameInLettersIsOneItemThatPopsUpAndIsCutAsPlanned) {
+  TempDir dir("popcutd-design");
+  PopcutdProcess d(POPCUTD, config(dir), (dir.path() / "data").string());
+  httplib::Client c = d.client(kKiosk);
+  const Reply fonts = get_json(c, "/api/v1/fonts");
+  ASSERT_EQ(fonts.status, 200);
+  EXPECT_EQ(fonts.body["default"], "DejaVu Sans");
+  const json& list = fonts.body["fonts"];
+  EXPECT_NE(std::find(list.begin(), list.end(), json("DejaVu Serif")), list.end()) << list.dump();
+  const std::int64_t id = create(c);
+  ASSERT_EQ(add(c, id, wall(20, 5, 95, 50)).status, 200);
+  const json name = {{"tool", "wall"}, {"t", 40}, {"text", {{"string", "Zoë"}, {"size", 12}}}, {"at", {20, 0}}};
+  const Reply r = add(c, id, name);
+  ASSERT_EQ(r.status, 200) << r.body.dump();
+  EXPECT_TRUE(r.body["check"].value("pops_up", false)) << r.body["check"].dump();
+  ASSERT_EQ(r.body["design"]["items"].size(), 2u);
+  EXPECT_EQ(r.body["design"]["items"][1]["text"]["string"], "Zoë") << "the text is kept as typed, not as outlines";
+  EXPECT_EQ(r.body["design"]["items"][1]["at"], json({20, 0}));
+
+  const json before = get_json(c, path(id)).body;
+  json missing = name, mirrored = name, roof = name, long_text = name;
+  missing["text"]["font"] = "Comic Sans Nowhere";
+  mirrored["mirror"] = true;
+  roof["tool"] = "roof";
+  long_text["text"]["string"] = std::string(300, 'x');
+  Reply bad = add(c, id, missing);
+  EXPECT_EQ(bad.status, 422);
+  EXPECT_EQ(bad.body["error"].value("field", ""), "item.text.font") << bad.body.dump();
+  EXPECT_NE(bad.body["error"].value("message", "").find("DejaVu Sans"), std::string::npos) << "names the fonts there are";
+  EXPECT_EQ(add(c, id, mirrored).status, 422);
+  EXPECT_EQ(add(c, id, roof).status, 422);
+  bad = add(c, id, long_text);
+  EXPECT_EQ(bad.status, 413) << bad.body.dump();
+  EXPECT_NE(bad.body["error"].value("message", "").find("300 characters; at most 200"), std::string::npos)
+      << bad.body.dump();
+  EXPECT_EQ(get_json(c, path(id)).body, before) << "every refused text left the design as it was";
+
+  const Reply job = post_json(c, path(id, "/submit"), R"({"device": "sim-a"})");
+  ASSERT_EQ(job.status, 201) << job.body.dump();
+  const std::string job_path = "/api/v1/jobs/" + std::to_string(job.body["id"].get<std::int64_t>());
+  ASSERT_TRUE(wait_until([&] { return get_json(c, job_path).body.value("state", "") == "done"; }, 120))
+      << get_json(c, job_path).body.dump();
+  EXPECT_TRUE(get_json(c, job_path).body.value("sim_match", false)) << "the letters were cut as planned";
 }
 
 }  // namespace
