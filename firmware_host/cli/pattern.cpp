@@ -22,7 +22,8 @@ using nlohmann::json;
 
 int run_pattern(const PatternCommands& s) {
   const std::string ext =
-      s.out_path == "-" ? ".json" : require_extension(s.out_path, {".json", ".svg", ".fold", ".dxf", ".pdf"}, "output type");
+      s.out_path == "-" ? ".json"
+                        : require_extension(s.out_path, {".json", ".svg", ".fold", ".dxf", ".pdf"}, "output type");
   if (s.shade && ext != ".svg") {
     throw Error(ErrorCode::invalid_input, "", "--shade", "shading applies to SVG output only");
   }
@@ -125,9 +126,9 @@ void add_pattern_commands(CLI::App& app, PatternCommands& s) {
                    "Model file (popcut.voxel.v1 or popcut.faces.v1 JSON), or - for standard input")
       ->required();
   s.pattern
-      ->add_option(
-          "-o,--output", s.out_path,
-          "Output: OUT.json, OUT.svg, OUT.fold (crease pattern), OUT.dxf (CAD), OUT.pdf (print at 100 %), or - for JSON on standard output")
+      ->add_option("-o,--output", s.out_path,
+                   "Output: OUT.json, OUT.svg, OUT.fold (crease pattern), OUT.dxf (CAD), OUT.pdf (print at 100 %), or "
+                   "- for JSON on standard output")
       ->required();
   add_read_as_options(s.pattern, s.read_as, true);
   s.pattern->add_flag("--shade", s.shade, "SVG: shade VFaces and HFaces so the design reads at a glance");

@@ -279,7 +279,8 @@ TEST(PopcutdDesign, ANameInLettersIsOneItemThatPopsUpAndIsCutAsPlanned) {
   Reply bad = add(c, id, missing);
   EXPECT_EQ(bad.status, 422);
   EXPECT_EQ(bad.body["error"].value("field", ""), "item.text.font") << bad.body.dump();
-  EXPECT_NE(bad.body["error"].value("message", "").find("DejaVu Sans"), std::string::npos) << "names the fonts there are";
+  EXPECT_NE(bad.body["error"].value("message", "").find("DejaVu Sans"), std::string::npos)
+      << "names the fonts there are";
   EXPECT_EQ(add(c, id, mirrored).status, 422);
   EXPECT_EQ(add(c, id, roof).status, 422);
   bad = add(c, id, long_text);

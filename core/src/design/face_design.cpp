@@ -8,6 +8,7 @@
 #include <tuple>
 #include <utility>
 
+#include "design/design_steps.h"
 #include "popcut/error.h"
 #include "popcut/pattern/face_pattern.h"
 #include "popcut/text.h"
@@ -17,16 +18,6 @@ namespace popcut {
 namespace {
 
 using Outline = std::vector<std::array<double, 2>>;
-
-EditOp op_of(DesignTool tool) {
-  switch (tool) {
-    case DesignTool::wall: return EditOp::add_vface;
-    case DesignTool::opening: return EditOp::add_vhole;
-    case DesignTool::roof: return EditOp::add_hface;
-    case DesignTool::roof_opening: return EditOp::add_hhole;
-  }
-  return EditOp::add_vface;
-}
 
 // Where an item goes in drawing order: walls and their openings by depth, roofs and their
 // openings by their front edge (largest y), each after the walls at that depth.
@@ -38,12 +29,6 @@ std::tuple<double, int, std::uint64_t> order_key(const DesignItem& item, std::ui
   double front = 0;
   for (const auto& p : item.outline) front = std::max(front, std::isfinite(p[1]) ? p[1] : 0.0);
   return {front, item.tool == DesignTool::roof ? 2 : 3, id};
-}
-
-bool crosses(const Outline& o, double x) {
-  const auto [lo, hi] =
-      std::minmax_element(o.begin(), o.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
-  return lo != o.end() && (*lo)[0] < x && (*hi)[0] > x;
 }
 
 double signed_area(const Outline& o) {
@@ -109,162 +94,6 @@ std::vector<Stretch> stops_behind(const std::vector<OAFace>& faces, double t_mm,
   return out;
 }
 
-// The face edits one item makes, before tops: its outline (and mirror), or its letters.
-// One face edit an item makes; tops are named as such in errors.
-struct Step {
-  FaceEdit edit;
-  bool top = false;
-};
-
-void add_tops(std::vector<Step>& steps, const DesignItem& item, const Outline& outline, const std::vector<OAFace>& behind) {
-  if (item.tool != DesignTool::wall || !item.top) return;
-  for (FaceEdit& top : wall_tops(behind, item.t_mm, outline)) steps.push_back({std::move(top), true});
-}
-
-// A ring of set text moved to the item's place, `lift_mm` up from the plane's origin.
-Outline placed(const Ring& ring, const DesignItem& item, double lift_mm) {
-  const auto& at = item.outline.front();
-  // In a roof the plane's second axis is depth y, growing towards the front: letters read from
-  // the front lie with their tops towards the back board.
-  const double up = item.tool == DesignTool::roof_opening ? -1 : 1;
-  Outline o;
-  o.reserve(ring.size());
-  for (const Point2& p : ring) o.push_back({at[0] + p.x_mm, at[1] + up * (p.v_mm + lift_mm)});
-  if (up < 0) std::reverse(o.begin(), o.end());  // the flip would turn the winding over
-  return o;
-}
-
-// How far a wall of letters' bar reaches above the baseline, per mm of letter height: past the
-// round letters' overshoot, so every letter stands on it.
-constexpr double kTextBarAboveBaseline = 0.06;
-// A framed wall of letters' frame beside and above them, per mm of letter height.
-constexpr double kTextFrameMargin = 0.12;
-
-// Letters standing free on their bar: the bar's top runs back as a top the whole length, then
-// each letter's flat tops, and the letters are drawn over them all, so a top stays only where no
-// letter's paper is (between and inside letters, as in "H", where paper would otherwise be cut
-// free). Then the counters are cut back out. Letters close together can still close off paper
-// that nothing holds; the pop-up check names it.
-void free_letters(std::vector<Step>& steps, const DesignItem& item, const Outline& bar,
-                  const std::vector<Outline>& letters, const std::vector<Outline>& counters,
-                  const std::vector<OAFace>& behind) {
-  steps.push_back({{EditOp::add_vface, item.t_mm, bar}});
-  add_tops(steps, item, bar, behind);
-  for (const Outline& o : letters) add_tops(steps, item, o, behind);
-  for (const Outline& o : letters) steps.push_back({{EditOp::add_vface, item.t_mm, o}});
-  for (const Outline& c : counters) steps.push_back({{EditOp::add_vhole, item.t_mm, c}});
-}
-
-Ring ring_of(const Outline& o) {
-  Ring r;
-  r.reserve(o.size());
-  for (const auto& p : o) r.push_back({p[0], p[1]});
-  return r;
-}
-
-Outline outline_of(const Ring& r, double v_offset_mm) {
-  Outline o;
-  o.reserve(r.size());
-  for (const Point2& p : r) o.push_back({p.x_mm, p.v_mm + v_offset_mm});
-  return o;
-}
-
-// Letters in a frame: a plate from the bar to a margin above the tallest letter and beside the
-// first and last, drawn as a wall (its tops are a plain wall's), with the space around the
-// letters inside it cut out as openings, and the counters. Every letter then hangs in one rigid
-// piece of paper, whatever the font. The space around is the inner box minus the letters,
-// worked out by the face model in a scratch card; paper it leaves apart from the letters (the
-// dot of an "i", an accent) is cut out with it.
-void framed_letters(std::vector<Step>& steps, const DesignItem& item, const Outline& inner, const Outline& plate,
-                    const std::vector<Outline>& letters, const std::vector<Outline>& counters, const FaceModel& model,
-                    const std::vector<OAFace>& behind, const std::string& where) {
-  const Rect sheet = model.sheet();
-  FaceModel scratch(sheet.max.x_mm - sheet.min.x_mm, sheet.max.v_mm, -sheet.min.v_mm);
-  scratch.apply({EditOp::add_vface, item.t_mm, inner}, "", where);
-  for (const Outline& o : letters) scratch.apply({EditOp::add_vface, item.t_mm, o}, "", where);
-  std::vector<Ring> rings;
-  for (const Outline& o : letters) rings.push_back(ring_of(o));
-  add_tops(steps, item, plate, behind);
-  steps.push_back({{EditOp::add_vface, item.t_mm, plate}});
-  for (const OAFace& f : scratch.faces()) {
-    if (f.kind != FaceKind::vertical || f.t_mm != item.t_mm) continue;
-    Point2 p = interior_point(f.polygon.outer, f.polygon.holes);
-    p.v_mm += item.t_mm;  // the face's sheet v back to the plane's z
-    if (std::any_of(rings.begin(), rings.end(), [&](const Ring& r) { return inside_ring(p, r); })) continue;
-    steps.push_back({{EditOp::add_vhole, item.t_mm, outline_of(f.polygon.outer, item.t_mm)}});
-  }
-  for (const Outline& c : counters) steps.push_back({{EditOp::add_vhole, item.t_mm, c}});
-}
-
-// Letters: a wall of letters (one line, framed or free, on a bar along the baseline that folds
-// to the floor or roof below), or letters cut through a wall or roof, which lose their counters
-// with them as a cut "O" does.
-std::vector<Step> text_steps(const DesignItem& item, const FaceModel& model, const std::string& where,
-                             const std::vector<OAFace>& behind) {
-  if (item.tool == DesignTool::roof)
-    throw Error(ErrorCode::invalid_input, "", where + ".tool",
-                "letters lying in a roof would fall out: cut them through a roof (roof_opening) or stand them on a wall");
-  const TextSetting set = set_text(*item.text, kTextToleranceMm, where + ".text");
-  const bool wall = item.tool == DesignTool::wall;
-  if (wall && set.line_boxes.size() > 1)
-    throw Error(ErrorCode::invalid_input, "", where + ".text.string",
-                "a wall of letters is one line (its letters stand on one bar): put the next line in a text of its own");
-  // `at` is the lower left corner of the whole text, descenders included.
-  const double lift = set.descent_mm + set.line_height_mm * static_cast<double>(set.line_boxes.size() - 1);
-  std::vector<Step> steps;
-  if (!wall) {
-    for (const TextShape& s : set.shapes) steps.push_back({{op_of(item.tool), item.t_mm, placed(s.outer, item, lift)}});
-    return steps;
-  }
-  std::vector<Outline> letters, counters;
-  for (const TextShape& s : set.shapes) {
-    letters.push_back(placed(s.outer, item, lift));
-    for (const Ring& h : s.holes) counters.push_back(placed(h, item, lift));
-  }
-  const Rect& line = set.line_boxes.front();
-  const double bottom = -set.descent_mm, bar_top = kTextBarAboveBaseline * item.text->size_mm;
-  const auto box = [&](double x0, double v0, double x1, double v1) {
-    return placed({{x0, v0}, {x1, v0}, {x1, v1}, {x0, v1}}, item, lift);
-  };
-  if (!item.text->frame) {
-    free_letters(steps, item, box(line.min.x_mm, bottom, line.max.x_mm, bar_top), letters, counters, behind);
-    return steps;
-  }
-  const double margin = kTextFrameMargin * item.text->size_mm;
-  framed_letters(steps, item, box(line.min.x_mm, bar_top, line.max.x_mm, line.max.v_mm),
-                 box(line.min.x_mm - margin, bottom, line.max.x_mm + margin, line.max.v_mm + margin), letters,
-                 counters, model, behind, where);
-  return steps;
-}
-
-// The face edits an item makes, in the order they are drawn.
-std::vector<Step> steps_of(const DesignItem& item, const FaceModel& model, const std::string& where,
-                           const std::vector<OAFace>& behind) {
-  const double width_mm = model.sheet().max.x_mm - model.sheet().min.x_mm;
-  if (item.text) {
-    if (item.mirror)
-      throw Error(ErrorCode::invalid_input, "", where + ".mirror",
-                  "text is not mirrored (it would read backwards): add the text again on the other side");
-    return text_steps(item, model, where, behind);
-  }
-  std::vector<Outline> outlines = {item.outline};
-  if (item.mirror) {
-    const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
-    if (opening && crosses(item.outline, width_mm / 2)) {
-      throw Error(ErrorCode::invalid_input, "", where + ".outline",
-                  "a mirrored opening must lie on one side of the centre line x = " + format_decimal(width_mm / 2, 3) +
-                      " mm: draw an opening across it whole, without mirror");
-    }
-    outlines.push_back(mirrored(item.outline, width_mm));
-  }
-  std::vector<Step> steps;
-  for (const Outline& o : outlines) steps.push_back({{op_of(item.tool), item.t_mm, o}});
-  // The tops are found among the faces behind, before the wall is drawn: then the wall and its
-  // tops are laid over the model in one step (one Boolean per face they touch).
-  for (const Outline& o : outlines) add_tops(steps, item, o, behind);
-  return steps;
-}
-
 }  // namespace
 
 Outline mirrored(const Outline& outline, double width_mm) {
@@ -298,10 +127,10 @@ FaceDesign::FaceDesign(double width_mm, double back_mm, double floor_mm)
     : width_mm_(width_mm), model_(width_mm, back_mm, floor_mm) {}
 
 std::size_t FaceDesign::draw(const DesignItem& item, const std::string& where, const std::vector<OAFace>& behind) {
-  const std::vector<Step> steps = steps_of(item, model_, where, behind);
+  const std::vector<detail::Step> steps = detail::steps_of(item, model_, where, behind);
   std::size_t applied = 0;
   try {
-    for (const Step& step : steps) {
+    for (const detail::Step& step : steps) {
       model_.apply(step.edit, "",
                    step.top ? where + " (its top face at z = " + format_decimal(step.edit.t_mm, 3) + " mm)" : where);
       ++applied;
@@ -331,6 +160,7 @@ namespace {
 // The x ranges an item's faces (and its mirror's, and its tops) cover: pattern x is card x, so
 // an edit changes no face outside them.
 std::vector<std::array<double, 2>> x_ranges(const DesignItem& item, double width_mm) {
+  if (item.text) return {{0, width_mm}};  // its letters' extent is known only once they are set
   double lo = item.outline.front()[0], hi = lo;
   for (const auto& p : item.outline) {
     lo = std::min(lo, p[0]);

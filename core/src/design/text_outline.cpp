@@ -106,15 +106,14 @@ const FT_Outline_Funcs kOutlineFuncs = {
       for (Point2 p : svg::cubic_points({f.at, pt(c1), pt(c2), pt(to)}, f.tolerance)) f.to(p);
       return 0;
     },
-    0, 0};
+    0,
+    0};
 
 // Contours into letters by nesting: a contour inside an even number of others is paper's outer
 // edge, inside an odd number a counter of the smallest outer around it. Fonts wind contours
 // either way (TrueType clockwise, CFF counter-clockwise), so nesting, not winding, decides.
 std::vector<TextShape> shapes_of(std::vector<Ring> rings) {
-  std::erase_if(rings, [](const Ring& r) {
-    return r.size() < 3 || std::abs(signed_area_mm2(r)) < 1e-9;
-  });
+  std::erase_if(rings, [](const Ring& r) { return r.size() < 3 || std::abs(signed_area_mm2(r)) < 1e-9; });
   std::vector<int> depth(rings.size(), 0);
   for (std::size_t i = 0; i < rings.size(); ++i)
     for (std::size_t j = 0; j < rings.size(); ++j)
@@ -246,9 +245,9 @@ std::vector<std::string> installed_font_families() {
   const std::unique_ptr<FcPattern, decltype(&FcPatternDestroy)> pattern(FcPatternCreate(), FcPatternDestroy);
   FcPatternAddBool(pattern.get(), FC_SCALABLE, FcTrue);
   const std::unique_ptr<FcObjectSet, decltype(&FcObjectSetDestroy)> fields(FcObjectSetBuild(FC_FAMILY, nullptr),
-                                                                          FcObjectSetDestroy);
-  const std::unique_ptr<FcFontSet, decltype(&FcFontSetDestroy)> fonts(
-      FcFontList(nullptr, pattern.get(), fields.get()), FcFontSetDestroy);
+                                                                           FcObjectSetDestroy);
+  const std::unique_ptr<FcFontSet, decltype(&FcFontSetDestroy)> fonts(FcFontList(nullptr, pattern.get(), fields.get()),
+                                                                      FcFontSetDestroy);
   std::set<std::string> names;
   for (int i = 0; fonts && i < fonts->nfont; ++i) {
     FcChar8* name = nullptr;
@@ -259,3 +258,12 @@ std::vector<std::string> installed_font_families() {
 }
 
 }  // namespace popcut
+
+#if defined(__SANITIZE_ADDRESS__)
+// fontconfig keeps its configuration and caches for the life of the process, and frees them only
+// in FcFini, which a library may not call (the program may use fontconfig elsewhere): LeakSanitizer
+// would report them at every exit of a program that set text. Linked in with this file, so only
+// into programs that use fontconfig through it.
+// NOLINTNEXTLINE(readability-identifier-naming): the name LeakSanitizer looks for
+extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig.so\n"; }
+#endif

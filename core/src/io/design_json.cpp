@@ -52,7 +52,8 @@ DesignItem read_design_item(const json_util::Reader& in, const json& j, const st
     item.text = read_text(in, j["text"], at + "text");
     const json& start = in.require(j, "at", path);
     in.require_array(start, at + "at");
-    if (start.size() != 2) in.fail(at + "at", "expected [x, z] (a roof: [x, y]): where the first line's baseline starts");
+    if (start.size() != 2)
+      in.fail(at + "at", "expected [x, z] (a roof: [x, y]): where the first line's baseline starts");
     item.outline = {{in.number(start[0], at + "at[0]", -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm),
                      in.number(start[1], at + "at[1]", -kMaxFaceCoordinateMm, kMaxFaceCoordinateMm)}};
   } else {
@@ -131,8 +132,7 @@ std::string to_design_json(const FaceDesign& design, const std::string& name) {
     if (it.text) {
       o << ", \"text\": {\"string\": " << json(it.text->text).dump() << ", \"font\": " << json(it.text->font).dump()
         << ", \"size\": " << number_text(it.text->size_mm) << (it.text->frame ? "" : ", \"frame\": false")
-        << "}, \"at\": [" << number_text(it.outline[0][0]) << ", "
-        << number_text(it.outline[0][1]) << "]";
+        << "}, \"at\": [" << number_text(it.outline[0][0]) << ", " << number_text(it.outline[0][1]) << "]";
     } else {
       o << ", \"outline\": [";
       for (std::size_t k = 0; k < it.outline.size(); ++k) {

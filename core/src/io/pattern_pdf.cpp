@@ -69,8 +69,9 @@ void write_pattern_pdf(std::ostream& out, const Pattern& pattern) {
   const cairo_status_t finished = cairo_surface_status(surface);
   cairo_surface_destroy(surface);
   if (status != CAIRO_STATUS_SUCCESS || finished != CAIRO_STATUS_SUCCESS)
-    throw Error(ErrorCode::io, "", "", std::string("the PDF was not written: ") +
-                                           cairo_status_to_string(status != CAIRO_STATUS_SUCCESS ? status : finished));
+    throw Error(ErrorCode::io, "", "",
+                std::string("the PDF was not written: ") +
+                    cairo_status_to_string(status != CAIRO_STATUS_SUCCESS ? status : finished));
 }
 
 }  // namespace popcut

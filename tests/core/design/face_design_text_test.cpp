@@ -24,7 +24,8 @@ std::string problems(const PopupReport& r) {
   std::string out;
   for (const auto& p : r.not_standing) out += "face " + std::to_string(p.face) + " does not stand\n";
   for (const auto& p : r.loose_pieces)
-    out += "a loose piece at x " + std::to_string(p.bounds.min.x_mm) + ", v " + std::to_string(p.bounds.min.v_mm) + "\n";
+    out +=
+        "a loose piece at x " + std::to_string(p.bounds.min.x_mm) + ", v " + std::to_string(p.bounds.min.v_mm) + "\n";
   return out;
 }
 

@@ -81,7 +81,8 @@ TEST(TextOutline, ChordsStayWithinTheToleranceOfTheFontsCurves) {
       for (const Point2& p : curve.shapes[i].outer) worst = std::max(worst, distance_to_ring(p, cut.shapes[i].outer));
       ASSERT_EQ(cut.shapes[i].holes.size(), curve.shapes[i].holes.size());
       for (std::size_t k = 0; k < cut.shapes[i].holes.size(); ++k)
-        for (const Point2& p : curve.shapes[i].holes[k]) worst = std::max(worst, distance_to_ring(p, cut.shapes[i].holes[k]));
+        for (const Point2& p : curve.shapes[i].holes[k])
+          worst = std::max(worst, distance_to_ring(p, cut.shapes[i].holes[k]));
     }
     EXPECT_LE(worst, 0.02 + 1e-9) << font;
     EXPECT_GT(worst, 0.002) << font << ": the tolerance is used, not a needlessly fine cut";

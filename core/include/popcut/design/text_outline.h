@@ -15,9 +15,9 @@ inline constexpr double kMinTextSizeMm = 2;
 inline constexpr double kMaxTextSizeMm = 300;
 
 struct TextSpec {
-  std::string text;                // UTF-8; "\n" starts a new line below
+  std::string text;                  // UTF-8; "\n" starts a new line below
   std::string font = "DejaVu Sans";  // a fontconfig family name, installed on the machine that sets it
-  double size_mm = 10;             // height of a capital letter (the font's "H")
+  double size_mm = 10;               // height of a capital letter (the font's "H")
   // A wall of letters: in a frame joined to every letter, cut out around them (true), or letters
   // standing free on a bar, held by their own flat tops (false).
   bool frame = true;
@@ -34,8 +34,8 @@ struct TextShape {
 // Text set: its letters' shapes and the metrics to place them by.
 struct TextSetting {
   std::vector<TextShape> shapes;
-  double descent_mm = 0;      // how far the font's letters reach below the baseline
-  double line_height_mm = 0;  // from one baseline to the next line's, below
+  double descent_mm = 0;         // how far the font's letters reach below the baseline
+  double line_height_mm = 0;     // from one baseline to the next line's, below
   std::vector<Rect> line_boxes;  // each line's letters' extent, first line first (an empty line: a point)
 };
 
