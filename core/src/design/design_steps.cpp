@@ -51,8 +51,15 @@ Outline placed(const Ring& ring, const DesignItem& item, double lift_mm) {
 // How far a wall of letters' bar reaches above the baseline, per mm of letter height: past the
 // round letters' overshoot, so every letter stands on it.
 constexpr double kTextBarAboveBaseline = 0.06;
-// A framed wall of letters' frame beside and above them, per mm of letter height.
+// A framed wall of letters: the gap between the letters and the frame, and the frame's width
+// beyond it, per mm of letter height. The gap keeps the tallest letters, the first and the last
+// (and marks on top, as an umlaut's dots) apart from the frame, so their outlines are cut and
+// read.
+constexpr double kTextFrameGap = 0.06;
 constexpr double kTextFrameMargin = 0.12;
+// The width of the strip that holds a mark (an i's dot) to the frame, per mm of letter height:
+// about a stroke of a regular weight.
+constexpr double kTextBridgeWidth = 0.08;
 
 // Letters standing free on their bar: the bar's top runs back as a top the whole length, then
 // each letter's flat tops, and the letters are drawn over them all, so a top stays only where no
@@ -83,12 +90,11 @@ Outline outline_of(const Ring& r, double v_offset_mm) {
   return o;
 }
 
-// Letters in a frame: a plate from the bar to a margin above the tallest letter and beside the
-// first and last, drawn as a wall (its tops are a plain wall's), with the space around the
+// Letters in a frame: a plate from the bar to a frame a little above the tallest letter and
+// beside the first and last, drawn as a wall (its tops are a plain wall's), with the space around the
 // letters inside it cut out as openings, and the counters. Every letter then hangs in one rigid
 // piece of paper, whatever the font. The space around is the inner box minus the letters,
-// worked out by the face model in a scratch card; paper it leaves apart from the letters (the
-// dot of an "i", an accent) is cut out with it.
+// worked out by the face model in a scratch card.
 void framed_letters(std::vector<Step>& steps, const DesignItem& item, const Outline& inner, const Outline& plate,
                     const std::vector<Outline>& letters, const std::vector<Outline>& counters, const FaceModel& model,
                     const std::vector<OAFace>& behind, const std::string& where) {
@@ -145,10 +151,20 @@ std::vector<Step> text_steps(const DesignItem& item, const FaceModel& model, con
     free_letters(steps, item, box(line.min.x_mm, bottom, line.max.x_mm, bar_top), letters, counters, behind);
     return steps;
   }
-  const double margin = kTextFrameMargin * item.text->size_mm;
-  framed_letters(steps, item, box(line.min.x_mm, bar_top, line.max.x_mm, line.max.v_mm),
-                 box(line.min.x_mm - margin, bottom, line.max.x_mm + margin, line.max.v_mm + margin), letters, counters,
-                 model, behind, where);
+  const double gap = kTextFrameGap * item.text->size_mm, margin = kTextFrameMargin * item.text->size_mm;
+  const double bridge = kTextBridgeWidth * item.text->size_mm, x0 = line.min.x_mm - gap, x1 = line.max.x_mm + gap;
+  const double top = line.max.v_mm + gap;
+  // Marks that stand on nothing (an i's dot, an umlaut, the stroke of a "!") hang from the frame
+  // by a strip from their bottom up, as a stencil's bridges hold its islands; cut away with the
+  // space around them, "Zoë" would read "Zoe".
+  for (const TextShape& s : set.shapes) {
+    const Rect b = bounds(s.outer);
+    if (b.min.v_mm <= bar_top) continue;
+    const double x = (b.min.x_mm + b.max.x_mm) / 2;
+    letters.push_back(box(x - bridge / 2, b.min.v_mm, x + bridge / 2, top + margin / 2));
+  }
+  framed_letters(steps, item, box(x0, bar_top, x1, top), box(x0 - margin, bottom, x1 + margin, top + margin), letters,
+                 counters, model, behind, where);
   return steps;
 }
 

@@ -2,6 +2,7 @@
 // text, and texts the design refuses without changing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "error_of.h"
@@ -121,6 +122,36 @@ TEST(FaceDesignText, ATextItemRoundTripsThroughTheDesignFile) {
   const std::string no_at = R"({"format": "popcut.design.v1", "sheet": {"width": 100, "back": 80, "floor": 80},
     "items": [{"tool": "wall", "t": 30, "text": {"string": "Jo", "frame": 1}, "at": [5, 0]}]})";
   EXPECT_EQ(error_of([&] { parse_design(no_at, "bad.json"); }).location(), "items[0].text.frame");
+}
+
+// The upper dots of ":" and ";" stand on nothing, below the tallest letter and between letters
+// (touching no side of the frame): each hangs from the frame by a strip and stays paper of the
+// wall, where cut away with the space around it it would be an opening's paper.
+TEST(FaceDesignText, AFrameHoldsTheDotsOfItsLettersByStrips) {
+  for (const char* word : {"H:H", "H;H"}) {
+    FaceDesign d(120, 80, 80);
+    d.add(text(DesignTool::wall, 30, word, 10, 0, 20));
+    EXPECT_TRUE(d.report().pops_up()) << word << ": " << problems(d.report());
+    const TextSetting set = set_text({word, "DejaVu Sans", 20}, kTextToleranceMm, "t");
+    int marks = 0;
+    for (const TextShape& s : set.shapes) {
+      const Rect b = bounds(s.outer);
+      if (b.min.v_mm < 2) continue;  // stands on the baseline
+      ++marks;
+      // The mark's own paper (its middle row), where the wall is at depth 30: in the pattern,
+      // v = z - 30, with z = 10 mm of letters lifted by the descent.
+      const Point2 p = interior_point(s.outer, s.holes);
+      const Point2 at{10 + p.x_mm, p.v_mm + set.descent_mm - 30};
+      bool wall = false;
+      for (const OAFace& f : d.model().faces()) {
+        if (f.kind != FaceKind::vertical || f.t_mm != 30 || !inside_ring(at, f.polygon.outer)) continue;
+        wall = std::none_of(f.polygon.holes.begin(), f.polygon.holes.end(),
+                            [&](const Ring& h) { return inside_ring(at, h); });
+      }
+      EXPECT_TRUE(wall) << word << ": the mark at x " << at.x_mm << " is the wall's paper";
+    }
+    EXPECT_EQ(marks, 1) << word;
+  }
 }
 
 }  // namespace
