@@ -60,6 +60,7 @@ constexpr double kTextFrameMargin = 0.12;
 // The width of the strip that holds a mark (an i's dot) to the frame, per mm of letter height:
 // about a stroke of a regular weight.
 constexpr double kTextBridgeWidth = 0.08;
+constexpr double kTextDropRiseMm = 0.01;
 
 // Letters standing free on their bar: the bar's top runs back as a top the whole length, then
 // each letter's flat tops, and the letters are drawn over them all, so a top stays only where no
@@ -163,8 +164,12 @@ std::vector<Step> text_steps(const DesignItem& item, const FaceModel& model, con
     const double x = (b.min.x_mm + b.max.x_mm) / 2;
     letters.push_back(box(x - bridge / 2, b.min.v_mm, x + bridge / 2, top + margin / 2));
   }
-  framed_letters(steps, item, box(x0, bar_top, x1, top), box(x0 - margin, bottom, x1 + margin, top + margin), letters,
-                 counters, model, behind, where);
+  // The space around the letters should drop out as it is cut, not fold down on the bar as an
+  // opening's ledge (an opening's paper folds on a level bottom edge): its bottom, the bar's top,
+  // rises kTextDropRiseMm from end to end, so its paper meets the bar at one corner only.
+  const Outline inner = placed({{x0, bar_top}, {x1, bar_top + kTextDropRiseMm}, {x1, top}, {x0, top}}, item, lift);
+  framed_letters(steps, item, inner, box(x0 - margin, bottom, x1 + margin, top + margin), letters, counters, model,
+                 behind, where);
   return steps;
 }
 
