@@ -8,13 +8,13 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <set>
 
+#include "io/ascii_case.h"
 #include "io/svg_path.h"
 #include "popcut/error.h"
 #include "popcut/text.h"
@@ -22,11 +22,6 @@
 
 namespace popcut {
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 std::string code_point_name(char32_t cp) {
   char buf[16];
@@ -53,7 +48,7 @@ FontFile find_font(const std::string& family, const std::string& where) {
   if (match) {
     FcChar8* name = nullptr;
     for (int i = 0; FcPatternGetString(match.get(), FC_FAMILY, i, &name) == FcResultMatch; ++i) {
-      if (lower(reinterpret_cast<const char*>(name)) != lower(family)) continue;
+      if (ascii_lower(reinterpret_cast<const char*>(name)) != ascii_lower(family)) continue;
       FcChar8* file = nullptr;
       int index = 0;
       if (FcPatternGetString(match.get(), FC_FILE, 0, &file) != FcResultMatch) break;
@@ -95,10 +90,7 @@ const FT_Outline_Funcs kOutlineFuncs = {
     },
     [](const FT_Vector* c, const FT_Vector* to, void* user) {
       Flattener& f = *self(user);
-      const Point2 p0 = f.at, q = pt(c), p3 = pt(to);
-      const Point2 p1{p0.x_mm + (q.x_mm - p0.x_mm) * 2 / 3, p0.v_mm + (q.v_mm - p0.v_mm) * 2 / 3};
-      const Point2 p2{p3.x_mm + (q.x_mm - p3.x_mm) * 2 / 3, p3.v_mm + (q.v_mm - p3.v_mm) * 2 / 3};
-      for (Point2 p : svg::cubic_points({p0, p1, p2, p3}, f.tolerance)) f.to(p);
+      for (Point2 p : svg::quadratic_points(f.at, pt(c), pt(to), f.tolerance)) f.to(p);
       return 0;
     },
     [](const FT_Vector* c1, const FT_Vector* c2, const FT_Vector* to, void* user) {
@@ -223,7 +215,9 @@ TextSetting set_text(const TextSpec& spec, double tolerance_mm, const std::strin
                   "FreeType could not read the letter for " + code_point_name(text[i]));
     Flattener f;
     f.tolerance = tolerance_mm * per_mm;
-    FT_Outline_Decompose(&face->glyph->outline, &kOutlineFuncs, &f);
+    if (FT_Outline_Decompose(&face->glyph->outline, &kOutlineFuncs, &f) != 0)
+      throw Error(ErrorCode::io, file.path, where + ".string",
+                  "FreeType could not read the outline of the letter for " + code_point_name(text[i]));
     for (Ring& r : f.rings) {
       if (r.size() > 1 && r.front().x_mm == r.back().x_mm && r.front().v_mm == r.back().v_mm) r.pop_back();
       for (Point2& p : r) p = {(pen + p.x_mm) / per_mm, (baseline + p.v_mm) / per_mm};

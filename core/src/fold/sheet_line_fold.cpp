@@ -67,17 +67,6 @@ std::vector<std::pair<Point2, Point2>> clip(const SheetRegion& region, Point2 a,
   return pieces;
 }
 
-bool inside(const Ring& ring, Point2 p) {
-  bool in = false;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-    const Point2 a = ring[i], b = ring[j];
-    if ((a.v_mm > p.v_mm) != (b.v_mm > p.v_mm) &&
-        p.x_mm < (b.x_mm - a.x_mm) * (p.v_mm - a.v_mm) / (b.v_mm - a.v_mm) + a.x_mm)
-      in = !in;
-  }
-  return in;
-}
-
 // The region of a sheet holding a sheet point: candidates by their boxes, then the exact test.
 class RegionFinder {
  public:
@@ -90,8 +79,8 @@ class RegionFinder {
   int holding(Point2 p) const {  // -1 for none
     for (const int r : grid_.at(p)) {
       const SheetRegion& g = map_.regions[static_cast<std::size_t>(r)];
-      if (!inside(g.outer, p)) continue;
-      if (std::none_of(g.holes.begin(), g.holes.end(), [&](const Ring& h) { return inside(h, p); })) return r;
+      if (!inside_ring(p, g.outer)) continue;
+      if (std::none_of(g.holes.begin(), g.holes.end(), [&](const Ring& h) { return inside_ring(p, h); })) return r;
     }
     return -1;
   }

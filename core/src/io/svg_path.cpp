@@ -95,6 +95,10 @@ std::vector<Point2> cubic_points(const std::array<Point2, 4>& p, double toleranc
   return out;
 }
 
+std::vector<Point2> quadratic_points(Point2 p0, Point2 q, Point2 p2, double tolerance) {
+  return cubic_points({p0, lerp(p0, q, 2.0 / 3), lerp(p2, q, 2.0 / 3), p2}, tolerance);
+}
+
 namespace {
 
 class PathBuilder {
@@ -114,8 +118,7 @@ class PathBuilder {
     for (Point2 q : cubic_points({cursor(), p1, p2, p3}, tol_)) line(q);
   }
   void quadratic(Point2 p1, Point2 p2) {
-    const Point2 p0 = cursor();
-    cubic(lerp(p0, p1, 2.0 / 3), lerp(p2, p1, 2.0 / 3), p2);
+    for (Point2 q : quadratic_points(cursor(), p1, p2, tol_)) line(q);
   }
   void arc(double rx, double ry, double phi_deg, bool large, bool sweep, Point2 to);
   void close() {

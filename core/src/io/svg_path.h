@@ -32,8 +32,10 @@ struct Subpath {
 std::vector<Subpath> parse_path_data(const std::string& d, double tolerance, std::size_t max_points);
 
 // The points of a cubic Bézier after its start p[0], so no chord strays more than `tolerance`
-// from the curve (a quadratic is the cubic with p1 = p0 + ⅔(q1 − p0), p2 = p3 + ⅔(q1 − p3)).
+// from the curve.
 std::vector<Point2> cubic_points(const std::array<Point2, 4>& p, double tolerance);
+// The same for a quadratic Bézier from p0 through control q to p2 (as the cubic it is).
+std::vector<Point2> quadratic_points(Point2 p0, Point2 q, Point2 p2, double tolerance);
 
 // A numbers list as in points="…" or stroke-dasharray (commas or spaces); throws std::invalid_argument.
 std::vector<double> parse_number_list(const std::string& text);
