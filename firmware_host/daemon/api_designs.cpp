@@ -7,8 +7,10 @@
 #include "api_handlers.h"
 #include "api_queue.h"
 #include "popcut/error.h"
+#include "popcut/design/oa_design.h"
 #include "popcut/io/design_json.h"
 #include "popcut/io/model_io.h"
+#include "popcut/io/oa_model.h"
 #include "popcut/io/pattern_io.h"
 #include "validation.h"
 
@@ -84,8 +86,10 @@ std::string design_name(const json& body) {
 void create_design(ApiContext& api, const Caller& caller, const Req& req, Res& res) {
   const json body = parse_body(req);
   if (!body.is_object()) fail(ApiError::bad_request, "the body must be a popcut.design.v1 object");
-  const std::string name = design_name(body);
-  FaceDesign design = parse_design(req.body, "design");
+  // A webOAcard card starts a draft of its faces (docs/designer.md, "Importing a webOAcard card").
+  const bool oa = is_oa_document(req.body);
+  const std::string name = oa ? "" : design_name(body);
+  FaceDesign design = oa ? design_from_oa(parse_oa_card(req.body, "card"), "card") : parse_design(req.body, "design");
   const std::shared_ptr<DesignSession> s = api.designs().create(caller.name, name, std::move(design));
   std::lock_guard lock(s->mutex);
   send_design(res, *s, json::object(), 201);

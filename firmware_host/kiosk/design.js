@@ -105,8 +105,11 @@ function drawEditPlane() {
     const style = { fill: opening ? '#fcfbf8' : here ? '#c9d9ec' : 'none', stroke: here ? '#3b4a5a' : '#b8b2a5',
       'stroke-width': here ? 0.5 : 0.3, 'stroke-dasharray': opening ? '1.5 0.8' : 'none', 'data-item': it.id };
     if (it.text) { drawText(svg, it, Object.assign(style, { fill: here ? '#3b4a5a' : '#b8b2a5', stroke: 'none' })); continue; }
-    outlinePath(svg, it.outline, style);
-    if (it.mirror) outlinePath(svg, it.outline.map(([a, b]) => [w - a, b]), Object.assign({}, style, { 'fill-opacity': 0.5 }));
+    outlinePath(svg, it.outline, style, it.holes);
+    if (it.mirror) {
+      const m = (ring) => ring.map(([a, b]) => [w - a, b]);
+      outlinePath(svg, m(it.outline), Object.assign({}, style, { 'fill-opacity': 0.5 }), (it.holes || []).map(m));
+    }
   }
   el('g', { id: 'overlay' }, svg);
   drawOverlay();
@@ -117,8 +120,10 @@ function pathData(pts, closed) {
   return pts.map((p, i) => (i ? 'L' : 'M') + toSvg(p[0], p[1]).join(' ')).join(' ') + (closed ? ' Z' : '');
 }
 
-function outlinePath(svg, pts, style) {
-  return el('path', Object.assign({ d: pathData(pts, true) }, style), svg);
+// An outline and its holes (an imported face's), which show what is behind.
+function outlinePath(svg, pts, style, holes) {
+  const d = [pts, ...(holes || [])].map((ring) => pathData(ring, true)).join(' ');
+  return el('path', Object.assign({ d, 'fill-rule': 'evenodd' }, style), svg);
 }
 
 // Letters as the browser sets them in the item's font, near enough to place them by; the pattern
@@ -365,6 +370,7 @@ function drawItems() {
     const size = it.text ? `“${it.text.string}” in ${it.text.font}, ${it.text.size} mm` + (it.text.frame === false ? ', no frame' : '')
       : `${+(Math.max(...xs) - Math.min(...xs)).toFixed(1)} × ${+(Math.max(...ys) - Math.min(...ys)).toFixed(1)} mm`;
     li.textContent = `${TOOL_NAMES[it.tool]} at ${isWallTool(it.tool) ? 'y' : 'z'} = ${it.t} mm, ${size}` +
+      (it.holes ? `, ${it.holes.length} ${it.holes.length === 1 ? 'hole' : 'holes'}` : '') +
       (it.mirror ? ', mirrored' : '') + (it.top === false ? ', no tops' : '');
     li.className = isWallTool(it.tool) === isWallTool(ui.tool) && it.t === planeT() ? 'here' : '';
     li.dataset.item = it.id;

@@ -1,5 +1,5 @@
 // popcut designer's drafts and files: new card, the token's drafts, open/save popcut.design.v1, SVG/DXF export, the
-// card's name, sending it to a cutter and following the job, and the open-and-close animation.
+// card's name (a webOAcard card's from its file), sending it to a cutter and following the job, and the open-and-close animation.
 'use strict';
 
 window.DesignerFiles = (() => {
@@ -148,7 +148,12 @@ window.DesignerFiles = (() => {
     $('open').addEventListener('change', async () => {
       const file = $('open').files[0];
       if (!file) return;
-      const answer = await create(await file.text());
+      let answer = await create(await file.text());
+      // A webOAcard card has no name of its own: the draft takes its file's.
+      if (answer && !answer.design.name && /\.oa$/i.test(file.name)) {
+        const name = file.name.replace(/\.oa$/i, '').slice(0, 64);
+        try { answer = await ctx.api('PATCH', `/api/v1/designs/${answer.id}`, JSON.stringify({ name })); } catch (_) { /* keeps no name */ }
+      }
       if (answer) loaded(answer);
       $('open').value = '';
     });

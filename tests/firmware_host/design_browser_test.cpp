@@ -12,8 +12,11 @@
 #include "kiosk_browser.h"
 #include "pattern_compare.h"
 #include "popcut/io/design_json.h"
+#include "popcut/design/oa_design.h"
 #include "popcut/io/model_io.h"
+#include "popcut/io/oa_model.h"
 #include "popcutd_process.h"
+#include "shared_testdata.h"
 
 namespace {
 using nlohmann::json;
@@ -235,6 +238,28 @@ TEST_F(Designer, APolygonClosesOnADoubleClickOrItsFirstCornerAndTheDraftComesBac
   b_.session("POST", "/url", {{"url", "http://127.0.0.1:" + std::to_string(d_.port()) + "/design?token=" + kToken}});
   ASSERT_TRUE(wait_until([&] { return revision() >= 1; }, 60));
   EXPECT_EQ(items(), 2);
+}
+
+// Open… takes a webOAcard card: the page shows its faces as items (named after the file), its
+// pattern and its check, and the draft is the card popcut reads from the file.
+TEST_F(Designer, OpeningAWebOAcardCardShowsItsFacesAsItemsToEditOn) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
+  const std::string house = popcut::testing::shared_testdata("webOAcard/demo/house.oa");
+  const std::size_t faces =
+      popcut::design_from_oa(popcut::parse_oa_card(read_file(house), house), house).items().size();
+  const int before = revision();
+  b_.choose_file("#open", house);
+  ASSERT_TRUE(wait_until([&] { return items() == static_cast<int>(faces) || !text("edit-error").empty(); }, 60))
+      << text("edit-error") << " / items: " << items() << " of " << faces;
+  ASSERT_TRUE(wait_until([&] { return revision() > before && design().value("name", "") == "house"; }, 60))
+      << "the draft takes the file's name: " << design().dump().substr(0, 200);
+  EXPECT_EQ(b_.run("return document.getElementById('name').value").get<std::string>(), "house");
+  EXPECT_EQ(text("verdict").rfind("Pops up", 0), 0u) << text("verdict");
+  EXPECT_EQ(popcut::testing::compare_patterns(popcut::parse_design(design().dump(), "saved").pattern(),
+                                              popcut::make_pattern(popcut::parse_oa_model(read_file(house), house))),
+            "");
+  b_.run("const a = document.getElementById('angle'); a.value = 75; a.dispatchEvent(new Event('input'));");
+  screenshot("design-oa.png");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -130,6 +131,15 @@ class Browser {
     const std::string id = el.begin().value().get<std::string>();
     session("POST", "/element/" + id + "/clear");
     session("POST", "/element/" + id + "/value", {{"text", text}});
+  }
+  // Chooses a file in a file input, as a person picking it in the dialog does (a change event).
+  void choose_file(const std::string& css, const std::string& path) {
+    const nlohmann::json el = session("POST", "/element", {{"using", "css selector"}, {"value", css}});
+    ASSERT_TRUE(el.is_object() && !el.empty()) << "element " << css << " exists: " << el.dump();
+    // ChromeDriver takes only a canonical path.
+    const nlohmann::json r = session("POST", "/element/" + el.begin().value().get<std::string>() + "/value",
+                                     {{"text", std::filesystem::canonical(path).string()}});
+    ASSERT_TRUE(r.is_null()) << "the file input took " << path << ": " << r.dump();
   }
   void click(const std::string& css) {
     const nlohmann::json el = session("POST", "/element", {{"using", "css selector"}, {"value", css}});

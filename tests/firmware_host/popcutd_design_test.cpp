@@ -12,7 +12,10 @@
 #include "popcut/io/design_json.h"
 #include "pattern_compare.h"
 #include "popcut/io/model_io.h"
+#include "popcut/io/oa_model.h"
+#include "popcut/pattern/face_pattern.h"
 #include "popcutd_process.h"
+#include "shared_testdata.h"
 
 namespace {
 using nlohmann::json;
@@ -64,6 +67,16 @@ popcut::Pattern saved_pattern(httplib::Client& c, std::int64_t id) {
   const auto r = c.Get(path(id, "/design.json").c_str());
   EXPECT_TRUE(r && r->status == 200);
   return r ? popcut::parse_design(r->body, "saved").pattern() : popcut::Pattern();
+}
+
+// Sends the design to sim-a and waits for the job: done, and the simulator cut what was planned.
+void expect_cut_as_planned(httplib::Client& c, std::int64_t id) {
+  const Reply job = post_json(c, path(id, "/submit"), R"({"device": "sim-a"})");
+  ASSERT_EQ(job.status, 201) << job.body.dump();
+  const std::string job_path = "/api/v1/jobs/" + std::to_string(job.body["id"].get<std::int64_t>());
+  ASSERT_TRUE(wait_until([&] { return get_json(c, job_path).body.value("state", "") == "done"; }, 120))
+      << get_json(c, job_path).body.dump();
+  EXPECT_TRUE(get_json(c, job_path).body.value("sim_match", false)) << "the simulator cut what was planned";
 }
 
 TEST(PopcutdDesign, TwoWallsMakeThePorchAndTheDraftSurvivesKill9) {
@@ -289,12 +302,45 @@ TEST(PopcutdDesign, ANameInLettersIsOneItemThatPopsUpAndIsCutAsPlanned) {
       << bad.body.dump();
   EXPECT_EQ(get_json(c, path(id)).body, before) << "every refused text left the design as it was";
 
-  const Reply job = post_json(c, path(id, "/submit"), R"({"device": "sim-a"})");
-  ASSERT_EQ(job.status, 201) << job.body.dump();
-  const std::string job_path = "/api/v1/jobs/" + std::to_string(job.body["id"].get<std::int64_t>());
-  ASSERT_TRUE(wait_until([&] { return get_json(c, job_path).body.value("state", "") == "done"; }, 120))
-      << get_json(c, job_path).body.dump();
-  EXPECT_TRUE(get_json(c, job_path).body.value("sim_match", false)) << "the letters were cut as planned";
+  expect_cut_as_planned(c, id);
+}
+
+// A webOAcard card posted as it is starts a draft of its faces: the editor's card exactly (one
+// with holes seen through walls, with its faces that would not stand, one with loose pieces),
+// edited on and cut as planned.
+TEST(PopcutdDesign, AWebOAcardCardStartsADraftOfItsFacesThatIsCutAsPlanned) {
+  POPCUT_NEEDS_SHARED_TESTDATA();
+  TempDir dir("popcutd-design");
+  PopcutdProcess d(POPCUTD, config(dir), (dir.path() / "data").string());
+  httplib::Client c = d.client(kKiosk);
+  const std::string college = read_file(popcut::testing::shared_testdata("webOAcard/demo/college.oa"));
+  const Reply r = post_json(c, "/api/v1/designs", college);
+  ASSERT_EQ(r.status, 201) << r.body.dump();
+  EXPECT_EQ(r.body["check"]["not_standing"].size(), 3u) << "as the editor's own college: " << r.body["check"].dump();
+  const json& items = r.body["design"]["items"];
+  EXPECT_TRUE(std::any_of(items.begin(), items.end(), [](const json& it) { return it.contains("holes"); }))
+      << "college's walls are seen through each other's windows";
+  const std::int64_t id = r.body["id"].get<std::int64_t>();
+  EXPECT_EQ(popcut::testing::compare_patterns(saved_pattern(c, id),
+                                              popcut::make_pattern(popcut::parse_oa_model(college, "college.oa"))),
+            "")
+      << "the draft is the card popcut reads from the .oa file";
+  // Edited on like any draft: a wall in front with its top, then undone.
+  ASSERT_EQ(add(c, id, wall(95, 5, 20, 10)).status, 200);
+  ASSERT_EQ(post_json(c, path(id, "/undo"), "").status, 200);
+
+  const Reply castle =
+      post_json(c, "/api/v1/designs", read_file(popcut::testing::shared_testdata("webOAcard/demo/castle.oa")));
+  ASSERT_EQ(castle.status, 201) << castle.body.dump();
+  EXPECT_FALSE(castle.body["check"].value("pops_up", true))
+      << "the editor's castle leaves loose pieces; so does its draft";
+  const Reply bad = post_json(c, "/api/v1/designs",
+                              R"({"settings": {"cardW": 120, "cardH": 100}, "faces": [{"contours": [],
+                                  "type": "HFACE", "mode": 0, "t": 10, "contoursType": ""}]})");
+  EXPECT_EQ(bad.status, 422) << bad.body.dump();
+  EXPECT_EQ(bad.body["error"].value("field", ""), "faces[0].type") << bad.body.dump();
+
+  expect_cut_as_planned(c, id);
 }
 
 }  // namespace

@@ -184,6 +184,12 @@ std::vector<Step> steps_of(const DesignItem& item, const FaceModel& model, const
                   "text is not mirrored (it would read backwards): add the text again on the other side");
     return text_steps(item, model, where, behind);
   }
+  if (!item.holes.empty() && (item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening))
+    throw Error(ErrorCode::invalid_input, "", where + ".holes", "an opening has no holes: draw a wall or roof in it");
+  if (!item.holes.empty() && item.tool == DesignTool::wall && item.top) {
+    throw Error(ErrorCode::invalid_input, "", where + ".holes",
+                "a wall with holes gets no automatic tops: give it \"top\": false and draw its roofs");
+  }
   std::vector<Outline> outlines = {item.outline};
   if (item.mirror) {
     const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
@@ -195,7 +201,12 @@ std::vector<Step> steps_of(const DesignItem& item, const FaceModel& model, const
     outlines.push_back(mirrored(item.outline, width_mm));
   }
   std::vector<Step> steps;
-  for (const Outline& o : outlines) steps.push_back({{op_of(item.tool), item.t_mm, o}});
+  steps.push_back({{op_of(item.tool), item.t_mm, item.outline, item.holes}});
+  if (item.mirror) {
+    std::vector<Outline> holes;
+    for (const Outline& h : item.holes) holes.push_back(mirrored(h, width_mm));
+    steps.push_back({{op_of(item.tool), item.t_mm, outlines.back(), std::move(holes)}});
+  }
   // The tops are found among the faces behind, before the wall is drawn: then the wall and its
   // tops are laid over the model in one step (one Boolean per face they touch).
   for (const Outline& o : outlines) add_tops(steps, item, o, behind);

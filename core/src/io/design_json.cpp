@@ -40,9 +40,9 @@ TextSpec read_text(const json_util::Reader& in, const json& j, const std::string
 DesignItem read_design_item(const json_util::Reader& in, const json& j, const std::string& path, bool with_id) {
   in.require_object(j, path);
   if (with_id)
-    in.only_keys(j, {"id", "tool", "t", "outline", "text", "at", "top", "mirror"}, path);
+    in.only_keys(j, {"id", "tool", "t", "outline", "holes", "text", "at", "top", "mirror"}, path);
   else
-    in.only_keys(j, {"tool", "t", "outline", "text", "at", "top", "mirror"}, path);
+    in.only_keys(j, {"tool", "t", "outline", "holes", "text", "at", "top", "mirror"}, path);
   DesignItem item;
   const std::string at = path.empty() ? "" : path + ".";
   item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), at + "tool");
@@ -60,7 +60,12 @@ DesignItem read_design_item(const json_util::Reader& in, const json& j, const st
     if (j.contains("at")) in.fail(at + "at", "only a text has a starting point \"at\"");
     item.outline =
         in.points(in.require(j, "outline", path), at + "outline", kMaxFaceCoordinateMm, 3, kMaxDesignOutlinePoints);
+    if (j.contains("holes")) {
+      item.holes =
+          in.point_rings(j["holes"], at + "holes", kMaxFaceCoordinateMm, kMaxDesignOutlinePoints, kMaxOutlinePoints);
+    }
   }
+  if (j.contains("holes") && item.text) in.fail(at + "holes", "a text has no holes");
   const auto flag = [&](const char* key, bool fallback) {
     if (!j.contains(key)) return fallback;
     if (!j[key].is_boolean()) in.fail(at + key, "expected true or false");
@@ -134,11 +139,12 @@ std::string to_design_json(const FaceDesign& design, const std::string& name) {
         << ", \"size\": " << number_text(it.text->size_mm) << (it.text->frame ? "" : ", \"frame\": false")
         << "}, \"at\": [" << number_text(it.outline[0][0]) << ", " << number_text(it.outline[0][1]) << "]";
     } else {
-      o << ", \"outline\": [";
-      for (std::size_t k = 0; k < it.outline.size(); ++k) {
-        o << (k ? ", " : "") << "[" << number_text(it.outline[k][0]) << ", " << number_text(it.outline[k][1]) << "]";
+      o << ", \"outline\": ";
+      json_util::put_points(o, it.outline);
+      if (!it.holes.empty()) {
+        o << ", \"holes\": ";
+        json_util::put_point_rings(o, it.holes);
       }
-      o << "]";
     }
     if (it.tool == DesignTool::wall && !it.top) o << ", \"top\": false";
     if (it.mirror) o << ", \"mirror\": true";

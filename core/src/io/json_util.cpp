@@ -176,6 +176,20 @@ std::vector<std::array<double, 2>> Reader::points(const json& j, const std::stri
   return out;
 }
 
+std::vector<std::vector<std::array<double, 2>>> Reader::point_rings(const json& j, const std::string& path,
+                                                                    double limit, std::size_t max_rings,
+                                                                    std::size_t max_points) const {
+  require_array(j, path);
+  if (j.size() > max_rings) fail(path, "has more than " + std::to_string(max_rings) + " rings");
+  std::vector<std::vector<std::array<double, 2>>> out;
+  std::size_t total = 0;
+  for (std::size_t k = 0; k < j.size(); ++k) {
+    out.push_back(points(j[k], index_path(path, k), limit, 3, max_points - total));
+    total += out.back().size();
+  }
+  return out;
+}
+
 void Reader::require_document(const json& root, const char* expected,
                               std::initializer_list<const char*> allowed) const {
   require_object(root, "document");
@@ -194,6 +208,22 @@ std::string number_text(double value) {
   char buf[32];
   const auto end = std::to_chars(buf, buf + sizeof buf, value).ptr;
   return std::string(buf, end);
+}
+
+void put_points(std::ostream& o, const std::vector<std::array<double, 2>>& points) {
+  o << "[";
+  for (std::size_t i = 0; i < points.size(); ++i)
+    o << (i ? ", " : "") << "[" << number_text(points[i][0]) << ", " << number_text(points[i][1]) << "]";
+  o << "]";
+}
+
+void put_point_rings(std::ostream& o, const std::vector<std::vector<std::array<double, 2>>>& rings) {
+  o << "[";
+  for (std::size_t k = 0; k < rings.size(); ++k) {
+    if (k) o << ", ";
+    put_points(o, rings[k]);
+  }
+  o << "]";
 }
 
 }  // namespace popcut::json_util

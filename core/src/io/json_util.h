@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <vector>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 
 #include "popcut/names.h"
@@ -43,6 +44,9 @@ class Reader {
   // A list of points, each two numbers within ±limit (mm), at most max_points long.
   std::vector<std::array<double, 2>> points(const json& j, const std::string& path, double limit,
                                             std::size_t min_points, std::size_t max_points) const;
+  // A list of at most max_rings such lists (a polygon's holes), together at most max_points long.
+  std::vector<std::vector<std::array<double, 2>>> point_rings(const json& j, const std::string& path, double limit,
+                                                              std::size_t max_rings, std::size_t max_points) const;
   // The document must be an object with only `allowed` keys and "format" equal to `expected`.
   void require_document(const json& root, const char* expected, std::initializer_list<const char*> allowed) const;
 
@@ -57,5 +61,9 @@ std::string key_path(const std::string& base, const char* key);
 
 // Shortest text that reads back as the same double.
 std::string number_text(double value);
+// Points as a JSON list of [a, b] pairs, each number as number_text writes it.
+void put_points(std::ostream& o, const std::vector<std::array<double, 2>>& points);
+// Rings of points as a JSON list of such lists.
+void put_point_rings(std::ostream& o, const std::vector<std::vector<std::array<double, 2>>>& rings);
 
 }  // namespace popcut::json_util

@@ -73,12 +73,16 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     const std::string path = index_path("edits", i);
     const json& e = edits[i];
     in.require_object(e, path);
-    in.only_keys(e, {"op", "t", "outline"}, path);
+    in.only_keys(e, {"op", "t", "outline", "holes"}, path);
     FaceEdit edit;
     edit.op = in.named(kEditOpNames, in.require(e, "op", path), path + ".op");
     edit.t_mm = in.number(in.require(e, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
     edit.outline =
         in.points(in.require(e, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 0, kMaxOutlinePoints);
+    if (e.contains("holes")) {
+      edit.holes =
+          in.point_rings(e["holes"], path + ".holes", kMaxFaceCoordinateMm, kMaxOutlinePoints, kMaxOutlinePoints);
+    }
     model.apply(edit, source, path);
   }
   return model;
@@ -129,11 +133,13 @@ std::string to_face_json(const FaceModel& model, const std::string& name) {
     o << "  \"edits\": [";
     const auto& edits = model.edits();
     for (std::size_t i = 0; i < edits.size(); ++i) {
-      Ring outline;
-      for (const auto& [a, b] : edits[i].outline) outline.push_back({a, b});
       o << (i ? ",\n    " : "\n    ") << "{\"op\": \"" << to_string(edits[i].op)
         << "\", \"t\": " << number_text(edits[i].t_mm) << ", \"outline\": ";
-      put_ring(o, outline);
+      json_util::put_points(o, edits[i].outline);
+      if (!edits[i].holes.empty()) {  // most edits have none, and older readers know no "holes"
+        o << ", \"holes\": ";
+        json_util::put_point_rings(o, edits[i].holes);
+      }
       o << "}";
     }
     o << "\n  ]\n}\n";

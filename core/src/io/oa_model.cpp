@@ -123,6 +123,11 @@ bool is_oa_path(const std::string& path) {
   return p.size() > 3 && p.compare(p.size() - 3, 3, ".oa") == 0;
 }
 
+bool is_oa_document(const std::string& text) {
+  const json root = json::parse(text, nullptr, false);
+  return root.is_object() && !root.contains("format") && root.contains("settings") && root.contains("faces");
+}
+
 OaCard parse_oa_card(const std::string& text, const std::string& source) {
   const json root = json_util::parse(text, source);
   const json_util::Reader in(source);

@@ -27,6 +27,14 @@ using ExactFaces = std::vector<std::shared_ptr<const ExactFace>>;  // FaceModel:
 ExactPolygon exact_polygon(const Ring& ring, const std::string& source, const std::string& where,
                            std::vector<ExactPoint> exact = {}, bool known_simple = false);
 
+// One face as given: its rings oriented and split at pinches, exact, on the sheet, holes inside;
+// errors name `where` + `outer_field` or ".holes". A region of a subdivision on the nm grid
+// (`of_subdivision`) has simple rings with its holes inside by construction; only the cheap checks
+// run on it.
+std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelState& sheet, const std::string& source,
+                                            const std::string& where, bool of_subdivision,
+                                            const std::string& outer_field = ".outer");
+
 // Every vertex lies on the sheet (its edge included).
 bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s);
 

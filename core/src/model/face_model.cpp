@@ -25,13 +25,14 @@ struct PatternOutline {
   double min_second = 0;
 };
 
-PatternOutline pattern_outline(const FaceEdit& edit, bool vertical_plane, const FT& t_exact, const std::string& source,
-                               const std::string& where) {
+PatternOutline pattern_outline(const std::vector<std::array<double, 2>>& points, const FaceEdit& edit,
+                               bool vertical_plane, const FT& t_exact, const std::string& source,
+                               const std::string& field) {
   PatternOutline out;
-  for (std::size_t i = 0; i < edit.outline.size(); ++i) {
-    const auto& [x, second] = edit.outline[i];
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& [x, second] = points[i];
     if (std::isfinite(second) && second < 0) {
-      fail(source, where + ".outline[" + std::to_string(i) + "]",
+      fail(source, field + "[" + std::to_string(i) + "]",
            vertical_plane ? "z is below the floor (z must be ≥ 0)" : "y is behind the back wall (y must be ≥ 0)");
     }
     out.ring.push_back({x, vertical_plane ? second - edit.t_mm : edit.t_mm - second});
@@ -44,6 +45,38 @@ PatternOutline pattern_outline(const FaceEdit& edit, bool vertical_plane, const 
   }
   if (out.exact.size() != out.ring.size()) out.exact.clear();
   return out;
+}
+
+// The ring as the exact path has it (z − t worked out on the nm grid, not in doubles), so a face
+// with holes meets a face drawn without them corner for corner. A point that is not a number in
+// range keeps the ring as given: the checks name it.
+Ring on_nm_grid(const PatternOutline& outline) {
+  if (outline.exact.empty()) return outline.ring;
+  Ring ring;
+  for (const ExactPoint& p : outline.exact)
+    ring.push_back({CGAL::to_double(p.x()) / kNmPerMm, CGAL::to_double(p.y()) / kNmPerMm});  // whole nm: exact
+  return ring;
+}
+
+// An add_vface or add_hface with holes: its rings in pattern coordinates, oriented and checked as
+// a face read from a file is (pinches split, holes inside the outline and apart).
+std::shared_ptr<const ExactFace> face_with_holes(const FaceEdit& edit, const PatternOutline& outline,
+                                                 bool vertical_plane, const FT& t_exact, const FaceModelState& sheet,
+                                                 const std::string& source, const std::string& where) {
+  if (edit.op != EditOp::add_vface && edit.op != EditOp::add_hface)
+    fail(source, where + ".holes", "only add_vface and add_hface have holes (a hole's outline is its own edit)");
+  const auto oriented = [](Ring r, bool want_ccw) {
+    if ((signed_area_mm2(r) > 0) != want_ccw) std::reverse(r.begin(), r.end());
+    return r;
+  };
+  OAFace face{
+      vertical_plane ? FaceKind::vertical : FaceKind::horizontal, edit.t_mm, {oriented(on_nm_grid(outline), true), {}}};
+  for (std::size_t k = 0; k < edit.holes.size(); ++k) {
+    const std::string field = where + ".holes[" + std::to_string(k) + "]";
+    face.polygon.holes.push_back(
+        oriented(on_nm_grid(pattern_outline(edit.holes[k], edit, vertical_plane, t_exact, source, field)), false));
+  }
+  return given_face(face, sheet, source, where, false, ".outline");
 }
 
 // Eq. 6: a hole must lie in faces of its plane (kind at t). What shows at a point is the last
@@ -134,9 +167,14 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
   }
   const bool vertical_plane = edit.op == EditOp::add_vface || edit.op == EditOp::add_vhole;
   const FT t_exact = exact_nm(edit.t_mm);
-  const PatternOutline outline = pattern_outline(edit, vertical_plane, t_exact, source, where);
+  const PatternOutline outline =
+      pattern_outline(edit.outline, edit, vertical_plane, t_exact, source, where + ".outline");
   Drawn added;
   guarded(source, where, [&] {
+    if (!edit.holes.empty()) {
+      added = {face_with_holes(edit, outline, vertical_plane, t_exact, *sheet_, source, where)};
+      return 0;
+    }
     const ExactPolygon q = exact_polygon(outline.ring, source, where + ".outline", outline.exact);
     if (!inside_sheet(q, *sheet_)) fail(source, where + ".outline", "leaves the sheet");
     FaceKind kind = vertical_plane ? FaceKind::vertical : FaceKind::horizontal;

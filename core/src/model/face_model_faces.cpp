@@ -36,47 +36,6 @@ bool valid_polygon_with_holes(const ExactPolygonWithHoles& pwh) {
   return CGAL::are_holes_and_boundary_pairwise_disjoint(pwh, mutable_traits);
 }
 
-// One face as given: its rings oriented and split at pinches, exact, on the sheet, holes inside.
-// A region of a subdivision on the nm grid (`of_subdivision`) has simple rings with its holes
-// inside by construction; only the cheap checks run on it.
-std::shared_ptr<const ExactFace> given_face(const OAFace& f, const FaceModelState& sheet, const std::string& source,
-                                            const std::string& where, bool of_subdivision) {
-  if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm)
-    fail(source, where + ".t", "must be from 0 to 100000 mm");
-  // A region may touch itself at a corner: its rings then split into one counter-clockwise
-  // outer loop and clockwise holes that touch it there.
-  // Rings written the other way round (outer clockwise) are read as the writer meant them.
-  const bool flipped = signed_area_mm2(f.polygon.outer) < 0;
-  const auto oriented = [&](const Ring& r) { return flipped ? Ring(r.rbegin(), r.rend()) : r; };
-  std::vector<Ring> loops = split_at_repeated_vertices(oriented(f.polygon.outer));
-  for (const Ring& h : f.polygon.holes) {
-    for (Ring& loop : split_at_repeated_vertices(oriented(h))) loops.push_back(std::move(loop));
-  }
-  std::vector<ExactPolygon> outers, holes;
-  for (std::size_t k = 0; k < loops.size(); ++k) {
-    const bool ccw = signed_area_mm2(loops[k]) > 0;
-    ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? ".outer" : ".holes"), {}, of_subdivision);
-    if (ccw)
-      outers.push_back(std::move(poly));
-    else
-      holes.push_back(std::move(poly));
-  }
-  if (outers.size() != 1) {
-    fail(source, where + ".outer",
-         "must enclose one connected region: give the outer ring counter-clockwise and holes clockwise");
-  }
-  ExactPolygonWithHoles pwh(outers.front());
-  if (!inside_sheet(pwh.outer_boundary(), sheet)) fail(source, where + ".outer", "leaves the sheet");
-  for (ExactPolygon& hole : holes) {
-    hole.reverse_orientation();  // holes run clockwise
-    pwh.add_hole(std::move(hole));
-  }
-  if (!of_subdivision && !valid_polygon_with_holes(pwh)) {
-    fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
-  }
-  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh), f.opening_paper);
-}
-
 FT total_area(const ExactFaces& given) {
   FT area = 0;
   for (const auto& fp : given) area += polygon_area(fp->polygon);
@@ -135,6 +94,45 @@ bool on_nm_grid(const std::vector<OAFace>& faces) {
 }
 
 }  // namespace
+
+std::shared_ptr<const ExactFace> detail::given_face(const OAFace& f, const FaceModelState& sheet,
+                                                    const std::string& source, const std::string& where,
+                                                    bool of_subdivision, const std::string& outer_field) {
+  if (!std::isfinite(f.t_mm) || f.t_mm < 0 || f.t_mm > kMaxFaceCoordinateMm)
+    fail(source, where + ".t", "must be from 0 to 100000 mm");
+  // A region may touch itself at a corner: its rings then split into one counter-clockwise
+  // outer loop and clockwise holes that touch it there.
+  // Rings written the other way round (outer clockwise) are read as the writer meant them.
+  const bool flipped = signed_area_mm2(f.polygon.outer) < 0;
+  const auto oriented = [&](const Ring& r) { return flipped ? Ring(r.rbegin(), r.rend()) : r; };
+  std::vector<Ring> loops = split_at_repeated_vertices(oriented(f.polygon.outer));
+  for (const Ring& h : f.polygon.holes) {
+    for (Ring& loop : split_at_repeated_vertices(oriented(h))) loops.push_back(std::move(loop));
+  }
+  std::vector<ExactPolygon> outers, holes;
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    const bool ccw = signed_area_mm2(loops[k]) > 0;
+    ExactPolygon poly = exact_polygon(loops[k], source, where + (k == 0 ? outer_field : ".holes"), {}, of_subdivision);
+    if (ccw)
+      outers.push_back(std::move(poly));
+    else
+      holes.push_back(std::move(poly));
+  }
+  if (outers.size() != 1) {
+    fail(source, where + outer_field,
+         "must enclose one connected region: give the outer ring counter-clockwise and holes clockwise");
+  }
+  ExactPolygonWithHoles pwh(outers.front());
+  if (!inside_sheet(pwh.outer_boundary(), sheet)) fail(source, where + outer_field, "leaves the sheet");
+  for (ExactPolygon& hole : holes) {
+    hole.reverse_orientation();  // holes run clockwise
+    pwh.add_hole(std::move(hole));
+  }
+  if (!of_subdivision && !valid_polygon_with_holes(pwh)) {
+    fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
+  }
+  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh), f.opening_paper);
+}
 
 FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,
                                 const std::string& source) {

@@ -45,6 +45,10 @@ struct DesignItem {
   // left corner, descenders included; in a roof the letters read from the front, their tops
   // towards the back board.
   std::optional<TextSpec> text{};
+  // Walls without tops and roofs: parts of the outline left out, what is behind showing through
+  // (not openings: no paper folds there). A card imported from its faces (a webOAcard card) has
+  // them; the editor's tools draw none.
+  std::vector<std::vector<std::array<double, 2>>> holes{};
   friend bool operator==(const DesignItem&, const DesignItem&) = default;
 };
 

@@ -19,6 +19,11 @@ inline constexpr std::size_t kMaxOaPoints = 100000;
 // True for a path ending in ".oa" (any case): load_model reads it with parse_oa_model.
 bool is_oa_path(const std::string& path);
 
+// True for a JSON object that is a .oa document by its shape (webOAcard's files carry no format
+// tag): "settings" and "faces" and no "format". Where a popcut document could come instead (a
+// draft posted to popcutd, a file opened in the designer), this tells them apart.
+bool is_oa_document(const std::string& text);
+
 // The card of a .oa document, every field checked; errors (popcut::Error) name `source` and the
 // JSON path, e.g. "faces[3].contours[0].outer[2].X".
 OaCard parse_oa_card(const std::string& text, const std::string& source);

@@ -47,6 +47,11 @@ struct FaceEdit {
   EditOp op = EditOp::add_vface;
   double t_mm = 0;
   std::vector<std::array<double, 2>> outline;
+  // add_vface and add_hface only: parts of the outline the face leaves out, in the same plane
+  // coordinates. What was drawn there before shows through; nothing folds at their edges. A
+  // card's faces read back as edits (a webOAcard card imported into a design) need them: a wall
+  // seen through a window of the wall in front is a face with a hole.
+  std::vector<std::vector<std::array<double, 2>>> holes{};
   friend bool operator==(const FaceEdit&, const FaceEdit&) = default;
 };
 
