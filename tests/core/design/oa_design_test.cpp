@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "error_of.h"
@@ -55,6 +56,23 @@ TEST(OaDesign, EveryDemoBecomesItemsThatDrawExactlyTheFacesItsEditorShows) {
     for (std::size_t i = 0; i < back.items().size(); ++i) EXPECT_EQ(back.items()[i].item, design.items()[i].item);
     EXPECT_EQ(compare_patterns(back.pattern(), design.pattern()), "");
   }
+}
+
+// A face with more corners than a design item may have is refused naming it, before any draft
+// exists that could not be read back.
+TEST(OaDesign, AFaceTooDetailedForADesignItemIsRefusedByName) {
+  std::string ring;
+  for (int i = 0; i < 1200; ++i) {
+    const double a = 2 * M_PI * i / 1200;
+    ring += (i ? ", " : "") + std::string(R"({"X": )") + std::to_string(60 + 20 * std::cos(a)) + R"(, "Y": )" +
+            std::to_string(-30 + 20 * std::sin(a)) + "}";
+  }
+  const std::string text = R"({"settings": {"cardW": 120, "cardH": 100}, "faces": [{"contours": [{"outer": [)" + ring +
+                           R"(], "holes": []}], "type": "VFACE", "mode": 0, "t": 40, "contoursType": ""}]})";
+  const Error e = error_of([&] { design_from_oa(parse_oa_card(text, "round.oa"), "round.oa"); });
+  EXPECT_EQ(e.code(), ErrorCode::limit);
+  EXPECT_NE(e.location().find("a wall at t = 40 mm"), std::string::npos) << e.location();
+  EXPECT_NE(e.message().find("at most 1000"), std::string::npos) << e.message();
 }
 
 TEST(OaDesign, AnImportedCardIsEditedLikeAnyOther) {
