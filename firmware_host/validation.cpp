@@ -67,7 +67,7 @@ std::string loose_text(const LoosePiece& lp) {
 std::string cut_out_text(const LoosePiece& lp) {
   return "cut out: the paper of an opening at pattern x " + range(lp.bounds.min.x_mm, lp.bounds.max.x_mm) + ", v " +
          range(lp.bounds.min.v_mm, lp.bounds.max.v_mm) + " mm (" + format_fixed(lp.area_mm2, 1) +
-         " mm²) has no edge to fold on and drops out as the opening is cut";
+         " mm²) is held by no fold and drops out as the opening is cut";
 }
 
 json piece_json(const LoosePiece& lp, const std::string& message) {

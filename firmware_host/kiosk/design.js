@@ -45,6 +45,7 @@ function say(id, text) {
 // ---- the edit plane: a wall's plane (x, z) with z up, or a roof's (x, y) seen from above, back at the top.
 
 const isWallTool = (tool) => tool === 'wall' || tool === 'opening';
+const isOpening = (tool) => tool === 'opening' || tool === 'roof_opening';
 const planeT = () => Number($('plane-t').value);
 const sheet = () => design.design.sheet;
 const planeHeight = () => (isWallTool(ui.tool) ? sheet().back : sheet().floor);
@@ -262,6 +263,7 @@ function closePolygon(started) {
 async function addItem(outline, started) {
   const item = { tool: ui.tool, t: planeT(), outline, mirror: $('mirror').checked };
   if (ui.tool === 'wall') item.top = $('tops').checked;
+  if (isOpening(ui.tool) && !$('ledge').checked) item.ledge = false;
   await edit('POST', '/items', JSON.stringify(item), started);
 }
 
@@ -276,6 +278,7 @@ async function addText(at, started) {
   const item = { tool: ui.tool, t: planeT(), text: textSpec(), at };
   if (ui.tool === 'wall') item.top = $('tops').checked;
   if ($('mirror').checked) item.mirror = true;  // popcutd says why text is not mirrored
+  if (isOpening(ui.tool) && !$('ledge').checked) item.ledge = false;
   await edit('POST', '/items', JSON.stringify(item), started);
 }
 
@@ -371,7 +374,7 @@ function drawItems() {
       : `${+(Math.max(...xs) - Math.min(...xs)).toFixed(1)} × ${+(Math.max(...ys) - Math.min(...ys)).toFixed(1)} mm`;
     li.textContent = `${TOOL_NAMES[it.tool]} at ${isWallTool(it.tool) ? 'y' : 'z'} = ${it.t} mm, ${size}` +
       (it.holes ? `, ${it.holes.length} ${it.holes.length === 1 ? 'hole' : 'holes'}` : '') +
-      (it.mirror ? ', mirrored' : '') + (it.top === false ? ', no tops' : '');
+      (it.mirror ? ', mirrored' : '') + (it.top === false ? ', no tops' : '') + (it.ledge === false ? ', drops out' : '');
     li.className = isWallTool(it.tool) === isWallTool(ui.tool) && it.t === planeT() ? 'here' : '';
     li.dataset.item = it.id;
     li.addEventListener('click', () => { setTool(it.tool); setPlane(it.t); });
@@ -392,6 +395,7 @@ function setTool(tool) {
   for (const b of document.querySelectorAll('.tool')) b.setAttribute('aria-pressed', String(b.dataset.tool === tool));
   $('plane-label').textContent = isWallTool(tool) ? 'Depth y' : 'Height z';
   $('tops').disabled = tool !== 'wall';
+  $('ledge').disabled = !isOpening(tool);
   $('text-frame').disabled = tool !== 'wall';
   if (design) {
     $('plane-slider').max = String(isWallTool(tool) ? sheet().floor : sheet().back);

@@ -240,6 +240,19 @@ TEST_F(Designer, APolygonClosesOnADoubleClickOrItsFirstCornerAndTheDraftComesBac
   EXPECT_EQ(items(), 2);
 }
 
+// Ledge off: a square window's paper is cut all round and drops out instead of folding down.
+TEST_F(Designer, AWindowWithoutALedgeDropsOut) {
+  two_clicks(30, 15, 0, 85, 45);
+  b_.click(".tool[data-tool='opening']");
+  b_.click("#ledge");
+  two_clicks(30, 40, 20, 60, 35);
+  ASSERT_EQ(items(), 2) << text("edit-error");
+  EXPECT_EQ(design()["items"][1].value("ledge", true), false) << design()["items"][1].dump();
+  EXPECT_NE(text("items").find("drops out"), std::string::npos) << text("items");
+  EXPECT_EQ(text("verdict").rfind("Pops up", 0), 0u) << text("verdict");
+  EXPECT_NE(text("check").find("cut out"), std::string::npos) << text("check");
+}
+
 // Open… takes a webOAcard card: the page shows its faces as items (named after the file), its
 // pattern and its check, and the draft is the card popcut reads from the file.
 TEST_F(Designer, OpeningAWebOAcardCardShowsItsFacesAsItemsToEditOn) {

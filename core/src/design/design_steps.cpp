@@ -60,7 +60,6 @@ constexpr double kTextFrameMargin = 0.12;
 // The width of the strip that holds a mark (an i's dot) to the frame, per mm of letter height:
 // about a stroke of a regular weight.
 constexpr double kTextBridgeWidth = 0.08;
-constexpr double kTextDropRiseMm = 0.01;
 
 // Letters standing free on their bar: the bar's top runs back as a top the whole length, then
 // each letter's flat tops, and the letters are drawn over them all, so a top stays only where no
@@ -74,7 +73,7 @@ void free_letters(std::vector<Step>& steps, const DesignItem& item, const Outlin
   add_tops(steps, item, bar, behind);
   for (const Outline& o : letters) add_tops(steps, item, o, behind);
   for (const Outline& o : letters) steps.push_back({{EditOp::add_vface, item.t_mm, o}});
-  for (const Outline& c : counters) steps.push_back({{EditOp::add_vhole, item.t_mm, c}});
+  for (const Outline& c : counters) steps.push_back({{EditOp::add_vhole, item.t_mm, c, {}, true}});
 }
 
 Ring ring_of(const Outline& o) {
@@ -112,9 +111,9 @@ void framed_letters(std::vector<Step>& steps, const DesignItem& item, const Outl
     Point2 p = interior_point(f.polygon.outer, f.polygon.holes);
     p.v_mm += item.t_mm;  // the face's sheet v back to the plane's z
     if (std::any_of(rings.begin(), rings.end(), [&](const Ring& r) { return inside_ring(p, r); })) continue;
-    steps.push_back({{EditOp::add_vhole, item.t_mm, outline_of(f.polygon.outer, item.t_mm)}});
+    steps.push_back({{EditOp::add_vhole, item.t_mm, outline_of(f.polygon.outer, item.t_mm), {}, true}});
   }
-  for (const Outline& c : counters) steps.push_back({{EditOp::add_vhole, item.t_mm, c}});
+  for (const Outline& c : counters) steps.push_back({{EditOp::add_vhole, item.t_mm, c, {}, true}});
 }
 
 // Letters: a wall of letters (one line, framed or free, on a bar along the baseline that folds
@@ -135,7 +134,8 @@ std::vector<Step> text_steps(const DesignItem& item, const FaceModel& model, con
   const double lift = set.descent_mm + set.line_height_mm * static_cast<double>(set.line_boxes.size() - 1);
   std::vector<Step> steps;
   if (!wall) {
-    for (const TextShape& s : set.shapes) steps.push_back({{op_of(item.tool), item.t_mm, placed(s.outer, item, lift)}});
+    for (const TextShape& s : set.shapes)
+      steps.push_back({{op_of(item.tool), item.t_mm, placed(s.outer, item, lift), {}, !item.ledge}});
     return steps;
   }
   std::vector<Outline> letters, counters;
@@ -164,10 +164,9 @@ std::vector<Step> text_steps(const DesignItem& item, const FaceModel& model, con
     const double x = (b.min.x_mm + b.max.x_mm) / 2;
     letters.push_back(box(x - bridge / 2, b.min.v_mm, x + bridge / 2, top + margin / 2));
   }
-  // The space around the letters should drop out as it is cut, not fold down on the bar as an
-  // opening's ledge (an opening's paper folds on a level bottom edge): its bottom, the bar's top,
-  // rises kTextDropRiseMm from end to end, so its paper meets the bar at one corner only.
-  const Outline inner = placed({{x0, bar_top}, {x1, bar_top + kTextDropRiseMm}, {x1, top}, {x0, top}}, item, lift);
+  // The space around the letters and their counters drop out as they are cut (FaceEdit::drop),
+  // rather than fold down on the bar or a level counter bottom ("A") as an opening's ledge.
+  const Outline inner = placed({{x0, bar_top}, {x1, bar_top}, {x1, top}, {x0, top}}, item, lift);
   framed_letters(steps, item, inner, box(x0 - margin, bottom, x1 + margin, top + margin), letters, counters, model,
                  behind, where);
   return steps;
@@ -184,7 +183,10 @@ std::vector<Step> steps_of(const DesignItem& item, const FaceModel& model, const
                   "text is not mirrored (it would read backwards): add the text again on the other side");
     return text_steps(item, model, where, behind);
   }
-  if (!item.holes.empty() && (item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening))
+  const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
+  if (!item.ledge && !opening)
+    throw Error(ErrorCode::invalid_input, "", where + ".ledge", "only an opening's paper folds down as a ledge");
+  if (!item.holes.empty() && opening)
     throw Error(ErrorCode::invalid_input, "", where + ".holes", "an opening has no holes: draw a wall or roof in it");
   if (!item.holes.empty() && item.tool == DesignTool::wall && item.top) {
     throw Error(ErrorCode::invalid_input, "", where + ".holes",
@@ -192,7 +194,6 @@ std::vector<Step> steps_of(const DesignItem& item, const FaceModel& model, const
   }
   std::vector<Outline> outlines = {item.outline};
   if (item.mirror) {
-    const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
     if (opening && crosses(item.outline, width_mm / 2)) {
       throw Error(ErrorCode::invalid_input, "", where + ".outline",
                   "a mirrored opening must lie on one side of the centre line x = " + format_decimal(width_mm / 2, 3) +
@@ -201,11 +202,11 @@ std::vector<Step> steps_of(const DesignItem& item, const FaceModel& model, const
     outlines.push_back(mirrored(item.outline, width_mm));
   }
   std::vector<Step> steps;
-  steps.push_back({{op_of(item.tool), item.t_mm, item.outline, item.holes}});
+  steps.push_back({{op_of(item.tool), item.t_mm, item.outline, item.holes, !item.ledge}});
   if (item.mirror) {
     std::vector<Outline> holes;
     for (const Outline& h : item.holes) holes.push_back(mirrored(h, width_mm));
-    steps.push_back({{op_of(item.tool), item.t_mm, outlines.back(), std::move(holes)}});
+    steps.push_back({{op_of(item.tool), item.t_mm, outlines.back(), std::move(holes), !item.ledge}});
   }
   // The tops are found among the faces behind, before the wall is drawn: then the wall and its
   // tops are laid over the model in one step (one Boolean per face they touch).

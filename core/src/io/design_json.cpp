@@ -30,19 +30,16 @@ TextSpec read_text(const json_util::Reader& in, const json& j, const std::string
   text.text = in.string(in.require(j, "string", path), path + ".string", std::string::npos);
   if (j.contains("font")) text.font = in.string(j["font"], path + ".font", 256);
   if (j.contains("size")) text.size_mm = in.number(j["size"], path + ".size", kMinTextSizeMm, kMaxTextSizeMm);
-  if (j.contains("frame")) {
-    if (!j["frame"].is_boolean()) in.fail(path + ".frame", "expected true or false");
-    text.frame = j["frame"].get<bool>();
-  }
+  if (j.contains("frame")) text.frame = in.boolean(j["frame"], path + ".frame");
   return text;
 }
 
 DesignItem read_design_item(const json_util::Reader& in, const json& j, const std::string& path, bool with_id) {
   in.require_object(j, path);
   if (with_id)
-    in.only_keys(j, {"id", "tool", "t", "outline", "holes", "text", "at", "top", "mirror"}, path);
+    in.only_keys(j, {"id", "tool", "t", "outline", "holes", "text", "at", "top", "mirror", "ledge"}, path);
   else
-    in.only_keys(j, {"tool", "t", "outline", "holes", "text", "at", "top", "mirror"}, path);
+    in.only_keys(j, {"tool", "t", "outline", "holes", "text", "at", "top", "mirror", "ledge"}, path);
   DesignItem item;
   const std::string at = path.empty() ? "" : path + ".";
   item.tool = in.named(kDesignToolNames, in.require(j, "tool", path), at + "tool");
@@ -67,13 +64,14 @@ DesignItem read_design_item(const json_util::Reader& in, const json& j, const st
   }
   if (j.contains("holes") && item.text) in.fail(at + "holes", "a text has no holes");
   const auto flag = [&](const char* key, bool fallback) {
-    if (!j.contains(key)) return fallback;
-    if (!j[key].is_boolean()) in.fail(at + key, "expected true or false");
-    return j[key].get<bool>();
+    return j.contains(key) ? in.boolean(j[key], at + key) : fallback;
   };
   item.top = flag("top", true);
   if (j.contains("top") && item.tool != DesignTool::wall) in.fail(at + "top", "only a wall has top faces");
   item.mirror = flag("mirror", false);
+  item.ledge = flag("ledge", true);
+  const bool opening = item.tool == DesignTool::opening || item.tool == DesignTool::roof_opening;
+  if (j.contains("ledge") && !opening) in.fail(at + "ledge", "only an opening's paper folds down as a ledge");
   return item;
 }
 
@@ -148,6 +146,7 @@ std::string to_design_json(const FaceDesign& design, const std::string& name) {
     }
     if (it.tool == DesignTool::wall && !it.top) o << ", \"top\": false";
     if (it.mirror) o << ", \"mirror\": true";
+    if (!it.ledge) o << ", \"ledge\": false";
     o << "}";
   }
   o << (items.empty() ? "]\n}\n" : "\n  ]\n}\n");

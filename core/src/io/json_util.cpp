@@ -161,6 +161,11 @@ std::string Reader::string(const json& j, const std::string& path, std::size_t m
   return s;
 }
 
+bool Reader::boolean(const json& j, const std::string& path) const {
+  if (!j.is_boolean()) fail(path, "expected true or false");
+  return j.get<bool>();
+}
+
 std::vector<std::array<double, 2>> Reader::points(const json& j, const std::string& path, double limit,
                                                   std::size_t min_points, std::size_t max_points) const {
   require_array(j, path);

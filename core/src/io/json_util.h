@@ -33,6 +33,7 @@ class Reader {
   // A whole number in [min, max]; integral floats such as 3.0 are accepted, 3.5 is not.
   int integer(const json& j, const std::string& path, long long min, long long max) const;
   double number(const json& j, const std::string& path, double min, double max) const;
+  bool boolean(const json& j, const std::string& path) const;
   std::string string(const json& j, const std::string& path, std::size_t max_length = 4096) const;
   // A string naming one value of `names`; anything else fails with: expected "a", "b" or "c", got "x".
   template <class E, std::size_t N>

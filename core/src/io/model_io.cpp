@@ -73,12 +73,13 @@ FaceModel face_model_from_json(const json& root, const std::string& source) {
     const std::string path = index_path("edits", i);
     const json& e = edits[i];
     in.require_object(e, path);
-    in.only_keys(e, {"op", "t", "outline", "holes"}, path);
+    in.only_keys(e, {"op", "t", "outline", "holes", "drop"}, path);
     FaceEdit edit;
     edit.op = in.named(kEditOpNames, in.require(e, "op", path), path + ".op");
     edit.t_mm = in.number(in.require(e, "t", path), path + ".t", 0, kMaxFaceCoordinateMm);
     edit.outline =
         in.points(in.require(e, "outline", path), path + ".outline", kMaxFaceCoordinateMm, 0, kMaxOutlinePoints);
+    if (e.contains("drop")) edit.drop = in.boolean(e["drop"], path + ".drop");
     if (e.contains("holes")) {
       edit.holes =
           in.point_rings(e["holes"], path + ".holes", kMaxFaceCoordinateMm, kMaxOutlinePoints, kMaxOutlinePoints);
@@ -140,6 +141,7 @@ std::string to_face_json(const FaceModel& model, const std::string& name) {
         o << ", \"holes\": ";
         json_util::put_point_rings(o, edits[i].holes);
       }
+      if (edits[i].drop) o << ", \"drop\": true";
       o << "}";
     }
     o << "\n  ]\n}\n";

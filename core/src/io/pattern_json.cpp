@@ -47,10 +47,7 @@ PatternFace read_face(const json_util::Reader& in, const json& f, const std::str
   };
   face.outer = ring(in.require(f, "outer", path), path + ".outer");
   if (f.contains("label")) face.label = get_point(in, f["label"], path + ".label");
-  if (f.contains("opening")) {
-    if (!f["opening"].is_boolean()) in.fail(path + ".opening", "expected true or false");
-    face.opening_paper = f["opening"].get<bool>();
-  }
+  if (f.contains("opening")) face.opening_paper = in.boolean(f["opening"], path + ".opening");
   if (f.contains("holes")) {
     in.require_array(f["holes"], path + ".holes");
     for (std::size_t h = 0; h < f["holes"].size(); ++h)

@@ -128,8 +128,8 @@ std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh)
 }
 
 std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon,
-                                           bool opening_paper) {
-  auto f = std::make_shared<ExactFace>(ExactFace{kind, t, std::move(polygon), {}, opening_paper});
+                                           bool opening_paper, bool drops_out) {
+  auto f = std::make_shared<ExactFace>(ExactFace{kind, t, std::move(polygon), {}, opening_paper, drops_out});
   f->bbox = f->polygon.outer_boundary().bbox();
   return f;
 }
@@ -185,7 +185,7 @@ void add_uncovered(const std::shared_ptr<const ExactFace>& d, const std::vector<
   rest.polygons_with_holes(std::back_inserter(pieces));
   for (const ExactPolygonWithHoles& piece : pieces) {
     for (ExactPolygonWithHoles& lobe : split_lobes(piece))
-      out.push_back(make_face(d->kind, d->t, std::move(lobe), d->opening_paper));
+      out.push_back(make_face(d->kind, d->t, std::move(lobe), d->opening_paper, d->drops_out));
   }
 }
 

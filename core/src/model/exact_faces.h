@@ -44,7 +44,7 @@ bool inside_sheet(const ExactPolygon& poly, const FaceModelState& s);
 std::vector<ExactPolygonWithHoles> split_lobes(const ExactPolygonWithHoles& pwh);
 
 std::shared_ptr<const ExactFace> make_face(FaceKind kind, const FT& t, ExactPolygonWithHoles polygon,
-                                           bool opening_paper = false);
+                                           bool opening_paper = false, bool drops_out = false);
 ExactPolygon rectangle(const FT& x0, const FT& v0, const FT& x1, const FT& v1);
 FT polygon_area(const ExactPolygonWithHoles& p);
 

@@ -106,13 +106,13 @@ void check_hole_inside(const ExactPolygon& q, FaceKind kind, const FT& t, const 
 // A face made from a hole may reach past the back wall (an HFace with y < 0, i.e. v > t) or
 // below the floor (a VFace with z < 0, i.e. v < -t). As with windows in the voxel paper (§2.3)
 // that part lies on the back wall or the floor instead, with the same pattern polygon.
-ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool from_hole,
+ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool from_hole, bool drop,
                         const FaceModelState& sheet) {
   const FT limit = kind == FaceKind::horizontal ? t : -t;
   const bool spills = from_hole && std::any_of(q.vertices_begin(), q.vertices_end(), [&](const ExactPoint& p) {
                         return kind == FaceKind::horizontal ? p.y() > limit : p.y() < limit;
                       });
-  if (!spills) return {make_face(kind, t, ExactPolygonWithHoles(q), from_hole)};
+  if (!spills) return {make_face(kind, t, ExactPolygonWithHoles(q), from_hole, drop)};
   const ExactPolygon stays = kind == FaceKind::horizontal ? rectangle(sheet.min_x, sheet.min_v, sheet.max_x, limit)
                                                           : rectangle(sheet.min_x, limit, sheet.max_x, sheet.max_v);
   std::vector<ExactPolygonWithHoles> kept, moved;
@@ -120,8 +120,8 @@ ExactFaces placed_faces(const ExactPolygon& q, FaceKind kind, const FT& t, bool 
   CGAL::difference(q, stays, std::back_inserter(moved));
   const FaceKind board = kind == FaceKind::horizontal ? FaceKind::vertical : FaceKind::horizontal;
   ExactFaces added;
-  for (auto& piece : kept) added.push_back(make_face(kind, t, std::move(piece), true));
-  for (auto& piece : moved) added.push_back(make_face(board, 0, std::move(piece), true));
+  for (auto& piece : kept) added.push_back(make_face(kind, t, std::move(piece), true, drop));
+  for (auto& piece : moved) added.push_back(make_face(board, 0, std::move(piece), true, drop));
   return added;
 }
 
@@ -171,6 +171,8 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
       pattern_outline(edit.outline, edit, vertical_plane, t_exact, source, where + ".outline");
   Drawn added;
   guarded(source, where, [&] {
+    if (edit.drop && (edit.op == EditOp::add_vface || edit.op == EditOp::add_hface))
+      fail(source, where + ".drop", "only an opening's paper drops out (add_vhole, add_hhole)");
     if (!edit.holes.empty()) {
       added = {face_with_holes(edit, outline, vertical_plane, t_exact, *sheet_, source, where)};
       return 0;
@@ -187,7 +189,7 @@ void FaceModel::apply(const FaceEdit& edit, const std::string& source, const std
       kind = vertical_plane ? FaceKind::horizontal : FaceKind::vertical;
       t = exact_nm(outline.min_second);
     }
-    added = placed_faces(q, kind, t, from_hole, *sheet_);
+    added = placed_faces(q, kind, t, from_hole, edit.drop, *sheet_);
     return 0;
   });
   if (!undone_.empty()) {
@@ -308,7 +310,7 @@ std::vector<OAFace> FaceModel::faces() const {
   std::vector<OAFace> out;
   out.reserve(state().faces.size());
   for (const auto& f : state().faces) {
-    OAFace o{f->kind, to_mm(f->t), {to_ring(f->polygon.outer_boundary()), {}}, f->opening_paper};
+    OAFace o{f->kind, to_mm(f->t), {to_ring(f->polygon.outer_boundary()), {}}, f->opening_paper, f->drops_out};
     for (const ExactPolygon& h : f->polygon.holes()) o.polygon.holes.push_back(to_ring(h));
     out.push_back(std::move(o));
   }

@@ -131,7 +131,7 @@ std::shared_ptr<const ExactFace> detail::given_face(const OAFace& f, const FaceM
   if (!of_subdivision && !valid_polygon_with_holes(pwh)) {
     fail(source, where + ".holes", "holes must lie inside the outer ring without crossing it or each other");
   }
-  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh), f.opening_paper);
+  return make_face(f.kind, exact_nm(f.t_mm), std::move(pwh), f.opening_paper, f.drops_out);
 }
 
 FaceModel FaceModel::from_faces(double width_mm, double back_mm, double floor_mm, const std::vector<OAFace>& faces,

@@ -46,6 +46,7 @@ struct ExactFace {
   ExactPolygonWithHoles polygon;
   CGAL::Bbox_2 bbox;           // for skipping Booleans that cannot touch
   bool opening_paper = false;  // the paper of an opening (a hole's face): falls out when nothing holds it
+  bool drops_out = false;      // an opening's paper cut all round (FaceEdit::drop): no fold, no merge
 };
 
 // Faces are shared between states: an edit copies pointers and replaces only the faces it

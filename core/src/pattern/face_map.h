@@ -22,7 +22,9 @@ class CoplanarGroups {
   void meet(int a, int b) {
     const ExactFace& l = *faces_[static_cast<std::size_t>(a)];
     const ExactFace& r = *faces_[static_cast<std::size_t>(b)];
-    if (l.kind == r.kind && l.t == r.t) parent_[static_cast<std::size_t>(find(a))] = find(b);
+    // Paper meant to drop out is cut from its plane's other paper, never joined to it.
+    if (l.kind == r.kind && l.t == r.t && !l.drops_out && !r.drops_out)
+      parent_[static_cast<std::size_t>(find(a))] = find(b);
   }
   // After every meet: the groups, numbered in order of their first face, with their faces.
   std::vector<std::vector<int>> members() {
@@ -57,9 +59,9 @@ class CoplanarGroups {
 // The line between two different faces along an edge: `up` lies left of it (above, for an
 // x-parallel edge at height v). Faces of two kinds meet in 3D on an x-parallel edge exactly when
 // t_h - t_v = v (docs/architecture.md, "Geometry"): a fold, valley when the VFace is above, mountain when the HFace is.
-// Anything else is a cut.
+// Anything else is a cut, as is every edge of paper meant to drop out.
 inline LineKind line_between(const ExactFace& up, const ExactFace& lo, bool x_parallel, const FT& v) {
-  if (!x_parallel || up.kind == lo.kind) return LineKind::cut;
+  if (!x_parallel || up.kind == lo.kind || up.drops_out || lo.drops_out) return LineKind::cut;
   const FT& tv = up.kind == FaceKind::vertical ? up.t : lo.t;
   const FT& th = up.kind == FaceKind::horizontal ? up.t : lo.t;
   if (th - tv != v) return LineKind::cut;

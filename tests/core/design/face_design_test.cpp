@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "error_of.h"
+#include "popcut/io/design_json.h"
 #include "popcut/io/files.h"
 #include "popcut/io/model_io.h"
 #include "popcut/pattern/face_pattern.h"
@@ -326,6 +327,46 @@ TEST(FaceDesign, ARoundWindowsDiscIsCutOutNotAFault) {
   EXPECT_FALSE(floating.report().pops_up());
   EXPECT_EQ(floating.report().loose_pieces.size(), 1u);
   EXPECT_TRUE(floating.report().cut_out.empty());
+}
+
+// A square window whose paper should not fold down as a ledge: with "ledge": false it is cut all
+// round and drops out as the round one does, and the choice survives the design file and the
+// faces file popcutd is sent.
+TEST(FaceDesign, AnOpeningWithoutALedgeIsCutAllRoundAndDropsOut) {
+  const auto sill_folds = [](const Pattern& p) {
+    // The window's sill at z = 20 in the wall at depth 30 is the pattern line v = -10, x 40..60.
+    return std::count_if(p.lines.begin(), p.lines.end(), [](const Segment& l) {
+      return l.kind != LineKind::cut && l.a.v_mm == -10 && std::min(l.a.x_mm, l.b.x_mm) >= 40 &&
+             std::max(l.a.x_mm, l.b.x_mm) <= 60;
+    });
+  };
+  FaceDesign ledge(100, 80, 80), plain(100, 80, 80);
+  for (FaceDesign* d : {&ledge, &plain}) d->add(wall(30, 15, 85, 45));
+  DesignItem window = opening(30, 40, 60, 20, 35);
+  ledge.add(window);
+  window.ledge = false;
+  plain.add(window);
+  EXPECT_EQ(sill_folds(ledge.pattern()), 1) << "the ledge folds down on the sill";
+  EXPECT_TRUE(ledge.report().cut_out.empty());
+  EXPECT_EQ(sill_folds(plain.pattern()), 0) << "cut all round";
+  ASSERT_EQ(plain.report().cut_out.size(), 1u);
+  EXPECT_NEAR(plain.report().cut_out[0].area_mm2, 300, 1e-6);
+  EXPECT_TRUE(plain.report().pops_up());
+  const std::string file = to_design_json(plain);
+  EXPECT_NE(file.find(R"("ledge": false)"), std::string::npos) << file;
+  EXPECT_EQ(parse_design(file, "d.json").items().back().item, plain.items().back().item);
+  const FaceModel sent = parse_face_model(to_face_json(plain.model()), "faces.json");
+  EXPECT_EQ(sill_folds(make_pattern(sent)), 0) << "the faces file keeps the edit's drop";
+  // Only an opening's paper can drop out.
+  DesignItem bad = wall(40, 10, 20, 10);
+  bad.ledge = false;
+  EXPECT_EQ(error_of([&] { plain.add(bad, "item"); }).location(), "item.ledge");
+  EXPECT_EQ(error_of([&] {
+              parse_design(R"({"format": "popcut.design.v1", "sheet": {"width": 100, "back": 80, "floor": 80},
+                "items": [{"tool": "wall", "t": 5, "outline": [[0, 0], [5, 0], [5, 5]], "ledge": false}]})",
+                           "d.json");
+            }).location(),
+            "items[0].ledge");
 }
 
 }  // namespace

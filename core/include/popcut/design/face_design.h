@@ -49,6 +49,9 @@ struct DesignItem {
   // (not openings: no paper folds there). A card imported from its faces (a webOAcard card) has
   // them; the editor's tools draw none.
   std::vector<std::vector<std::array<double, 2>>> holes{};
+  // Openings: the paper folds down as a ledge on a level bottom edge (false: it is cut all round
+  // and drops out, a plain window).
+  bool ledge = true;
   friend bool operator==(const DesignItem&, const DesignItem&) = default;
 };
 

@@ -31,6 +31,7 @@ struct OAFace {
   double t_mm = 0;  // VFace: depth y of its plane; HFace: height z of its plane
   PolygonWithHoles polygon;
   bool opening_paper = false;  // the paper inside an opening: drops out when nothing holds it
+  bool drops_out = false;      // such paper cut all round, to fall out (FaceEdit::drop)
 };
 
 enum class EditOp { add_vface, add_hface, add_vhole, add_hhole };
@@ -52,6 +53,10 @@ struct FaceEdit {
   // card's faces read back as edits (a webOAcard card imported into a design) need them: a wall
   // seen through a window of the wall in front is a face with a hole.
   std::vector<std::vector<std::array<double, 2>>> holes{};
+  // add_vhole and add_hhole only: the opening's paper is cut all round and falls out, instead of
+  // folding down on a level bottom edge as a ledge (a plain square window; the space around
+  // framed letters).
+  bool drop = false;
   friend bool operator==(const FaceEdit&, const FaceEdit&) = default;
 };
 
